@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian packages conceptmesh builds against, when any is missing.
+# Idempotent: does nothing (and needs no network) when all are present.
+set -euo pipefail
+pkgs=(cmake g++ ninja-build ccache pkg-config
+      libopenvdb-dev libboost-iostreams-dev libtbb-dev
+      libopenimageio-dev openimageio-tools libopenexr-dev
+      libopenmesh-dev libyaml-cpp-dev libvalijson-dev libtinygltf-dev
+      nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+      libmeshoptimizer-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "conceptmesh: installing ${missing[*]}" >&2
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

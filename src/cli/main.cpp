@@ -1,0 +1,73 @@
+// The conceptmesh command: parses the command line and dispatches to a sub-command.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <unistd.h>
+
+#include "cli/commands.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "plugins/registry.h"
+
+namespace cm::cli {
+
+void print_error(const std::string& text) { std::cerr << "conceptmesh: error: " << text << "\n"; }
+void print_warning(const std::string& text) { std::cerr << "conceptmesh: warning: " << text << "\n"; }
+
+void print_plugin_diagnostics(const GlobalOptions& g) {
+    if (g.quiet) return;
+    for (const auto& d : Registry::global().diagnostics()) print_warning(d);
+}
+
+} // namespace cm::cli
+
+namespace {
+
+extern "C" void on_sigint(int) {
+    // First Ctrl-C: ask every stage to stop at its next check (within a chunk of work);
+    // a second one ends the process at once.
+    if (cm::cancel_requested().exchange(true)) _exit(130);
+    static const char msg[] = "\nconceptmesh: stopping (Ctrl-C again to abort at once)\n";
+    [[maybe_unused]] auto n = ::write(2, msg, sizeof(msg) - 1);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    CLI::App app{"conceptmesh: turns concept art (a few drawn views of one object) into a 3D mesh.\n"
+                 "Stages are plugins composed as a YAML graph; see `conceptmesh stages`.",
+                 "conceptmesh"};
+    app.set_version_flag("--version", std::string("conceptmesh ") + CONCEPTMESH_VERSION_STRING);
+    app.require_subcommand(1);
+    cm::cli::GlobalOptions g;
+    std::function<int()> action;
+    cm::cli::add_pipeline_commands(app, g, action);
+    cm::cli::add_tool_commands(app, g, action);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        cm::cli::print_error(e.what() + std::string(" (see conceptmesh --help)"));
+        return 2;
+    }
+    try {
+        return action ? action() : 2;
+    } catch (const cm::Cancelled&) {
+        cm::cli::print_error("cancelled; no output was written");
+        return 130;
+    } catch (const std::exception& e) {
+        cm::cli::print_error(e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,22 @@
+// Reading and writing images through OpenImageIO.
+#pragma once
+#include <filesystem>
+
+#include "core/views.h"
+
+namespace cm {
+
+struct ImageInfo {
+    bool has_alpha = false;   ///< the file has an alpha channel
+    int bits = 8;             ///< bits per channel in the file
+};
+
+/// Reads any format OpenImageIO reads into float RGBA in [0,1] (grey is
+/// replicated; missing alpha becomes 1). Throws cm::Error naming the file.
+Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr);
+
+/// Writes an image (1, 3 or 4 channels, float in [0,1]); the format follows the
+/// extension (.png is 8-bit; .tif/.exr keep more). Writes exactly to `file`.
+void write_image(const Image& img, const std::filesystem::path& file);
+
+} // namespace cm

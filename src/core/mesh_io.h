@@ -1,0 +1,24 @@
+// Reading and writing meshes through OpenMesh (OBJ, PLY, STL, OFF).
+#pragma once
+#include <filesystem>
+
+#include "core/mesh.h"
+
+namespace cm {
+
+/// Reads a triangle mesh; polygons are fan-triangulated. Throws cm::Error naming the file.
+Mesh read_mesh(const std::filesystem::path& file);
+
+struct MeshWriteOptions {
+    bool binary = true;      ///< PLY and STL: binary when true
+    bool normals = true;     ///< write per-vertex normals where the format can hold them
+};
+
+/// Writes by extension: .obj .ply .stl .off. Writes exactly to `file` (callers
+/// that need atomicity write to a temporary name and rename).
+void write_mesh(const Mesh& mesh, const std::filesystem::path& file, const MeshWriteOptions& opt = {});
+
+/// True for the extensions write_mesh() handles.
+bool mesh_format_supported(const std::filesystem::path& file);
+
+} // namespace cm

@@ -1,0 +1,208 @@
+#include "core/params.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "core/error.h"
+
+namespace cm {
+
+const char* to_string(ParamType t) {
+    switch (t) {
+    case ParamType::Bool: return "bool";
+    case ParamType::Int: return "int";
+    case ParamType::Float: return "float";
+    case ParamType::String: return "string";
+    case ParamType::Path: return "path";
+    case ParamType::Enum: return "enum";
+    }
+    return "?";
+}
+
+ParamSpec ParamSpec::Bool(std::string name, bool def, std::string doc) {
+    ParamSpec s; s.name = std::move(name); s.type = ParamType::Bool; s.default_value = def; s.doc = std::move(doc);
+    return s;
+}
+ParamSpec ParamSpec::Int(std::string name, std::int64_t def, double lo, double hi, std::string unit, std::string doc) {
+    ParamSpec s; s.name = std::move(name); s.type = ParamType::Int; s.default_value = def;
+    s.min = lo; s.max = hi; s.unit = std::move(unit); s.doc = std::move(doc);
+    return s;
+}
+ParamSpec ParamSpec::Float(std::string name, double def, double lo, double hi, std::string unit, std::string doc) {
+    ParamSpec s; s.name = std::move(name); s.type = ParamType::Float; s.default_value = def;
+    s.min = lo; s.max = hi; s.unit = std::move(unit); s.doc = std::move(doc);
+    return s;
+}
+ParamSpec ParamSpec::String(std::string name, std::optional<std::string> def, std::string doc) {
+    ParamSpec s; s.name = std::move(name); s.type = ParamType::String;
+    if (def) s.default_value = *def;
+    s.doc = std::move(doc);
+    return s;
+}
+ParamSpec ParamSpec::Path(std::string name, std::optional<std::string> def, std::string doc) {
+    ParamSpec s = String(std::move(name), std::move(def), std::move(doc));
+    s.type = ParamType::Path;
+    return s;
+}
+ParamSpec ParamSpec::Enum(std::string name, std::string def, std::vector<std::string> choices, std::string doc) {
+    ParamSpec s; s.name = std::move(name); s.type = ParamType::Enum; s.default_value = std::move(def);
+    s.choices = std::move(choices); s.doc = std::move(doc);
+    return s;
+}
+ParamSpec& ParamSpec::optional() {
+    default_value.reset();
+    is_optional = true;
+    return *this;
+}
+
+std::string format_value(const ParamValue& v) {
+    std::ostringstream os;
+    std::visit([&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, bool>) os << (x ? "true" : "false");
+        else if constexpr (std::is_same_v<T, std::string>) os << '"' << x << '"';
+        else os << x;
+    }, v);
+    return os.str();
+}
+
+namespace {
+const ParamValue& lookup(const std::map<std::string, ParamValue>& m, const std::string& name) {
+    auto it = m.find(name);
+    if (it == m.end()) throw Error("parameter \"" + name + "\" is not set");
+    return it->second;
+}
+
+bool parse_bool(const std::string& t, bool& out) {
+    if (t == "true" || t == "True" || t == "TRUE" || t == "yes" || t == "on" || t == "1") { out = true; return true; }
+    if (t == "false" || t == "False" || t == "FALSE" || t == "no" || t == "off" || t == "0") { out = false; return true; }
+    return false;
+}
+
+std::string type_phrase(const ParamSpec& s) {
+    switch (s.type) {
+    case ParamType::Bool: return "a boolean (true or false)";
+    case ParamType::Int: return "an integer";
+    case ParamType::Float: return "a number";
+    case ParamType::String: return "a string";
+    case ParamType::Path: return "a file path";
+    case ParamType::Enum: {
+        std::string c;
+        for (auto& x : s.choices) c += (c.empty() ? "" : ", ") + x;
+        return "one of " + c;
+    }
+    }
+    return "?";
+}
+} // namespace
+
+bool ParamSet::get_bool(const std::string& name) const { return std::get<bool>(lookup(values_, name)); }
+std::int64_t ParamSet::get_int(const std::string& name) const { return std::get<std::int64_t>(lookup(values_, name)); }
+double ParamSet::get_float(const std::string& name) const {
+    const auto& v = lookup(values_, name);
+    if (auto* i = std::get_if<std::int64_t>(&v)) return double(*i);
+    return std::get<double>(v);
+}
+const std::string& ParamSet::get_string(const std::string& name) const {
+    return std::get<std::string>(lookup(values_, name));
+}
+
+ParamValue parse_param_text(const ParamSpec& spec, const std::string& text) {
+    auto bad = [&]() -> Error {
+        return Error(spec.name + " must be " + type_phrase(spec) + ", got \"" + text + "\"");
+    };
+    switch (spec.type) {
+    case ParamType::Bool: {
+        bool b;
+        if (!parse_bool(text, b)) throw bad();
+        return b;
+    }
+    case ParamType::Int: {
+        std::size_t pos = 0;
+        long long v = 0;
+        try { v = std::stoll(text, &pos); } catch (...) { throw bad(); }
+        if (pos != text.size()) throw bad();
+        return std::int64_t(v);
+    }
+    case ParamType::Float: {
+        std::size_t pos = 0;
+        double v = 0;
+        try { v = std::stod(text, &pos); } catch (...) { throw bad(); }
+        if (pos != text.size() || !std::isfinite(v)) throw bad();
+        return v;
+    }
+    case ParamType::String:
+    case ParamType::Path:
+    case ParamType::Enum:
+        return text;
+    }
+    throw bad();
+}
+
+ParamValue parse_param_yaml(const ParamSpec& spec, const YAML::Node& node) {
+    if (!node.IsScalar()) {
+        throw Error(spec.name + " must be " + type_phrase(spec) + ", got a " +
+                    (node.IsSequence() ? "list" : node.IsMap() ? "mapping" : "null value"));
+    }
+    // A quoted YAML string is never a number or a boolean.
+    const bool quoted = node.Tag() == "!";
+    if (quoted && (spec.type == ParamType::Int || spec.type == ParamType::Float || spec.type == ParamType::Bool))
+        throw Error(spec.name + " must be " + type_phrase(spec) + ", got the string \"" + node.Scalar() + "\"");
+    return parse_param_text(spec, node.Scalar());
+}
+
+std::string check_param(const ParamSpec& spec, const ParamValue& v) {
+    if (spec.type == ParamType::Int || spec.type == ParamType::Float) {
+        double x = std::holds_alternative<std::int64_t>(v) ? double(std::get<std::int64_t>(v)) : std::get<double>(v);
+        if ((spec.min && x < *spec.min) || (spec.max && x > *spec.max)) {
+            std::ostringstream os;
+            os << spec.name << " must be in [" << (spec.min ? *spec.min : -INFINITY) << ", "
+               << (spec.max ? *spec.max : INFINITY) << "]";
+            if (!spec.unit.empty()) os << " " << spec.unit;
+            os << ", got " << format_value(v);
+            return os.str();
+        }
+    }
+    if (spec.type == ParamType::Enum) {
+        const auto& s = std::get<std::string>(v);
+        for (auto& c : spec.choices)
+            if (c == s) return {};
+        return spec.name + " must be " + type_phrase(spec) + ", got \"" + s + "\"";
+    }
+    if ((spec.type == ParamType::Path || spec.type == ParamType::String) && !spec.is_optional &&
+        std::get<std::string>(v).empty() && !spec.default_value)
+        return spec.name + " must not be empty";
+    return {};
+}
+
+nlohmann::json param_to_json(const ParamValue& v) {
+    return std::visit([](const auto& x) { return nlohmann::json(x); }, v);
+}
+
+nlohmann::json param_schema(const ParamSpec& spec) {
+    nlohmann::json j;
+    switch (spec.type) {
+    case ParamType::Bool: j["type"] = "boolean"; break;
+    case ParamType::Int: j["type"] = "integer"; break;
+    case ParamType::Float: j["type"] = "number"; break;
+    case ParamType::String: j["type"] = "string"; break;
+    case ParamType::Path: j["type"] = "string"; j["format"] = "path"; break;
+    case ParamType::Enum: j["type"] = "string"; j["enum"] = spec.choices; break;
+    }
+    std::string doc = spec.doc;
+    if (!spec.unit.empty()) doc += " [" + spec.unit + "]";
+    j["description"] = doc;
+    auto num = [&](double x) {
+        return spec.type == ParamType::Int ? nlohmann::json(std::int64_t(x)) : nlohmann::json(x);
+    };
+    if (spec.min) j["minimum"] = num(*spec.min);
+    if (spec.max) j["maximum"] = num(*spec.max);
+    if (spec.default_value) j["default"] = param_to_json(*spec.default_value);
+    if (!spec.unit.empty()) j["x-unit"] = spec.unit;
+    return j;
+}
+
+} // namespace cm

@@ -1,0 +1,79 @@
+// Declared stage parameters: one declaration drives YAML parsing, --set,
+// `conceptmesh stages --describe`, and the generated JSON Schema.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace YAML { class Node; }
+
+namespace cm {
+
+enum class ParamType { Bool, Int, Float, String, Path, Enum };
+const char* to_string(ParamType t);
+
+using ParamValue = std::variant<bool, std::int64_t, double, std::string>;
+
+struct ParamSpec {
+    std::string name;
+    ParamType type = ParamType::Float;
+    std::optional<ParamValue> default_value;   ///< empty: the parameter is required
+    std::optional<double> min;                 ///< inclusive, numbers only
+    std::optional<double> max;                 ///< inclusive, numbers only
+    std::string unit;                          ///< "voxels", "px", "deg", ... or empty
+    std::string doc;                           ///< one line
+    std::vector<std::string> choices;          ///< Enum only
+
+    // Fluent builders so a stage reads like a table.
+    static ParamSpec Bool(std::string name, bool def, std::string doc);
+    static ParamSpec Int(std::string name, std::int64_t def, double lo, double hi, std::string unit,
+                         std::string doc);
+    static ParamSpec Float(std::string name, double def, double lo, double hi, std::string unit,
+                           std::string doc);
+    static ParamSpec String(std::string name, std::optional<std::string> def, std::string doc);
+    static ParamSpec Path(std::string name, std::optional<std::string> def, std::string doc);
+    static ParamSpec Enum(std::string name, std::string def, std::vector<std::string> choices,
+                          std::string doc);
+    ParamSpec& optional();   ///< no default, may be left unset
+    bool is_optional = false;
+};
+
+std::string format_value(const ParamValue& v);
+
+/// Checked, typed parameter values of one node (defaults filled in).
+class ParamSet {
+public:
+    bool has(const std::string& name) const { return values_.count(name) != 0; }
+    bool get_bool(const std::string& name) const;
+    std::int64_t get_int(const std::string& name) const;
+    double get_float(const std::string& name) const;        ///< accepts Int values too
+    const std::string& get_string(const std::string& name) const;  ///< String, Path, Enum
+    const std::map<std::string, ParamValue>& values() const { return values_; }
+    void set(const std::string& name, ParamValue v) { values_[name] = std::move(v); }
+    /// Which values the user wrote (the rest are defaults).
+    bool explicitly_set(const std::string& name) const { return explicit_.count(name) != 0; }
+    void mark_explicit(const std::string& name) { explicit_[name] = true; }
+
+private:
+    std::map<std::string, ParamValue> values_;
+    std::map<std::string, bool> explicit_;
+};
+
+/// Converts text (from --set) to a value of the declared type; throws cm::Error
+/// with a message of the form "<what> must be ..., got ...".
+ParamValue parse_param_text(const ParamSpec& spec, const std::string& text);
+/// Converts a YAML scalar to a value of the declared type.
+ParamValue parse_param_yaml(const ParamSpec& spec, const YAML::Node& node);
+/// Range and choice checks; returns an empty string when valid, else the reason.
+std::string check_param(const ParamSpec& spec, const ParamValue& v);
+
+/// JSON Schema (draft-07) fragment for one parameter.
+nlohmann::json param_schema(const ParamSpec& spec);
+nlohmann::json param_to_json(const ParamValue& v);
+
+} // namespace cm

@@ -1,0 +1,47 @@
+#include "core/stage.h"
+
+#include <atomic>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+namespace cm {
+
+Context::Context(std::string node, std::string stage, Hooks hooks)
+    : node_(std::move(node)), stage_(std::move(stage)), hooks_(std::move(hooks)), interrupter_(node_, hooks_.sink) {}
+
+void Context::warn(const std::string& text) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        warnings_.push_back(text);
+    }
+    if (hooks_.sink) hooks_.sink->message(node_, "warning", text);
+}
+
+void Context::info(const std::string& text) {
+    if (hooks_.sink) hooks_.sink->message(node_, "info", text);
+}
+
+void Context::metric(const std::string& key, double value) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    metrics_[key] = nlohmann::json(value).dump();
+}
+
+void Context::metric(const std::string& key, const std::string& value) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    metrics_[key] = nlohmann::json(value).dump();
+}
+
+void Context::metric_json(const std::string& key, const std::string& json_text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    metrics_[key] = json_text;
+}
+
+std::filesystem::path Context::output_file(const std::filesystem::path& final_path) {
+    static std::atomic<unsigned> counter{0};
+    auto tmp = final_path;
+    tmp += ".part-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + final_path.extension().string();
+    if (hooks_.stage_file) hooks_.stage_file(tmp, final_path);
+    return tmp;
+}
+
+} // namespace cm

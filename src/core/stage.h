@@ -1,0 +1,111 @@
+// The Stage interface. The host drives a fixed lifecycle:
+//   1. info()     what the stage is: name, ports, declared parameters;
+//   2. prepare()  gets the checked parameters; rejects bad combinations early;
+//   3. run()      does the work on its inputs and returns its output.
+// A stage never calls another stage. It throws cm::Error with a sentence; the
+// host prefixes the pipeline file, node id and stage name.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/data.h"
+#include "core/error.h"
+#include "core/params.h"
+#include "core/progress.h"
+
+namespace cm {
+
+struct PortSpec {
+    std::string name;
+    DataKind kind;
+    std::string doc;
+    bool optional = false;
+};
+
+struct StageInfo {
+    std::string name;       ///< "hull.carve"
+    std::string summary;    ///< one line
+    std::vector<PortSpec> inputs;
+    DataKind output;
+    std::vector<ParamSpec> params;
+};
+
+/// The inputs of one node, by port name.
+class Inputs {
+public:
+    void set(const std::string& port, Data d) { data_[port] = std::move(d); }
+    bool has(const std::string& port) const { return data_.count(port) != 0; }
+    template <typename T>
+    std::shared_ptr<const T> get(const std::string& port) const {
+        auto it = data_.find(port);
+        if (it == data_.end()) throw Error("input \"" + port + "\" is not connected");
+        auto* p = std::get_if<std::shared_ptr<const T>>(&it->second);
+        if (!p || !*p) throw Error("input \"" + port + "\" holds the wrong kind of data");
+        return *p;
+    }
+
+private:
+    std::map<std::string, Data> data_;
+};
+
+/// What a running stage may use of the host.
+class Context {
+public:
+    struct Hooks {
+        ProgressSink* sink = nullptr;
+        /// Side outputs (silhouette PNGs, preview sheets) go here.
+        std::filesystem::path side_output_dir = ".";
+        std::function<void(const std::filesystem::path& tmp, const std::filesystem::path& final)> stage_file;
+    };
+    Context(std::string node, std::string stage, Hooks hooks);
+
+    const std::string& node() const { return node_; }
+    const std::string& stage() const { return stage_; }
+    Interrupter& interrupter() { return interrupter_; }
+    /// Progress in [0,1] of this stage; throws cm::Cancelled when cancelled.
+    void progress(double fraction, const std::string& what = {}) { interrupter_.step(fraction, what); }
+    void check_cancel() const { interrupter_.check(); }
+
+    void warn(const std::string& text);
+    void info(const std::string& text);
+    /// A figure for the run report (counts, sizes, errors). Thread-safe.
+    void metric(const std::string& key, double value);
+    void metric(const std::string& key, const std::string& value);
+    /// A JSON object merged under the node's "metrics" in the report.
+    void metric_json(const std::string& key, const std::string& json_text);
+    const std::map<std::string, std::string>& metrics_json() const { return metrics_; }
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+    /// A temporary path in the same folder as `final_path`; the host renames it to
+    /// `final_path` when the whole run succeeds and deletes it otherwise.
+    std::filesystem::path output_file(const std::filesystem::path& final_path);
+    const std::filesystem::path& side_output_dir() const { return hooks_.side_output_dir; }
+
+private:
+    std::string node_, stage_;
+    Hooks hooks_;
+    Interrupter interrupter_;
+    std::mutex mutex_;
+    std::map<std::string, std::string> metrics_;   ///< key -> JSON text
+    std::vector<std::string> warnings_;
+};
+
+class Stage {
+public:
+    virtual ~Stage() = default;
+    virtual StageInfo info() const = 0;
+    /// Receives the node's checked parameters (defaults filled in). Throw cm::Error
+    /// for combinations that cannot work (a missing file, exclusive options).
+    virtual void prepare(const ParamSet& params) { params_ = params; }
+    virtual Data run(const Inputs& inputs, Context& ctx) = 0;
+
+protected:
+    ParamSet params_;
+};
+
+} // namespace cm

@@ -1,0 +1,50 @@
+// The views passed between stages: drawings, their silhouettes, their cameras.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/vec.h"
+
+namespace cm {
+
+/// Float image, channels interleaved, row 0 at the top.
+struct Image {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;
+    float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    bool empty() const { return pixels.empty(); }
+};
+
+struct View {
+    std::string name;                 ///< "front", "right", or the manifest key
+    std::filesystem::path source;     ///< image file it came from
+    Image image;                      ///< the drawing, RGBA
+    /// Silhouette as coverage in [0,1], width*height, row-major, row 0 at the top.
+    /// Anti-aliased edges keep fractional coverage for sub-pixel boundaries.
+    std::vector<float> coverage;
+    int width = 0, height = 0;
+    Camera camera;
+    float coverage_at(int x, int y) const { return coverage[std::size_t(y) * width + x]; }
+    bool inside(int x, int y) const {
+        return x >= 0 && y >= 0 && x < width && y < height && coverage_at(x, y) >= 0.5f;
+    }
+};
+
+struct Views {
+    std::vector<View> views;
+    std::filesystem::path manifest;
+    /// True for calibrated perspective views: the world is the calibration's frame.
+    bool calibrated = false;
+    /// World-space box that holds the object (from alignment, or the manifest's `bounds`).
+    bool has_bounds = false;
+    Vec3d bounds_min, bounds_max;
+    /// World units per pixel of the first view (1 unless the manifest gives a real size).
+    double units_per_pixel = 1.0;
+    /// Finest pixel size in world units over all views (sub-pixel tolerances use it).
+    double finest_pixel() const;
+};
+
+} // namespace cm

@@ -1,0 +1,83 @@
+// A pipeline file: parsed from YAML, validated (schema, parameters, graph),
+// then executed in dependency order with TBB.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/params.h"
+#include "core/stage.h"
+#include "plugins/registry.h"
+
+namespace cm {
+
+struct PipelineNode {
+    std::string id;
+    std::string stage;
+    int line = 0;                                    ///< 1-based line of the node in the file
+    std::map<std::string, std::string> inputs;       ///< port -> node id
+    std::map<std::string, int> input_lines;
+    std::map<std::string, std::string> raw_params;   ///< as written (YAML scalars as text)
+    std::map<std::string, int> param_lines;
+    std::map<std::string, bool> param_is_yaml;       ///< from the file (typed YAML) vs --set
+    std::map<std::string, std::string> yaml_params;  ///< YAML text of file-given values
+    ParamSet params;                                 ///< filled by validate()
+    StageInfo info;                                  ///< filled by validate()
+};
+
+struct Pipeline {
+    std::filesystem::path file;
+    std::string name, description;
+    std::vector<PipelineNode> nodes;
+    std::vector<std::size_t> order;                  ///< topological order, filled by validate()
+
+    /// Reads and checks the YAML structure against the pipeline schema.
+    static Pipeline load(const std::filesystem::path& file);
+    static Pipeline parse(const std::string& text, const std::filesystem::path& file_for_messages);
+
+    /// Applies "NODE.PARAM=VALUE"; an unknown node is an error (unknown parameters
+    /// are caught by validate()).
+    void apply_override(const std::string& assignment);
+    /// Checks every node's stage and parameters, then the graph (unknown node,
+    /// port kind mismatch, missing input, cycle). Throws cm::Error naming the
+    /// file, line, node and stage.
+    void validate(const Registry& registry);
+
+    /// "file:line: node "id" (stage): " — the prefix of every message about a node.
+    std::string where(const PipelineNode& n, int line = 0) const;
+};
+
+struct NodeRecord {
+    std::string id, stage;
+    std::map<std::string, std::string> params_json;  ///< name -> JSON text
+    double seconds = 0;
+    std::size_t peak_rss_bytes = 0;                  ///< process peak RSS while the node ran
+    std::size_t rss_growth_bytes = 0;                ///< that peak minus RSS when it started
+    std::map<std::string, std::string> metrics_json;
+    std::vector<std::string> warnings;
+};
+
+struct RunOptions {
+    ProgressSink* sink = nullptr;
+    std::filesystem::path side_output_dir = ".";
+};
+
+struct RunResult {
+    std::vector<NodeRecord> nodes;                   ///< in topological order
+    double seconds = 0;
+    std::size_t peak_rss_bytes = 0;
+    std::vector<std::filesystem::path> outputs;      ///< files committed
+    std::string to_json(const Pipeline& p) const;
+};
+
+/// Runs a validated pipeline. On failure throws cm::Error (prefixed with the
+/// node) and leaves no output file behind; on success renames every staged file.
+RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt);
+
+/// JSON Schemas generated from the declared parameters.
+std::string stage_schema_json(const StageInfo& info);
+std::string pipeline_schema_json(const Registry& registry);
+
+} // namespace cm

@@ -1,0 +1,172 @@
+#include "plugins/registry.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <dlfcn.h>
+#include <sstream>
+#include <unistd.h>
+
+#include "plugins/plugin_abi.h"
+
+namespace fs = std::filesystem;
+
+namespace cm {
+
+namespace {
+
+bool is_plugin_file(const fs::path& p) {
+    const std::string name = p.filename().string();
+    return name.rfind("libcm_", 0) == 0 && p.extension() == ".so";
+}
+
+fs::path executable_dir() {
+    std::error_code ec;
+    auto exe = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? fs::current_path() : exe.parent_path();
+}
+
+} // namespace
+
+std::vector<fs::path> Registry::default_dirs() {
+    std::vector<fs::path> dirs;
+    const fs::path exe = executable_dir();
+    // <prefix>/bin/conceptmesh -> <prefix>/lib/conceptmesh/plugins (build and install trees alike).
+    dirs.push_back(exe.parent_path() / "lib" / "conceptmesh" / "plugins");
+    if (const char* env = std::getenv("CONCEPTMESH_PLUGIN_PATH")) {
+        std::stringstream ss(env);
+        std::string item;
+        while (std::getline(ss, item, ':'))
+            if (!item.empty()) dirs.emplace_back(item);
+    }
+    return dirs;
+}
+
+Registry& Registry::global() {
+    static Registry r = [] {
+        Registry reg;
+        reg.load_directories(default_dirs());
+        return reg;
+    }();
+    return r;
+}
+
+void Registry::load_directories(const std::vector<fs::path>& dirs) {
+    for (const auto& dir : dirs) {
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) continue;
+        std::vector<fs::path> files;
+        for (const auto& e : fs::directory_iterator(dir, ec))
+            if (e.is_regular_file() && is_plugin_file(e.path())) files.push_back(e.path());
+        std::sort(files.begin(), files.end());   // deterministic "first wins"
+        for (const auto& f : files) load_library(f);
+    }
+}
+
+bool Registry::load_library(const fs::path& file) {
+    const std::string name = file.string();
+    void* h = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!h) {
+        const char* why = ::dlerror();
+        diagnostics_.push_back("plugin \"" + name + "\" could not be loaded: " + (why ? why : "unknown reason"));
+        return false;
+    }
+    std::shared_ptr<void> handle(h, [](void* p) { ::dlclose(p); });
+    auto entry = reinterpret_cast<ConceptmeshPluginEntry>(::dlsym(h, CONCEPTMESH_PLUGIN_ENTRY_NAME));
+    if (!entry) {
+        diagnostics_.push_back("plugin \"" + name + "\" is not a conceptmesh plugin: it has no " +
+                               CONCEPTMESH_PLUGIN_ENTRY_NAME + " symbol");
+        return false;
+    }
+    const ConceptmeshPluginDescriptor* d = nullptr;
+    try {
+        d = entry();
+    } catch (const std::exception& e) {
+        diagnostics_.push_back("plugin \"" + name + "\" failed in its entry point: " + e.what());
+        return false;
+    } catch (...) {
+        diagnostics_.push_back("plugin \"" + name + "\" failed in its entry point");
+        return false;
+    }
+    if (!d) {
+        diagnostics_.push_back("plugin \"" + name + "\" returned no descriptor");
+        return false;
+    }
+    if (d->plugin_abi != CONCEPTMESH_PLUGIN_ABI_VERSION) {
+        diagnostics_.push_back("plugin \"" + name + "\" was refused: built for plugin ABI " +
+                               std::to_string(d->plugin_abi) + ", this conceptmesh needs ABI " +
+                               std::to_string(CONCEPTMESH_PLUGIN_ABI_VERSION) + "; rebuild the plugin");
+        return false;
+    }
+    if (d->openvdb_abi != OPENVDB_ABI_VERSION_NUMBER) {
+        diagnostics_.push_back("plugin \"" + name + "\" was refused: built against OpenVDB ABI " +
+                               std::to_string(d->openvdb_abi) + ", this conceptmesh uses OpenVDB ABI " +
+                               std::to_string(OPENVDB_ABI_VERSION_NUMBER));
+        return false;
+    }
+    const std::string pname = d->name ? d->name : file.stem().string();
+    const std::string pversion = d->version ? d->version : "?";
+    bool any = false;
+    for (std::size_t i = 0; i < d->stage_count; ++i) {
+        const ConceptmeshStageFactory& f = d->stages[i];
+        if (!f.stage_name || !f.create) {
+            diagnostics_.push_back("plugin \"" + name + "\" declares an incomplete stage factory #" + std::to_string(i));
+            continue;
+        }
+        if (auto it = stages_.find(f.stage_name); it != stages_.end()) {
+            diagnostics_.push_back("stage \"" + std::string(f.stage_name) + "\" is defined by both \"" +
+                                   it->second.library.string() + "\" and \"" + name + "\"; using the first");
+            continue;
+        }
+        StageEntry e;
+        e.name = f.stage_name;
+        e.library = file;
+        e.plugin = pname;
+        e.plugin_version = pversion;
+        auto create = f.create;
+        e.create = [create, handle]() { return std::unique_ptr<Stage>(create()); };
+        stages_.emplace(e.name, std::move(e));
+        any = true;
+    }
+    if (any) handles_.push_back(handle);
+    return any;
+}
+
+void Registry::add(StageEntry e) {
+    if (auto it = stages_.find(e.name); it != stages_.end()) {
+        diagnostics_.push_back("stage \"" + e.name + "\" is defined twice; using the first");
+        return;
+    }
+    stages_.emplace(e.name, std::move(e));
+}
+
+const StageEntry* Registry::find(const std::string& stage) const {
+    auto it = stages_.find(stage);
+    return it == stages_.end() ? nullptr : &it->second;
+}
+
+std::unique_ptr<Stage> Registry::create(const std::string& stage) const {
+    const StageEntry* e = find(stage);
+    if (!e) {
+        std::string known;
+        for (const auto& [n, _] : stages_) known += (known.empty() ? "" : ", ") + n;
+        throw Error("unknown stage \"" + stage + "\" (known stages: " + (known.empty() ? "none; no plugin was found" : known) + ")");
+    }
+    std::unique_ptr<Stage> s;
+    try {
+        s = e->create();
+    } catch (const std::exception& ex) {
+        throw Error("stage \"" + stage + "\" from \"" + e->library.string() + "\" could not be created: " + ex.what());
+    } catch (...) {
+        throw Error("stage \"" + stage + "\" from \"" + e->library.string() + "\" could not be created");
+    }
+    if (!s) throw Error("stage \"" + stage + "\" from \"" + e->library.string() + "\" could not be created: its factory returned nothing");
+    return s;
+}
+
+std::vector<std::string> Registry::names() const {
+    std::vector<std::string> v;
+    for (const auto& [n, _] : stages_) v.push_back(n);
+    return v;
+}
+
+} // namespace cm

@@ -1,0 +1,62 @@
+// mesh.write: writes the mesh to OBJ, PLY, STL or OFF (format from the
+// extension), under a temporary name that the host renames when the run succeeds.
+#include <filesystem>
+
+#include "core/mesh.h"
+#include "core/mesh_io.h"
+#include "core/stage.h"
+
+namespace cm {
+namespace {
+
+class MeshWrite : public Stage {
+public:
+    StageInfo info() const override {
+        return {"mesh.write",
+                "Write the mesh to a file: .obj, .ply, .stl or .off (format from the extension)",
+                {{"mesh", DataKind::Mesh, "the mesh to write"}},
+                DataKind::File,
+                {ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"),
+                 ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"),
+                 ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them")}};
+    }
+    void prepare(const ParamSet& p) override {
+        Stage::prepare(p);
+        const std::filesystem::path path = p.get_string("path");
+        if (!mesh_format_supported(path))
+            throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl or .off)");
+        const auto dir = std::filesystem::absolute(path).parent_path();
+        if (!std::filesystem::is_directory(dir))
+            throw Error("path \"" + path.string() + "\": the folder \"" + dir.string() + "\" does not exist");
+    }
+    Data run(const Inputs& in, Context& ctx) override {
+        auto mesh = in.get<Mesh>("mesh");
+        if (mesh->triangles.empty()) throw Error("the mesh is empty; nothing to write");
+        const std::filesystem::path path = params_.get_string("path");
+        MeshWriteOptions opt;
+        opt.binary = params_.get_bool("binary");
+        opt.normals = params_.get_bool("normals");
+        Mesh with_normals;
+        const Mesh* m = mesh.get();
+        if (opt.normals && mesh->normals.size() != mesh->positions.size()) {
+            with_normals = *mesh;
+            with_normals.compute_normals();
+            m = &with_normals;
+        }
+        const auto tmp = ctx.output_file(path);
+        write_mesh(*m, tmp, opt);
+        ctx.metric("faces", double(m->face_count()));
+        ctx.metric("vertices", double(m->vertex_count()));
+        ctx.metric("path", path.string());
+        ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
+        auto out = std::make_shared<FileOutput>();
+        out->paths.push_back(path);
+        return std::shared_ptr<const FileOutput>(out);
+    }
+};
+
+} // namespace
+
+Stage* make_mesh_write() { return new MeshWrite; }
+
+} // namespace cm

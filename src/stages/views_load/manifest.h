@@ -1,0 +1,33 @@
+// The views manifest (short and long forms), see docs/views-manifest.md.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cm {
+
+struct ManifestView {
+    std::string key;                       ///< manifest key ("front", "sketch_3q", ...)
+    std::filesystem::path image;           ///< resolved against the manifest's folder
+    std::optional<std::string> view;       ///< named view
+    std::optional<double> azimuth, elevation;
+    std::optional<std::array<double, 12>> matrix;
+    std::string background = "auto";      ///< auto | alpha | colour (#rrggbb or "r,g,b")
+    std::optional<double> threshold;       ///< background distance threshold in [0,1]
+    std::string keep = "auto";             ///< auto | largest | all
+    int line = 0;
+};
+
+struct Manifest {
+    std::filesystem::path file;
+    std::vector<ManifestView> views;
+    std::optional<double> height, width, depth;   ///< real size of the object in output units
+    std::optional<std::array<double, 6>> bounds;  ///< world box (min xyz, max xyz) for calibrated views
+};
+
+/// Reads a manifest; throws cm::Error naming the file and line.
+Manifest read_manifest(const std::filesystem::path& file);
+
+} // namespace cm

@@ -1,0 +1,87 @@
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/mesh_io.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+TEST(MeshCheck, BoxIsClosedOutwardManifold) {
+    const Mesh m = test::make_box({0, 0, 0}, {1, 2, 3});
+    const MeshCheck c = check_mesh(m);
+    EXPECT_TRUE(c.closed_manifold());
+    EXPECT_EQ(c.degenerate_faces, 0u);
+    EXPECT_EQ(c.components, 1u);
+    EXPECT_EQ(c.euler, 2);
+    EXPECT_NEAR(c.signed_volume, 6.0, 1e-9);
+    EXPECT_NEAR(c.area, 2 * (2 + 3 + 6), 1e-9);
+}
+
+TEST(MeshCheck, DetectsHolesFlipsAndNonManifoldEdges) {
+    Mesh m = test::make_box({0, 0, 0}, {1, 1, 1});
+    Mesh hole = m;
+    hole.triangles.pop_back();
+    EXPECT_EQ(check_mesh(hole).boundary_edges, 3u);
+    Mesh flipped = m;
+    std::swap(flipped.triangles[0][0], flipped.triangles[0][1]);
+    EXPECT_GT(check_mesh(flipped).inconsistent_edges, 0u);
+    Mesh fin = m;
+    fin.positions.push_back({5, 5, 5});
+    fin.triangles.push_back({0, 1, 8});   // a third face on edge 0-1
+    EXPECT_GT(check_mesh(fin).nonmanifold_edges, 0u);
+    Mesh inside_out = m;
+    for (auto& t : inside_out.triangles) std::swap(t[1], t[2]);
+    EXPECT_LT(check_mesh(inside_out).signed_volume, 0);
+}
+
+TEST(MeshCheck, DetectsBowtieVertex) {
+    // Two boxes sharing one corner vertex: edges are fine, the vertex is not.
+    Mesh a = test::make_box({0, 0, 0}, {1, 1, 1});
+    Mesh b = test::make_box({1, 1, 1}, {2, 2, 2});
+    const std::uint32_t off = std::uint32_t(a.positions.size());
+    for (auto p : b.positions) a.positions.push_back(p);
+    for (auto t : b.triangles) {
+        for (auto& i : t) i = (i == 0) ? 7 : i + off;   // b's corner 0 is a's corner 7
+        a.triangles.push_back(t);
+    }
+    EXPECT_EQ(check_mesh(a).nonmanifold_vertices, 1u);
+}
+
+TEST(MeshIO, EveryFormatRoundTrips) {
+    test::TempDir dir("meshio");
+    Mesh m = test::make_sphere({0, 1, 0}, 1.0f, 2);
+    m.compute_normals();
+    for (const char* ext : {".obj", ".ply", ".stl", ".off"}) {
+        SCOPED_TRACE(ext);
+        const auto f = dir / (std::string("sphere") + ext);
+        write_mesh(m, f);
+        const Mesh r = read_mesh(f);
+        EXPECT_EQ(r.face_count(), m.face_count());
+        const MeshCheck c = check_mesh(r);
+        EXPECT_TRUE(c.closed_manifold());
+        EXPECT_NEAR(c.signed_volume, check_mesh(m).signed_volume, 1e-4);
+    }
+}
+
+TEST(MeshIO, ReadsTheSharedModels) {
+    for (const char* name : {"spot.obj", "bunny00.off", "fandisk.off"}) {
+        SCOPED_TRACE(name);
+        const Mesh m = read_mesh(test::shared_dir() / "data/models" / name);
+        EXPECT_GT(m.face_count(), 1000u);
+        EXPECT_TRUE(check_mesh(m).closed_manifold());
+    }
+}
+
+TEST(MeshIO, ClearErrors) {
+    test::TempDir dir("meshio-bad");
+    try {
+        read_mesh(dir / "missing.obj");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.obj"), std::string::npos);
+    }
+    test::write_text(dir / "junk.off", "this is not a mesh\n");
+    EXPECT_THROW(read_mesh(dir / "junk.off"), Error);
+    EXPECT_THROW(write_mesh(test::make_box({0, 0, 0}, {1, 1, 1}), dir / "x.xyz"), Error);
+}
