@@ -1,0 +1,60 @@
+// Rasterising meshes through the cameras of ../conventions/views.md: binary
+// silhouettes (pixel centre inside a projected triangle), a depth/face buffer for
+// shaded pictures, and the silhouette error of a mesh against input views.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/mesh.h"
+#include "core/views.h"
+
+namespace cm {
+
+/// @brief Binary silhouette of a mesh seen through `cam`.
+/// @return width*height bytes, row-major, row 0 at the top: 1 where a pixel centre
+///         (i+0.5, j+0.5) lies inside a projected triangle (orthographic or perspective;
+///         perspective triangles are clipped at the camera plane), else 0. A centre exactly
+///         on an edge counts as inside, so triangles sharing an edge leave no gap.
+/// TBB-parallel over triangles; millions of triangles in about a second.
+std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height);
+
+/// Nearest surface per pixel (pixel centre sampling, as render_mask).
+struct DepthImage {
+    int width = 0, height = 0;
+    std::vector<float> depth;            ///< Camera::depth of the nearest surface; +inf where empty
+    std::vector<std::uint32_t> face;     ///< triangle index of the nearest surface; kNoFace where empty
+    static constexpr std::uint32_t kNoFace = 0xffffffffu;
+    bool covered(int x, int y) const { return face[std::size_t(y) * width + x] != kNoFace; }
+};
+
+/// @brief Z-buffer render (TBB-parallel over image bands). The covered pixels are exactly
+/// those render_mask() sets.
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height);
+
+struct ViewError {
+    std::string view;
+    double input_px = 0;    ///< |S|: input silhouette pixels (coverage >= 0.5)
+    double render_px = 0;   ///< |R|: re-rendered pixels
+    double xor_px = 0;      ///< |S xor R|
+    double iou = 0;         ///< |S and R| / |S or R| (1 when both are empty)
+    double xor_pct = 0;     ///< 100 |S xor R| / |S|
+};
+struct SilhouetteError {
+    std::vector<ViewError> views;
+    double xor_pct = 0;     ///< 100 * sum_v |S xor R| / sum_v |S| (the seed paper's error)
+    double mean_iou = 0;    ///< mean of the per-view IoU
+};
+
+/// @brief Re-renders the mesh through every view's camera and compares with the view's
+/// silhouette (coverage >= 0.5).
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views);
+
+/// @brief Orthographic camera framed as ../conventions/views.md "Rendering views of a mesh":
+/// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.
+/// `direction` gives r, u, d (and azimuth/elevation); its scale and origin are ignored.
+/// @throw cm::Error for a perspective direction or an empty (zero-size) box.
+Camera framed_camera(const Camera& direction, Vec3d bbox_min, Vec3d bbox_max, int width, int height);
+
+} // namespace cm

@@ -1,0 +1,171 @@
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "core/error.h"
+#include "core/raster.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+std::size_t count(const std::vector<std::uint8_t>& m) { return std::size_t(std::accumulate(m.begin(), m.end(), 0.0)); }
+
+View view_from_mask(const std::string& name, const Camera& cam, const std::vector<std::uint8_t>& mask, int w, int h) {
+    View v;
+    v.name = name;
+    v.width = w;
+    v.height = h;
+    v.camera = cam;
+    v.coverage.resize(mask.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) v.coverage[i] = mask[i] ? 1.0f : 0.0f;
+    return v;
+}
+
+// Front camera with scale 1 and the world origin at pixel (0, 0): x = p.x, y = -p.y.
+Camera unit_front() {
+    Camera c = *Camera::named("front");
+    c.scale = 1;
+    c.cx = 0;
+    c.cy = 0;
+    return c;
+}
+
+} // namespace
+
+TEST(Raster, BoxFaceCoversExactlyThePixelCentresInside) {
+    // x in [10, 50], image y in [20, 40]: pixel edges on integers, so no centre is on an edge.
+    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});
+    const auto m = render_mask(box, unit_front(), 64, 64);
+    EXPECT_EQ(count(m), 40u * 20u);
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i)
+            EXPECT_EQ(m[std::size_t(j) * 64 + i] != 0, i >= 10 && i < 50 && j >= 20 && j < 40) << i << "," << j;
+}
+
+TEST(Raster, SharedEdgesThroughPixelCentresLeaveNoGap) {
+    // The box's diagonal edges run through pixel centres; the inclusive, exactly antisymmetric
+    // edge test must still fill every pixel of the face.
+    const Mesh box = test::make_box({10.5f, -40.5f, -5}, {50.5f, -20.5f, 5});
+    const auto m = render_mask(box, unit_front(), 64, 64);
+    EXPECT_EQ(count(m), 41u * 21u);   // centres on the boundary count as inside
+}
+
+TEST(Raster, SphereAreaMatchesTheDisc) {
+    const Mesh s = test::make_sphere({0, 0, 0}, 1.0f, 5);
+    const Camera c = framed_camera(*Camera::named("right"), {-1, -1, -1}, {1, 1, 1}, 400, 400);
+    const auto m = render_mask(s, c, 400, 400);
+    const double r = 0.9 * 400 / 2;
+    const double disc = 3.14159265358979 * r * r;
+    // An icosphere of level 5 is a little smaller than its circumscribed sphere.
+    EXPECT_NEAR(double(count(m)) / disc, 1.0, 0.01);
+}
+
+TEST(Raster, FramedCameraFollowsTheConventions) {
+    const Vec3d lo{1, 2, 3}, hi{3, 6, 4};
+    for (const char* name : {"front", "right", "top", "back", "left", "bottom"}) {
+        SCOPED_TRACE(name);
+        const Camera c = framed_camera(*Camera::named(name), lo, hi, 300, 200);
+        EXPECT_DOUBLE_EQ(c.scale, 0.9 * 200 / 4.0);
+        const Vec2d mid = c.project((lo + hi) * 0.5);
+        EXPECT_NEAR(mid.x, 150, 1e-9);
+        EXPECT_NEAR(mid.y, 100, 1e-9);
+    }
+    EXPECT_THROW(framed_camera(*Camera::named("front"), lo, lo, 10, 10), Error);
+}
+
+TEST(Raster, RenderedBoxAndSphereCompareToThemselvesWithZeroError) {
+    for (int shape = 0; shape < 2; ++shape) {
+        SCOPED_TRACE(shape == 0 ? "box" : "sphere");
+        const Mesh m = shape == 0 ? test::make_box({-1, 0, -0.5f}, {1, 3, 0.5f}) : test::make_sphere({0.3f, 1, 0}, 1.2f, 4);
+        Vec3f lo, hi;
+        m.bounds(lo, hi);
+        Views views;
+        for (const char* name : {"front", "right", "top"}) {
+            const Camera c = framed_camera(*Camera::named(name), Vec3d(lo), Vec3d(hi), 256, 200);
+            views.views.push_back(view_from_mask(name, c, render_mask(m, c, 256, 200), 256, 200));
+        }
+        const Camera q = framed_camera(Camera::from_azimuth_elevation(45, 30), Vec3d(lo), Vec3d(hi), 256, 200);
+        views.views.push_back(view_from_mask("az45el30", q, render_mask(m, q, 256, 200), 256, 200));
+        const SilhouetteError e = silhouette_error(m, views);
+        ASSERT_EQ(e.views.size(), 4u);
+        EXPECT_EQ(e.xor_pct, 0.0);
+        EXPECT_EQ(e.mean_iou, 1.0);
+        for (const auto& v : e.views) {
+            EXPECT_GT(v.input_px, 1000);
+            EXPECT_EQ(v.xor_px, 0);
+        }
+    }
+}
+
+TEST(Raster, KnownOffsetGivesTheKnownError) {
+    // Input: a 40 x 20 rectangle. Mesh: the same box moved 3 px right.
+    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});
+    const Mesh moved = test::make_box({13, -40, -5}, {53, -20, 5});
+    Views views;
+    views.views.push_back(view_from_mask("front", unit_front(), render_mask(box, unit_front(), 64, 64), 64, 64));
+    const SilhouetteError e = silhouette_error(moved, views);
+    ASSERT_EQ(e.views.size(), 1u);
+    EXPECT_EQ(e.views[0].input_px, 800);
+    EXPECT_EQ(e.views[0].render_px, 800);
+    EXPECT_EQ(e.views[0].xor_px, 2 * 3 * 20);
+    EXPECT_DOUBLE_EQ(e.xor_pct, 100.0 * 120 / 800);
+    EXPECT_DOUBLE_EQ(e.views[0].iou, 37.0 / 43.0);
+}
+
+TEST(Raster, ErrorSumsOverViewsBeforeDividing) {
+    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});      // 800 px from the front
+    const Mesh small = test::make_box({10, -30, -5}, {50, -20, 5});    // 400 px
+    Views views;
+    views.views.push_back(view_from_mask("a", unit_front(), render_mask(box, unit_front(), 64, 64), 64, 64));
+    views.views.push_back(view_from_mask("b", unit_front(), render_mask(small, unit_front(), 64, 64), 64, 64));
+    const SilhouetteError e = silhouette_error(small, views);
+    EXPECT_DOUBLE_EQ(e.views[0].xor_pct, 50.0);
+    EXPECT_DOUBLE_EQ(e.views[1].xor_pct, 0.0);
+    EXPECT_DOUBLE_EQ(e.xor_pct, 100.0 * 400 / 1200);
+    EXPECT_DOUBLE_EQ(e.mean_iou, 0.75);
+}
+
+TEST(Raster, PerspectiveSquareAndClippingBehindTheCamera) {
+    // Camera at (0, 0, 10) looking down -Z, focal 100 px, principal point (64, 64).
+    const double f = 100, c0 = 64;
+    const std::array<double, 12> P = {f, 0, -c0, c0 * 10, 0, -f, -c0, c0 * 10, 0, 0, -1, 10};
+    const Camera cam = Camera::perspective(P);
+    // Front face at z = 0 (distance 10): half-size 1 -> 10 px; the far face is smaller.
+    const Mesh box = test::make_box({-1, -1, -3}, {1, 1, 0});
+    EXPECT_EQ(count(render_mask(box, cam, 128, 128)), 20u * 20u);
+    // The same matrix negated projects alike.
+    std::array<double, 12> N = P;
+    for (double& v : N) v = -v;
+    EXPECT_EQ(count(render_mask(box, Camera::perspective(N), 128, 128)), 20u * 20u);
+
+    // A ground plane y = -1 reaching behind the camera: only rows below the horizon, none above.
+    Mesh ground;
+    ground.positions = {{-100, -1, -100}, {100, -1, -100}, {100, -1, 100}, {-100, -1, 100}};
+    ground.triangles = {{0, 2, 1}, {0, 3, 2}};
+    const auto g = render_mask(ground, cam, 128, 128);
+    for (int j = 0; j < 65; ++j)
+        for (int i = 0; i < 128; ++i) ASSERT_EQ(g[std::size_t(j) * 128 + i], 0) << i << "," << j;
+    for (int j = 65; j < 128; ++j) EXPECT_EQ(g[std::size_t(j) * 128 + 64], 1) << j;
+    for (int i = 0; i < 128; ++i) EXPECT_EQ(g[std::size_t(127) * 128 + i], 1) << i;
+}
+
+TEST(Raster, DepthImageCoversTheMaskAndKeepsTheNearestFace) {
+    const Mesh s = test::make_sphere({0, 0, 0}, 1.0f, 3);
+    const Camera c = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, 120, 100);
+    const auto m = render_mask(s, c, 120, 100);
+    const DepthImage d = render_depth(s, c, 120, 100);
+    for (std::size_t i = 0; i < m.size(); ++i) ASSERT_EQ(m[i] != 0, d.face[i] != DepthImage::kNoFace) << i;
+    // Front view looks along -Z: depth = p . d = -z, nearest surface z ~ +1 at the centre.
+    EXPECT_NEAR(d.depth[std::size_t(50) * 120 + 60], -1.0, 0.02);
+    const auto& tri = s.triangles[d.face[std::size_t(50) * 120 + 60]];
+    EXPECT_GT(s.positions[tri[0]].z, 0.9f);
+    EXPECT_TRUE(std::isinf(d.depth[0]));
+}
+
+TEST(Raster, RejectsBadImageSizes) {
+    const Mesh box = test::make_box({0, 0, 0}, {1, 1, 1});
+    EXPECT_THROW(render_mask(box, unit_front(), 0, 10), Error);
+    EXPECT_THROW(render_depth(box, unit_front(), 10, -1), Error);
+}
