@@ -1,0 +1,55 @@
+// Approximate signed distance to the visual hull of a set of views, for stages
+// that must keep a surface on the drawn outline (hull-constrained smoothing).
+//
+// The visual hull is the intersection of the silhouette cones, so a point is
+// outside it as soon as one view sees it outside its silhouette. Per view we
+// keep a 2D signed distance field of the silhouette (pixels, positive outside),
+// and the hull's signed distance at p is approximated by the largest of the
+// views' distances at p's projections, each converted to world units with the
+// view's pixel size at p. Outside the hull this is a lower bound of the true
+// distance; on the hull's surface it is zero; inside it is the distance to the
+// nearest silhouette border seen by any view (the shallowest one).
+#pragma once
+#include <vector>
+
+#include "core/vec.h"
+#include "core/views.h"
+
+namespace cm {
+
+/// Signed distance field of one silhouette, in pixels, positive outside.
+struct SilhouetteSdf {
+    int width = 0, height = 0;
+    std::vector<float> sdf;   ///< at pixel centres, row-major, row 0 at the top
+    /// Bilinear sample at continuous pixel coordinates (x, y) (pixel centres at i + 0.5);
+    /// beyond the image the distance grows with the distance to the image border.
+    double sample(double x, double y) const;
+};
+
+/// @brief Builds the signed distance field of a coverage mask: the border is where
+/// coverage crosses 0.5. Exact Euclidean distance transform (Felzenszwalb-Huttenlocher)
+/// of the binary mask, with pixels of fractional coverage refined to 0.5 - coverage
+/// (the sub-pixel position of a straight border through the pixel).
+/// @throw cm::Error when the mask has no inside pixel.
+SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int width, int height,
+                             const std::string& view_name);
+
+class HullDistance {
+public:
+    /// @throw cm::Error naming the view when a view has an empty silhouette.
+    explicit HullDistance(const Views& views);
+    /// Approximate signed distance from p to the visual hull in world units (positive outside).
+    double operator()(const Vec3d& p) const;
+    /// Pixel size of the finest view, world units.
+    double finest_pixel() const { return finest_pixel_; }
+
+private:
+    struct Entry {
+        Camera camera;
+        SilhouetteSdf sdf;
+    };
+    std::vector<Entry> views_;
+    double finest_pixel_ = 1.0;
+};
+
+} // namespace cm

@@ -1,0 +1,39 @@
+// Umbrella-operator smoothing of triangle meshes: the paper's Laplacian relaxation
+// and Taubin's lambda|mu smoothing, with an optional constraint that keeps every
+// vertex within a tolerance of the visual hull. Jacobi updates on flat arrays
+// (CSR one-rings), TBB-parallel over vertices.
+#pragma once
+#include <cstddef>
+#include <functional>
+
+#include "core/mesh.h"
+
+namespace cm {
+
+class HullDistance;
+
+struct SmoothOptions {
+    enum class Method { Laplacian, Taubin };
+    Method method = Method::Laplacian;
+    int iterations = 10;            ///< Taubin: one iteration is one lambda step and one mu step
+    double factor = 1.0;            ///< Laplacian step: V' = V + factor * (mean of neighbours - V)
+    double lambda = 0.63;           ///< Taubin shrinking step (> 0)
+    double mu = -0.67;              ///< Taubin inflating step (< -lambda)
+    /// When set, each vertex stays within `tolerance` (world units) of the hull: a step
+    /// that would leave the band is shortened by bisection along its direction.
+    const HullDistance* hull = nullptr;
+    double tolerance = 0.0;
+    /// Called after each iteration with the fraction done; may throw to cancel.
+    std::function<void(double)> progress;
+};
+
+struct SmoothStats {
+    std::size_t clamped_steps = 0;   ///< vertex steps shortened by the hull constraint
+    double max_hull_distance = 0;    ///< largest |hull distance| of a vertex at the end (constrained runs)
+};
+
+/// @brief Smooths `mesh` in place (positions; normals are recomputed when present).
+/// Vertices without neighbours do not move.
+SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt);
+
+} // namespace cm

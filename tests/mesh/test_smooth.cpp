@@ -1,0 +1,136 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/hull_distance.h"
+#include "core/mesh_adjacency.h"
+#include "core/mesh_smooth.h"
+#include "mesh_shapes.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+double rms_radius_error(const Mesh& m, float r) {
+    double s = 0;
+    for (const auto& p : m.positions) {
+        const double e = length(Vec3d(p)) - r;
+        s += e * e;
+    }
+    return std::sqrt(s / double(m.positions.size()));
+}
+
+double max_abs_hull(const Mesh& m, const HullDistance& h) {
+    double worst = 0;
+    for (const auto& p : m.positions) worst = std::max(worst, std::fabs(h(Vec3d(p))));
+    return worst;
+}
+
+} // namespace
+
+TEST(VertexAdjacency, IcosahedronHasFiveNeighboursEach) {
+    const Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 0);
+    const VertexAdjacency adj = build_vertex_adjacency(m);
+    ASSERT_EQ(adj.vertex_count(), 12u);
+    for (std::uint32_t v = 0; v < 12; ++v) {
+        EXPECT_EQ(adj.degree(v), 5u);
+        for (auto it = adj.begin(v); it != adj.end(v); ++it) EXPECT_NE(*it, v);
+    }
+}
+
+TEST(Smooth, LaplacianReducesNoiseOfASphere) {
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    test::add_radial_noise(m, {0, 0, 0}, 0.03f);
+    const double before = rms_radius_error(m, 1.0f);
+    SmoothOptions opt;
+    opt.iterations = 3;
+    smooth_mesh(m, opt);
+    // Laplacian smoothing shrinks, so compare with the best-fitting radius too.
+    const double after = rms_radius_error(m, 1.0f);
+    EXPECT_LT(after, 0.6 * before) << "before " << before << " after " << after;
+    EXPECT_TRUE(check_mesh(m).closed_manifold());
+}
+
+TEST(Smooth, TaubinReducesNoiseAndKeepsVolumeWhereLaplacianShrinks) {
+    Mesh noisy = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    test::add_radial_noise(noisy, {0, 0, 0}, 0.03f);
+    const double v0 = check_mesh(noisy).signed_volume;
+    Mesh lap = noisy, tau = noisy;
+    SmoothOptions lo;
+    lo.iterations = 10;
+    smooth_mesh(lap, lo);
+    SmoothOptions to;
+    to.method = SmoothOptions::Method::Taubin;
+    to.iterations = 10;
+    smooth_mesh(tau, to);
+    const double lap_change = (check_mesh(lap).signed_volume - v0) / v0;
+    const double tau_change = (check_mesh(tau).signed_volume - v0) / v0;
+    EXPECT_LT(lap_change, -0.02) << "Laplacian should shrink the sphere";
+    EXPECT_LT(std::fabs(tau_change), 0.01) << "Taubin volume change " << tau_change;
+    EXPECT_LT(rms_radius_error(tau, 1.0f), 0.5 * rms_radius_error(noisy, 1.0f));
+}
+
+TEST(Smooth, FactorScalesTheStep) {
+    const Mesh m0 = test::make_sphere({0, 0, 0}, 1.0f, 3);
+    Mesh full = m0, half = m0;
+    SmoothOptions o;
+    o.iterations = 1;
+    smooth_mesh(full, o);
+    o.factor = 0.5;
+    smooth_mesh(half, o);
+    for (std::size_t v = 0; v < m0.positions.size(); ++v) {
+        const Vec3f expect = m0.positions[v] + (full.positions[v] - m0.positions[v]) * 0.5f;
+        EXPECT_NEAR(length(half.positions[v] - expect), 0.0f, 1e-6f);
+    }
+}
+
+TEST(HullDistance, SignedDistanceOfABoxFromItsViews) {
+    const Views views = test::make_box_views(-1.0f, 1.0f, 200);
+    const HullDistance h(views);
+    const double px = h.finest_pixel();
+    EXPECT_NEAR(px, 2.0 / 160.0, 1e-12);
+    EXPECT_NEAR(h({1.0, 0.3, -0.2}), 0.0, 0.1 * px);             // on a face
+    EXPECT_NEAR(h({1.0 + 10 * px, 0.0, 0.0}), 10 * px, 0.1 * px); // outside, along x
+    EXPECT_NEAR(h({1.0 - 10 * px, 0.0, 0.0}), -10 * px, 0.1 * px);// inside, nearest face x
+    EXPECT_NEAR(h({0.0, 0.0, 0.0}), -1.0, 2 * px);                // centre
+    EXPECT_GT(h({5.0, 0.0, 0.0}), 3.0);                           // far outside the images
+}
+
+TEST(HullDistance, EmptySilhouetteIsAnErrorNamingTheView) {
+    Views views = test::make_box_views(-1.0f, 1.0f, 32);
+    std::fill(views.views[1].coverage.begin(), views.views[1].coverage.end(), 0.0f);
+    try {
+        HullDistance h(views);
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("\"right\""), std::string::npos) << e.what();
+    }
+}
+
+TEST(Smooth, HullConstraintKeepsVerticesOnTheOutline) {
+    // A finely gridded cube is its own visual hull; Laplacian smoothing rounds its
+    // corners and edges away unless the hull constraint holds them.
+    const Views views = test::make_box_views(-1.0f, 1.0f, 256);
+    const HullDistance hull(views);
+    const double tol = 0.5 * hull.finest_pixel();
+    const Mesh box = test::make_grid_box(-1.0f, 1.0f, 16);
+    ASSERT_LT(max_abs_hull(box, hull), tol);
+
+    Mesh free = box;
+    SmoothOptions o;
+    o.iterations = 10;
+    smooth_mesh(free, o);
+    EXPECT_GT(max_abs_hull(free, hull), 10 * tol);
+
+    Mesh held = box;
+    o.hull = &hull;
+    o.tolerance = tol;
+    const SmoothStats st = smooth_mesh(held, o);
+    EXPECT_GT(st.clamped_steps, 0u);
+    EXPECT_LE(st.max_hull_distance, tol * (1 + 1e-6));
+    EXPECT_LE(max_abs_hull(held, hull), tol * (1 + 1e-6));
+    EXPECT_TRUE(check_mesh(held).closed_manifold());
+    EXPECT_GT(check_mesh(held).signed_volume, 0.97 * 8.0);
+}
