@@ -109,6 +109,11 @@ void add_pipeline_commands(CLI::App& app, GlobalOptions& g, std::function<int()>
             action = [&g, file, sets, report]() -> int {
                 print_plugin_diagnostics(g);
                 Pipeline p = load_checked(*file, *sets);
+                if (!report->empty()) {
+                    const fs::path dir = fs::absolute(*report).parent_path();
+                    if (!fs::is_directory(dir))
+                        throw Error("--report \"" + *report + "\": the folder \"" + dir.string() + "\" does not exist");
+                }
                 ProgressPrinter printer(g.quiet, g.verbose);
                 RunOptions opt;
                 opt.sink = &printer;
@@ -179,6 +184,7 @@ void add_pipeline_commands(CLI::App& app, GlobalOptions& g, std::function<int()>
         auto* cmd = app.add_subcommand("schema", "Write the JSON Schemas (pipeline and one per stage) into DIR");
         auto dir = std::make_shared<std::string>();
         cmd->add_option("dir", *dir, "Output folder (creates DIR/pipeline.schema.json and DIR/stages/)")->required();
+        cmd->add_flag("-q,--quiet", g.quiet, "Print nothing but errors");
         cmd->callback([&g, &action, dir] {
             action = [&g, dir]() -> int {
                 print_plugin_diagnostics(g);

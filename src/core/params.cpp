@@ -4,7 +4,6 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "core/error.h"
 
@@ -142,16 +141,15 @@ ParamValue parse_param_text(const ParamSpec& spec, const std::string& text) {
     throw bad();
 }
 
-ParamValue parse_param_yaml(const ParamSpec& spec, const YAML::Node& node) {
-    if (!node.IsScalar()) {
-        throw Error(spec.name + " must be " + type_phrase(spec) + ", got a " +
-                    (node.IsSequence() ? "list" : node.IsMap() ? "mapping" : "null value"));
+ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, const std::string& kind) {
+    if (kind != "scalar" && kind != "quoted") {
+        if (kind == "null value" && spec.is_optional) return std::string();
+        throw Error(spec.name + " must be " + type_phrase(spec) + ", got a " + kind);
     }
     // A quoted YAML string is never a number or a boolean.
-    const bool quoted = node.Tag() == "!";
-    if (quoted && (spec.type == ParamType::Int || spec.type == ParamType::Float || spec.type == ParamType::Bool))
-        throw Error(spec.name + " must be " + type_phrase(spec) + ", got the string \"" + node.Scalar() + "\"");
-    return parse_param_text(spec, node.Scalar());
+    if (kind == "quoted" && (spec.type == ParamType::Int || spec.type == ParamType::Float || spec.type == ParamType::Bool))
+        throw Error(spec.name + " must be " + type_phrase(spec) + ", got the string \"" + text + "\"");
+    return parse_param_text(spec, text);
 }
 
 std::string check_param(const ParamSpec& spec, const ParamValue& v) {

@@ -10,8 +10,6 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-namespace YAML { class Node; }
-
 namespace cm {
 
 enum class ParamType { Bool, Int, Float, String, Path, Enum };
@@ -67,8 +65,9 @@ private:
 /// Converts text (from --set) to a value of the declared type; throws cm::Error
 /// with a message of the form "<what> must be ..., got ...".
 ParamValue parse_param_text(const ParamSpec& spec, const std::string& text);
-/// Converts a YAML scalar to a value of the declared type.
-ParamValue parse_param_yaml(const ParamSpec& spec, const YAML::Node& node);
+/// Converts a value written in YAML to the declared type. `kind` is how it was
+/// written: "scalar" (plain), "quoted", "list", "mapping" or "null value".
+ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, const std::string& kind);
 /// Range and choice checks; returns an empty string when valid, else the reason.
 std::string check_param(const ParamSpec& spec, const ParamValue& v);
 

@@ -65,15 +65,15 @@ YAML::Node follow(const YAML::Node& root, const std::vector<std::string>& ctx) {
     for (const auto& c : ctx) {
         if (c == "<root>" || c.size() < 3 || c.front() != '[') continue;
         const std::string key = c.substr(1, c.size() - 2);
-        YAML::Node next;
+        YAML::Node next(YAML::NodeType::Undefined);
         if (cur.IsSequence()) {
-            try { next = cur[std::stoul(key)]; } catch (...) { break; }
+            try { next.reset(cur[std::stoul(key)]); } catch (...) { break; }
         } else if (cur.IsMap()) {
             for (auto it = cur.begin(); it != cur.end(); ++it)
-                if (it->first.Scalar() == key) { next = it->second; break; }
+                if (it->first.Scalar() == key) { next.reset(it->second); break; }
         }
         if (!next.IsDefined()) break;
-        cur = next;
+        cur.reset(next);   // operator= would assign into the document
     }
     return cur;
 }
@@ -190,8 +190,10 @@ Pipeline Pipeline::parse(const std::string& text, const fs::path& file) {
                 const std::string key = it->first.Scalar();
                 node.param_lines[key] = line_of(it->second);
                 node.param_is_yaml[key] = true;
-                node.yaml_params[key] = YAML::Dump(it->second);
-                node.raw_params[key] = it->second.IsScalar() ? it->second.Scalar() : YAML::Dump(it->second);
+                const YAML::Node& v = it->second;
+                node.yaml_kind[key] = v.IsScalar() ? (v.Tag() == "!" ? "quoted" : "scalar")
+                                      : v.IsSequence() ? "list" : v.IsMap() ? "mapping" : "null value";
+                node.raw_params[key] = v.IsScalar() ? v.Scalar() : YAML::Dump(v);
             }
         }
         p.nodes.push_back(std::move(node));
@@ -255,8 +257,7 @@ void Pipeline::validate(const Registry& registry) {
             }
             ParamValue v;
             try {
-                v = n.param_is_yaml[key] ? parse_param_yaml(*spec, YAML::Load(n.yaml_params[key]))
-                                         : parse_param_text(*spec, raw);
+                v = n.param_is_yaml[key] ? parse_param_yaml(*spec, raw, n.yaml_kind[key]) : parse_param_text(*spec, raw);
             } catch (const Error& e) {
                 throw Error(where(n, n.param_lines[key]) + e.what() + src);
             }
@@ -328,9 +329,10 @@ void Pipeline::validate(const Registry& registry) {
             for (const auto& [port, src] : nodes[cur].inputs)
                 if (indeg[index[src]] > 0) { cur = index[src]; break; }
         }
+        // path follows inputs backwards; print the cycle in data-flow order.
         std::string cyc;
-        for (std::size_t k = std::size_t(seen[cur]); k < path.size(); ++k) cyc = nodes[path[k]].id + " -> " + cyc;
-        cyc += nodes[cur].id;
+        for (std::size_t k = path.size(); k-- > std::size_t(seen[cur]);) cyc += nodes[path[k]].id + " -> ";
+        cyc += nodes[path.back()].id;
         throw Error(where(nodes[cur]) + "the graph has a cycle: " + cyc);
     }
 }

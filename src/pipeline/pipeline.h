@@ -22,7 +22,7 @@ struct PipelineNode {
     std::map<std::string, std::string> raw_params;   ///< as written (YAML scalars as text)
     std::map<std::string, int> param_lines;
     std::map<std::string, bool> param_is_yaml;       ///< from the file (typed YAML) vs --set
-    std::map<std::string, std::string> yaml_params;  ///< YAML text of file-given values
+    std::map<std::string, std::string> yaml_kind;    ///< file-given values: scalar, quoted, list, mapping, null value
     ParamSet params;                                 ///< filled by validate()
     StageInfo info;                                  ///< filled by validate()
 };

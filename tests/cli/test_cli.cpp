@@ -1,0 +1,202 @@
+// The conceptmesh command end to end: runs the built binary.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+#include "core/mesh_io.h"
+#include "support/test_support.h"
+
+using namespace cm;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const fs::path kFixtures = CM_FIXTURE_ROOT;
+
+// Runs with the test-kit plugin on the plugin path.
+test::CommandResult cli_with_testkit(const std::string& args, const fs::path& cwd) {
+    ::setenv("CONCEPTMESH_PLUGIN_PATH", (kFixtures / "good").c_str(), 1);
+    auto r = test::run_cli(args, cwd);
+    ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
+    return r;
+}
+
+std::size_t line_count(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+const char* kBoxPipeline =
+    "pipeline: box\n"
+    "nodes:\n"
+    "  - id: box\n"
+    "    stage: test.box\n"
+    "    params: {size: 1.0}\n"
+    "  - id: write\n"
+    "    stage: mesh.write\n"
+    "    inputs: {mesh: box}\n"
+    "    params: {path: box.obj}\n";
+
+} // namespace
+
+TEST(Cli, VersionAndHelp) {
+    auto r = test::run_cli("--version");
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("conceptmesh " CONCEPTMESH_VERSION_STRING), std::string::npos) << r.out;
+    r = test::run_cli("--help");
+    EXPECT_EQ(r.exit_code, 0);
+    for (const char* cmd : {"run", "validate", "stages", "schema"}) EXPECT_NE(r.out.find(cmd), std::string::npos) << cmd;
+    r = test::run_cli("frobnicate");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+}
+
+TEST(Cli, SetOverridesReachTheStage) {
+    test::TempDir dir("cli-set");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("run p.yaml --set box.size=4 --set write.path=big.ply -q", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "box.obj"));
+    const Mesh m = read_mesh(dir / "big.ply");
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    EXPECT_FLOAT_EQ(hi.x - lo.x, 4.0f);
+}
+
+TEST(Cli, UnknownSetTargetIsAnErrorAndWritesNothing) {
+    test::TempDir dir("cli-badset");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("run p.yaml --set hull.resolution=512", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("has no node \"hull\""), std::string::npos) << r.err;
+    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+    r = cli_with_testkit("run p.yaml --set box.colour=red", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("p.yaml:3: node \"box\" (test.box): unknown parameter \"colour\" (from --set)"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "box.obj"));
+}
+
+TEST(Cli, StagesJsonListsEveryStageWithItsParameters) {
+    test::TempDir dir("cli-stages");
+    auto r = cli_with_testkit("stages --json", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_TRUE(j.is_array());
+    std::map<std::string, json> by_name;
+    for (const auto& s : j) by_name[s["name"]] = s;
+    for (const char* s : {"views.load", "mesh.write", "test.box", "test.sleep"}) EXPECT_TRUE(by_name.count(s)) << s;
+    // Every stage the plain listing shows is in the JSON too.
+    auto plain = cli_with_testkit("stages", dir.path());
+    for (const auto& [name, s] : by_name) EXPECT_NE(plain.out.find(name), std::string::npos) << name;
+    const json& box = by_name["test.box"];
+    EXPECT_EQ(box["output"], "mesh");
+    ASSERT_EQ(box["params"].size(), 3u);
+    EXPECT_EQ(box["params"][0]["name"], "size");
+    EXPECT_EQ(box["params"][0]["type"], "float");
+    EXPECT_EQ(box["params"][0]["default"], 1.0);
+    EXPECT_EQ(box["params"][0]["min"], 0.001);
+    EXPECT_EQ(box["params"][0]["unit"], "units");
+    EXPECT_EQ(box["params"][2]["choices"], json({"cube", "slab"}));
+    const json& write = by_name["mesh.write"];
+    EXPECT_EQ(write["params"][0]["name"], "path");
+    EXPECT_EQ(write["params"][0]["required"], true);
+    EXPECT_EQ(write["inputs"][0]["kind"], "mesh");
+}
+
+TEST(Cli, DescribeOneStage) {
+    auto r = test::run_cli("stages --describe mesh.write");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("mesh.write"), std::string::npos);
+    EXPECT_NE(r.out.find("binary"), std::string::npos);
+    EXPECT_NE(r.out.find("its extension picks the format"), std::string::npos);
+    r = test::run_cli("stages --describe mesh.wright");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("unknown stage \"mesh.wright\""), std::string::npos) << r.err;
+}
+
+TEST(Cli, ValidateReportsOneLineWithFileAndLine) {
+    test::TempDir dir("cli-validate");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("validate p.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("valid"), std::string::npos);
+    test::write_text(dir / "bad.yaml", "nodes:\n  - id: box\n    stage: test.box\n    params: {size: -1}\n");
+    r = cli_with_testkit("validate bad.yaml", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(r.err, "conceptmesh: error: bad.yaml:4: node \"box\" (test.box): size must be in [0.001, 1000] units, got -1\n");
+    r = test::run_cli("validate missing.yaml", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("cannot open pipeline \"missing.yaml\""), std::string::npos) << r.err;
+}
+
+TEST(Cli, ReportHasEveryNode) {
+    test::TempDir dir("cli-report");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("run p.yaml --report out/run.json -q", dir.path());
+    EXPECT_NE(r.exit_code, 0) << "a report in a missing folder must fail";
+    fs::create_directories(dir / "out");
+    r = cli_with_testkit("run p.yaml --report out/run.json -q", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(test::read_text(dir / "out/run.json"));
+    ASSERT_EQ(j["nodes"].size(), 2u);
+    for (const auto& n : j["nodes"]) {
+        EXPECT_TRUE(n.contains("seconds"));
+        EXPECT_TRUE(n.contains("peak_rss_bytes"));
+        EXPECT_TRUE(n.contains("params"));
+        EXPECT_TRUE(n.contains("metrics"));
+    }
+    EXPECT_EQ(j["nodes"][1]["metrics"]["faces"], 12);
+}
+
+TEST(Cli, PlainProgressLinesWhenNotATerminal) {
+    test::TempDir dir("cli-progress");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("run p.yaml", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find('\r'), std::string::npos) << "no carriage returns in logs";
+    EXPECT_NE(r.err.find("[box] test.box done in"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("wrote box.obj"), std::string::npos) << r.err;
+}
+
+TEST(Cli, CtrlCStopsPromptlyAndLeavesNoOutput) {
+    test::TempDir dir("cli-cancel");
+    test::write_text(dir / "p.yaml", std::string(kBoxPipeline) +
+                                         "  - id: slow\n    stage: test.sleep\n    inputs: {mesh: box}\n    params: {seconds: 120}\n");
+    const auto t0 = std::chrono::steady_clock::now();
+    ::setenv("CONCEPTMESH_PLUGIN_PATH", (kFixtures / "good").c_str(), 1);
+    const std::string cmd = "cd '" + dir.path().string() + "' && timeout --foreground --preserve-status -s INT 1 '" CM_EXE "' run p.yaml -q 2>err.txt";
+    const int status = std::system(cmd.c_str());
+    ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    EXPECT_LT(secs, 60.0);   // generous on a loaded machine; the run asked for 120 s
+    EXPECT_FALSE(fs::exists(dir / "box.obj"));
+    const std::string err = test::read_text(dir / "err.txt");
+    EXPECT_NE(err.find("cancelled; no output was written"), std::string::npos) << err;
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
+}
+
+// The checked-in schemas are exactly what the binary generates.
+TEST(Cli, CheckedInSchemasMatchTheBinary) {
+    test::TempDir dir("cli-schema");
+    auto r = test::run_cli("schema '" + (dir / "s").string() + "' -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const fs::path checked = test::source_dir() / "schemas";
+    std::set<std::string> generated;
+    for (const auto& e : fs::recursive_directory_iterator(dir / "s")) {
+        if (!e.is_regular_file()) continue;
+        const auto rel = fs::relative(e.path(), dir / "s");
+        generated.insert(rel.string());
+        ASSERT_TRUE(fs::exists(checked / rel)) << rel << " is missing from schemas/: run `conceptmesh schema schemas`";
+        EXPECT_EQ(test::read_text(checked / rel), test::read_text(e.path()))
+            << rel << " differs from what the binary generates: run `conceptmesh schema schemas`";
+    }
+    for (const auto& e : fs::recursive_directory_iterator(checked)) {
+        if (e.is_regular_file()) {
+            EXPECT_TRUE(generated.count(fs::relative(e.path(), checked).string()))
+                << e.path() << " is checked in but no stage generates it";
+        }
+    }
+    EXPECT_TRUE(generated.count("pipeline.schema.json"));
+}
