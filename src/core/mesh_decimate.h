@@ -1,0 +1,52 @@
+// Polygon reduction by half-edge collapses on flat arrays, with a priority queue
+// and lazy re-scoring. Two orderings share one collapse engine:
+//  - reduce_mesh(): the paper's importance (method step 5, after Zhu et al. 2005);
+//  - quadric_decimate(): Garland-Heckbert quadric error.
+// Every collapse keeps a closed 2-manifold closed and 2-manifold: the edge must
+// have two faces and pass the link condition, and no face may flip, collapse to
+// zero area or turn by more than the allowed normal deviation. Vertices on a
+// boundary or a non-manifold edge are never moved or removed.
+#pragma once
+#include <cstddef>
+#include <functional>
+
+#include "core/mesh.h"
+
+namespace cm {
+
+struct ReduceOptions {
+    /// A vertex is a candidate while the largest angle between the normals of its
+    /// faces is under this (the paper: 5 to 40 degrees); a collapse may not turn a
+    /// face by more than this either.
+    double max_angle_deg = 15.0;
+    std::size_t target_faces = 0;    ///< stop at or below this many faces; 0: until no vertex can go
+    double max_aspect_ratio = 0.0;   ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
+    std::function<void(double)> progress;   ///< fraction done; may throw to cancel
+};
+
+struct QuadricOptions {
+    std::size_t target_faces = 0;            ///< stop at or below this many faces; 0: no face target
+    double max_error = 0.0;                  ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
+    double max_normal_deviation_deg = 45.0;  ///< refuse collapses turning a face more than this
+    double max_aspect_ratio = 20.0;          ///< refuse collapses making a face thinner than this; 0: off
+    std::function<void(double)> progress;
+};
+
+struct DecimateStats {
+    std::size_t faces_before = 0, faces_after = 0;
+    std::size_t collapses = 0;
+    std::size_t locked_vertices = 0;   ///< on a boundary or non-manifold edge, kept as they are
+    double max_error = 0;              ///< quadric: largest sqrt(quadric error) of a collapse made
+};
+
+/// @brief The paper's reduction: least important vertex first, importance
+/// I(V) = arccos(<N_a, N_b>) * sum_j ||V_j - V||, each removed by a collapse into the
+/// neighbour that keeps the face normals best. Per-vertex attributes of surviving
+/// vertices are kept; normals are recomputed when present.
+DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt);
+
+/// @brief Garland-Heckbert quadric decimation (half-edge collapses, so surviving
+/// vertices keep their positions and attributes).
+DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt);
+
+} // namespace cm
