@@ -1,0 +1,46 @@
+// Marching Cubes over a sparse occupancy grid with exact edge crossings.
+#pragma once
+#include <cstddef>
+#include <functional>
+
+#include "core/mesh.h"
+#include "core/volume.h"
+
+namespace cm {
+
+struct MarchingCubesOptions {
+    /// How an ambiguous face (inside corners on one diagonal) is resolved:
+    /// Geometric pairs its four crossings so the two surface segments are shortest
+    /// (the inside joins across the face when its crossings lie near the outside corners);
+    /// Separate always cuts the inside corners apart; Join always connects them.
+    enum class Ambiguity { Geometric, Separate, Join };
+    Ambiguity ambiguity = Ambiguity::Geometric;
+    /// Use the volume's exact crossings (else edge midpoints, plain binary Marching Cubes).
+    bool use_crossings = true;
+    /// Use the thin-part grids ("thin_enter"/"thin_leave") so parts thinner than a cell stay.
+    bool use_thin = true;
+    /// Crossings closer than this fraction of an edge to a grid point are moved out to it,
+    /// so vertices never coincide and no triangle collapses.
+    double min_edge_fraction = 0.01;
+    /// Called on the calling thread with the fraction done; may throw to cancel.
+    std::function<void(double)> progress;
+};
+
+struct MarchingCubesStats {
+    std::size_t blocks = 0;             ///< 8^3 blocks of cells with surface
+    std::size_t surface_cells = 0;      ///< cells with mixed corners
+    std::size_t ambiguous_faces = 0;    ///< face evaluations with a diagonal pattern (each face seen twice)
+    std::size_t joined_faces = 0;       ///< of those, resolved by joining the inside
+    std::size_t centroid_vertices = 0;  ///< extra vertices for loops with no valid diagonal triangulation
+    std::size_t missing_crossings = 0;  ///< crossed edges without a valid crossing value (midpoint used)
+    std::size_t thin_points = 0;        ///< grid points made inside to keep thin parts
+};
+
+/// @brief Extracts the boundary of `vol.occupancy` as a closed, 2-manifold, outward
+/// triangle mesh in world space (the volume's transform). One vertex per crossed
+/// lattice edge, placed at the exact crossing when the volume is refined.
+/// TBB-parallel over 8^3 blocks of cells.
+/// @throw cm::Error when the occupancy is missing or its grids do not match.
+Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt = {}, MarchingCubesStats* stats = nullptr);
+
+} // namespace cm
