@@ -25,9 +25,13 @@ public:
         const std::filesystem::path path = p.get_string("path");
         if (!mesh_format_supported(path))
             throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl or .off)");
-        const auto dir = std::filesystem::absolute(path).parent_path();
-        if (!std::filesystem::is_directory(dir))
-            throw Error("path \"" + path.string() + "\": the folder \"" + dir.string() + "\" does not exist");
+        // A missing folder is created when the run writes; refuse only what cannot become one.
+        for (auto dir = std::filesystem::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+            if (std::filesystem::is_directory(dir)) break;
+            if (std::filesystem::exists(dir))
+                throw Error("path \"" + path.string() + "\": \"" + dir.string() + "\" is not a folder");
+            if (dir == dir.parent_path()) break;
+        }
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
@@ -43,6 +47,7 @@ public:
             with_normals.compute_normals();
             m = &with_normals;
         }
+        std::filesystem::create_directories(std::filesystem::absolute(path).parent_path());
         const auto tmp = ctx.output_file(path);
         write_mesh(*m, tmp, opt);
         ctx.metric("faces", double(m->face_count()));
