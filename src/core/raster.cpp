@@ -280,6 +280,20 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views) {
     return res;
 }
 
+Camera resized_camera(const Camera& cam, double factor) {
+    if (!(factor > 0) || !std::isfinite(factor)) throw Error("an image can only be resized by a positive factor");
+    if (cam.orthographic()) {
+        Camera c = cam;
+        c.scale *= factor;
+        c.cx *= factor;
+        c.cy *= factor;
+        return c;
+    }
+    std::array<double, 12> P = cam.P;
+    for (int i = 0; i < 8; ++i) P[std::size_t(i)] *= factor;
+    return Camera::perspective(P);
+}
+
 Camera framed_camera(const Camera& direction, Vec3d bbox_min, Vec3d bbox_max, int width, int height) {
     if (!direction.orthographic()) throw Error("a framed view must be orthographic");
     check_size(width, height);

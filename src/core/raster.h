@@ -57,4 +57,8 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views);
 /// @throw cm::Error for a perspective direction or an empty (zero-size) box.
 Camera framed_camera(const Camera& direction, Vec3d bbox_min, Vec3d bbox_max, int width, int height);
 
+/// @brief The same view for an image resized by `factor` (pixel (i, j) of the new image covers
+/// [i, i+1) / factor of the old one): orthographic scale and origin, or the matrix's first two rows.
+Camera resized_camera(const Camera& cam, double factor);
+
 } // namespace cm

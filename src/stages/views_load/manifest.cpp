@@ -1,9 +1,13 @@
 #include "manifest.h"
 
+#include <cstdlib>
+#include <fstream>
+
 #include <yaml-cpp/yaml.h>
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "silhouette.h"
 
 namespace fs = std::filesystem;
 
@@ -21,6 +25,48 @@ double number(const fs::path& f, const YAML::Node& n, const std::string& what) {
     } catch (const YAML::Exception&) {
         throw Error(at(f, n) + ": " + what + " must be a number, got \"" + (n.IsScalar() ? n.Scalar() : "?") + "\"");
     }
+}
+
+std::string scalar(const fs::path& f, const YAML::Node& n, const std::string& view, const std::string& key) {
+    if (!n.IsScalar()) throw Error(at(f, n) + ": view \"" + view + "\": " + key + " must be a single value");
+    return n.Scalar();
+}
+
+// N numbers, flat or as rows.
+template <std::size_t N>
+std::array<double, N> numbers(const fs::path& f, const YAML::Node& val, const std::string& what) {
+    std::vector<double> flat;
+    if (val.IsSequence())
+        for (const auto& row : val) {
+            if (row.IsSequence())
+                for (const auto& x : row) flat.push_back(number(f, x, "a matrix entry"));
+            else
+                flat.push_back(number(f, row, "a matrix entry"));
+        }
+    if (flat.size() != N) throw Error(what + ", got " + std::to_string(flat.size()) + " numbers");
+    std::array<double, N> a{};
+    std::copy(flat.begin(), flat.end(), a.begin());
+    return a;
+}
+
+// A text file holding the 12 numbers of a 3x4 projection, row by row; words (such as
+// the "CONTOUR" header of some calibration files) are skipped.
+std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& where) {
+    std::ifstream in(mf);
+    if (!in) throw Error(where + "cannot read matrix_file \"" + mf.string() + "\"");
+    std::vector<double> v;
+    std::string tok;
+    while (in >> tok) {
+        char* end = nullptr;
+        const double x = std::strtod(tok.c_str(), &end);
+        if (end && *end == '\0' && end != tok.c_str()) v.push_back(x);
+    }
+    if (v.size() != 12)
+        throw Error(where + "matrix_file \"" + mf.string() + "\" must hold 12 numbers (a 3x4 projection, row by row), found " +
+                    std::to_string(v.size()));
+    std::array<double, 12> P{};
+    std::copy(v.begin(), v.end(), P.begin());
+    return P;
 }
 
 } // namespace
@@ -68,48 +114,89 @@ Manifest read_manifest(const fs::path& file) {
         if (n.IsScalar()) {
             v.image = n.Scalar();
         } else if (n.IsMap()) {
+            std::optional<std::array<double, 9>> K, R;
+            std::optional<std::array<double, 3>> tvec;
+            int matrix_sources = 0;
             for (auto f = n.begin(); f != n.end(); ++f) {
                 const std::string k = f->first.Scalar();
                 const YAML::Node& val = f->second;
-                if (k == "image") v.image = val.Scalar();
-                else if (k == "view") v.view = val.Scalar();
+                const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
+                if (k == "image") v.image = scalar(file, val, v.key, k);
+                else if (k == "view") v.view = scalar(file, val, v.key, k);
                 else if (k == "azimuth") v.azimuth = number(file, val, "azimuth");
                 else if (k == "elevation") v.elevation = number(file, val, "elevation");
-                else if (k == "background") v.background = val.Scalar();
-                else if (k == "threshold") {
+                else if (k == "background") {
+                    v.background = scalar(file, val, v.key, k);
+                    try {
+                        check_background_option(v.background);
+                    } catch (const Error& e) {
+                        throw Error(where + e.what());
+                    }
+                } else if (k == "threshold") {
                     v.threshold = number(file, val, "threshold");
-                    if (*v.threshold <= 0 || *v.threshold >= 1)
-                        throw Error(at(file, val) + ": view \"" + v.key + "\": threshold must be in (0, 1)");
-                } else if (k == "keep") v.keep = val.Scalar();
+                    if (*v.threshold <= 0 || *v.threshold >= 1) throw Error(where + "threshold must be in (0, 1)");
+                } else if (k == "keep") v.keep = scalar(file, val, v.key, k);
+                else if (k == "holes") v.holes = scalar(file, val, v.key, k);
                 else if (k == "matrix") {
-                    std::vector<double> flat;
-                    if (val.IsSequence())
-                        for (const auto& row : val) {
-                            if (row.IsSequence()) for (const auto& x : row) flat.push_back(number(file, x, "matrix"));
-                            else flat.push_back(number(file, row, "matrix"));
-                        }
-                    if (flat.size() != 12)
-                        throw Error(at(file, val) + ": view \"" + v.key + "\": matrix must be 3 rows of 4 numbers (a 3x4 projection)");
-                    std::array<double, 12> P{};
-                    std::copy(flat.begin(), flat.end(), P.begin());
-                    v.matrix = P;
-                } else
+                    v.matrix = numbers<12>(file, val, where + "matrix must be 3 rows of 4 numbers (a 3x4 projection)");
+                    ++matrix_sources;
+                } else if (k == "matrix_file") {
+                    fs::path mf = scalar(file, val, v.key, k);
+                    if (mf.is_relative()) mf = base / mf;
+                    v.matrix = read_matrix_file(mf, where);
+                    ++matrix_sources;
+                } else if (k == "K") K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
+                else if (k == "R") R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
+                else if (k == "t") tvec = numbers<3>(file, val, where + "t must be 3 numbers");
+                else
                     throw Error(at(file, f->first) + ": view \"" + v.key + "\": unknown key \"" + k +
-                                "\" (known: image, view, azimuth, elevation, matrix, background, threshold, keep)");
+                                "\" (known: image, view, azimuth, elevation, matrix, matrix_file, K, R, t, background, "
+                                "threshold, keep, holes)");
             }
+            if (K || R || tvec) {
+                if (!(K && R && tvec)) throw Error(at(file, n) + ": view \"" + v.key + "\": K, R and t go together (P = K [R | t])");
+                std::array<double, 12> P{};
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 4; ++c) {
+                        double x = 0;
+                        for (int k = 0; k < 3; ++k) x += (*K)[r * 3 + k] * (c < 3 ? (*R)[k * 3 + c] : (*tvec)[k]);
+                        P[r * 4 + c] = x;
+                    }
+                v.matrix = P;
+                ++matrix_sources;
+            }
+            if (matrix_sources > 1)
+                throw Error(at(file, n) + ": view \"" + v.key + "\": give the camera once: matrix, matrix_file, or K/R/t");
+            if (v.matrix && (v.view || v.azimuth || v.elevation))
+                throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
+            if (v.view && (v.azimuth || v.elevation))
+                throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
         } else {
             throw Error(at(file, n) + ": view \"" + v.key + "\" must be an image path or a mapping with \"image\"");
         }
         if (v.image.empty()) throw Error(at(file, n) + ": view \"" + v.key + "\" has no image");
         if (v.image.is_relative()) v.image = base / v.image;
-        if (!v.view && !v.azimuth && !v.matrix) v.view = v.key;   // short form: the key names the view
+        if (!v.view && !v.azimuth && !v.elevation && !v.matrix) {
+            // Short form: the key names the view.
+            if (!Camera::named(v.key))
+                throw Error(at(file, n) + ": view \"" + v.key +
+                            "\": the key is not a view name (front, back, right, left, top, bottom); give view, "
+                            "azimuth/elevation or matrix");
+            v.view = v.key;
+        }
         if (v.view && !Camera::named(*v.view))
             throw Error(at(file, n) + ": view \"" + v.key + "\": unknown view name \"" + *v.view +
                         "\" (use front, back, right, left, top, bottom, or azimuth/elevation, or matrix)");
-        if (v.azimuth.has_value() != v.elevation.has_value() && !v.view)
-            v.elevation = v.elevation.value_or(0.0), v.azimuth = v.azimuth.value_or(0.0);
+        if (!v.view && !v.matrix) {
+            v.azimuth = v.azimuth.value_or(0.0);
+            v.elevation = v.elevation.value_or(0.0);
+            if (*v.elevation < -90 || *v.elevation > 90)
+                throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
+        }
         if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
             throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep + "\"");
+        if (v.holes != "auto" && v.holes != "fill" && v.holes != "keep")
+            throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
         m.views.push_back(std::move(v));
     }
     return m;

@@ -1,4 +1,4 @@
-// The views manifest (short and long forms), see docs/views-manifest.md.
+// The views manifest (short and long forms), see docs/views.md.
 #pragma once
 #include <array>
 #include <filesystem>
@@ -13,10 +13,11 @@ struct ManifestView {
     std::filesystem::path image;           ///< resolved against the manifest's folder
     std::optional<std::string> view;       ///< named view
     std::optional<double> azimuth, elevation;
-    std::optional<std::array<double, 12>> matrix;
+    std::optional<std::array<double, 12>> matrix;   ///< from matrix, matrix_file or K/R/t
     std::string background = "auto";      ///< auto | alpha | colour (#rrggbb or "r,g,b")
     std::optional<double> threshold;       ///< background distance threshold in [0,1]
-    std::string keep = "auto";             ///< auto | largest | all
+    std::string keep = "auto";             ///< auto | largest | all ("auto" defers to the stage's keep)
+    std::string holes = "auto";            ///< auto | fill | keep
     int line = 0;
 };
 

@@ -9,19 +9,36 @@
 namespace cm {
 
 struct SilhouetteOptions {
-    std::string background = "auto";   ///< auto | alpha | colour ("#rrggbb", "r,g,b" in 0-255, "white", "black")
-    double threshold = -1;             ///< colour distance (0-1) to call a pixel object; <0: from the border's spread
-    std::string keep = "auto";         ///< auto: drop specks and small separate marks; largest; all
+    /// auto | alpha | a colour ("#rrggbb", "r,g,b" in 0-255, "white", "black", "grey").
+    std::string background = "auto";
+    /// Colour distance (0-1, RMS over R, G, B) from the background that makes a pixel object;
+    /// < 0: from the spread of the image border.
+    double threshold = -1;
+    /// auto: drop specks and separate marks much smaller than the object; largest; all.
+    std::string keep = "auto";
+    /// Regions enclosed by the object that look like the background: auto (holes in a filled
+    /// drawing, interior of a line drawing), fill (always object), keep (always holes).
+    std::string holes = "auto";
 };
 
 struct SilhouetteResult {
-    std::vector<float> coverage;
-    std::string method;                ///< "alpha" or "background"
-    double threshold = 0;
+    std::vector<float> coverage;   ///< width*height, row 0 at the top
+    std::string method;            ///< "alpha" or "background"
+    double threshold = 0;          ///< the colour distance used (background method)
+    double noise = 0;              ///< spread of the border around the background model
     int components_kept = 0, components_dropped = 0;
+    int holes_kept = 0, regions_filled = 0;   ///< enclosed background-like regions
 };
 
-/// Throws cm::Error for an unusable option (bad colour).
+/// @brief Extracts the silhouette of the object in a drawing.
+/// A meaningful alpha channel (some pixels transparent, some opaque) is the coverage.
+/// Otherwise the background is modelled from the image border (a smooth colour field that
+/// follows vignetting, with a spread that follows grain and compression noise) and the
+/// object is everything not connected to it. Edge pixels keep fractional coverage.
+/// @throw cm::Error for an unusable option (a bad colour name).
 SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, const SilhouetteOptions& opt);
+
+/// Checks a background option; throws cm::Error naming the accepted forms.
+void check_background_option(const std::string& background);
 
 } // namespace cm

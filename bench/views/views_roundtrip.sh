@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Round trip of every model in ../shared/data/models through render-views and compare:
+#   render-views (mask and art styles) -> compare --fit bbox of the same model against its own views,
+#   and the IoU between the silhouettes views.load extracts from the art and from the masks.
+# Usage: bench/views/views_roundtrip.sh BUILD_DIR [SIZE] [VIEWS]   (prints a Markdown table)
+set -euo pipefail
+build=${1:?usage: views_roundtrip.sh BUILD_DIR [SIZE] [VIEWS]}
+size=${2:-1024}
+views=${3:-front,right,top}
+here=$(cd "$(dirname "$0")" && pwd)
+models=$(cd "$here/../../../shared/data/models" && pwd)
+exe="$build/bin/conceptmesh"
+iou="$build/bin/views_iou"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# model file, then its own up and front axes (../shared/data/models/README.md).
+table="spot.obj +Y -Z
+bob_tri.obj +Y -X
+bunny00.off +Y -X
+armadillo.off +Y -Z
+fertility.off +Y +Z
+fandisk.off +Y +Z
+camel.off +Y +Z
+man.off +Z -Y"
+
+echo "| model | faces | xor % (mask views) | xor % (art views) | IoU art vs mask (worst view) | render-views art (s) |"
+echo "|---|---:|---:|---:|---:|---:|"
+while read -r file up front; do
+    name=${file%.*}
+    faces=$(awk 'NR==1 && $1=="OFF"{getline; print $2; exit} /^f /{n++} END{if(n) print n}' "$models/$file")
+    "$exe" render-views "$models/$file" -o "$work/$name-mask" --style mask --size "$size" --views "$views" --up "$up" --front "$front" -q
+    start=$(date +%s.%N)
+    "$exe" render-views "$models/$file" -o "$work/$name-art" --style art --size "$size" --views "$views" --up "$up" --front "$front" >/dev/null 2>&1
+    secs=$(echo "$(date +%s.%N) - $start" | bc)
+    xm=$("$exe" compare "$models/$file" "$work/$name-mask/views.yaml" --fit bbox --up "$up" --front "$front" --json 2>/dev/null | python3 -c 'import json,sys; print("%.3f" % json.load(sys.stdin)["xor_pct"])')
+    xa=$("$exe" compare "$models/$file" "$work/$name-art/views.yaml" --fit bbox --up "$up" --front "$front" --json 2>/dev/null | python3 -c 'import json,sys; print("%.3f" % json.load(sys.stdin)["xor_pct"])')
+    wi=$("$iou" "$work/$name-art/views.yaml" "$work/$name-mask/views.yaml" | awk '/^worst/{print $3}')
+    printf '| %s | %s | %s | %s | %s | %.1f |\n' "$file" "$faces" "$xm" "$xa" "$wi" "$secs"
+done <<< "$table"

@@ -1,0 +1,33 @@
+// Pictures of a mesh through a camera: a concept-art-like drawing (shaded fill, dark
+// outlines on the silhouette and on creases, off-white paper with grain) for synthetic
+// test views, and the same shading on a plain background for preview sheets.
+#pragma once
+#include <array>
+
+#include "core/camera.h"
+#include "core/mesh.h"
+#include "core/views.h"
+
+namespace cm {
+
+struct ArtOptions {
+    std::array<float, 3> paper{0.957f, 0.937f, 0.886f};   ///< background colour
+    std::array<float, 3> fill{0.49f, 0.55f, 0.64f};       ///< lit fill colour
+    std::array<float, 3> ink{0.12f, 0.11f, 0.13f};        ///< line colour
+    float grain = 0.025f;          ///< paper grain amplitude (uniform, +-), 0 for none
+    float vignette = 0.04f;        ///< darkening at the corners, 0 for none
+    float outline_px = 2.0f;       ///< silhouette line width, drawn inside the silhouette
+    float crease_px = 1.2f;        ///< width of crease and inner-contour lines
+    float crease_deg = 40.0f;      ///< dihedral angle that draws a crease line
+    bool lines = true;             ///< false: shaded fill only
+    int supersample = 3;           ///< samples per pixel along x and y (anti-aliasing)
+    unsigned seed = 1;             ///< grain pattern
+};
+
+/// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the
+/// pixel-centre silhouette of render_mask() (outlines lie inside the silhouette), so a
+/// silhouette extracted from the drawing matches the mask.
+/// @return RGBA, alpha 1 everywhere (the drawing has no transparency).
+Image render_art(const Mesh& mesh, const Camera& cam, int width, int height, const ArtOptions& opt = {});
+
+} // namespace cm

@@ -1,0 +1,239 @@
+// Silhouette extraction on drawings generated here, each against its known mask.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "silhouette.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+using Shape = std::function<bool(double x, double y)>;
+
+// RGBA image; each pixel mixes `inside` and `outside` colours by the shape's area coverage
+// (4x4 samples), as an anti-aliased drawing would.
+Image draw(int w, int h, const Shape& shape, std::array<float, 4> inside, std::array<float, 4> outside) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = 4;
+    img.pixels.resize(std::size_t(w) * h * 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int hits = 0;
+            for (int sy = 0; sy < 4; ++sy)
+                for (int sx = 0; sx < 4; ++sx) hits += shape(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
+            const float a = hits / 16.0f;
+            for (int k = 0; k < 4; ++k)
+                img.pixels[(std::size_t(y) * w + x) * 4 + k] = a * inside[std::size_t(k)] + (1 - a) * outside[std::size_t(k)];
+        }
+    return img;
+}
+
+// Overwrites the pixels of `shape` (anti-aliased) with `colour` on an existing image.
+void paint(Image& img, const Shape& shape, std::array<float, 3> colour) {
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            int hits = 0;
+            for (int sy = 0; sy < 4; ++sy)
+                for (int sx = 0; sx < 4; ++sx) hits += shape(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
+            const float a = hits / 16.0f;
+            float* p = &img.pixels[(std::size_t(y) * img.width + x) * 4];
+            for (int k = 0; k < 3; ++k) p[k] = a * colour[std::size_t(k)] + (1 - a) * p[k];
+        }
+}
+
+double iou(const std::vector<float>& coverage, int w, int h, const Shape& truth) {
+    std::size_t inter = 0, uni = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool s = coverage[std::size_t(y) * w + x] >= 0.5f, t = truth(x + 0.5, y + 0.5);
+            inter += s && t;
+            uni += s || t;
+        }
+    return uni ? double(inter) / double(uni) : 1.0;
+}
+
+// A character-like object: a body (ellipse) with a head (disc) and a leg (rectangle).
+bool figure(double x, double y) {
+    const double ex = (x - 100) / 55, ey = (y - 120) / 35;
+    const double hx = x - 150, hy = y - 70;
+    return ex * ex + ey * ey <= 1 || hx * hx + hy * hy <= 28 * 28 || (x >= 70 && x <= 90 && y >= 130 && y <= 185);
+}
+
+SilhouetteResult extract(const Image& img, bool has_alpha = false, SilhouetteOptions opt = {}) {
+    ImageInfo info;
+    info.has_alpha = has_alpha;
+    return extract_silhouette(img, info, opt);
+}
+
+Image reread(const Image& img, const std::string& name, test::TempDir& dir, ImageInfo* info = nullptr) {
+    const auto file = dir / name;
+    write_image(img, file);
+    return read_image(file, info);
+}
+
+} // namespace
+
+TEST(Silhouette, AlphaPngIsTheCoverage) {
+    test::TempDir dir("sil_alpha");
+    // Colour noise under alpha 0 must not matter.
+    Image img = draw(220, 200, figure, {0.8f, 0.2f, 0.2f, 1.0f}, {0.1f, 0.9f, 0.3f, 0.0f});
+    std::mt19937 rng(3);
+    for (std::size_t i = 0; i < img.pixels.size(); i += 4)
+        if (img.pixels[i + 3] == 0) img.pixels[i] = float(rng() % 256) / 255.0f;
+    ImageInfo info;
+    const Image back = reread(img, "alpha.png", dir, &info);
+    ASSERT_TRUE(info.has_alpha);
+    const SilhouetteResult s = extract_silhouette(back, info, {});
+    EXPECT_EQ(s.method, "alpha");
+    EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.99);
+    // Anti-aliased edges stay fractional.
+    std::size_t fractional = 0;
+    for (float c : s.coverage) fractional += c > 0.05f && c < 0.95f;
+    EXPECT_GT(fractional, 100u);
+}
+
+TEST(Silhouette, ClosedLineDrawingWithWhiteInteriorFills) {
+    test::TempDir dir("sil_line");
+    // A 2.5 px dark outline around the figure, white inside and outside.
+    const Shape outline = [](double x, double y) {
+        if (!figure(x, y)) return false;
+        for (int k = 0; k < 8; ++k) {
+            const double a = k * 3.14159265 / 4;
+            if (!figure(x + 2.5 * std::cos(a), y + 2.5 * std::sin(a))) return true;
+        }
+        return false;
+    };
+    Image img = draw(220, 200, outline, {0.1f, 0.1f, 0.1f, 1}, {1, 1, 1, 1});
+    // An interior detail line (an eye) must not matter.
+    paint(img, [](double x, double y) { return std::hypot(x - 155, y - 65) < 4; }, {0.1f, 0.1f, 0.1f});
+    const Image back = reread(img, "line.png", dir);
+    const SilhouetteResult s = extract(back);
+    EXPECT_EQ(s.method, "background");
+    EXPECT_GT(s.regions_filled, 0);
+    EXPECT_EQ(s.holes_kept, 0);
+    EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.99);
+}
+
+TEST(Silhouette, GreyNoisyPaperSavedAsJpeg) {
+    test::TempDir dir("sil_jpeg");
+    Image img = draw(220, 200, figure, {0.25f, 0.22f, 0.3f, 1}, {0.62f, 0.6f, 0.57f, 1});
+    // Grain, and a vignette darker at the corners.
+    std::mt19937 rng(7);
+    std::normal_distribution<float> noise(0.0f, 0.02f);
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 220; ++x) {
+            const double u = (x - 110) / 110.0, v = (y - 100) / 100.0;
+            const float vig = float(1.0 - 0.08 * (u * u + v * v));
+            const float g = noise(rng);
+            float* p = &img.pixels[(std::size_t(y) * 220 + x) * 4];
+            for (int k = 0; k < 3; ++k) p[k] = std::clamp(p[k] * vig + g, 0.0f, 1.0f);
+        }
+    const Image back = reread(img, "paper.jpg", dir);
+    const SilhouetteResult s = extract(back);
+    EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.99);
+}
+
+TEST(Silhouette, SeparateTextLikeMarkIsDropped) {
+    Image img = draw(220, 200, figure, {0.2f, 0.3f, 0.5f, 1}, {0.97f, 0.96f, 0.93f, 1});
+    // A signature in the corner: a few strokes, one of them closed (an "o").
+    paint(img, [](double x, double y) { return y > 185 && y < 187.5 && x > 175 && x < 212; }, {0.1f, 0.1f, 0.1f});
+    paint(img, [](double x, double y) { return std::abs(std::hypot(x - 185, y - 178) - 4) < 1.2; }, {0.1f, 0.1f, 0.1f});
+    paint(img, [](double x, double y) { return x > 196 && x < 198 && y > 172 && y < 185; }, {0.1f, 0.1f, 0.1f});
+    // An arrow pointing at the object from the top left, not touching it.
+    paint(img, [](double x, double y) { return std::abs((x - 8) - (y - 8)) < 1.2 && x > 8 && x < 40; }, {0.1f, 0.1f, 0.1f});
+    const SilhouetteResult s = extract(img);
+    EXPECT_GE(s.components_dropped, 3);
+    EXPECT_EQ(s.components_kept, 1);
+    EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.99);
+    for (int y = 170; y < 200; ++y)
+        for (int x = 172; x < 215; ++x) ASSERT_EQ(s.coverage[std::size_t(y) * 220 + x], 0.0f) << x << "," << y;
+    // keep: all keeps them.
+    SilhouetteOptions all;
+    all.keep = "all";
+    const SilhouetteResult k = extract(img, false, all);
+    EXPECT_GT(k.coverage[std::size_t(186) * 220 + 190], 0.5f);
+}
+
+TEST(Silhouette, SixteenBitTiff) {
+    test::TempDir dir("sil_tiff");
+    const int w = 220, h = 200;
+    const Image img = draw(w, h, figure, {0.05f, 0.05f, 0.05f, 1}, {0.85f, 0.85f, 0.85f, 1});
+    std::vector<std::uint16_t> grey(std::size_t(w) * h);
+    for (std::size_t i = 0; i < grey.size(); ++i) grey[i] = std::uint16_t(std::lround(img.pixels[i * 4] * 65535));
+    const auto file = dir / "grey16.tif";
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::UINT16)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, grey.data()));
+    out->close();
+    ImageInfo info;
+    const Image back = read_image(file, &info);
+    EXPECT_EQ(info.bits, 16);
+    EXPECT_FALSE(info.has_alpha);
+    const SilhouetteResult s = extract_silhouette(back, info, {});
+    EXPECT_GT(iou(s.coverage, w, h, figure), 0.99);
+}
+
+TEST(Silhouette, FloatExrAndBlackObjectOnWhite) {
+    test::TempDir dir("sil_exr");
+    // A calibrated-set silhouette: black object on white, as a float EXR.
+    const Image img = draw(220, 200, figure, {0, 0, 0, 1}, {1, 1, 1, 1});
+    const Image back = reread(img, "mask.exr", dir);
+    const SilhouetteResult s = extract(back);
+    EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.995);
+    SilhouetteOptions white;
+    white.background = "white";
+    EXPECT_GT(iou(extract(back, false, white).coverage, 220, 200, figure), 0.995);
+}
+
+TEST(Silhouette, HolesThroughAFilledDrawingStayOpen) {
+    // A filled ring: the blank middle is a hole, not interior.
+    const Shape ring = [](double x, double y) {
+        const double r = std::hypot(x - 100, y - 100);
+        return r <= 70 && r >= 30;
+    };
+    const Image img = draw(200, 200, ring, {0.3f, 0.35f, 0.5f, 1}, {1, 1, 1, 1});
+    const SilhouetteResult s = extract(img);
+    EXPECT_EQ(s.holes_kept, 1);
+    EXPECT_GT(iou(s.coverage, 200, 200, ring), 0.99);
+    SilhouetteOptions fill;
+    fill.holes = "fill";
+    const Shape disc = [](double x, double y) { return std::hypot(x - 100, y - 100) <= 70; };
+    EXPECT_GT(iou(extract(img, false, fill).coverage, 200, 200, disc), 0.99);
+}
+
+TEST(Silhouette, WhiteOnBlackMaskAndAntiAliasedCoverage) {
+    // A half-plane edge at x = 100.25: the pixel column 100 is 75 % covered.
+    const Shape half = [](double x, double y) { return x < 100.75 && y > 20 && y < 180 && x > 20; };
+    const Image img = draw(200, 200, half, {1, 1, 1, 1}, {0, 0, 0, 1});
+    const SilhouetteResult s = extract(img);
+    EXPECT_NEAR(s.coverage[std::size_t(100) * 200 + 100], 0.75f, 0.02f);
+    EXPECT_EQ(s.coverage[std::size_t(100) * 200 + 101], 0.0f);
+    EXPECT_EQ(s.coverage[std::size_t(100) * 200 + 99], 1.0f);
+}
+
+TEST(Silhouette, BadOptionsAreClearErrors) {
+    const Image img = draw(50, 50, [](double x, double) { return x < 25; }, {0, 0, 0, 1}, {1, 1, 1, 1});
+    SilhouetteOptions o;
+    o.background = "chartreuse-ish";
+    try {
+        extract(img, false, o);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("chartreuse-ish"), std::string::npos) << e.what();
+    }
+    o.background = "alpha";
+    EXPECT_THROW(extract(img, false, o), Error);
+    o.background = "255,255,255";
+    EXPECT_NO_THROW(extract(img, false, o));
+}

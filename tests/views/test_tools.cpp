@@ -1,0 +1,231 @@
+// render-views, compare and preview from the command line, and the eval stages.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/mesh_io.h"
+#include "core/raster.h"
+#include "core/stage.h"
+#include "load.h"
+#include "preview_sheet.h"
+#include "support/test_support.h"
+
+using namespace cm;
+using nlohmann::json;
+
+namespace cm {
+Stage* make_eval_silhouette_error();
+Stage* make_eval_preview();
+} // namespace cm
+
+namespace {
+
+// A lopsided object (box on a sphere) so that a wrong axis or a mirror would show.
+Mesh lopsided() {
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    return m;
+}
+
+json compare_json(const std::string& args, const std::filesystem::path& cwd) {
+    const auto r = test::run_cli("compare " + args + " --json", cwd);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return json::parse(r.out);
+}
+
+} // namespace
+
+TEST(Tools, RenderViewsThenCompareRoundTrips) {
+    test::TempDir dir("tools_roundtrip");
+    write_mesh(lopsided(), dir / "obj.obj");
+    // The model's own frame: up +Z, facing -Y (as man.off); the views are in the conventions' frame.
+    Mesh turned = lopsided();
+    for (auto& p : turned.positions) p = {p.x, -p.z, p.y};   // conventions -> model: Y up becomes Z up, +Z front becomes -Y
+    write_mesh(turned, dir / "turned.obj");
+    for (const char* style : {"mask", "art"}) {
+        SCOPED_TRACE(style);
+        auto r = test::run_cli(std::string("render-views obj.obj -o ") + style + " --size 200 --views front,right,top --style " + style,
+                               dir.path());
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        for (const char* f : {"front.png", "right.png", "top.png", "views.yaml"})
+            EXPECT_TRUE(std::filesystem::exists(dir / style / f)) << f;
+        // The original mesh needs --fit bbox (views.load aligned the views into the output frame).
+        json j = compare_json(std::string("obj.obj ") + style + "/views.yaml --fit bbox", dir.path());
+        EXPECT_LT(j["xor_pct"].get<double>(), 0.8);
+        EXPECT_EQ(j["views"].size(), 3u);
+    }
+    // Without the fit the mesh is elsewhere: a large error.
+    json j = compare_json("obj.obj mask/views.yaml", dir.path());
+    EXPECT_GT(j["xor_pct"].get<double>(), 50.0);
+    // The turned model with its axes named gives the same views.
+    auto r = test::run_cli("render-views turned.obj -o turned --size 200 --style mask --up +Z --front -Y", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_image(dir / "turned" / "right.png").pixels, read_image(dir / "mask" / "right.png").pixels);
+    j = compare_json("turned.obj mask/views.yaml --fit bbox --up +Z --front -Y", dir.path());
+    EXPECT_LT(j["xor_pct"].get<double>(), 0.8);
+    // Art and mask silhouettes agree once extracted.
+    LoadViewsReport ra, rm;
+    const Views a = load_views(dir / "art" / "views.yaml", {}, ra), m = load_views(dir / "mask" / "views.yaml", {}, rm);
+    for (std::size_t v = 0; v < 3; ++v) {
+        std::size_t inter = 0, uni = 0;
+        for (std::size_t i = 0; i < a.views[v].coverage.size(); ++i) {
+            const bool s = a.views[v].coverage[i] >= 0.5f, t = m.views[v].coverage[i] >= 0.5f;
+            inter += s && t;
+            uni += s || t;
+        }
+        EXPECT_GT(double(inter) / double(uni), 0.995) << a.views[v].name;
+    }
+}
+
+TEST(Tools, RenderViewsAzimuthElevationAndTable) {
+    test::TempDir dir("tools_azel");
+    write_mesh(lopsided(), dir / "obj.obj");
+    auto r = test::run_cli("render-views obj.obj -o v --size 128 --style mask --views front,az45el30", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string yaml = test::read_text(dir / "v" / "views.yaml");
+    EXPECT_NE(yaml.find("az45el30: {image: az45el30.png, azimuth: 45, elevation: 30}"), std::string::npos) << yaml;
+    r = test::run_cli("compare obj.obj v/views.yaml --fit bbox", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("az45el30"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("all"), std::string::npos) << r.out;
+    // Bad view names and axes are one-line errors.
+    r = test::run_cli("render-views obj.obj -o w --views front,diagonal", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("\"diagonal\""), std::string::npos) << r.err;
+    r = test::run_cli("render-views obj.obj -o w --up +Y --front -Y", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("two different axes"), std::string::npos) << r.err;
+    r = test::run_cli("compare missing.obj v/views.yaml", dir.path());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("missing.obj"), std::string::npos) << r.err;
+}
+
+TEST(Tools, PreviewWritesASheet) {
+    test::TempDir dir("tools_preview");
+    write_mesh(lopsided(), dir / "obj.obj");
+    auto r = test::run_cli("render-views obj.obj -o v --size 160 --style art", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = test::run_cli("preview obj.obj --views v/views.yaml --fit bbox -o sheet.png --panel 96", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Image sheet = read_image(dir / "sheet.png");
+    EXPECT_EQ(sheet.width, 3 * 96 + 4 * 8);
+    EXPECT_GT(sheet.height, 3 * 96);
+    r = test::run_cli("preview obj.obj -o self.png --panel 64", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "self.png"));
+}
+
+TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
+    // Input: a box's silhouette; mesh: the box moved right. The overlay has both colours.
+    const Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
+    Mesh moved = box;
+    for (auto& p : moved.positions) p.x += 0.1f;   // 5.4 px at 54 px per unit
+    Views views;
+    View v;
+    v.name = "front";
+    v.width = v.height = 120;
+    v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, 120, 120);
+    const auto m = render_mask(box, v.camera, 120, 120);
+    v.coverage.assign(m.begin(), m.end());
+    views.views.push_back(v);
+    PreviewOptions opt;
+    opt.panel = 120;
+    SilhouetteError err;
+    const Image sheet = make_preview_sheet(moved, views, opt, err);
+    EXPECT_NEAR(err.xor_pct, 100.0 * 10 / 108, 0.01);   // 5 columns each side of 108
+    std::size_t input_only = 0, mesh_only = 0;
+    for (std::size_t i = 0; i < sheet.pixels.size(); i += 3) {
+        auto is = [&](const float* c) {
+            return std::abs(sheet.pixels[i] - c[0]) < 0.01f && std::abs(sheet.pixels[i + 1] - c[1]) < 0.01f &&
+                   std::abs(sheet.pixels[i + 2] - c[2]) < 0.01f;
+        };
+        input_only += is(kInputOnly);
+        mesh_only += is(kMeshOnly);
+    }
+    EXPECT_GT(input_only, 400u);
+    EXPECT_GT(mesh_only, 400u);
+}
+
+TEST(EvalStages, SilhouetteErrorReportsPerViewAndOverall) {
+    const Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
+    auto views = std::make_shared<Views>();
+    for (const char* name : {"front", "right"}) {
+        View v;
+        v.name = name;
+        v.width = v.height = 100;
+        v.camera = framed_camera(*Camera::named(name), {-1, -1, -1}, {1, 1, 1}, 100, 100);
+        const auto m = render_mask(box, v.camera, 100, 100);
+        v.coverage.assign(m.begin(), m.end());
+        views->views.push_back(v);
+    }
+    std::unique_ptr<Stage> st(make_eval_silhouette_error());
+    ParamSet p;
+    p.set("max_xor_pct", -1.0);
+    st->prepare(p);
+    Inputs in;
+    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
+    in.set("views", std::shared_ptr<const Views>(views));
+    Context ctx("err", "eval.silhouette_error", {});
+    Data out = st->run(in, ctx);
+    auto rep = std::get<std::shared_ptr<const Report>>(out);
+    const json j = json::parse(rep->json);
+    EXPECT_EQ(j["xor_pct"].get<double>(), 0.0);
+    EXPECT_EQ(j["views"].size(), 2u);
+    const auto& m = ctx.metrics_json();
+    for (const char* k : {"xor_pct", "mean_iou", "xor_pct.front", "iou.right", "views"}) EXPECT_TRUE(m.count(k)) << k;
+    EXPECT_EQ(json::parse(m.at("xor_pct")).get<double>(), 0.0);
+
+    // A limit turns a bad result into a failed run.
+    Mesh moved = box;
+    for (auto& q : moved.positions) q.y += 0.5f;
+    ParamSet strict;
+    strict.set("max_xor_pct", 1.0);
+    st->prepare(strict);
+    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(moved)));
+    Context ctx2("err", "eval.silhouette_error", {});
+    EXPECT_THROW(st->run(in, ctx2), Error);
+}
+
+TEST(EvalStages, PreviewWritesThroughTheHost) {
+    test::TempDir dir("eval_preview");
+    const Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
+    auto views = std::make_shared<Views>();
+    View v;
+    v.name = "front";
+    v.width = v.height = 64;
+    v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, 64, 64);
+    const auto m = render_mask(box, v.camera, 64, 64);
+    v.coverage.assign(m.begin(), m.end());
+    views->views.push_back(v);
+    std::unique_ptr<Stage> st(make_eval_preview());
+    ParamSet p;
+    p.set("path", (dir / "sheet.png").string());
+    p.set("panel", std::int64_t(64));
+    st->prepare(p);
+    Inputs in;
+    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
+    in.set("views", std::shared_ptr<const Views>(views));
+    Context::Hooks hooks;
+    std::filesystem::path staged, final_path;
+    hooks.stage_file = [&](const std::filesystem::path& tmp, const std::filesystem::path& fin) {
+        staged = tmp;
+        final_path = fin;
+    };
+    Context ctx("preview", "eval.preview", hooks);
+    Data out = st->run(in, ctx);
+    auto files = std::get<std::shared_ptr<const FileOutput>>(out);
+    ASSERT_EQ(files->paths.size(), 1u);
+    EXPECT_EQ(final_path, dir / "sheet.png");
+    // The stage wrote a temporary file for the host to rename; it is a readable PNG.
+    const Image sheet = read_image(staged);
+    EXPECT_EQ(sheet.width, 3 * 64 + 4 * 8);
+    ParamSet bad;
+    bad.set("path", (dir / "sheet.jpg").string());
+    bad.set("panel", std::int64_t(64));
+    EXPECT_THROW(st->prepare(bad), Error);
+}

@@ -1,0 +1,244 @@
+// Loading views: the manifest's forms, cameras, alignment, and errors naming the view.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "align.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/raster.h"
+#include "load.h"
+#include "manifest.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+// Black rectangle [x0, x1) x [y0, y1) on white, as an 8-bit PNG.
+void write_rect(const std::filesystem::path& file, int w, int h, int x0, int y0, int x1, int y1) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = 3;
+    img.pixels.assign(std::size_t(w) * h * 3, 1.0f);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int k = 0; k < 3; ++k) img.pixels[(std::size_t(y) * w + x) * 3 + k] = 0.0f;
+    write_image(img, file);
+}
+
+View rect_view(const std::string& name, int w, int h, int x0, int y0, int x1, int y1) {
+    View v;
+    v.name = name;
+    v.width = w;
+    v.height = h;
+    v.camera = *Camera::named(name);
+    v.coverage.assign(std::size_t(w) * h, 0.0f);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) v.coverage[std::size_t(y) * w + x] = 1.0f;
+    return v;
+}
+
+std::string error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+} // namespace
+
+TEST(ViewsLoad, EveryNamedViewRendersAsItsAzimuthElevationForm) {
+    // Not only the same vectors: the same pixels through the rasteriser.
+    const Mesh m = test::make_box({-1, 0, -0.3f}, {0.6f, 2, 0.8f});
+    const struct {
+        const char* name;
+        double az, el;
+    } rows[] = {{"front", 0, 0}, {"right", 90, 0}, {"back", 180, 0}, {"left", 270, 0}, {"top", 0, 90}, {"bottom", 0, -90}};
+    for (const auto& r : rows) {
+        SCOPED_TRACE(r.name);
+        const Camera a = framed_camera(*Camera::named(r.name), {-1, 0, -0.3}, {0.6, 2, 0.8}, 97, 80);
+        const Camera b = framed_camera(Camera::from_azimuth_elevation(r.az, r.el), {-1, 0, -0.3}, {0.6, 2, 0.8}, 97, 80);
+        EXPECT_EQ(render_mask(m, a, 97, 80), render_mask(m, b, 97, 80));
+    }
+}
+
+TEST(ViewsLoad, AlignmentRecoversKnownScalesAndOffsets) {
+    // An object 40 wide (X), 60 high (Y), 30 deep (Z) in units of the front view's pixels.
+    // front: 1 px/unit at (10, 20); right: 1.5 px/unit at (5, 7); top: 2 px/unit at (3, 4).
+    Views views;
+    views.views.push_back(rect_view("front", 100, 100, 10, 20, 50, 80));
+    views.views.push_back(rect_view("right", 100, 120, 5, 7, 5 + 45, 7 + 90));
+    views.views.push_back(rect_view("top", 100, 100, 3, 4, 3 + 80, 4 + 60));
+    std::vector<std::string> warnings;
+    align_views(views, {}, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    EXPECT_NEAR(views.bounds_max.x - views.bounds_min.x, 40, 1e-9);
+    EXPECT_NEAR(views.bounds_max.y - views.bounds_min.y, 60, 1e-9);
+    EXPECT_NEAR(views.bounds_max.z - views.bounds_min.z, 30, 1e-9);
+    // Pivot at the bottom centre.
+    EXPECT_NEAR(views.bounds_min.y, 0, 1e-9);
+    EXPECT_NEAR(views.bounds_min.x + views.bounds_max.x, 0, 1e-9);
+    EXPECT_NEAR(views.bounds_min.z + views.bounds_max.z, 0, 1e-9);
+    EXPECT_NEAR(views.views[0].camera.scale, 1.0, 1e-9);
+    EXPECT_NEAR(views.views[1].camera.scale, 1.5, 1e-9);
+    EXPECT_NEAR(views.views[2].camera.scale, 2.0, 1e-9);
+    // The box's corners land on the rectangles' edges in every view.
+    const int rect[3][4] = {{10, 20, 50, 80}, {5, 7, 50, 97}, {3, 4, 83, 64}};
+    for (int i = 0; i < 3; ++i) {
+        SCOPED_TRACE(views.views[std::size_t(i)].name);
+        double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+        for (int c = 0; c < 8; ++c) {
+            const Vec3d p{c & 1 ? views.bounds_max.x : views.bounds_min.x, c & 2 ? views.bounds_max.y : views.bounds_min.y,
+                          c & 4 ? views.bounds_max.z : views.bounds_min.z};
+            const Vec2d q = views.views[std::size_t(i)].camera.project(p);
+            x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+        }
+        EXPECT_NEAR(x0, rect[i][0], 1e-9);
+        EXPECT_NEAR(y0, rect[i][1], 1e-9);
+        EXPECT_NEAR(x1, rect[i][2], 1e-9);
+        EXPECT_NEAR(y1, rect[i][3], 1e-9);
+    }
+    // The box itself re-renders onto the input rectangles exactly.
+    const Mesh box = test::make_box(Vec3f(views.bounds_min), Vec3f(views.bounds_max));
+    EXPECT_EQ(silhouette_error(box, views).xor_pct, 0.0);
+}
+
+TEST(ViewsLoad, RealSizeRescalesTheOutputUnits) {
+    Views views;
+    views.views.push_back(rect_view("front", 100, 100, 10, 20, 50, 80));
+    views.views.push_back(rect_view("right", 100, 100, 30, 20, 60, 80));
+    AlignOptions opt;
+    opt.height = 1.8;
+    std::vector<std::string> warnings;
+    align_views(views, opt, warnings);
+    EXPECT_NEAR(views.bounds_max.y, 1.8, 1e-12);
+    EXPECT_NEAR(views.bounds_max.x - views.bounds_min.x, 1.2, 1e-12);
+    EXPECT_NEAR(views.units_per_pixel, 0.03, 1e-12);
+    EXPECT_NEAR(views.views[0].camera.scale, 1 / 0.03, 1e-9);
+}
+
+TEST(ViewsLoad, DisagreeingViewsWarnNamingViewsAndAxis) {
+    Views views;
+    // front fixes width and height, top (same scale through the width) fixes the depth, so the
+    // right view's scale follows from the depth and its height is 10 % off.
+    views.views.push_back(rect_view("front", 100, 100, 10, 20, 50, 80));   // 40 x 60
+    views.views.push_back(rect_view("top", 100, 100, 10, 10, 50, 40));     // 40 x 30
+    views.views.push_back(rect_view("right", 100, 100, 30, 20, 60, 86));   // 30 x 66
+    std::vector<std::string> warnings;
+    align_views(views, {}, warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("\"front\""), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("\"right\""), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("height"), std::string::npos) << warnings[0];
+}
+
+TEST(ViewsLoad, ManifestShortAndLongFormsAndCameras) {
+    test::TempDir dir("vl_manifest");
+    write_rect(dir / "f.png", 80, 80, 20, 10, 60, 70);
+    write_rect(dir / "r.png", 80, 80, 25, 10, 55, 70);
+    write_rect(dir / "q.png", 80, 80, 15, 10, 65, 70);
+    test::write_text(dir / "calib.txt", "CONTOUR\n1 0 0 40\n0 -1 0 40\n0 0 0 1\n");
+    test::write_text(dir / "views.yaml",
+                     "height: 2.0\n"
+                     "views:\n"
+                     "  front: f.png\n"
+                     "  side: {image: r.png, view: right, background: white, threshold: 0.3, keep: largest, holes: keep}\n"
+                     "  three_quarter: {image: q.png, azimuth: 45, elevation: 30}\n");
+    LoadViewsReport report;
+    const Views v = load_views(dir / "views.yaml", {}, report);
+    ASSERT_EQ(v.views.size(), 3u);
+    EXPECT_EQ(v.views[1].name, "side");
+    EXPECT_NEAR(v.views[1].camera.d.x, -1, 1e-12);
+    EXPECT_NEAR(v.views[2].camera.azimuth_deg, 45, 1e-12);
+    EXPECT_NEAR(v.views[2].camera.elevation_deg, 30, 1e-12);
+    EXPECT_NEAR(v.bounds_max.y, 2.0, 1e-9);
+    EXPECT_FALSE(v.calibrated);
+
+    // Calibrated views: inline matrix, matrix_file (header words skipped), K/R/t.
+    test::write_text(dir / "calib.yaml",
+                     "bounds: [-1, -1, -1, 1, 1, 1]\n"
+                     "views:\n"
+                     "  a: {image: f.png, matrix: [[1, 0, 0, 40], [0, -1, 0, 40], [0, 0, 0, 1]]}\n"
+                     "  b: {image: f.png, matrix_file: calib.txt}\n"
+                     "  c: {image: f.png, K: [[2, 0, 40], [0, 2, 40], [0, 0, 1]], R: [[1, 0, 0], [0, -1, 0], [0, 0, -1]], t: [0, 0, 10]}\n");
+    const Views c = load_views(dir / "calib.yaml", {}, report);
+    EXPECT_TRUE(c.calibrated);
+    EXPECT_TRUE(c.has_bounds);
+    EXPECT_EQ(c.views[0].camera.P, c.views[1].camera.P);
+    const std::array<double, 12> krt = {2, 0, -40, 400, 0, -2, -40, 400, 0, 0, -1, 10};
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(c.views[2].camera.P[std::size_t(i)], krt[std::size_t(i)], 1e-12) << i;
+}
+
+TEST(ViewsLoad, ManifestErrorsNameTheFileLineAndView) {
+    test::TempDir dir("vl_errors");
+    write_rect(dir / "f.png", 40, 40, 10, 10, 30, 30);
+    auto msg = [&](const std::string& yaml) {
+        test::write_text(dir / "m.yaml", yaml);
+        return error_of([&] { read_manifest(dir / "m.yaml"); });
+    };
+    std::string e = msg("views:\n  front: {image: f.png, colour: red}\n");
+    EXPECT_NE(e.find("m.yaml:2"), std::string::npos) << e;
+    EXPECT_NE(e.find("unknown key \"colour\""), std::string::npos) << e;
+    e = msg("views:\n  sketch: f.png\n");
+    EXPECT_NE(e.find("\"sketch\""), std::string::npos) << e;
+    e = msg("views:\n  front: {image: f.png, background: pinkish}\n");
+    EXPECT_NE(e.find("pinkish"), std::string::npos) << e;
+    e = msg("views:\n  a: {image: f.png, matrix: [1, 2, 3]}\n");
+    EXPECT_NE(e.find("3x4"), std::string::npos) << e;
+    e = msg("views:\n  a: {image: f.png, matrix_file: nowhere.txt}\n");
+    EXPECT_NE(e.find("nowhere.txt"), std::string::npos) << e;
+    e = msg("views:\n  a: {image: f.png, K: [[1,0,0],[0,1,0],[0,0,1]]}\n");
+    EXPECT_NE(e.find("K, R and t go together"), std::string::npos) << e;
+    e = msg("views:\n  front: {image: f.png, view: front, azimuth: 10}\n");
+    EXPECT_NE(e.find("not both"), std::string::npos) << e;
+}
+
+TEST(ViewsLoad, EmptySilhouetteAndUnreadableImageNameTheView) {
+    test::TempDir dir("vl_empty");
+    write_rect(dir / "f.png", 40, 40, 10, 10, 30, 30);
+    write_rect(dir / "blank.png", 40, 40, 0, 0, 0, 0);
+    test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  right: blank.png\n");
+    LoadViewsReport report;
+    std::string e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    EXPECT_NE(e.find("view \"right\""), std::string::npos) << e;
+    EXPECT_NE(e.find("empty silhouette"), std::string::npos) << e;
+    test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  top: missing.png\n");
+    e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    EXPECT_NE(e.find("view \"top\""), std::string::npos) << e;
+    EXPECT_NE(e.find("missing.png"), std::string::npos) << e;
+}
+
+TEST(ViewsLoad, TumBunnyCalibratedSilhouettes) {
+    // Real calibrated data: black-on-white PGM silhouettes and CONTOUR matrix files.
+    const auto data = test::shared_dir() / "data" / "multiview" / "tum_bunny";
+    if (!std::filesystem::exists(data / "calib" / "0000.txt")) GTEST_SKIP() << "no " << data;
+    test::TempDir dir("vl_tum");
+    std::string yaml = "bounds: [-7.5, -10, -7.5, 7.5, 10, 15]\nviews:\n";
+    for (const char* id : {"0000", "0010", "0020"})
+        yaml += std::string("  v") + id + ": {image: " + (data / "silhouettes" / (std::string(id) + ".pgm")).string() +
+                ", matrix_file: " + (data / "calib" / (std::string(id) + ".txt")).string() + "}\n";
+    test::write_text(dir / "views.yaml", yaml);
+    LoadViewsReport report;
+    const Views v = load_views(dir / "views.yaml", {}, report);
+    ASSERT_EQ(v.views.size(), 3u);
+    EXPECT_TRUE(v.calibrated);
+    for (const auto& view : v.views) {
+        SCOPED_TRACE(view.name);
+        EXPECT_FALSE(view.camera.orthographic());
+        // Object = black pixels (threshold 128), as the data set defines it.
+        std::size_t inter = 0, uni = 0;
+        for (std::size_t i = 0; i < view.coverage.size(); ++i) {
+            const bool s = view.coverage[i] >= 0.5f, t = view.image.pixels[i * 4] < 0.5f;
+            inter += s && t;
+            uni += s || t;
+        }
+        EXPECT_GT(double(inter) / double(uni), 0.995);
+        // The published box projects around the silhouette.
+        const Vec2d c = view.camera.project({0, 0, 3.75});
+        EXPECT_TRUE(c.x > 0 && c.x < view.width && c.y > 0 && c.y < view.height);
+    }
+}
