@@ -1,0 +1,41 @@
+// Visual hull carving into a sparse OpenVDB grid (hull.carve).
+#pragma once
+#include <functional>
+#include <memory>
+
+#include "core/volume.h"
+
+namespace cm {
+
+struct CarveOptions {
+    int resolution = 256;          ///< cells along the longest side of the box
+    double voxel_ratio = 0;        ///< > 0: image pixels per voxel (decides the resolution)
+    int pad = 2;                   ///< empty cells around the box
+};
+
+struct CarveStats {
+    int resolution = 0;
+    double voxel_size = 0;
+    Vec3d box_min, box_max;        ///< the region carved (before padding)
+    bool box_estimated = false;    ///< no bounds were given: found by a coarse carve
+    bool box_touched = false;      ///< the estimated hull reaches the edge of the estimate
+};
+
+/// Resolution (cells along the longest side of [lo, hi]) that `voxel_ratio` pixels of
+/// the finest view per voxel give; the finest view is measured at the box centre.
+int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio);
+
+/// The box to carve: the views' bounds, or for views without bounds an estimate from a
+/// coarse carve of a region every camera sees. Throws cm::Error when none can be found.
+void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats = nullptr);
+
+/// @brief Carves the visual hull of `views` in a sparse grid.
+/// Boxes of grid points are decided at once where every view sees their projection all
+/// inside or one view sees it all outside; leaf voxels are made only near the surface,
+/// interior becomes active tiles (see volume.h for the guarantees).
+/// @param progress called between chunks with a fraction in [0, 1]; may throw to cancel.
+/// @throw cm::Error for no views, a bad resolution, or an empty hull.
+std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
+                              const std::function<void(double)>& progress = {}, CarveStats* stats = nullptr);
+
+} // namespace cm

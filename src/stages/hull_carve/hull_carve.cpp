@@ -1,0 +1,60 @@
+// hull.carve: the coarse visual hull (paper step 1) in a sparse OpenVDB grid.
+#include "carve.h"
+#include "core/stage.h"
+
+namespace cm {
+namespace {
+
+class HullCarve : public Stage {
+public:
+    StageInfo info() const override {
+        return {"hull.carve",
+                "Carve the visual hull of the views' silhouettes into a sparse grid (tiles inside, leaves at the surface)",
+                {{"views", DataKind::Views, "the views whose silhouettes are carved"}},
+                DataKind::Volume,
+                {ParamSpec::Int("resolution", 256, 8, 16384, "cells",
+                                "grid cells along the longest side of the object's bounding box"),
+                 ParamSpec::Float("voxel_ratio", 4.0, 0.01, 1024.0, "px",
+                                  "image pixels per grid cell in the finest view (the paper's 4x/8x coarser grid); "
+                                  "when set it decides the resolution")
+                     .optional()}};
+    }
+
+    void prepare(const ParamSet& p) override {
+        Stage::prepare(p);
+        if (p.has("voxel_ratio") && p.explicitly_set("resolution"))
+            throw Error("set either resolution or voxel_ratio, not both (voxel_ratio decides the resolution)");
+    }
+
+    Data run(const Inputs& in, Context& ctx) override {
+        auto views = in.get<Views>("views");
+        CarveOptions opt;
+        opt.resolution = int(params_.get_int("resolution"));
+        if (params_.has("voxel_ratio")) opt.voxel_ratio = params_.get_float("voxel_ratio");
+        CarveStats st;
+        auto vol = carve(views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
+        if (st.box_estimated) {
+            ctx.info("no bounds given: carving the estimated box [" + std::to_string(st.box_min.x) + ", " +
+                     std::to_string(st.box_min.y) + ", " + std::to_string(st.box_min.z) + "] - [" +
+                     std::to_string(st.box_max.x) + ", " + std::to_string(st.box_max.y) + ", " +
+                     std::to_string(st.box_max.z) + "]");
+            if (st.box_touched)
+                ctx.warn("the hull reaches the edge of the region the cameras were searched in; give bounds in the "
+                         "manifest to be sure nothing is cut");
+        }
+        const auto& tree = vol->occupancy->tree();
+        ctx.metric("resolution", double(st.resolution));
+        ctx.metric("voxel_size", st.voxel_size);
+        ctx.metric("active_voxels", double(tree.activeVoxelCount()));
+        ctx.metric("active_tiles", double(tree.activeTileCount()));
+        ctx.metric("leaf_count", double(tree.leafCount()));
+        ctx.metric("grid_bytes", double(tree.memUsage()));
+        return std::shared_ptr<const Volume>(vol);
+    }
+};
+
+} // namespace
+
+Stage* make_hull_carve() { return new HullCarve; }
+
+} // namespace cm

@@ -1,0 +1,47 @@
+// Analytic test shapes for the visual hull stages: views whose silhouettes are drawn
+// in code from the shape's exact outline, and figures computed from a volume.
+#pragma once
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "core/views.h"
+#include "core/volume.h"
+
+namespace cm::test {
+
+/// A 2D outline in a view's image plane: signed distance (world units, positive inside)
+/// of the plane point q = a r + b u (r, u the view's image axes, q . d = 0).
+using Outline = std::function<double(const Vec3d& q)>;
+
+/// Anti-aliased coverage with a soft ramp: 0.5 + signed distance / 3 px, clamped, so the
+/// bilinear 0.5 iso-line is the outline to far below 0.05 px on straight and gently
+/// curved edges.
+double ramp_coverage(double signed_distance_px);
+
+/// Orthographic named view (front, right, top, ...) of `size` x `size` pixels with
+/// `scale` pixels per unit and the world origin at the image centre.
+View ortho_view(const std::string& name, int size, double scale, const Outline& outline);
+
+/// Views of the given names, with a bounding box.
+std::shared_ptr<Views> make_views(std::vector<View> views, Vec3d lo, Vec3d hi);
+
+/// Outlines of 3D shapes seen along a view's axis.
+Outline sphere_outline(double radius);                    ///< a sphere at the origin
+Outline box_outline(Vec3d lo, Vec3d hi, Vec3d view_d);    ///< an axis-aligned box seen along view_d
+Outline union_outline(Outline a, Outline b);
+
+/// Perspective camera at `eye` looking at `target` with focal length `f` px and principal
+/// point (cx, cy); image up is close to `up`.
+std::array<double, 12> look_at(Vec3d eye, Vec3d target, Vec3d up, double f, double cx, double cy);
+/// Perspective view of a sphere (centre c, radius r) through the 3x4 matrix.
+View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f,
+                             Vec3d c, double r);
+
+/// Grid points inside x voxel volume.
+double counted_volume(const Volume& v);
+/// Volume along x rows with the exact crossings at both ends of every run (O(h^2)).
+double crossing_volume(const Volume& v);
+
+} // namespace cm::test
