@@ -242,3 +242,38 @@ TEST(ViewsLoad, TumBunnyCalibratedSilhouettes) {
         EXPECT_TRUE(c.x > 0 && c.x < view.width && c.y > 0 && c.y < view.height);
     }
 }
+
+TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
+    // A sphere with a box on its shoulder, framed as render-views frames it; then the views
+    // forget their cameras' scale and origin and alignment must find them again.
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    Views views;
+    for (const char* name : {"front", "right", "top", "az45el30"}) {
+        const Camera dir = Camera::named(name) ? *Camera::named(name) : Camera::from_azimuth_elevation(45, 30);
+        const Camera cam = framed_camera(dir, Vec3d(lo), Vec3d(hi), 240, 240);
+        View v;
+        v.name = name;
+        v.width = v.height = 240;
+        v.camera = dir;   // direction only, as views.load sets it
+        const auto mask = render_mask(m, cam, 240, 240);
+        v.coverage.assign(mask.begin(), mask.end());
+        views.views.push_back(v);
+    }
+    std::vector<std::string> warnings;
+    align_views(views, {}, warnings);
+    EXPECT_TRUE(warnings.empty());
+    // Map the mesh onto the aligned box, as compare --fit bbox does, and re-render.
+    Mesh fitted = m;
+    for (auto& p : fitted.positions)
+        for (int k = 0; k < 3; ++k)
+            p[k] = float(views.bounds_min[k] + (p[k] - lo[k]) / (hi[k] - lo[k]) * (views.bounds_max[k] - views.bounds_min[k]));
+    const SilhouetteError e = silhouette_error(fitted, views);
+    ASSERT_EQ(e.views.size(), 4u);
+    for (const auto& v : e.views) EXPECT_LT(v.xor_pct, 1.5) << v.view;
+}

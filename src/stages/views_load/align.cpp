@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
@@ -50,6 +51,100 @@ int axis_of(const Vec3d& a) {
 }
 
 const char* axis_name(int k) { return k == 0 ? "width (X)" : k == 1 ? "height (Y)" : "depth (Z)"; }
+
+bool axis_view(const Camera& c) { return c.orthographic() && axis_of(c.r) >= 0 && axis_of(c.u) >= 0; }
+
+// An oblique view shares no axis with the others, so its placement cannot come from extents.
+// The axis views (already aligned) carve a visual hull of the object, which holds the object:
+// at the right placement the silhouette lies inside the hull's projection. The view is
+// placed at the centre of the placements that keep the silhouette's boundary inside the
+// projection, searched around the one that matches centroids. Its scale stays the first
+// view's (a turnaround is drawn at one scale).
+void place_oblique_views(Views& views) {
+    std::vector<const View*> axis;
+    for (const auto& v : views.views)
+        if (axis_view(v.camera)) axis.push_back(&v);
+    if (axis.empty()) return;
+    const Vec3d lo = views.bounds_min, hi = views.bounds_max, ext = hi - lo;
+    const double longest = std::max({ext.x, ext.y, ext.z});
+    if (!(longest > 0)) return;
+    for (auto& v : views.views) {
+        Camera& c = v.camera;
+        if (!c.orthographic() || axis_view(c)) continue;
+        // Hull cells of about 2 px in this view (at most 200 along the longest side).
+        const int n = std::clamp(int(std::ceil(longest * c.scale / 2.0)), 16, 200);
+        const double h = longest / n;
+        const int nx = std::max(1, int(std::ceil(ext.x / h))), ny = std::max(1, int(std::ceil(ext.y / h))),
+                  nz = std::max(1, int(std::ceil(ext.z / h)));
+        const Vec3d cell{ext.x / nx, ext.y / ny, ext.z / nz};
+        std::vector<Vec2d> q;
+        for (int k = 0; k < nz; ++k)
+            for (int j = 0; j < ny; ++j)
+                for (int i = 0; i < nx; ++i) {
+                    const Vec3d p{lo.x + (i + 0.5) * cell.x, lo.y + (j + 0.5) * cell.y, lo.z + (k + 0.5) * cell.z};
+                    bool inside = true;
+                    for (const View* a : axis) {
+                        const Vec2d pa = a->camera.project(p);
+                        if (!a->inside(int(std::floor(pa.x)), int(std::floor(pa.y)))) { inside = false; break; }
+                    }
+                    if (inside) q.push_back({c.scale * dot(p, c.r), -c.scale * dot(p, c.u)});
+                }
+        if (q.empty()) continue;
+        // The hull's projection (origin at 0): each cell's footprint as its bounding rectangle.
+        const double ax = 0.5 * c.scale * (std::abs(c.r.x) * cell.x + std::abs(c.r.y) * cell.y + std::abs(c.r.z) * cell.z);
+        const double ay = 0.5 * c.scale * (std::abs(c.u.x) * cell.x + std::abs(c.u.y) * cell.y + std::abs(c.u.z) * cell.z);
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        for (const Vec2d& p : q) {
+            x0 = std::min(x0, p.x - ax), x1 = std::max(x1, p.x + ax);
+            y0 = std::min(y0, p.y - ay), y1 = std::max(y1, p.y + ay);
+        }
+        const int W = int(std::ceil(x1 - x0)) + 2, H = int(std::ceil(y1 - y0)) + 2;
+        if (double(W) * H > 64e6) continue;   // absurd scale; keep the first guess
+        std::vector<char> mask(std::size_t(W) * H, 0);
+        for (const Vec2d& p : q) {
+            const int i0 = int(std::ceil(p.x - ax - x0 - 0.5)), i1 = int(std::floor(p.x + ax - x0 - 0.5));
+            const int j0 = int(std::ceil(p.y - ay - y0 - 0.5)), j1 = int(std::floor(p.y + ay - y0 - 0.5));
+            for (int jj = std::max(0, j0); jj <= std::min(H - 1, j1); ++jj)
+                for (int ii = std::max(0, i0); ii <= std::min(W - 1, i1); ++ii) mask[std::size_t(jj) * W + ii] = 1;
+        }
+        double hx = 0, hy = 0, hn = 0;
+        for (int jj = 0; jj < H; ++jj)
+            for (int ii = 0; ii < W; ++ii)
+                if (mask[std::size_t(jj) * W + ii]) hx += ii + 0.5 + x0, hy += jj + 0.5 + y0, ++hn;
+        double sx = 0, sy = 0, sn = 0;
+        std::vector<Vec2d> boundary;
+        for (int y = 0; y < v.height; ++y)
+            for (int x = 0; x < v.width; ++x)
+                if (v.inside(x, y)) {
+                    sx += x + 0.5, sy += y + 0.5, ++sn;
+                    if (!v.inside(x - 1, y) || !v.inside(x + 1, y) || !v.inside(x, y - 1) || !v.inside(x, y + 1))
+                        boundary.push_back({x + 0.5, y + 0.5});
+                }
+        if (hn == 0 || sn == 0) continue;
+        // Image point of the world origin when the centroids match.
+        const double tx = sx / sn - hx / hn, ty = sy / sn - hy / hn;
+        const int R = std::max(4, int(0.03 * std::max(W, H)));
+        std::vector<std::size_t> outside(std::size_t(2 * R + 1) * (2 * R + 1), 0);
+        std::size_t best = std::numeric_limits<std::size_t>::max();
+        for (int dy = -R; dy <= R; ++dy)
+            for (int dx = -R; dx <= R; ++dx) {
+                std::size_t count = 0;
+                for (const Vec2d& b : boundary) {
+                    const int ii = int(std::floor(b.x - (tx + dx) - x0)), jj = int(std::floor(b.y - (ty + dy) - y0));
+                    count += ii < 0 || jj < 0 || ii >= W || jj >= H || !mask[std::size_t(jj) * W + ii];
+                }
+                outside[std::size_t(dy + R) * (2 * R + 1) + std::size_t(dx + R)] = count;
+                best = std::min(best, count);
+            }
+        const std::size_t slack = std::max<std::size_t>(2, boundary.size() / 500);
+        double mx = 0, my = 0, mn = 0;
+        for (int dy = -R; dy <= R; ++dy)
+            for (int dx = -R; dx <= R; ++dx)
+                if (outside[std::size_t(dy + R) * (2 * R + 1) + std::size_t(dx + R)] <= best + slack) mx += dx, my += dy, ++mn;
+        c.cx = tx + mx / mn;
+        c.cy = ty + my / mn;
+    }
+}
 
 } // namespace
 
@@ -135,12 +230,13 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
             c.cx = ext[i].x0 - c.scale * rmin;
             c.cy = ext[i].y0 + c.scale * umax;
         } else {
-            // Oblique view: centre the box's projection on the silhouette's centre.
+            // Oblique view, first guess: the box's projection centred on the silhouette's.
             const Vec3d mid = (views.bounds_min + views.bounds_max) * 0.5;
             c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
             c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
         }
     }
+    place_oblique_views(views);
 }
 
 } // namespace cm
