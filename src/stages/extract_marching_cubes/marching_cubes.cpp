@@ -16,6 +16,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -29,7 +30,7 @@ namespace cm {
 namespace {
 
 using openvdb::Coord;
-using Int32Grid = openvdb::Int32Grid;
+using FlipGrid = openvdb::Vec3fGrid;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr std::int64_t kBias = std::int64_t(1) << 20;   // block coordinates are stored in 21 bits
 
@@ -57,7 +58,7 @@ struct Block {
 /// Corner states of the lattice: occupancy, plus points made inside to keep thin parts.
 class States {
 public:
-    States(const openvdb::BoolGrid& occ, const Int32Grid* flips) : occ_(occ), flips_(flips) {}
+    States(const openvdb::BoolGrid& occ, const FlipGrid* flips) : occ_(occ), flips_(flips) {}
 
     /// Inside bits of the 8 leaf-sized regions at origin + 8 (dx, dy, dz), as leaf words:
     /// word x of region d holds bit 8y+z.
@@ -111,7 +112,7 @@ public:
 
 private:
     const openvdb::BoolGrid& occ_;
-    const Int32Grid* flips_;
+    const FlipGrid* flips_;
 };
 
 /// True when both transforms put the grid points at the same places.
@@ -136,15 +137,31 @@ void for_blocks(std::size_t n, double p0, double p1, const MarchingCubesOptions&
 }
 
 /// Points made inside so that thin parts (inside intervals on edges whose ends are both
-/// outside) survive: for each such edge, its end nearer to the interval. The value is a
-/// bit mask of the axes along which the point was promoted.
-Int32Grid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, const openvdb::Vec3fGrid& leave,
+/// outside) survive: for each such edge, its end nearer to the interval. The value is the
+/// offset (in cells, per axis) from the point to the near face of its thin part: vertices on
+/// the point's other edges, about which nothing is known, are moved there so the part keeps
+/// its thickness instead of reaching back to the grid point.
+/// An edge next to the resolved solid (a cell around it has an inside corner) is most often
+/// the body's own surface bulging between two grid points, which the body's surface already
+/// covers to within the cell; promoting a point there would raise a spike. Such edges are
+/// promoted only when they link a thin part found away from the solid back to it (26-connected
+/// to a promoted point), so a finger thinner than a cell stays attached to its hand.
+FlipGrid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, const openvdb::Vec3fGrid& leave,
                             std::size_t& count) {
-    auto flips = Int32Grid::create(0);
+    auto flips = FlipGrid::create(openvdb::Vec3f(0.0f));
     flips->setTransform(vol.occupancy->transform().copy());
     auto facc = flips->getAccessor();
     auto oacc = vol.occupancy->getConstAccessor();
     auto lacc = leave.getConstAccessor();
+    auto promote = [&](const Coord& q, const openvdb::Vec3f& offset) {
+        openvdb::Vec3f o = facc.getValue(q);
+        if (!facc.isValueOn(q)) ++count;
+        for (int a = 0; a < 3; ++a)
+            if (offset[a] != 0.0f) o[a] = offset[a];
+        facc.setValueOn(q, o);
+    };
+    std::map<Coord, openvdb::Vec3f> near;   // candidate point -> offset, for edges next to the solid
+    std::vector<Coord> frontier;
     for (auto it = enter.cbeginValueOn(); it; ++it) {
         if (!it.isVoxelValue()) continue;
         const Coord p = it.getCoord();
@@ -152,12 +169,42 @@ Int32Grid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, 
         for (int a = 0; a < 3; ++a) {
             if (!(t0[a] >= 0.0f && t1[a] <= 1.0f && t0[a] < t1[a])) continue;
             Coord q = p;
-            if (t0[a] > 1.0f - t1[a]) q[a] += 1;
+            openvdb::Vec3f offset(0.0f);
+            if (t0[a] > 1.0f - t1[a]) {
+                q[a] += 1;
+                offset[a] = t1[a] - 1.0f;
+            } else {
+                offset[a] = t0[a];
+            }
             bool v = false;
-            if (oacc.probeValue(q, v) && v) continue;   // already inside: nothing to keep
-            const int before = facc.getValue(q);
-            if (!facc.isValueOn(q)) ++count;
-            facc.setValue(q, before | (1 << a));
+            if (oacc.probeValue(q, v) && v) continue;   // inside already (not expected)
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            bool near_solid = false;
+            for (int i = 0; i < 18 && !near_solid; ++i) {
+                Coord r = p;
+                r[a] += i & 1;
+                r[b] += (i >> 1) % 3 - 1;
+                r[c] += (i >> 1) / 3 - 1;
+                near_solid = oacc.probeValue(r, v) && v;
+            }
+            if (near_solid) {
+                near[q][a] = offset[a];
+            } else {
+                promote(q, offset);
+                frontier.push_back(q);
+            }
+        }
+    }
+    while (!frontier.empty()) {
+        const Coord q = frontier.back();
+        frontier.pop_back();
+        for (int d = 0; d < 27; ++d) {
+            const Coord r = q.offsetBy(d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
+            const auto it = near.find(r);
+            if (it == near.end()) continue;
+            promote(r, it->second);
+            near.erase(it);
+            frontier.push_back(r);
         }
     }
     return flips;
@@ -183,7 +230,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
         if (thin_enter && (!same_lattice(thin_enter->transform(), xform) || !same_lattice(thin_leave->transform(), xform)))
             throw Error("the thin-part grids are not on the occupancy's transform");
     }
-    Int32Grid::Ptr flips;
+    FlipGrid::Ptr flips;
     if (thin_enter) {
         flips = promote_thin(vol, *thin_enter, *thin_leave, stats.thin_points);
         if (flips->tree().empty()) flips.reset();
@@ -306,10 +353,10 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
         const openvdb::Vec3fGrid::TreeType::LeafNodeType* cleaf = nullptr;
         std::size_t miss = 0;
         if (crossings) cleaf = crossings->tree().probeConstLeaf(b.origin);
-        std::unique_ptr<Int32Grid::ConstAccessor> facc;
+        std::unique_ptr<FlipGrid::ConstAccessor> facc;
         std::unique_ptr<openvdb::Vec3fGrid::ConstAccessor> eacc, lacc;
         if (flips) {
-            facc = std::make_unique<Int32Grid::ConstAccessor>(flips->getConstAccessor());
+            facc = std::make_unique<FlipGrid::ConstAccessor>(flips->getConstAccessor());
             eacc = std::make_unique<openvdb::Vec3fGrid::ConstAccessor>(thin_enter->getConstAccessor());
             lacc = std::make_unique<openvdb::Vec3fGrid::ConstAccessor>(thin_leave->getConstAccessor());
         }
@@ -320,19 +367,27 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                     const int bit = std::countr_zero(bits);
                     const Coord p = b.origin.offsetBy(x, bit >> 3, bit & 7);
                     float t = 0.5f;
-                    int fp = 0, fq = 0;
+                    bool fp = false, fq = false;
+                    openvdb::Vec3f shift(0.0f);
                     if (facc) {
                         Coord q = p;
                         q[a] += 1;
-                        fp = facc->getValue(p);
-                        fq = facc->getValue(q);
+                        fp = facc->isValueOn(p);
+                        fq = facc->isValueOn(q);
                     }
                     if (fp || fq) {
                         // One end was made inside for a thin part; the other end is outside.
                         const float s0 = eacc->getValue(p)[a], s1 = lacc->getValue(p)[a];
-                        if (s0 >= 0.0f && s1 <= 1.0f && s0 < s1) t = fp ? s1 : s0;
-                        else if (fp) t = ((fp >> a) & 1) ? 0.0f : 0.5f;
-                        else t = ((fq >> a) & 1) ? 1.0f : 0.5f;
+                        if (s0 >= 0.0f && s1 <= 1.0f && s0 < s1) {
+                            t = fp ? s1 : s0;
+                        } else {
+                            // Nothing known beyond the thin part: hug the point, moved onto the
+                            // near face of its part.
+                            Coord q = p;
+                            q[a] += 1;
+                            t = fp ? 0.0f : 1.0f;
+                            shift = facc->getValue(fp ? p : q);
+                        }
                     } else if (crossings) {
                         const openvdb::Index off = openvdb::Vec3fGrid::TreeType::LeafNodeType::coordToOffset(p);
                         const float c = cleaf && cleaf->isValueOn(off) ? cleaf->getValue(off)[a] : -1.0f;
@@ -342,6 +397,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                     t = std::clamp(t, lo_t, hi_t);
                     openvdb::Vec3d ip(p.x(), p.y(), p.z());
                     ip[a] += double(t);
+                    ip += openvdb::Vec3d(shift);
                     const openvdb::Vec3d w = xform.indexToWorld(ip);
                     mesh.positions[v++] = Vec3f(float(w.x()), float(w.y()), float(w.z()));
                 }
