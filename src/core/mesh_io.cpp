@@ -5,6 +5,7 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 
 #include "core/error.h"
 
@@ -14,6 +15,18 @@ namespace cm {
 
 namespace {
 using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+// OpenMesh logs to stdout/stderr on its own ("[OBJWriter] : write file", reader
+// complaints); conceptmesh reports its own one-line errors instead.
+void quiet_openmesh() {
+    static const bool done = [] {
+        omlog().disable();
+        omout().disable();
+        omerr().disable();
+        return true;
+    }();
+    (void)done;
+}
 
 std::string lower_ext(const fs::path& p) {
     std::string e = p.extension().string();
@@ -32,6 +45,7 @@ Mesh read_mesh(const fs::path& file) {
     if (!fs::exists(file, ec)) throw Error("cannot read mesh \"" + file.string() + "\": no such file");
     if (!mesh_format_supported(file))
         throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl or .off)");
+    quiet_openmesh();
     OMesh om;
     OpenMesh::IO::Options opt;
     if (!OpenMesh::IO::read_mesh(om, file.string(), opt))
@@ -59,6 +73,7 @@ Mesh read_mesh(const fs::path& file) {
 void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
     if (!mesh_format_supported(file))
         throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl or .off)");
+    quiet_openmesh();
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
     for (const auto& p : mesh.positions) om.add_vertex(OMesh::Point(p.x, p.y, p.z));
