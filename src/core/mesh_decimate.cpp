@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -31,14 +30,9 @@ class Collapser {
 public:
     explicit Collapser(Mesh& m) : mesh_(m), P_(m.positions), T_(m.triangles) {
         const std::size_t nv = P_.size(), nf = T_.size();
-        fdead_.assign(nf, 0);
         vdead_.assign(nv, 0);
         alive_faces_ = nf;
         build_lists();
-        fn_.resize(nf);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 4096), [&](const auto& r) {
-            for (std::size_t f = r.begin(); f != r.end(); ++f) fn_[f] = face_normal(std::uint32_t(f));
-        });
         // Lock every vertex whose faces do not form one consistently oriented closed fan
         // (boundary, non-manifold edge or vertex, flipped neighbour, huge valence).
         lock_.assign(nv, 0);
@@ -52,32 +46,31 @@ public:
     std::size_t locked() const { return locked_; }
     bool usable(std::uint32_t v) const { return !vdead_[v] && !lock_[v]; }
     const Vec3f& point(std::uint32_t v) const { return P_[v]; }
-    const Vec3f& normal(std::uint32_t f) const { return fn_[f]; }
+    /// Unit normal of face f, from the positions (not stored: the positions are read
+    /// anyway, and one array less keeps the random accesses of the queue in cache).
+    Vec3f normal(std::uint32_t f) const { return face_normal(f); }
     const std::array<std::uint32_t, 3>& tri(std::uint32_t f) const { return T_[f]; }
 
     template <typename F>
     void for_faces(std::uint32_t v, F&& f) const {
         const std::uint32_t b = vstart_[v], e = b + vcount_[v];
         for (std::uint32_t i = b; i < e; ++i)
-            if (!fdead_[refs_[i]]) f(refs_[i]);
+            if (T_[refs_[i]][0] != kNone) f(refs_[i]);
     }
 
-    /// Unique neighbours of v.
+    /// Neighbours of a usable vertex: its fan is closed and consistently oriented, so each
+    /// neighbour follows v in exactly one of its faces.
     void ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
         out.clear();
         for_faces(v, [&](std::uint32_t f) {
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t x = T_[f][k];
-                if (x != v && std::find(out.begin(), out.end(), x) == out.end()) out.push_back(x);
-            }
+            const auto& t = T_[f];
+            out.push_back(t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]));
         });
     }
 
-    /// Can v collapse into its neighbour w? `rv` is ring(v). On success, `min_cos` is the
-    /// smallest cosine between a changed face's old and new normals.
-    bool check(std::uint32_t v, std::uint32_t w, const std::vector<std::uint32_t>& rv, double cos_limit,
-               double max_aspect, double& min_cos) {
-        if (!usable(w)) return false;
+    /// Topology of collapsing v into its neighbour w (`rv` is ring(v)): the edge has two
+    /// faces, the link condition holds, and no tetrahedron-like pocket folds shut.
+    bool topology_ok(std::uint32_t v, std::uint32_t w, const std::vector<std::uint32_t>& rv) {
         int shared = 0;
         for_faces(v, [&](std::uint32_t f) { shared += (T_[f][0] == w) + (T_[f][1] == w) + (T_[f][2] == w); });
         if (shared != 2) return false;
@@ -87,22 +80,27 @@ public:
         for (auto x : rv)
             if (std::find(rw_.begin(), rw_.end(), x) != rw_.end()) ++common;
         if (common != 2) return false;
-        if (rv.size() == 3 || rw_.size() == 3) {
-            // A tetrahedron-like pocket: the face left over must not exist already.
+        if (rv.size() == 3 && rw_.size() == 3) return false;
+        if (rv.size() == 3) {
+            // The face left over must not exist already.
             std::uint32_t a = kNone, b = kNone;
             for (auto x : rv)
                 if (x != w) (a == kNone ? a : b) = x;
-            if (rv.size() == 3) {
-                bool dup = false;
-                for_faces(w, [&](std::uint32_t f) {
-                    const auto& t = T_[f];
-                    const bool ha = t[0] == a || t[1] == a || t[2] == a, hb = t[0] == b || t[1] == b || t[2] == b;
-                    dup |= ha && hb;
-                });
-                if (dup) return false;
-            }
-            if (rv.size() == 3 && rw_.size() == 3) return false;
+            bool dup = false;
+            for_faces(w, [&](std::uint32_t f) {
+                const auto& t = T_[f];
+                const bool ha = t[0] == a || t[1] == a || t[2] == a, hb = t[0] == b || t[1] == b || t[2] == b;
+                dup |= ha && hb;
+            });
+            if (dup) return false;
         }
+        return true;
+    }
+
+    /// Geometry of collapsing v into w: no changed face may lose its area, turn by more
+    /// than acos(cos_limit) or become thinner than max_aspect (unless it was already).
+    /// On success `min_cos` is the smallest cosine between a changed face's old and new normal.
+    bool geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos) const {
         min_cos = 1.0;
         const Vec3d pw(P_[w]);
         bool ok = true;
@@ -116,7 +114,8 @@ public:
             const double len = length(n);
             const double scale = std::max({dot(q[1] - q[0], q[1] - q[0]), dot(q[2] - q[0], q[2] - q[0])});
             if (!(len > 1e-12 * scale)) { ok = false; return; }
-            const double c = dot(n, Vec3d(fn_[f])) / len;
+            const Vec3d n_old = cross_of(Vec3d(P_[t[0]]), Vec3d(P_[t[1]]), Vec3d(P_[t[2]]));
+            const double c = dot(n, n_old) / (len * length(n_old));
             min_cos = std::min(min_cos, c);
             if (c < cos_limit) { ok = false; return; }
             if (max_aspect > 0) {
@@ -136,7 +135,7 @@ public:
         for_faces(w, [&](std::uint32_t f) {
             auto& t = T_[f];
             if (t[0] == v || t[1] == v || t[2] == v) {
-                fdead_[f] = 1;
+                t[0] = kNone;   // dead
                 --alive_faces_;
             } else {
                 refs_.push_back(f);
@@ -146,7 +145,6 @@ public:
             auto& t = T_[f];
             for (int k = 0; k < 3; ++k)
                 if (t[k] == v) t[k] = w;
-            fn_[f] = face_normal(f);
             refs_.push_back(f);
         });
         vstart_[w] = start;
@@ -161,7 +159,7 @@ public:
         const std::size_t nv = P_.size();
         std::vector<std::uint32_t> order(nv, kNone);
         for (std::size_t f = 0; f < T_.size(); ++f)
-            if (!fdead_[f])
+            if (T_[f][0] != kNone)
                 for (auto i : T_[f]) order[i] = 0;
         // Survivors keep their relative order (stable for attributes).
         std::uint32_t k = 0;
@@ -170,7 +168,7 @@ public:
         std::vector<std::array<std::uint32_t, 3>> tris;
         tris.reserve(alive_faces_);
         for (std::size_t f = 0; f < T_.size(); ++f)
-            if (!fdead_[f]) tris.push_back({order[T_[f][0]], order[T_[f][1]], order[T_[f][2]]});
+            if (T_[f][0] != kNone) tris.push_back({order[T_[f][0]], order[T_[f][1]], order[T_[f][2]]});
         auto compact = [&](auto& vec) {
             if (vec.size() != nv) { vec.clear(); return; }
             std::size_t o = 0;
@@ -229,14 +227,14 @@ private:
         vstart_.assign(nv, 0);
         vcount_.assign(nv, 0);
         for (std::size_t f = 0; f < T_.size(); ++f)
-            if (!fdead_[f])
+            if (T_[f][0] != kNone)
                 for (int k = 0; k < 3; ++k) ++vcount_[T_[f][k]];
         std::uint32_t acc = 0;
         for (std::size_t v = 0; v < nv; ++v) { vstart_[v] = acc; acc += vcount_[v]; }
         refs_.assign(acc, 0);
         std::vector<std::uint32_t> fill(vstart_);
         for (std::size_t f = 0; f < T_.size(); ++f)
-            if (!fdead_[f])
+            if (T_[f][0] != kNone)
                 for (int k = 0; k < 3; ++k) refs_[fill[T_[f][k]]++] = std::uint32_t(f);
         refs_.reserve(std::size_t(acc) * 3 + 64);
         initial_refs_ = std::max<std::size_t>(acc, 64);
@@ -245,28 +243,102 @@ private:
     Mesh& mesh_;
     std::vector<Vec3f>& P_;
     std::vector<std::array<std::uint32_t, 3>>& T_;
-    std::vector<char> fdead_, vdead_, lock_;
+    std::vector<char> vdead_, lock_;
     std::vector<std::uint32_t> vstart_, vcount_, refs_;
-    std::vector<Vec3f> fn_;
     std::vector<std::uint32_t> rw_;
     std::size_t alive_faces_ = 0, initial_refs_ = 0, locked_ = 0;
 };
 
-struct Entry {
-    float key;
-    std::uint32_t v;
-    std::uint32_t stamp;
-    bool operator>(const Entry& o) const { return key > o.key; }
-};
-using MinQueue = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
+// A 4-ary min-heap of vertices keyed by float, with one entry per vertex, so a
+// re-scored vertex moves in place instead of leaving stale copies behind. Keys sit
+// in the heap array beside the vertex so the four children share a cache line.
+class VertexHeap {
+public:
+    explicit VertexHeap(std::size_t nv) : pos_(nv, kNone) {}
+    bool empty() const { return heap_.empty(); }
+    bool contains(std::uint32_t v) const { return pos_[v] != kNone; }
+    std::uint32_t top() const { return heap_[0].v; }
+    float top_key() const { return heap_[0].key; }
+    /// Bulk load (before any other call), then heapify.
+    void build(const std::vector<std::uint32_t>& vs, const std::vector<float>& keys) {
+        heap_.resize(vs.size());
+        for (std::size_t i = 0; i < vs.size(); ++i) {
+            heap_[i] = {keys[vs[i]], vs[i]};
+            pos_[vs[i]] = std::uint32_t(i);
+        }
+        for (std::size_t i = heap_.size() / 4 + 1; i-- > 0;) down(i);
+    }
+    void set(std::uint32_t v, float k) {
+        if (pos_[v] == kNone) {
+            pos_[v] = std::uint32_t(heap_.size());
+            heap_.push_back({k, v});
+            up(heap_.size() - 1);
+            return;
+        }
+        const std::uint32_t i = pos_[v];
+        const float old = heap_[i].key;
+        heap_[i].key = k;
+        if (k < old) up(i); else down(i);
+    }
+    void erase(std::uint32_t v) {
+        const std::uint32_t i = pos_[v];
+        if (i == kNone) return;
+        pos_[v] = kNone;
+        const Node last = heap_.back();
+        heap_.pop_back();
+        if (i == heap_.size()) return;
+        heap_[i] = last;
+        pos_[last.v] = i;
+        up(i);
+        down(pos_[last.v]);
+    }
+    void pop() { erase(heap_[0].v); }
 
-// Runs the queue: `score(v, key)` says whether v is a candidate and its key;
-// `choose(v, ring, w, key)` picks the target of v's collapse (false: none now),
-// and may raise the key (then the vertex is queued again instead).
+private:
+    struct Node {
+        float key;
+        std::uint32_t v;
+    };
+    void place(std::size_t i, const Node& n) { heap_[i] = n; pos_[n.v] = std::uint32_t(i); }
+    void up(std::size_t i) {
+        const Node n = heap_[i];
+        while (i > 0) {
+            const std::size_t parent = (i - 1) / 4;
+            if (!(n.key < heap_[parent].key)) break;
+            place(i, heap_[parent]);
+            i = parent;
+        }
+        place(i, n);
+    }
+    void down(std::size_t i) {
+        const std::size_t size = heap_.size();
+        if (i >= size) return;
+        const Node n = heap_[i];
+        for (;;) {
+            const std::size_t c0 = 4 * i + 1;
+            if (c0 >= size) break;
+            std::size_t best = c0;
+            const std::size_t ce = std::min(c0 + 4, size);
+            for (std::size_t c = c0 + 1; c < ce; ++c)
+                if (heap_[c].key < heap_[best].key) best = c;
+            if (!(heap_[best].key < n.key)) break;
+            place(i, heap_[best]);
+            i = best;
+        }
+        place(i, n);
+    }
+
+    std::vector<Node> heap_;
+    std::vector<std::uint32_t> pos_;
+};
+
+// Runs the queue: `score(v, ring, key)` says whether v is a candidate and its key;
+// `choose(v, ring, w, key)` picks the target of v's collapse (false: none now, the
+// vertex waits until a neighbour changes), and may raise the key (then the vertex
+// is queued again instead). `after(v, w, key)` follows each collapse.
 template <typename Score, typename Choose, typename After>
 std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key,
                       const std::function<void(double)>& progress, Score&& score, Choose&& choose, After&& after) {
-    std::vector<std::uint32_t> stamp(nv, 0);
     std::vector<float> keys(nv);
     std::vector<char> cand(nv, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const auto& r) {
@@ -276,36 +348,45 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
             if (c.usable(std::uint32_t(v)) && score(std::uint32_t(v), ring, k)) { keys[v] = k; cand[v] = 1; }
         }
     });
-    std::vector<Entry> init;
+    std::vector<std::uint32_t> init;
     init.reserve(nv);
     for (std::size_t v = 0; v < nv; ++v)
-        if (cand[v]) init.push_back({keys[v], std::uint32_t(v), 0});
-    MinQueue q(std::greater<Entry>(), std::move(init));
+        if (cand[v]) init.push_back(std::uint32_t(v));
+    VertexHeap heap(nv);
+    heap.build(init, keys);
 
     const std::size_t start_faces = c.alive_faces();
     const std::size_t span = start_faces > target_faces ? start_faces - target_faces : 1;
     std::size_t collapses = 0, next_report = 0;
-    std::vector<std::uint32_t> rv, rw;
-    while (!q.empty() && c.alive_faces() > target_faces) {
-        const Entry e = q.top();
-        q.pop();
-        if (e.stamp != stamp[e.v] || !c.usable(e.v)) continue;
-        if (e.key > stop_key) break;
-        c.ring(e.v, rv);
-        std::uint32_t w;
-        float key = e.key;
-        if (!choose(e.v, rv, w, key)) continue;   // dormant until a neighbour changes
-        if (key > e.key) { q.push({key, e.v, ++stamp[e.v]}); continue; }
-        c.collapse(e.v, w);
-        ++collapses;
-        after(e.v, w, key);
-        // Re-score w and its ring.
-        c.ring(w, rw);
-        rw.push_back(w);
-        for (auto x : rw) {
-            ++stamp[x];
+    std::vector<std::uint32_t> rv, scratch;
+    // Lazy re-scoring: a collapse marks the vertices around it dirty; a dirty vertex
+    // is re-scored when it reaches the top, and goes back in the queue if its key moved.
+    // Vertices outside the queue (not candidates, or waiting) are scored at once.
+    std::vector<char> dirty(nv, 0);
+    while (!heap.empty() && c.alive_faces() > target_faces) {
+        const std::uint32_t v = heap.top();
+        const float key0 = heap.top_key();
+        if (key0 > stop_key) break;
+        if (dirty[v]) {
+            dirty[v] = 0;
             float k;
-            if (c.usable(x) && score(x, rv, k)) q.push({k, x, stamp[x]});
+            if (c.usable(v) && score(v, scratch, k)) heap.set(v, k); else heap.erase(v);
+            continue;
+        }
+        heap.pop();
+        c.ring(v, rv);
+        std::uint32_t w;
+        float key = key0;
+        if (!choose(v, rv, w, key)) continue;
+        if (key > key0) { heap.set(v, key); continue; }
+        c.collapse(v, w);
+        ++collapses;
+        after(v, w, key);
+        // The faces around every vertex of v's old ring (w included) changed.
+        for (auto x : rv) {
+            if (heap.contains(x)) { dirty[x] = 1; continue; }
+            float k;
+            if (c.usable(x) && score(x, scratch, k)) heap.set(x, k);
         }
         if (progress && collapses >= next_report) {
             progress(double(start_faces - c.alive_faces()) / double(span));
@@ -327,38 +408,48 @@ DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
     // Candidate test and importance: theta = the largest angle between two face normals
     // around v; I = theta * sum_j |V_j - V|. A small multiple of the perimeter orders
     // the exactly flat vertices (theta = 0) shortest-edges first.
-    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>& ring, float& key) {
-        double min_dot = 1.0;
-        std::uint32_t fs[64];
+    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) {
+        constexpr int kMax = 64;
+        Vec3f normals[kMax];
         int n = 0;
+        double L = 0;
+        const Vec3f p = c.point(v);
         bool many = false;
         c.for_faces(v, [&](std::uint32_t f) {
-            if (n < 64) fs[n++] = f; else many = true;
+            if (n == kMax) { many = true; return; }
+            normals[n++] = c.normal(f);
+            const auto& t = c.tri(f);
+            const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
+            L += length(c.point(next) - p);
         });
         if (many || n < 3) return false;
+        float min_dot = 1.0f;
         for (int i = 0; i < n; ++i)
-            for (int j = i + 1; j < n; ++j)
-                min_dot = std::min(min_dot, double(dot(c.normal(fs[i]), c.normal(fs[j]))));
-        const double theta = std::acos(std::clamp(min_dot, -1.0, 1.0));
+            for (int j = i + 1; j < n; ++j) min_dot = std::min(min_dot, dot(normals[i], normals[j]));
+        const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
         if (!(theta < limit)) return false;
-        c.ring(v, ring);
-        double L = 0;
-        const Vec3d p(c.point(v));
-        for (auto x : ring) L += length(Vec3d(c.point(x)) - p);
         key = float(theta * L + 1e-4 * L);
         return true;
     };
+    // The target: among the neighbours whose collapse passes the geometric guards, the one
+    // that turns the faces least (then the nearest); topology is checked in that order.
+    struct Option { double cos, len; std::uint32_t w; };
+    std::vector<Option> options;
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
-        double best = -2, best_len = HUGE_VAL;
-        w = kNone;
+        options.clear();
         const Vec3d p(c.point(v));
         for (auto x : rv) {
             double mc;
-            if (!c.check(v, x, rv, cos_limit, opt.max_aspect_ratio, mc)) continue;
-            const double len = length(Vec3d(c.point(x)) - p);
-            if (mc > best + 1e-9 || (mc > best - 1e-9 && len < best_len)) { best = mc; best_len = len; w = x; }
+            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc)) continue;
+            options.push_back({mc, length(Vec3d(c.point(x)) - p), x});
         }
-        return w != kNone;
+        std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) {
+            if (std::fabs(a.cos - b.cos) > 1e-9) return a.cos > b.cos;
+            return a.len < b.len;
+        });
+        for (const auto& o : options)
+            if (c.topology_ok(v, o.w, rv)) { w = o.w; return true; }
+        return false;
     };
     st.collapses = run_queue(c, mesh.positions.size(), opt.target_faces, HUGE_VALF, opt.progress, score, choose,
                              [](std::uint32_t, std::uint32_t, float) {});
@@ -426,20 +517,21 @@ DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
         key = float(best);
         return true;
     };
+    // The cheapest neighbour that passes the guards; costs first (cheap), checks in order.
+    std::vector<std::pair<double, std::uint32_t>> options;
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float& key) {
-        double best = HUGE_VAL;
-        w = kNone;
-        for (auto x : rv) {
-            const double e = cost(v, x) / area_of(v, x);
-            if (e >= best) continue;
+        options.clear();
+        for (auto x : rv)
+            if (c.usable(x)) options.push_back({cost(v, x) / area_of(v, x), x});
+        std::sort(options.begin(), options.end());
+        for (const auto& [e, x] : options) {
             double mc;
-            if (!c.check(v, x, rv, cos_limit, opt.max_aspect_ratio, mc)) continue;
-            best = e;
+            if (!c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc) || !c.topology_ok(v, x, rv)) continue;
             w = x;
+            key = std::max(key, float(e));
+            return true;
         }
-        if (w == kNone) return false;
-        key = std::max(key, float(best));
-        return true;
+        return false;
     };
     double max_err = 0;
     st.collapses = run_queue(c, nv, opt.target_faces, float(max_err2), opt.progress, score, choose,

@@ -1,0 +1,175 @@
+// Smoothing and reduction speed on meshes of about a million faces:
+//   sphere_1M: a 289 x 289 grid cube projected onto the unit sphere (1.00 M faces);
+//   bunny_1M:  the Stanford bunny (75 k faces) split twice (1.21 M faces), lightly smoothed
+//              so the split faces are not exactly flat.
+// Peers for the quadric decimation: meshoptimizer's meshopt_simplify and OpenMesh's
+// DecimaterT + ModQuadricT (+ ModNormalFlippingT), both to 10 % of the faces.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#ifdef CM_HAVE_MESHOPTIMIZER
+#include <meshoptimizer.h>
+#endif
+
+#include "core/mesh.h"
+#include "core/mesh_adjacency.h"
+#include "core/mesh_decimate.h"
+#include "core/mesh_io.h"
+#include "core/mesh_smooth.h"
+#include "mesh_shapes.h"
+
+using namespace cm;
+
+namespace {
+
+const Mesh& input(int which) {
+    static std::map<int, Mesh> cache;
+    auto it = cache.find(which);
+    if (it != cache.end()) return it->second;
+    Mesh m;
+    if (which == 0) {
+        m = test::make_grid_box(-1.0f, 1.0f, 289);
+        for (auto& p : m.positions) p = normalize(p);
+    } else {
+        m = test::subdivide(read_mesh(std::filesystem::path(CM_SHARED_DIR) / "data/models/bunny00.off"), 2);
+        SmoothOptions o;
+        o.method = SmoothOptions::Method::Taubin;
+        o.iterations = 2;
+        smooth_mesh(m, o);
+    }
+    return cache[which] = std::move(m);
+}
+const char* name_of(int which) { return which == 0 ? "sphere_1M" : "bunny_1M"; }
+
+void BM_Adjacency(benchmark::State& st) {
+    const Mesh& m = input(int(st.range(0)));
+    for (auto _ : st) benchmark::DoNotOptimize(build_vertex_adjacency(m));
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces"] = double(m.face_count());
+}
+
+void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
+    const Mesh& m0 = input(int(st.range(0)));
+    for (auto _ : st) {
+        st.PauseTiming();
+        Mesh m = m0;
+        st.ResumeTiming();
+        SmoothOptions o;
+        o.method = method;
+        o.iterations = 10;
+        smooth_mesh(m, o);
+        benchmark::DoNotOptimize(m.positions.data());
+    }
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces"] = double(m0.face_count());
+}
+void BM_LaplacianSmooth10(benchmark::State& st) { BM_Smooth(st, SmoothOptions::Method::Laplacian); }
+void BM_TaubinSmooth10(benchmark::State& st) { BM_Smooth(st, SmoothOptions::Method::Taubin); }
+
+void BM_Reduce(benchmark::State& st) {
+    const Mesh& m0 = input(int(st.range(0)));
+    std::size_t out = 0;
+    for (auto _ : st) {
+        st.PauseTiming();
+        Mesh m = m0;
+        st.ResumeTiming();
+        ReduceOptions o;
+        o.max_angle_deg = 40;
+        o.target_faces = m0.face_count() / 10;
+        reduce_mesh(m, o);
+        out = m.face_count();
+    }
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces_in"] = double(m0.face_count());
+    st.counters["faces_out"] = double(out);
+}
+
+void BM_QuadricOwn(benchmark::State& st) {
+    const Mesh& m0 = input(int(st.range(0)));
+    std::size_t out = 0;
+    for (auto _ : st) {
+        st.PauseTiming();
+        Mesh m = m0;
+        st.ResumeTiming();
+        QuadricOptions o;
+        o.target_faces = m0.face_count() / 10;
+        quadric_decimate(m, o);
+        out = m.face_count();
+    }
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces_in"] = double(m0.face_count());
+    st.counters["faces_out"] = double(out);
+}
+
+#ifdef CM_HAVE_MESHOPTIMIZER
+void BM_QuadricMeshoptimizer(benchmark::State& st) {
+    const Mesh& m0 = input(int(st.range(0)));
+    std::size_t out = 0;
+    bool manifold = true;
+    for (auto _ : st) {
+        std::vector<unsigned> idx(m0.triangles.size() * 3), dst(idx.size());
+        for (std::size_t f = 0; f < m0.triangles.size(); ++f)
+            for (int k = 0; k < 3; ++k) idx[3 * f + k] = m0.triangles[f][k];
+        const std::size_t n = meshopt_simplify(dst.data(), idx.data(), idx.size(), &m0.positions[0].x,
+                                               m0.positions.size(), sizeof(Vec3f), idx.size() / 10, 1.0f, 0, nullptr);
+        out = n / 3;
+        st.PauseTiming();
+        Mesh r;
+        r.positions = m0.positions;
+        for (std::size_t f = 0; f < out; ++f) r.triangles.push_back({dst[3 * f], dst[3 * f + 1], dst[3 * f + 2]});
+        manifold = check_mesh(r).closed_manifold();
+        st.ResumeTiming();
+    }
+    st.SetLabel(std::string(name_of(int(st.range(0)))) + (manifold ? " closed-manifold" : " NOT-manifold"));
+    st.counters["faces_in"] = double(m0.face_count());
+    st.counters["faces_out"] = double(out);
+}
+#endif
+
+void BM_QuadricOpenMesh(benchmark::State& st) {
+    using OM = OpenMesh::TriMesh_ArrayKernelT<>;
+    const Mesh& m0 = input(int(st.range(0)));
+    std::size_t out = 0;
+    for (auto _ : st) {
+        st.PauseTiming();
+        OM om;
+        for (const auto& p : m0.positions) om.add_vertex(OM::Point(p.x, p.y, p.z));
+        for (const auto& t : m0.triangles)
+            om.add_face(OM::VertexHandle(int(t[0])), OM::VertexHandle(int(t[1])), OM::VertexHandle(int(t[2])));
+        st.ResumeTiming();
+        OpenMesh::Decimater::DecimaterT<OM> dec(om);
+        OpenMesh::Decimater::ModQuadricT<OM>::Handle hq;
+        OpenMesh::Decimater::ModNormalFlippingT<OM>::Handle hn;
+        dec.add(hq);
+        dec.add(hn);
+        dec.module(hq).unset_max_err();
+        dec.initialize();
+        dec.decimate_to_faces(0, m0.face_count() / 10);
+        om.garbage_collection();
+        out = om.n_faces();
+    }
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces_in"] = double(m0.face_count());
+    st.counters["faces_out"] = double(out);
+}
+
+} // namespace
+
+BENCHMARK(BM_Adjacency)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LaplacianSmooth10)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TaubinSmooth10)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Reduce)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_QuadricOwn)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
+#ifdef CM_HAVE_MESHOPTIMIZER
+BENCHMARK(BM_QuadricMeshoptimizer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
+#endif
+BENCHMARK(BM_QuadricOpenMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+BENCHMARK_MAIN();
