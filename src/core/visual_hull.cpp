@@ -68,8 +68,22 @@ void intersect(const Intervals& a, const Intervals& b, Intervals& out) {
 
 } // namespace
 
-int VisualHull::transitions(const Vec3d& a, const Vec3d& b, bool& start, double* flips, int max_flips) const {
-    start = inside(a);
+int VisualHull::transitions(const Vec3d& a, const Vec3d& b, bool& start, double* flips, int max_flips,
+                            ViewMask mask) const {
+    // A view that sees the whole segment outside settles it before any exact work; views
+    // that see it all inside (or are masked out) need none.
+    constexpr std::size_t kCached = 256;
+    signed char cls[kCached];
+    const std::size_t nv = fields_.size();
+    for (std::size_t i = 0; i < nv; ++i) {
+        const bool skip = i < 64 && !((mask >> i) & 1u);
+        const Class c = skip ? Class::Inside : fields_[i].classify_segment(a, b);
+        if (c == Class::Outside) {
+            start = false;
+            return 0;
+        }
+        if (i < kCached) cls[i] = static_cast<signed char>(c);
+    }
     Intervals cur, view, tmp;
     // The clip box (slab test).
     double t0 = 0, t1 = 1;
@@ -84,22 +98,24 @@ int VisualHull::transitions(const Vec3d& a, const Vec3d& b, bool& start, double*
         t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     }
     if (t0 <= t1) cur.add(t0, t1);
-    // A view that sees the whole segment outside settles it before any exact work.
-    for (std::size_t i = 0; i < fields_.size() && cur.n > 0; ++i)
-        if (fields_[i].classify_segment(a, b) == Class::Outside) cur.n = 0;
+    start = in_clip(a);
     double local[256];
-    for (std::size_t i = 0; i < fields_.size() && cur.n > 0; ++i) {
-        const Class c = fields_[i].classify_segment(a, b);
+    for (std::size_t i = 0; i < nv && cur.n > 0; ++i) {
+        const bool skip = i < 64 && !((mask >> i) & 1u);
+        if (skip) continue;
+        const Class c = i < kCached ? static_cast<Class>(cls[i]) : fields_[i].classify_segment(a, b);
         if (c == Class::Inside) continue;
-        if (c == Class::Outside) {
-            cur.n = 0;
-            break;
-        }
         bool st = false;
         const int m = fields_[i].transitions(a, b, st, local, 256);
+        start = start && st;
         from_flips(st, local, m, view);
         intersect(cur, view, tmp);
         cur = tmp;
+    }
+    if (cur.n == 0) {
+        // Some view or the clip box leaves nothing inside; `start` must still say whether
+        // a itself is inside (a point of zero length).
+        start = start && inside(a, mask);
     }
     // Back to flips, consistent with `start`.
     int n = 0;

@@ -43,8 +43,10 @@ public:
 
     /// Inside intervals of the segment a + t (b - a), t in [0, 1]: `start` is inside(a),
     /// `flips` the increasing t where the state toggles (at most `max_flips`). Views that
-    /// see the segment's bounding box all inside are skipped.
-    int transitions(const Vec3d& a, const Vec3d& b, bool& start, double* flips, int max_flips) const;
+    /// see the segment all inside are skipped, and so are the views not in `mask` (the
+    /// caller knows they see it all inside, e.g. from a box holding the segment).
+    int transitions(const Vec3d& a, const Vec3d& b, bool& start, double* flips, int max_flips,
+                    ViewMask mask = kAllViews) const;
 
 private:
     std::vector<SilhouetteField> fields_;

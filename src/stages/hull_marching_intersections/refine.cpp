@@ -93,13 +93,27 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     // Topology of the crossings: every occupancy leaf and its -x, -y, -z neighbours (an
     // outside point there may have an inside neighbour in the leaf). Tiles never touch
     // the outside (volume.h), so no other block can hold a crossing.
+    // A neighbour block that is not a leaf itself is constant; it needs a leaf only when
+    // it is outside and the leaf's face towards it has inside voxels.
     auto ctree = std::make_shared<VecTree>(kUnset);
-    for (auto it = occ.cbeginLeaf(); it; ++it) {
-        const Coord o = it->origin();
-        ctree->touchLeaf(o);
-        ctree->touchLeaf(o.offsetBy(-kDim, 0, 0));
-        ctree->touchLeaf(o.offsetBy(0, -kDim, 0));
-        ctree->touchLeaf(o.offsetBy(0, 0, -kDim));
+    {
+        OccAccessor acc(occ);
+        for (auto it = occ.cbeginLeaf(); it; ++it) {
+            const Coord o = it->origin();
+            ctree->touchLeaf(o);
+            const auto& m = it->getValueMask();
+            Word face[3] = {m.getWord<Word>(0), 0, 0};
+            for (int x = 0; x < 8; ++x) {
+                face[1] |= m.getWord<Word>(x) & 0xffULL;
+                face[2] |= m.getWord<Word>(x) & 0x0101010101010101ULL;
+            }
+            for (int a = 0; a < 3; ++a) {
+                Coord n = o;
+                n[a] -= kDim;
+                if (!face[a] || acc.probeConstLeaf(n) || acc.isValueOn(n)) continue;
+                ctree->touchLeaf(n);
+            }
+        }
     }
     std::vector<VecLeaf*> leaves;
     leaves.reserve(ctree->leafCount());
@@ -122,6 +136,9 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                 const BlockBits w = block_bits(acc, o);
                 edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
                            block_bits(acc, o.offsetBy(0, 0, kDim)), diff);
+                // Views that see the whole block (with its edges) inside need no test.
+                VisualHull::ViewMask mask = VisualHull::kAllViews;
+                hull.classify(lat.at(o), lat.at(o.offsetBy(kDim)), mask);
                 for (int a = 0; a < 3; ++a)
                     for (int x = 0; x < 8; ++x) {
                         Word bits = diff[a][x];
@@ -133,7 +150,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                             q[a] += 1;
                             const bool p_in = (w[x] >> b) & 1u;
                             bool start = false;
-                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256);
+                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask);
                             double t;
                             if (p_in) {
                                 // Where the inside end's solid stops: the first flip to outside.
@@ -227,7 +244,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                                     q[a] += 1;
                                     if (acc.isValueOn(q)) continue;
                                     bool start = false;
-                                    const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256);
+                                    const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask);
                                     if (nf < 2) continue;
                                     // Inside intervals between the two outside ends; keep the longest.
                                     double best0 = 0, best1 = 0;
