@@ -63,7 +63,7 @@ public:
     /// Inside bits of the 8 leaf-sized regions at origin + 8 (dx, dy, dz), as leaf words:
     /// word x of region d holds bit 8y+z.
     void load(const Coord& origin, std::uint64_t words[8][8]) const {
-        auto acc = occ_.getConstAccessor();
+        auto acc = occ_.getConstUnsafeAccessor();   // per call, so no registration with the tree
         for (int d = 0; d < 8; ++d) {
             const Coord o = origin.offsetBy(8 * (d & 1), 8 * ((d >> 1) & 1), 8 * ((d >> 2) & 1));
             if (const auto* leaf = acc.probeConstLeaf(o)) {
@@ -78,7 +78,7 @@ public:
             }
         }
         if (!flips_) return;
-        auto facc = flips_->getConstAccessor();
+        auto facc = flips_->getConstUnsafeAccessor();
         for (int d = 0; d < 8; ++d) {
             const Coord o = origin.offsetBy(8 * (d & 1), 8 * ((d >> 1) & 1), 8 * ((d >> 2) & 1));
             if (const auto* leaf = facc.probeConstLeaf(o)) {
@@ -114,6 +114,14 @@ private:
     const openvdb::BoolGrid& occ_;
     const FlipGrid* flips_;
 };
+
+/// Population count without a library call (the build does not assume the POPCNT instruction).
+inline unsigned popcount64(std::uint64_t x) {
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    return unsigned((x * 0x0101010101010101ull) >> 56);
+}
 
 /// True when both transforms put the grid points at the same places.
 bool same_lattice(const openvdb::math::Transform& a, const openvdb::math::Transform& b) {
@@ -314,7 +322,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                 cx |= std::uint64_t((r ^ b.rows[x + 1][y]) & 0xFF) << (8 * y);
                 cy |= std::uint64_t((r ^ b.rows[x][y + 1]) & 0xFF) << (8 * y);
                 cz |= std::uint64_t((r ^ (r >> 1)) & 0xFF) << (8 * y);
-                mixed += std::size_t(std::popcount(States::mixed_row(b.rows, x, y)));
+                mixed += std::size_t(popcount64(States::mixed_row(b.rows, x, y)));
             }
             b.cross[0][x] = cx;
             b.cross[1][x] = cy;
@@ -324,7 +332,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
         for (int a = 0; a < 3; ++a)
             for (int x = 0; x < 8; ++x) {
                 b.pre[a][x] = std::uint16_t(n);
-                n += unsigned(std::popcount(b.cross[a][x]));
+                n += unsigned(popcount64(b.cross[a][x]));
             }
         b.nverts = n;
         for (int d = 0; d < 8; ++d) {
@@ -348,17 +356,23 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     mesh.positions.resize(nverts);
     const float lo_t = float(opt.min_edge_fraction), hi_t = 1.0f - lo_t;
     std::atomic<std::size_t> missing{0};
+    // An affine index-to-world map (the usual case) is applied as origin + three axis vectors.
+    const bool linear = xform.isLinear();
+    const openvdb::Vec3d w0 = xform.indexToWorld(openvdb::Vec3d(0, 0, 0));
+    const openvdb::Vec3d wx = xform.indexToWorld(openvdb::Vec3d(1, 0, 0)) - w0;
+    const openvdb::Vec3d wy = xform.indexToWorld(openvdb::Vec3d(0, 1, 0)) - w0;
+    const openvdb::Vec3d wz = xform.indexToWorld(openvdb::Vec3d(0, 0, 1)) - w0;
     for_blocks(blocks.size(), 0.35, 0.6, opt, [&](std::size_t i) {
         const Block& b = blocks[i];
         const openvdb::Vec3fGrid::TreeType::LeafNodeType* cleaf = nullptr;
         std::size_t miss = 0;
         if (crossings) cleaf = crossings->tree().probeConstLeaf(b.origin);
-        std::unique_ptr<FlipGrid::ConstAccessor> facc;
-        std::unique_ptr<openvdb::Vec3fGrid::ConstAccessor> eacc, lacc;
+        std::unique_ptr<FlipGrid::ConstUnsafeAccessor> facc;
+        std::unique_ptr<openvdb::Vec3fGrid::ConstUnsafeAccessor> eacc, lacc;
         if (flips) {
-            facc = std::make_unique<FlipGrid::ConstAccessor>(flips->getConstAccessor());
-            eacc = std::make_unique<openvdb::Vec3fGrid::ConstAccessor>(thin_enter->getConstAccessor());
-            lacc = std::make_unique<openvdb::Vec3fGrid::ConstAccessor>(thin_leave->getConstAccessor());
+            facc = std::make_unique<FlipGrid::ConstUnsafeAccessor>(flips->getConstUnsafeAccessor());
+            eacc = std::make_unique<openvdb::Vec3fGrid::ConstUnsafeAccessor>(thin_enter->getConstUnsafeAccessor());
+            lacc = std::make_unique<openvdb::Vec3fGrid::ConstUnsafeAccessor>(thin_leave->getConstUnsafeAccessor());
         }
         std::uint32_t v = b.vbase;
         for (int a = 0; a < 3; ++a)
@@ -398,7 +412,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                     openvdb::Vec3d ip(p.x(), p.y(), p.z());
                     ip[a] += double(t);
                     ip += openvdb::Vec3d(shift);
-                    const openvdb::Vec3d w = xform.indexToWorld(ip);
+                    const openvdb::Vec3d w = linear ? w0 + wx * ip.x() + wy * ip.y() + wz * ip.z() : xform.indexToWorld(ip);
                     mesh.positions[v++] = Vec3f(float(w.x()), float(w.y()), float(w.z()));
                 }
         if (miss) missing += miss;
@@ -423,7 +437,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
             px &= 7; py &= 7; pz &= 7;
             const int bit = 8 * py + pz;
             return o.vbase + o.pre[d.axis][px] +
-                   std::uint32_t(std::popcount(o.cross[d.axis][px] & ((std::uint64_t(1) << bit) - 1)));
+                   std::uint32_t(popcount64(o.cross[d.axis][px] & ((std::uint64_t(1) << bit) - 1)));
         };
         auto dist = [&](std::uint32_t i, std::uint32_t j) {
             const Vec3d a(mesh.positions[i]), c(mesh.positions[j]);
@@ -451,8 +465,8 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                                 if (la != lb) bits = (bits & ~(1u << f)) | (lb < la ? (1u << f) : 0u);
                             }
                         }
-                        namb += std::size_t(std::popcount(amb));
-                        njoin += std::size_t(std::popcount((bits ^ table.separating_bits(config)) & amb));
+                        namb += std::size_t(popcount64(amb));
+                        njoin += std::size_t(popcount64((bits ^ table.separating_bits(config)) & amb));
                     }
                     const mc::Case& cs = table.lookup(config, bits);
                     for (std::uint32_t li = 0; li < cs.loop_count; ++li) {
@@ -482,7 +496,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                                     id[loop.tris[std::size_t(k)][2]]);
                         } else {
                             int apex = std::countr_zero(unsigned(loop.fan_apexes));
-                            if (n > 3 && std::popcount(unsigned(loop.fan_apexes)) > 1) {
+                            if (n > 3 && popcount64(unsigned(loop.fan_apexes)) > 1) {
                                 // Best fan: the one whose worst triangle is least flipped or thin
                                 // against the loop's mean plane.
                                 Vec3d P[12];
