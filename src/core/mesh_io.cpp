@@ -8,6 +8,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "core/error.h"
+#include "core/gltf_io.h"
 
 namespace fs = std::filesystem;
 
@@ -37,14 +38,15 @@ std::string lower_ext(const fs::path& p) {
 
 bool mesh_format_supported(const fs::path& file) {
     const std::string e = lower_ext(file);
-    return e == ".obj" || e == ".ply" || e == ".stl" || e == ".off";
+    return e == ".obj" || e == ".ply" || e == ".stl" || e == ".off" || e == ".glb";
 }
 
 Mesh read_mesh(const fs::path& file) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error("cannot read mesh \"" + file.string() + "\": no such file");
     if (!mesh_format_supported(file))
-        throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl or .off)");
+        throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
+    if (lower_ext(file) == ".glb") return read_glb(file);
     quiet_openmesh();
     OMesh om;
     OpenMesh::IO::Options opt;
@@ -72,7 +74,11 @@ Mesh read_mesh(const fs::path& file) {
 
 void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
     if (!mesh_format_supported(file))
-        throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl or .off)");
+        throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
+    if (lower_ext(file) == ".glb") {
+        if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
+        return write_glb(mesh, file, wo.normals);
+    }
     quiet_openmesh();
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());

@@ -1,4 +1,5 @@
-// Reading and writing meshes through OpenMesh (OBJ, PLY, STL, OFF).
+// Reading and writing meshes: OBJ, PLY, STL, OFF through OpenMesh; glTF binary
+// (.glb) through tinygltf.
 #pragma once
 #include <filesystem>
 
@@ -14,7 +15,7 @@ struct MeshWriteOptions {
     bool normals = true;     ///< write per-vertex normals where the format can hold them
 };
 
-/// Writes by extension: .obj .ply .stl .off. Writes exactly to `file` (callers
+/// Writes by extension: .obj .ply .stl .off .glb. Writes exactly to `file` (callers
 /// that need atomicity write to a temporary name and rename).
 void write_mesh(const Mesh& mesh, const std::filesystem::path& file, const MeshWriteOptions& opt = {});
 

@@ -1,5 +1,5 @@
-// mesh.write: writes the mesh to OBJ, PLY, STL or OFF (format from the
-// extension), under a temporary name that the host renames when the run succeeds.
+// mesh.write: writes the mesh to OBJ, PLY, STL, OFF or glTF binary (format from
+// the extension), under a temporary name that the host renames when the run succeeds.
 #include <filesystem>
 
 #include "core/mesh.h"
@@ -13,7 +13,7 @@ class MeshWrite : public Stage {
 public:
     StageInfo info() const override {
         return {"mesh.write",
-                "Write the mesh to a file: .obj, .ply, .stl or .off (format from the extension)",
+                "Write the mesh to a file: .obj, .ply, .stl, .off or .glb (format from the extension)",
                 {{"mesh", DataKind::Mesh, "the mesh to write"}},
                 DataKind::File,
                 {ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"),
@@ -24,7 +24,7 @@ public:
         Stage::prepare(p);
         const std::filesystem::path path = p.get_string("path");
         if (!mesh_format_supported(path))
-            throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl or .off)");
+            throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl, .off or .glb)");
         // A missing folder is created when the run writes; refuse only what cannot become one.
         for (auto dir = std::filesystem::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
             if (std::filesystem::is_directory(dir)) break;
