@@ -29,8 +29,12 @@ public:
         std::string ext = path.extension().string();
         for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".png") throw Error("path \"" + path.string() + "\" must end in .png");
-        const auto dir = fs::absolute(path).parent_path();
-        if (!fs::is_directory(dir)) throw Error("path \"" + path.string() + "\": the folder \"" + dir.string() + "\" does not exist");
+        // A missing folder is created when the run writes; refuse only what cannot become one.
+        for (auto dir = fs::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+            if (fs::is_directory(dir)) break;
+            if (fs::exists(dir)) throw Error("path \"" + path.string() + "\": \"" + dir.string() + "\" is not a folder");
+            if (dir == dir.parent_path()) break;
+        }
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
@@ -42,6 +46,7 @@ public:
         SilhouetteError err;
         ctx.progress(0.1, "drawing");
         const Image sheet = make_preview_sheet(*mesh, *views, opt, err);
+        fs::create_directories(fs::absolute(path).parent_path());
         write_image(sheet, ctx.output_file(path));
         ctx.metric("path", path.string());
         ctx.metric("xor_pct", err.xor_pct);
