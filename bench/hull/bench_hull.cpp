@@ -83,7 +83,7 @@ void BM_Chain(benchmark::State& state, std::string model) {
         carve_cpu += cpu_seconds() - c0;
         t0 = std::chrono::steady_clock::now();
         c0 = cpu_seconds();
-        ref = refine(*vol, nullptr, {!std::getenv("CM_BENCH_NO_THIN")}, {}, &rs);
+        ref = refine(*vol, nullptr, {}, {}, &rs);
         refine_s += seconds_since(t0);
         refine_cpu += cpu_seconds() - c0;
     }
@@ -99,6 +99,7 @@ void BM_Chain(benchmark::State& state, std::string model) {
     state.counters["occupancy_mb"] = double(occ.memUsage()) / 1048576.0;
     state.counters["crossings"] = double(rs.crossings);
     state.counters["thin"] = double(rs.thin_crossings);
+    state.counters["cell_px"] = rs.cell_px;
     state.counters["crossings_mb"] = double(ref->crossings->tree().memUsage()) / 1048576.0;
     state.counters["peak_rss_mb"] = peak_rss_mb();
 }

@@ -211,8 +211,12 @@ TEST(HullRefine, ThinPartsBetweenGridPointsAreKept) {
     EXPECT_GE(n, 21u * 7u);
     EXPECT_LE(n, 21u * 8u);
     EXPECT_EQ(st.thin_crossings, n);
+    EXPECT_TRUE(st.thin_searched);
+    EXPECT_NEAR(st.cell_px, 20.0, 1e-9);
     // And without the search, none.
-    auto plain = refine(*vol, nullptr, {false}, {});
+    RefineOptions off;
+    off.thin = RefineOptions::Thin::Off;
+    auto plain = refine(*vol, nullptr, off, {});
     EXPECT_FALSE(plain->find_extra("thin_enter"));
 }
 

@@ -15,19 +15,23 @@ public:
                  {"views", DataKind::Views, "the views to intersect with; the volume's own views when not connected",
                   true}},
                 DataKind::Volume,
-                {ParamSpec::Bool("thin", true,
-                                 "also keep parts thinner than a cell: edges whose two outside ends pass through the hull")}};
+                {ParamSpec::Enum("thin", "auto", {"auto", "on", "off"},
+                                 "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
+                                 "auto: when a cell spans more than a pixel of the finest view")}};
     }
 
     Data run(const Inputs& in, Context& ctx) override {
         auto vol = in.get<Volume>("volume");
         std::shared_ptr<const Views> views = in.has("views") ? in.get<Views>("views") : vol->views;
         RefineOptions opt;
-        opt.thin = params_.get_bool("thin");
+        const std::string thin = params_.get_string("thin");
+        opt.thin = thin == "on" ? RefineOptions::Thin::On : thin == "off" ? RefineOptions::Thin::Off : RefineOptions::Thin::Auto;
         RefineStats st;
         auto out = refine(*vol, views, opt, [&](double f) { ctx.progress(f, "crossings"); }, &st);
         ctx.metric("crossings", double(st.crossings));
         ctx.metric("thin_crossings", double(st.thin_crossings));
+        ctx.metric("cell_px", st.cell_px);
+        ctx.metric("thin_searched", st.thin_searched ? "yes" : "no");
         if (st.unresolved) {
             ctx.metric("unresolved_crossings", double(st.unresolved));
             ctx.warn(std::to_string(st.unresolved) +

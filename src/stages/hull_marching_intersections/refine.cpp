@@ -120,7 +120,18 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     for (auto it = ctree->beginLeaf(); it; ++it) leaves.push_back(&*it);
 
     std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
-    const bool do_thin = opt.thin;
+    // Grid spacing in pixels of the finest view, at the centre of the hull.
+    double cell_px = 0;
+    {
+        openvdb::CoordBBox bb;
+        occ.evalActiveVoxelBoundingBox(bb);
+        const Vec3d centre = (lat.at(bb.min()) + lat.at(bb.max())) * 0.5;
+        double finest = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < hull.size(); ++i) finest = std::min(finest, hull.field(i).pixel_size_at(centre));
+        cell_px = lat.h / finest;
+    }
+    const bool do_thin = opt.thin == RefineOptions::Thin::On ||
+                         (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
     const double total_work = double(leaves.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
     const std::size_t chunk = std::max<std::size_t>(256, leaves.size() / 50);
     for (std::size_t c0 = 0; c0 < leaves.size(); c0 += chunk) {
@@ -295,6 +306,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         stats->crossings = n_cross;
         stats->thin_crossings = n_thin;
         stats->unresolved = n_unresolved;
+        stats->cell_px = cell_px;
+        stats->thin_searched = do_thin;
     }
     return out;
 }

@@ -9,13 +9,20 @@
 namespace cm {
 
 struct RefineOptions {
-    bool thin = true;   ///< also look for edges whose two outside ends pass through the hull
+    /// Look for edges whose two outside ends pass through the hull (parts thinner than a
+    /// cell). Auto: only when a cell spans more than `thin_auto_px` pixels of the finest
+    /// view; on finer grids such parts are thinner than the silhouettes can show.
+    enum class Thin { Auto, On, Off };
+    Thin thin = Thin::Auto;
+    double thin_auto_px = 1.0;
 };
 
 struct RefineStats {
     std::size_t crossings = 0;        ///< edges with differing ends
     std::size_t thin_crossings = 0;   ///< outside-outside edges that pass through the hull
     std::size_t unresolved = 0;       ///< crossings the silhouettes could not place (set at the changing end)
+    double cell_px = 0;               ///< grid spacing in pixels of the finest view (at the hull's centre)
+    bool thin_searched = false;
 };
 
 /// @brief Finds, for every lattice edge whose ends differ in occupancy, where it leaves
