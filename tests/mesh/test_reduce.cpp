@@ -5,6 +5,7 @@
 
 #include "core/mesh.h"
 #include "core/mesh_decimate.h"
+#include "core/mesh_intersect.h"
 #include "core/mesh_io.h"
 #include "mesh_shapes.h"
 #include "support/test_support.h"
@@ -129,6 +130,7 @@ TEST(Reduce, RealModelsStayClosedAndManifold) {
         EXPECT_TRUE(c.closed_manifold());
         EXPECT_EQ(c.euler, c0.euler) << "genus must not change";
         EXPECT_LT(m.face_count(), before / 2);
+        EXPECT_EQ(count_self_intersections(m), 0u);
     }
 }
 
@@ -170,4 +172,15 @@ TEST(QuadricDecimate, RealModelsStayClosedAndManifold) {
         EXPECT_EQ(c.euler, c0.euler);
         EXPECT_LE(m.face_count(), o.target_faces);
     }
+}
+
+TEST(SelfIntersections, FoundBetweenTwoCrossingBoxesAndNotInOne) {
+    Mesh a = test::make_box({0, 0, 0}, {1, 1, 1});
+    EXPECT_EQ(count_self_intersections(a), 0u);
+    EXPECT_EQ(count_self_intersections(test::make_sphere({0, 0, 0}, 1.0f, 3)), 0u);
+    const Mesh b = test::make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f});
+    const std::uint32_t off = std::uint32_t(a.positions.size());
+    for (auto p : b.positions) a.positions.push_back(p);
+    for (auto t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    EXPECT_GT(count_self_intersections(a), 0u);
 }
