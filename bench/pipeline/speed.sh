@@ -33,8 +33,10 @@ axes() {   # file --up --front, as in ../shared/data/models/README.md
     esac
 }
 
-echo "| model | resolution | carve s | refine s | extract s | chain s | growth | faces | peak RSS MiB |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+# Wall seconds mean little on a shared machine; the process's CPU seconds (user + sys, all
+# threads, views.load included) and the load average when each run started say how busy it was.
+echo "| model | resolution | carve s | refine s | extract s | chain s | growth | faces | peak RSS MiB | process CPU s | load |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for name in $models; do
     set -- $(axes "$name")
     views=$work/$name-2048
@@ -43,10 +45,12 @@ for name in $models; do
     prev=""
     for r in $resolutions; do
         report=$work/$name-$r.json
+        load=$(cut -d' ' -f1 /proc/loadavg)
         (cd "$root" && /usr/bin/time -v "$cm" run bench/pipeline/chain.yaml -q \
             --set "views.manifest=$views/views.yaml" --set "hull.resolution=$r" --report "$report") \
             2> "$work/$name-$r.time"
         rss=$(awk -F: '/Maximum resident set size/ { printf "%d", $2 / 1024 }' "$work/$name-$r.time")
+        cpu=$(awk -F: '/User time|System time/ { s += $2 } END { printf "%.1f", s }' "$work/$name-$r.time")
         row=$(python3 - "$report" "$prev" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -61,7 +65,7 @@ print("%d %.2f %.2f %.2f %.2f %s %s" % (n["hull"]["params"]["resolution"], s[0],
 PY
 )
         set -- $row
-        echo "| $name | $1 | $2 | $3 | $4 | $5 | $6 | $7 | $rss |"
+        echo "| $name | $1 | $2 | $3 | $4 | $5 | $6 | $7 | $rss | $cpu | $load |"
         prev=$5
     done
 done

@@ -496,7 +496,12 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
                                     id[loop.tris[std::size_t(k)][2]]);
                         } else {
                             int apex = std::countr_zero(unsigned(loop.fan_apexes));
-                            if (n > 3 && popcount64(unsigned(loop.fan_apexes)) > 1) {
+                            if (n == 4 && (loop.fan_apexes & 5u) && (loop.fan_apexes & 10u)) {
+                                // A quad: the shorter diagonal.
+                                const Vec3f d02 = mesh.positions[id[0]] - mesh.positions[id[2]];
+                                const Vec3f d13 = mesh.positions[id[1]] - mesh.positions[id[3]];
+                                apex = dot(d02, d02) <= dot(d13, d13) ? 0 : 1;
+                            } else if (n > 3 && popcount64(unsigned(loop.fan_apexes)) > 1) {
                                 // Best fan: the one whose worst triangle is least flipped or thin
                                 // against the loop's mean plane.
                                 Vec3d P[12];
