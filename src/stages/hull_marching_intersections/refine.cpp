@@ -95,12 +95,12 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     // the outside (volume.h), so no other block can hold a crossing.
     // A neighbour block that is not a leaf itself is constant; it needs a leaf only when
     // it is outside and the leaf's face towards it has inside voxels.
-    auto ctree = std::make_shared<VecTree>(kUnset);
+    std::vector<Coord> blocks;
     {
         OccAccessor acc(occ);
         for (auto it = occ.cbeginLeaf(); it; ++it) {
             const Coord o = it->origin();
-            ctree->touchLeaf(o);
+            blocks.push_back(o);
             const auto& m = it->getValueMask();
             Word face[3] = {m.getWord<Word>(0), 0, 0};
             for (int x = 0; x < 8; ++x) {
@@ -111,13 +111,20 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                 Coord n = o;
                 n[a] -= kDim;
                 if (!face[a] || acc.probeConstLeaf(n) || acc.isValueOn(n)) continue;
-                ctree->touchLeaf(n);
+                blocks.push_back(n);
             }
         }
+        std::sort(blocks.begin(), blocks.end());
+        blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
     }
-    std::vector<VecLeaf*> leaves;
-    leaves.reserve(ctree->leafCount());
-    for (auto it = ctree->beginLeaf(); it; ++it) leaves.push_back(&*it);
+    // Leaves are made (in parallel) only for blocks that get a crossing, then linked in.
+    std::vector<VecLeaf*> made(blocks.size(), nullptr);
+    struct LeafGuard {
+        std::vector<VecLeaf*>& v;
+        ~LeafGuard() {
+            for (VecLeaf* l : v) delete l;
+        }
+    } guard{made};
 
     std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
     // Grid spacing in pixels of the finest view, at the centre of the hull.
@@ -132,18 +139,18 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     }
     const bool do_thin = opt.thin == RefineOptions::Thin::On ||
                          (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
-    const double total_work = double(leaves.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
-    const std::size_t chunk = std::max<std::size_t>(256, leaves.size() / 50);
-    for (std::size_t c0 = 0; c0 < leaves.size(); c0 += chunk) {
-        const std::size_t c1 = std::min(leaves.size(), c0 + chunk);
+    const double total_work = double(blocks.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
+    const std::size_t chunk = std::max<std::size_t>(256, blocks.size() / 50);
+    for (std::size_t c0 = 0; c0 < blocks.size(); c0 += chunk) {
+        const std::size_t c1 = std::min(blocks.size(), c0 + chunk);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
             OccAccessor acc(occ);
             std::size_t cross = 0, unresolved = 0;
             double flips[256];
             std::array<BlockBits, 3> diff;
             for (std::size_t li = r.begin(); li < r.end(); ++li) {
-                VecLeaf& leaf = *leaves[li];
-                const Coord o = leaf.origin();
+                const Coord o = blocks[li];
+                VecLeaf* leaf = nullptr;
                 const BlockBits w = block_bits(acc, o);
                 edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
                            block_bits(acc, o.offsetBy(0, 0, kDim)), diff);
@@ -173,10 +180,11 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                                 if (end_in && nf > 0) t = flips[nf - 1];
                                 else t = end_in ? 0.0 : 1.0, ++unresolved;
                             }
+                            if (!leaf) leaf = made[li] = new VecLeaf(o, kUnset, false);
                             const openvdb::Index off = VecLeaf::coordToOffset(p);
-                            openvdb::Vec3f v = leaf.isValueOn(off) ? leaf.getValue(off) : kUnset;
+                            openvdb::Vec3f v = leaf->isValueOn(off) ? leaf->getValue(off) : kUnset;
                             v[a] = float(std::clamp(t, 0.0, 1.0));
-                            leaf.setValueOn(off, v);
+                            leaf->setValueOn(off, v);
                             ++cross;
                         }
                     }
@@ -186,13 +194,9 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         });
         if (progress) progress(double(c1) / total_work);
     }
-    // Drop the neighbour leaves that received no crossing.
-    {
-        std::vector<Coord> empty;
-        for (auto it = ctree->cbeginLeaf(); it; ++it)
-            if (it->isEmpty()) empty.push_back(it->origin());
-        for (const Coord& c : empty) delete ctree->stealNode<VecLeaf>(c, kUnset, false);
-    }
+    auto ctree = std::make_shared<VecTree>(kUnset);
+    for (VecLeaf*& l : made)
+        if (l) ctree->addLeaf(l), l = nullptr;
 
     auto out = std::make_shared<Volume>();
     out->occupancy = in.occupancy;
@@ -273,7 +277,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                 };
                 for (std::size_t i = r.begin(); i < r.end(); ++i) rec(tops[i], kTop, VisualHull::kAllViews);
             });
-            if (progress) progress((double(leaves.size()) + double(leaves.size()) * double(c1) / tops.size()) / total_work);
+            if (progress) progress((double(blocks.size()) + double(blocks.size()) * double(c1) / tops.size()) / total_work);
         }
         std::vector<ThinHit> all;
         for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
