@@ -277,3 +277,35 @@ TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
     ASSERT_EQ(e.views.size(), 4u);
     for (const auto& v : e.views) EXPECT_LT(v.xor_pct, 1.5) << v.view;
 }
+
+TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
+    // A sphere drawn with anti-aliased edges (4 x 4 samples per pixel) at scales that put its
+    // outline between pixel edges: the aligned box matches the true diameter to a fraction
+    // of a pixel.
+    const Mesh s = test::make_sphere({0, 0, 0}, 1.0f, 6);
+    Vec3f lo, hi;
+    s.bounds(lo, hi);
+    for (double size : {200.0, 201.3, 202.7}) {
+        SCOPED_TRACE(size);
+        Views views;
+        const double scale = size / 2.6;   // px per unit
+        for (const char* name : {"front", "right", "top"}) {
+            Camera cam = *Camera::named(name);
+            cam.scale = scale;
+            cam.cx = 150.37;
+            cam.cy = 149.81;
+            const auto fine = render_mask(s, resized_camera(cam, 4), 1200, 1200);
+            View v;
+            v.name = name;
+            v.width = v.height = 300;
+            v.camera = *Camera::named(name);
+            v.coverage.assign(300 * 300, 0.0f);
+            for (int y = 0; y < 1200; ++y)
+                for (int x = 0; x < 1200; ++x) v.coverage[std::size_t(y / 4) * 300 + x / 4] += fine[std::size_t(y) * 1200 + x] / 16.0f;
+            views.views.push_back(v);
+        }
+        std::vector<std::string> warnings;
+        align_views(views, {}, warnings);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(views.bounds_max[k] - views.bounds_min[k], scale * (hi[k] - lo[k]), 0.25) << k;
+    }
+}

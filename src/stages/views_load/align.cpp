@@ -12,29 +12,33 @@ namespace cm {
 
 namespace {
 
-// Sub-pixel extent of a silhouette along image x and y: the covered area per
-// column/row, measured from the first to the last covered pixel.
+// Sub-pixel extent of a silhouette along image x and y.
 struct Extent {
     double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
 };
 
+// The first and last columns (rows) with a pixel of coverage >= 0.5, moved by the largest
+// partial coverage of the column itself and of the one beyond: an anti-aliased extreme
+// lands to a fraction of a pixel, a binary one on the pixel edge (its expected place).
 Extent silhouette_extent(const View& v) {
     const int w = v.width, h = v.height;
-    std::vector<double> col(w, 0.0), row(h, 0.0);
+    std::vector<double> col(static_cast<std::size_t>(w), 0.0), row(static_cast<std::size_t>(h), 0.0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const double c = v.coverage_at(x, y);
-            col[x] = std::max(col[x], c);
-            row[y] = std::max(row[y], c);
+            col[std::size_t(x)] = std::max(col[std::size_t(x)], c);
+            row[std::size_t(y)] = std::max(row[std::size_t(y)], c);
         }
     auto range = [](const std::vector<double>& a, double& lo, double& hi) {
         int first = -1, last = -1;
         for (int i = 0; i < int(a.size()); ++i)
-            if (a[i] >= 0.5) { if (first < 0) first = i; last = i; }
+            if (a[std::size_t(i)] >= 0.5) {
+                if (first < 0) first = i;
+                last = i;
+            }
         if (first < 0) return false;
-        // Partial coverage of the neighbouring pixel moves the edge by a fraction.
-        lo = first + 0.5 - (first > 0 ? a[first - 1] : 0.0) - (a[first] - 0.5);
-        hi = last + 0.5 + (last + 1 < int(a.size()) ? a[last + 1] : 0.0) + (a[last] - 0.5);
+        lo = first + 0.5 - (first > 0 ? a[std::size_t(first - 1)] : 0.0) - (a[std::size_t(first)] - 0.5);
+        hi = last + 0.5 + (last + 1 < int(a.size()) ? a[std::size_t(last + 1)] : 0.0) + (a[std::size_t(last)] - 0.5);
         return true;
     };
     Extent e;
@@ -201,6 +205,30 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
     }
     for (std::size_t i = 0; i < n; ++i)
         if (scale[i] < 0) scale[i] = 1.0;   // shares no axis (e.g. an oblique view): same scale as the first
+    // Each axis is usually measured by two views: use all measurements. Alternate between the
+    // sizes (mean over the views measuring an axis) and the scales of all views but the first
+    // (geometric mean over their axes), in the log domain a least-squares fit.
+    for (int iter = 0; iter < 8; ++iter) {
+        std::array<double, 3> sum{0, 0, 0}, cnt{0, 0, 0};
+        for (std::size_t i = 0; i < n; ++i) {
+            int ar, au;
+            double wr, hu;
+            axes(i, ar, au, wr, hu);
+            if (ar >= 0) sum[std::size_t(ar)] += wr / scale[i], ++cnt[std::size_t(ar)];
+            if (au >= 0) sum[std::size_t(au)] += hu / scale[i], ++cnt[std::size_t(au)];
+        }
+        for (int k = 0; k < 3; ++k)
+            if (cnt[std::size_t(k)] > 0) size[std::size_t(k)] = sum[std::size_t(k)] / cnt[std::size_t(k)];
+        for (std::size_t i = 1; i < n; ++i) {
+            int ar, au;
+            double wr, hu;
+            axes(i, ar, au, wr, hu);
+            double lsum = 0, lcnt = 0;
+            if (ar >= 0) lsum += std::log(wr / size[std::size_t(ar)]), ++lcnt;
+            if (au >= 0) lsum += std::log(hu / size[std::size_t(au)]), ++lcnt;
+            if (lcnt > 0) scale[i] = std::exp(lsum / lcnt);
+        }
+    }
     for (int k = 0; k < 3; ++k)
         if (size[k] < 0) {
             // No view measured this axis: use the largest known extent so the box still holds the object.
@@ -220,21 +248,11 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
     for (std::size_t i = 0; i < n; ++i) {
         Camera& c = views.views[i].camera;
         c.scale = scale[i] / units;
-        // Range of p.r and p.u over the box; its low edge in r maps to x0, its high edge in u to y0.
-        double rmin = 0, umax = 0;
-        for (int k = 0; k < 3; ++k) {
-            rmin += std::min(c.r[k] * views.bounds_min[k], c.r[k] * views.bounds_max[k]);
-            umax += std::max(c.u[k] * views.bounds_min[k], c.u[k] * views.bounds_max[k]);
-        }
-        if (axis_of(c.r) >= 0 && axis_of(c.u) >= 0) {
-            c.cx = ext[i].x0 - c.scale * rmin;
-            c.cy = ext[i].y0 + c.scale * umax;
-        } else {
-            // Oblique view, first guess: the box's projection centred on the silhouette's.
-            const Vec3d mid = (views.bounds_min + views.bounds_max) * 0.5;
-            c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
-            c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
-        }
+        // The box's centre onto the silhouette's centre (an axis view's extents are the box's
+        // projection; an oblique view's are a first guess, refined below).
+        const Vec3d mid = (views.bounds_min + views.bounds_max) * 0.5;
+        c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
+        c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
     }
     place_oblique_views(views);
 }
