@@ -19,6 +19,8 @@ SilhouetteField::SilhouetteField(const View& view)
               -c.scale * c.u.x, -c.scale * c.u.y, -c.scale * c.u.z, c.cy,
               0, 0, 0, 1};
         if (!(c.scale > 0)) throw Error("view \"" + view.name + "\" has a non-positive scale");
+        for (int a = 0; a < 3; ++a)
+            if (m_[a] == 0 && m_[4 + a] == 0) drop_axis_ = a;
     } else {
         m_ = c.P;
         // Normalise so that points in front of the camera have positive w.

@@ -61,6 +61,10 @@ public:
     /// World size of one pixel near `p` (orthographic: 1/scale).
     double pixel_size_at(const Vec3d& p) const;
 
+    /// The world axis (0, 1, 2) along which the projection is constant (an orthographic
+    /// view along a world axis), or -1: then a whole line of grid points shares one test.
+    int drop_axis() const { return drop_axis_; }
+
     const View& view() const { return *view_; }
     int width() const { return w_; }
     int height() const { return h_; }
@@ -81,6 +85,7 @@ private:
     int w_, h_;
     std::array<double, 12> m_{};          ///< 3x4 projection; orthographic third row is (0,0,0,1)
     std::vector<std::uint32_t> sat_;      ///< (w+1)*(h+1) counts of pixels with coverage >= 0.5
+    int drop_axis_ = -1;
 };
 
 } // namespace cm

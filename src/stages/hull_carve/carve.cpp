@@ -80,17 +80,76 @@ private:
             recurse(o.offsetBy((k & 4) ? c : 0, (k & 2) ? c : 0, (k & 1) ? c : 0), c, mask_e, mx);
     }
 
+    // Points of one 8^3 block: word x, bit 8 y + z (OpenVDB's leaf order). A view along a
+    // world axis decides a whole line of points at once (an 8x8 table); other views are
+    // tested point by point, only where every other test passed.
     void leaf(const Coord& o, Mask mask) {
-        auto lf = std::make_unique<LeafT>(o, false, false);
-        bool any = false;
-        for (int x = 0; x < kLeaf; ++x)
-            for (int y = 0; y < kLeaf; ++y)
-                for (int z = 0; z < kLeaf; ++z) {
-                    if (hull_.inside(lat_.at(o.x() + x, o.y() + y, o.z() + z), mask)) {
-                        lf->setValueOn(LeafT::coordToOffset(o.offsetBy(x, y, z)), true);
-                        any = true;
-                    }
+        using Word = std::uint64_t;
+        Word bits[8];
+        {
+            std::uint32_t ok[3] = {0, 0, 0};   // per axis: indices inside the clip box
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < kLeaf; ++i) {
+                    Coord c = o;
+                    c[a] += i;
+                    const double w = lat_.at(c)[a];
+                    if (w >= hull_.clip_lo()[a] && w <= hull_.clip_hi()[a]) ok[a] |= 1u << i;
                 }
+            Word yz = 0;
+            for (int y = 0; y < 8; ++y)
+                for (int z = 0; z < 8; ++z)
+                    if ((ok[1] >> y & 1u) && (ok[2] >> z & 1u)) yz |= Word(1) << (8 * y + z);
+            for (int x = 0; x < 8; ++x) bits[x] = (ok[0] >> x & 1u) ? yz : 0;
+        }
+        Mask general = 0;
+        for (std::size_t i = 0; i < hull_.size(); ++i) {
+            if (i < 64 && !((mask >> i) & 1u)) continue;
+            const SilhouetteField& f = hull_.field(i);
+            const int k = f.drop_axis();
+            if (k < 0 || i >= 64) {
+                if (i < 64) general |= Mask(1) << i;
+                else general = VisualHull::kAllViews;
+                continue;
+            }
+            const int a1 = k == 0 ? 1 : 0, a2 = k == 2 ? 1 : 2;
+            Word table = 0;   // bit 8 i + j: point with offsets (i, j) along (a1, a2)
+            for (int i1 = 0; i1 < 8; ++i1)
+                for (int i2 = 0; i2 < 8; ++i2) {
+                    Coord c = o;
+                    c[a1] += i1;
+                    c[a2] += i2;
+                    if (f.inside(lat_.at(c))) table |= Word(1) << (8 * i1 + i2);
+                }
+            for (int x = 0; x < 8; ++x) {
+                Word m;
+                if (k == 0) {
+                    m = table;   // (y, z)
+                } else if (k == 1) {
+                    const Word zs = (table >> (8 * x)) & 0xffu;   // (x, z)
+                    m = zs * 0x0101010101010101ULL;
+                } else {
+                    const Word ys = (table >> (8 * x)) & 0xffu;   // (x, y)
+                    m = 0;
+                    for (int y = 0; y < 8; ++y)
+                        if (ys >> y & 1u) m |= Word(0xff) << (8 * y);
+                }
+                bits[x] &= m;
+            }
+        }
+        bool any = false;
+        std::unique_ptr<LeafT> lf;
+        for (int x = 0; x < 8; ++x) {
+            Word b = bits[x];
+            while (b) {
+                const int bit = __builtin_ctzll(b);
+                b &= b - 1;
+                const Coord c = o.offsetBy(x, bit >> 3, bit & 7);
+                if (general && !hull_.inside(lat_.at(c), general)) continue;
+                if (!lf) lf = std::make_unique<LeafT>(o, false, false);
+                lf->setValueOn(LeafT::coordToOffset(c), true);
+                any = true;
+            }
+        }
         if (any) node().addLeaf(lf.release());
     }
 
