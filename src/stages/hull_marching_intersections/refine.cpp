@@ -126,6 +126,12 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         }
     } guard{made};
 
+    // A view along axis a sees an a-edge as one point: when one end is inside every view,
+    // so is the whole edge in that view, and it can be left out of the edge's test.
+    VisualHull::ViewMask along[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < hull.size() && i < 64; ++i)
+        if (const int k = hull.field(i).drop_axis(); k >= 0) along[k] |= VisualHull::ViewMask(1) << i;
+
     std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
     // Grid spacing in pixels of the finest view, at the centre of the hull.
     double cell_px = 0;
@@ -168,7 +174,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
                             q[a] += 1;
                             const bool p_in = (w[x] >> b) & 1u;
                             bool start = false;
-                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask);
+                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask & ~along[a]);
                             double t;
                             if (p_in) {
                                 // Where the inside end's solid stops: the first flip to outside.
