@@ -182,8 +182,12 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
             if (--pending[d] == 0) launch(d);
     };
     launch = [&](std::size_t i) { group.run([&, i] { execute(i); }); };
+    // Roots are decided before any task runs: a finished root decrements its
+    // dependents' counters, which must not make them look like roots here too.
+    std::vector<std::size_t> roots;
     for (std::size_t i = 0; i < n; ++i)
-        if (pending[i] == 0) launch(i);
+        if (p.nodes[i].inputs.empty()) roots.push_back(i);
+    for (std::size_t i : roots) launch(i);
     group.wait();
 
     if (failed) {
