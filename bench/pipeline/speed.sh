@@ -33,15 +33,23 @@ axes() {   # file --up --front, as in ../shared/data/models/README.md
     esac
 }
 
-# Wall seconds mean little on a shared machine; the process's CPU seconds (user + sys, all
-# threads, views.load included) and the load average when each run started say how busy it was.
-echo "| model | resolution | carve s | refine s | extract s | chain s | growth | faces | peak RSS MiB | process CPU s | load |"
+# Wall seconds mean little on a shared machine. "chain CPU s" is the CPU time (user + sys,
+# all threads) of the run minus that of a run that only reads the views (views_only.yaml):
+# the carve, refine and extract work itself; on two idle cores the chain's wall time is
+# between half of it and all of it. "load" is the load average when the run started.
+echo "| model | resolution | carve s | refine s | extract s | chain s | growth | faces | peak RSS MiB | chain CPU s | load |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+cpu_of() {   # user + sys seconds from a /usr/bin/time -v log
+    awk -F: '/User time|System time/ { s += $2 } END { printf "%.2f", s }' "$1"
+}
 for name in $models; do
     set -- $(axes "$name")
     views=$work/$name-2048
     [ -f "$views/views.yaml" ] ||
         "$cm" render-views "$data/$1" --style mask --size 2048 --up "$2" --front "$3" -o "$views" -q
+    (cd "$root" && /usr/bin/time -v "$cm" run bench/pipeline/views_only.yaml -q \
+        --set "views.manifest=$views/views.yaml") 2> "$work/$name-views.time"
+    base=$(cpu_of "$work/$name-views.time")
     prev=""
     for r in $resolutions; do
         report=$work/$name-$r.json
@@ -50,7 +58,7 @@ for name in $models; do
             --set "views.manifest=$views/views.yaml" --set "hull.resolution=$r" --report "$report") \
             2> "$work/$name-$r.time"
         rss=$(awk -F: '/Maximum resident set size/ { printf "%d", $2 / 1024 }' "$work/$name-$r.time")
-        cpu=$(awk -F: '/User time|System time/ { s += $2 } END { printf "%.1f", s }' "$work/$name-$r.time")
+        cpu=$(cpu_of "$work/$name-$r.time" | awk -v b="$base" '{ printf "%.1f", $1 - b }')
         row=$(python3 - "$report" "$prev" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
