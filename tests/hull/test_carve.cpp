@@ -246,19 +246,23 @@ TEST(HullCarve, ResolutionParametersAgree) {
     EXPECT_EQ(resolution_from_ratio(*views, {-1, -1, -1}, {1, 1, 1}, 4.0), 75);
 }
 
-TEST(HullCarve, StageRejectsBothResolutionParameters) {
+// voxel_ratio decides when both are given (a pipeline file may name a resolution and
+// the command line add --set hull.voxel_ratio=...), and the stage says so.
+TEST(HullCarve, StageLetsVoxelRatioDecide) {
     std::unique_ptr<Stage> st(make_hull_carve());
     ParamSet p;
     p.set("resolution", std::int64_t(128));
     p.mark_explicit("resolution");
     p.set("voxel_ratio", 4.0);
     p.mark_explicit("voxel_ratio");
-    try {
-        st->prepare(p);
-        FAIL() << "expected an error";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("either resolution or voxel_ratio"), std::string::npos) << e.what();
-    }
+    st->prepare(p);
+    Inputs in;
+    in.set("views", std::shared_ptr<const Views>(sphere_views(1.0, 320, 150.0)));
+    Context ctx("hull", "hull.carve", {});
+    st->run(in, ctx);
+    EXPECT_EQ(std::stod(ctx.metrics_json().at("resolution")), 75.0);   // 300 px / 4
+    ASSERT_EQ(ctx.warnings().size(), 1u);
+    EXPECT_NE(ctx.warnings()[0].find("voxel_ratio"), std::string::npos) << ctx.warnings()[0];
 }
 
 TEST(HullCarve, StageReportsMetrics) {

@@ -20,12 +20,6 @@ public:
                      .optional()}};
     }
 
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        if (p.has("voxel_ratio") && p.explicitly_set("resolution"))
-            throw Error("set either resolution or voxel_ratio, not both (voxel_ratio decides the resolution)");
-    }
-
     Data run(const Inputs& in, Context& ctx) override {
         auto views = in.get<Views>("views");
         CarveOptions opt;
@@ -33,6 +27,11 @@ public:
         if (params_.has("voxel_ratio")) opt.voxel_ratio = params_.get_float("voxel_ratio");
         CarveStats st;
         auto vol = carve(views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
+        // voxel_ratio decides when given, so `--set hull.voxel_ratio=4` works on a pipeline
+        // file that names a resolution; say so when the two differ.
+        if (opt.voxel_ratio > 0 && params_.explicitly_set("resolution") && st.resolution != opt.resolution)
+            ctx.warn("voxel_ratio " + std::to_string(opt.voxel_ratio) + " decides the resolution: " +
+                     std::to_string(st.resolution) + " cells, not the " + std::to_string(opt.resolution) + " given");
         if (st.box_estimated) {
             ctx.info("no bounds given: carving the estimated box [" + std::to_string(st.box_min.x) + ", " +
                      std::to_string(st.box_min.y) + ", " + std::to_string(st.box_min.z) + "] - [" +
