@@ -10,6 +10,8 @@
 namespace cm {
 namespace {
 
+constexpr std::size_t kAutoCheckFaces = 5'000'000;
+
 class ExtractMarchingCubes : public Stage {
 public:
     StageInfo info() const override {
@@ -28,9 +30,10 @@ public:
                  ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
                                   "crossings nearer than this to a grid point are moved out to it, so no two "
                                   "vertices coincide"),
-                 ParamSpec::Bool("check", true,
+                 ParamSpec::Enum("check", "auto", {"auto", "on", "off"},
                                  "check the mesh (closed, manifold, outward, no degenerate faces) and report the "
-                                 "counts; on meshes of tens of millions of faces this costs more than the extraction")}};
+                                 "counts; auto: up to 5 million faces (the check costs more time and memory than the "
+                                 "extraction)")}};
     }
 
     Data run(const Inputs& in, Context& ctx) override {
@@ -64,7 +67,8 @@ public:
             ctx.warn(std::to_string(st.missing_crossings) +
                      " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
         }
-        if (params_.get_bool("check")) {
+        const std::string check = params_.get_string("check");
+        if (check == "on" || (check == "auto" && mesh->face_count() <= kAutoCheckFaces)) {
             const MeshCheck c = check_mesh(*mesh);
             ctx.metric("boundary_edges", double(c.boundary_edges));
             ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges));
