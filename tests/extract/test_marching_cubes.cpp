@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <functional>
+#include <memory>
 #include <random>
 
 #include "core/error.h"
@@ -391,4 +392,44 @@ TEST(MarchingCubes, EmptyAndBadVolumes) {
     v.crossings = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
     v.crossings->setTransform(openvdb::math::Transform::createLinearTransform(2.0));
     EXPECT_THROW(marching_cubes(v), Error);
+}
+
+namespace cm {
+Stage* make_extract_marching_cubes();
+}
+
+TEST(ExtractMarchingCubesStage, ReportsCountsAndRefusesAnEmptyVolume) {
+    std::unique_ptr<Stage> stage(make_extract_marching_cubes());
+    const StageInfo info = stage->info();
+    EXPECT_EQ(info.name, "extract.marching_cubes");
+    ParamSet params;
+    for (const auto& p : info.params) params.set(p.name, *p.default_value);
+    stage->prepare(params);
+
+    auto vol = std::make_shared<Volume>(volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 5.3); },
+                                                        openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0}));
+    Inputs in;
+    in.set("volume", std::shared_ptr<const Volume>(vol));
+    Context ctx("surface", "extract.marching_cubes", {});
+    const Data out = stage->run(in, ctx);
+    const auto mesh = std::get<std::shared_ptr<const Mesh>>(out);
+    ASSERT_TRUE(mesh);
+    const auto& m = ctx.metrics_json();
+    EXPECT_EQ(m.at("faces"), std::to_string(mesh->face_count()) + ".0");
+    EXPECT_EQ(m.at("boundary_edges"), "0.0");
+    EXPECT_EQ(m.at("nonmanifold_vertices"), "0.0");
+    EXPECT_EQ(m.at("refined"), "\"yes\"");
+    EXPECT_TRUE(ctx.warnings().empty());
+
+    auto empty = std::make_shared<Volume>();
+    empty->occupancy = openvdb::BoolGrid::create(false);
+    Inputs in2;
+    in2.set("volume", std::shared_ptr<const Volume>(empty));
+    Context ctx2("surface", "extract.marching_cubes", {});
+    try {
+        stage->run(in2, ctx2);
+        FAIL() << "an empty volume must be refused";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no surface"), std::string::npos) << e.what();
+    }
 }
