@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/raster.h"
+#include "core/stage.h"
 #include "load.h"
 #include "manifest.h"
 #include "support/test_support.h"
@@ -308,4 +309,39 @@ TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
         align_views(views, {}, warnings);
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(views.bounds_max[k] - views.bounds_min[k], scale * (hi[k] - lo[k]), 0.25) << k;
     }
+}
+
+namespace cm {
+Stage* make_views_load();
+}
+
+TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
+    test::TempDir dir("vl_stage");
+    write_rect(dir / "f.png", 60, 50, 10, 10, 40, 45);
+    write_rect(dir / "r.png", 60, 50, 20, 10, 35, 45);
+    test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  right: r.png\n");
+    std::unique_ptr<Stage> st(make_views_load());
+    ParamSet p;
+    p.set("manifest", (dir / "views.yaml").string());
+    p.set("keep", std::string("auto"));
+    p.set("align_tolerance", 0.02);
+    p.set("save_silhouettes", true);
+    st->prepare(p);
+    Context::Hooks hooks;
+    hooks.side_output_dir = dir.path();
+    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
+    hooks.stage_file = [&](const std::filesystem::path& tmp, const std::filesystem::path& fin) { staged.emplace_back(tmp, fin); };
+    Context ctx("views", "views.load", hooks);
+    Data out = st->run(Inputs{}, ctx);
+    auto views = std::get<std::shared_ptr<const Views>>(out);
+    ASSERT_EQ(views->views.size(), 2u);
+    ASSERT_EQ(staged.size(), 2u);
+    EXPECT_EQ(staged[0].second, dir / "front.silhouette.png");
+    EXPECT_EQ(staged[1].second, dir / "right.silhouette.png");
+    const Image sil = read_image(staged[1].first);
+    EXPECT_EQ(sil.width, 60);
+    EXPECT_EQ(sil.height, 50);
+    EXPECT_GT(sil.at(25, 20, 0), 0.99f);   // inside the right view's rectangle: white
+    EXPECT_LT(sil.at(5, 5, 0), 0.01f);
+    EXPECT_TRUE(ctx.metrics_json().count("views"));
 }
