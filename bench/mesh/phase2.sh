@@ -7,7 +7,8 @@
 #
 #   bench/mesh/phase2.sh [BUILD_DIR] [STYLE] [MAX_ANGLE]
 #
-# Work files go to ${TMPDIR:-/tmp}/cm-phase2.
+# Work files go to ${TMPDIR:-/tmp}/cm-phase2; with RESUME=1, models whose figures are
+# already there are not run again.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-build/release}
@@ -30,6 +31,9 @@ camel camel.off +Y +Z
 man man.off +Z -Y"
 
 echo "$list" | while read -r name file up front; do
+    if [ "${RESUME:-0}" = 1 ] && [ -s "$work/$name-eval.json" ] && [ -s "$work/$name-pipeline.json" ]; then
+        continue
+    fi
     views=$work/$name-$style
     [ -f "$views/views.yaml" ] ||
         "$cm" render-views "$models/$file" --style "$style" --size 1024 --up "$up" --front "$front" -o "$views" -q
