@@ -13,7 +13,7 @@ set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-build/release}
 style=${2:-mask}
-angle=${3:-15}
+angle=${3:-20}
 case $build in /*) ;; *) build=$root/$build ;; esac
 cm=$build/bin/conceptmesh
 models=$root/../shared/data/models

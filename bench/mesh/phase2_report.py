@@ -32,7 +32,7 @@ def mean(xs):
 # 1. The full paper pipeline.
 print("### Full paper pipeline (views -> hull 256 -> refine -> Marching Cubes -> "
       "hull-constrained Laplacian, 10 iterations -> mesh.reduce)\n")
-print("| model | MC faces | final faces | % of MC | xor_pct MC | xor_pct final | closed 2-manifold | "
+print("| model | MC faces | final faces | % of MC | xor_pct MC | xor_pct final | closed, 2-manifold, no degenerate face | "
       "self-intersections | run s |")
 print("|---|---:|---:|---:|---:|---:|---|---:|---:|")
 angle = None
@@ -79,7 +79,7 @@ angles = [s["max_angle_deg"] for s in evals[names[0]]["sweep"]] if names else []
 print("### Reduction sweep (paper Figure 6): mesh.reduce by max_angle_deg, and mesh.quadric_decimate "
       "to the same face counts, from the hull-constrained Laplacian mesh\n")
 print("| max_angle_deg | faces, % of MC (mean) | xor_pct reduce (mean) | xor_pct quadric (mean) | "
-      "all closed 2-manifold | self-intersections (reduce / quadric) |")
+      "all closed, 2-manifold, no degenerate face | self-intersections (reduce / quadric) |")
 print("|---:|---:|---:|---:|---|---:|")
 curves = {"pct": [], "xr": [], "xq": []}
 for i, a in enumerate(angles):
