@@ -4,6 +4,9 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/mesh.h"
+#include "core/mesh_decimate.h"
+#include "core/stage.h"
 
 namespace cm {
 
@@ -29,6 +32,19 @@ std::size_t face_target(const ParamSet& p, std::size_t faces) {
     const double r = p.get_float("target_ratio");
     if (r > 0) return std::size_t(std::floor(r * double(faces)));
     return 0;
+}
+
+void report_decimation(Context& ctx, const DecimateStats& st, const Mesh& out) {
+    ctx.metric("faces_before", double(st.faces_before));
+    ctx.metric("faces", double(st.faces_after));
+    ctx.metric("vertices", double(out.vertex_count()));
+    ctx.metric("face_ratio", st.faces_before ? double(st.faces_after) / double(st.faces_before) : 1.0);
+    ctx.metric("collapses", double(st.collapses));
+    if (st.locked_vertices) {
+        ctx.metric("locked_vertices", double(st.locked_vertices));
+        ctx.warn(std::to_string(st.locked_vertices) +
+                 " vertices lie on a boundary or a non-manifold edge and were kept as they are");
+    }
 }
 
 } // namespace cm

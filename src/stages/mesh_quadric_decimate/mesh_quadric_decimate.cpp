@@ -43,20 +43,11 @@ public:
         opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
         opt.progress = [&ctx](double f) { ctx.progress(f, "decimating"); };
         const DecimateStats st = quadric_decimate(*out, opt);
-        ctx.metric("faces_before", double(st.faces_before));
-        ctx.metric("faces", double(st.faces_after));
-        ctx.metric("vertices", double(out->vertex_count()));
-        ctx.metric("face_ratio", st.faces_before ? double(st.faces_after) / double(st.faces_before) : 1.0);
-        ctx.metric("collapses", double(st.collapses));
+        report_decimation(ctx, st, *out);
         ctx.metric("max_error", st.max_error);
         if (opt.target_faces && st.faces_after > opt.target_faces)
             ctx.warn("stopped at " + std::to_string(st.faces_after) + " faces, above the target of " +
                      std::to_string(opt.target_faces) + ": no further collapse passes the guards");
-        if (st.locked_vertices) {
-            ctx.metric("locked_vertices", double(st.locked_vertices));
-            ctx.warn(std::to_string(st.locked_vertices) +
-                     " vertices lie on a boundary or a non-manifold edge and were kept as they are");
-        }
         return std::shared_ptr<const Mesh>(std::move(out));
     }
 };

@@ -41,16 +41,7 @@ public:
         opt.target_faces = face_target(params_, src->face_count());
         opt.progress = [&ctx](double f) { ctx.progress(f, "reducing"); };
         const DecimateStats st = reduce_mesh(*out, opt);
-        ctx.metric("faces_before", double(st.faces_before));
-        ctx.metric("faces", double(st.faces_after));
-        ctx.metric("vertices", double(out->vertex_count()));
-        ctx.metric("face_ratio", st.faces_before ? double(st.faces_after) / double(st.faces_before) : 1.0);
-        ctx.metric("collapses", double(st.collapses));
-        if (st.locked_vertices) {
-            ctx.metric("locked_vertices", double(st.locked_vertices));
-            ctx.warn(std::to_string(st.locked_vertices) +
-                     " vertices lie on a boundary or a non-manifold edge and were kept as they are");
-        }
+        report_decimation(ctx, st, *out);
         return std::shared_ptr<const Mesh>(std::move(out));
     }
 };
