@@ -2,7 +2,8 @@
 //   sphere_1M: a 289 x 289 grid cube projected onto the unit sphere (1.00 M faces);
 //   bunny_1M:  the Stanford bunny (75 k faces) split twice (1.21 M faces), lightly smoothed
 //              so the split faces are not exactly flat.
-// Peers for the quadric decimation: meshoptimizer's meshopt_simplify and OpenMesh's
+// Smoothing with and without the guard against crossing, turned-over and collapsed faces;
+// the self-intersection test alone. Peers for the quadric decimation: meshoptimizer's meshopt_simplify and OpenMesh's
 // DecimaterT + ModQuadricT (+ ModNormalFlippingT), both to 10 % of the faces.
 #include <benchmark/benchmark.h>
 
@@ -21,6 +22,7 @@
 #include "core/mesh.h"
 #include "core/mesh_adjacency.h"
 #include "core/mesh_decimate.h"
+#include "core/mesh_intersect.h"
 #include "core/mesh_io.h"
 #include "core/mesh_smooth.h"
 #include "mesh_shapes.h"
@@ -64,14 +66,24 @@ void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
         SmoothOptions o;
         o.method = method;
         o.iterations = 10;
+        o.guard = st.range(1) != 0;
         smooth_mesh(m, o);
         benchmark::DoNotOptimize(m.positions.data());
     }
-    st.SetLabel(name_of(int(st.range(0))));
+    st.SetLabel(std::string(name_of(int(st.range(0)))) + (st.range(1) ? " guard" : " no guard"));
     st.counters["faces"] = double(m0.face_count());
 }
 void BM_LaplacianSmooth10(benchmark::State& st) { BM_Smooth(st, SmoothOptions::Method::Laplacian); }
 void BM_TaubinSmooth10(benchmark::State& st) { BM_Smooth(st, SmoothOptions::Method::Taubin); }
+
+void BM_SelfIntersections(benchmark::State& st) {
+    const Mesh& m = input(int(st.range(0)));
+    std::size_t pairs = 0;
+    for (auto _ : st) pairs = count_self_intersections(m);
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces"] = double(m.face_count());
+    st.counters["pairs"] = double(pairs);
+}
 
 void BM_Reduce(benchmark::State& st) {
     const Mesh& m0 = input(int(st.range(0)));
@@ -163,8 +175,9 @@ void BM_QuadricOpenMesh(benchmark::State& st) {
 } // namespace
 
 BENCHMARK(BM_Adjacency)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_LaplacianSmooth10)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_TaubinSmooth10)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LaplacianSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TaubinSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SelfIntersections)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Reduce)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_QuadricOwn)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 #ifdef CM_HAVE_MESHOPTIMIZER

@@ -22,5 +22,6 @@ void print_plugin_diagnostics(const GlobalOptions& g);
 /// and returns the exit code.
 void add_pipeline_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
 void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
+void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
 
 } // namespace cm::cli

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
     std::function<int()> action;
     cm::cli::add_pipeline_commands(app, g, action);
     cm::cli::add_tool_commands(app, g, action);
+    cm::cli::add_check_command(app, g, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -1,13 +1,15 @@
 #include "core/mesh_intersect.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <unordered_map>
+#include <array>
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 namespace cm {
 
@@ -33,76 +35,229 @@ bool segment_crosses(const Vec3d& p, const Vec3d& q, const Vec3d& a, const Vec3d
 
 } // namespace
 
-std::size_t count_self_intersections(const Mesh& m) {
-    const std::size_t nf = m.triangles.size();
-    if (nf < 2) return 0;
-    std::vector<Vec3d> lo(nf), hi(nf);
-    double edge_sum = 0;
-    for (std::size_t f = 0; f < nf; ++f) {
-        const auto& t = m.triangles[f];
-        const Vec3d a(m.positions[t[0]]), b(m.positions[t[1]]), c(m.positions[t[2]]);
-        lo[f] = vmin(a, vmin(b, c));
-        hi[f] = vmax(a, vmax(b, c));
-        edge_sum += length(b - a);
-    }
-    Vec3d glo = lo[0], ghi = hi[0];
-    for (std::size_t f = 1; f < nf; ++f) { glo = vmin(glo, lo[f]); ghi = vmax(ghi, hi[f]); }
-    const double cell = std::max(2.0 * edge_sum / double(nf), 1e-12);
-    auto key = [&](int i, int j, int k) {
-        return (std::uint64_t(std::uint32_t(i) & 0x1fffff) << 42) | (std::uint64_t(std::uint32_t(j) & 0x1fffff) << 21) |
-               std::uint64_t(std::uint32_t(k) & 0x1fffff);
-    };
-    auto cell_of = [&](double x, double o) { return int(std::floor((x - o) / cell)); };
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
-    grid.reserve(nf);
-    for (std::size_t f = 0; f < nf; ++f)
-        for (int i = cell_of(lo[f].x, glo.x); i <= cell_of(hi[f].x, glo.x); ++i)
-            for (int j = cell_of(lo[f].y, glo.y); j <= cell_of(hi[f].y, glo.y); ++j)
-                for (int k = cell_of(lo[f].z, glo.z); k <= cell_of(hi[f].z, glo.z); ++k)
-                    grid[key(i, j, k)].push_back(std::uint32_t(f));
+namespace {
 
-    std::atomic<std::size_t> count{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<std::uint32_t> seen;
-        std::size_t local = 0;
-        for (std::size_t fa = r.begin(); fa != r.end(); ++fa) {
-            seen.clear();
-            for (int i = cell_of(lo[fa].x, glo.x); i <= cell_of(hi[fa].x, glo.x); ++i)
-                for (int j = cell_of(lo[fa].y, glo.y); j <= cell_of(hi[fa].y, glo.y); ++j)
-                    for (int k = cell_of(lo[fa].z, glo.z); k <= cell_of(hi[fa].z, glo.z); ++k) {
-                        auto it = grid.find(key(i, j, k));
-                        for (auto fb : it->second)
-                            if (fb > fa) seen.push_back(fb);
-                    }
-            std::sort(seen.begin(), seen.end());
-            seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-            const auto& ta = m.triangles[fa];
-            const Vec3d A[3] = {Vec3d(m.positions[ta[0]]), Vec3d(m.positions[ta[1]]), Vec3d(m.positions[ta[2]])};
-            for (auto fb : seen) {
-                if (lo[fa].x > hi[fb].x || lo[fb].x > hi[fa].x || lo[fa].y > hi[fb].y || lo[fb].y > hi[fa].y ||
-                    lo[fa].z > hi[fb].z || lo[fb].z > hi[fa].z)
-                    continue;
-                const auto& tb = m.triangles[fb];
-                int shared = 0, sa = -1, sb = -1;
-                for (int x = 0; x < 3; ++x)
-                    for (int y = 0; y < 3; ++y)
-                        if (ta[x] == tb[y]) { ++shared; sa = x; sb = y; }
-                if (shared >= 2) continue;
-                const Vec3d B[3] = {Vec3d(m.positions[tb[0]]), Vec3d(m.positions[tb[1]]), Vec3d(m.positions[tb[2]])};
-                bool hit = false;
-                for (int e = 0; e < 3 && !hit; ++e) {
-                    // With a shared vertex, only the edges away from it can cross properly.
-                    if (shared == 1 && (e == sa || (e + 1) % 3 == sa)) {} else
-                        hit = segment_crosses(A[e], A[(e + 1) % 3], B[0], B[1], B[2]);
-                    if (!hit && !(shared == 1 && (e == sb || (e + 1) % 3 == sb)))
-                        hit = segment_crosses(B[e], B[(e + 1) % 3], A[0], A[1], A[2]);
-                }
-                local += hit;
-            }
-        }
-        count += local;
-    });
-    return count.load();
+using Box = SelfIntersectionIndex::Box;
+
+Box face_box(const std::vector<Vec3f>& p, const std::array<std::uint32_t, 3>& t) {
+    const Vec3f &a = p[t[0]], &b = p[t[1]], &c = p[t[2]];
+    return {vmin(a, vmin(b, c)), vmax(a, vmax(b, c))};
 }
+
+bool overlap(const Box& a, const Box& b) {
+    return !(a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
+             b.lo.z > a.hi.z);
+}
+
+} // namespace
+
+bool triangles_cross(const std::vector<Vec3f>& p, const std::array<std::uint32_t, 3>& ta,
+                     const std::array<std::uint32_t, 3>& tb) {
+    int shared = 0, sa = -1, sb = -1;
+    for (int x = 0; x < 3; ++x)
+        for (int y = 0; y < 3; ++y)
+            if (ta[x] == tb[y]) { ++shared; sa = x; sb = y; }
+    if (shared >= 2) return false;
+    const Vec3d A[3] = {Vec3d(p[ta[0]]), Vec3d(p[ta[1]]), Vec3d(p[ta[2]])};
+    const Vec3d B[3] = {Vec3d(p[tb[0]]), Vec3d(p[tb[1]]), Vec3d(p[tb[2]])};
+    // Early out: the other triangle's (unshared) corners all strictly on one side of a plane.
+    auto one_side = [](const Vec3d (&T)[3], const Vec3d (&U)[3], int skip) {
+        const Vec3d n = cross(T[1] - T[0], T[2] - T[0]);
+        bool pos = false, neg = false;
+        for (int i = 0; i < 3; ++i) {
+            if (i == skip) continue;
+            const double d = dot(n, U[i] - T[0]);
+            pos |= d >= 0;
+            neg |= d <= 0;
+        }
+        return !(pos && neg);
+    };
+    if (one_side(A, B, sb) || one_side(B, A, sa)) return false;
+    for (int e = 0; e < 3; ++e) {
+        // With a shared vertex, only the edges away from it can cross properly.
+        if (!(shared == 1 && (e == sa || (e + 1) % 3 == sa)) &&
+            segment_crosses(A[e], A[(e + 1) % 3], B[0], B[1], B[2]))
+            return true;
+        if (!(shared == 1 && (e == sb || (e + 1) % 3 == sb)) &&
+            segment_crosses(B[e], B[(e + 1) % 3], A[0], A[1], A[2]))
+            return true;
+    }
+    return false;
+}
+
+SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                             const std::vector<Vec3f>& a, const std::vector<Vec3f>* b)
+    : triangles_(triangles), two_poses_(b != nullptr) {
+    const std::size_t nf = triangles.size();
+    boxes_.resize(nf);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            Box x = face_box(a, triangles[f]);
+            if (b) {
+                const Box y = face_box(*b, triangles[f]);
+                x = {vmin(x.lo, y.lo), vmax(x.hi, y.hi)};
+            }
+            boxes_[f] = x;
+        }
+    });
+    if (nf == 0) return;
+    struct Sum {
+        Box box;
+        double diag = 0;
+    };
+    const Sum total = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, nf, 8192), Sum{boxes_[0], 0.0},
+        [&](const tbb::blocked_range<std::size_t>& r, Sum s) {
+            for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                s.box = {vmin(s.box.lo, boxes_[f].lo), vmax(s.box.hi, boxes_[f].hi)};
+                s.diag += double(length(boxes_[f].hi - boxes_[f].lo));
+            }
+            return s;
+        },
+        [](Sum x, const Sum& y) {
+            x.box = {vmin(x.box.lo, y.box.lo), vmax(x.box.hi, y.box.hi)};
+            x.diag += y.diag;
+            return x;
+        });
+    origin_ = Vec3d(total.box.lo);
+    const Vec3d extent = Vec3d(total.box.hi) - origin_;
+    const double largest = std::max({extent.x, extent.y, extent.z, 1e-30});
+    // Cells of about two mean face sizes; grown while large faces would fill too many
+    // cells or the cells would not fit the 32 bits of a key.
+    cell_ = std::max(2.0 * total.diag / double(nf), largest * 1e-6);
+    std::vector<std::uint64_t> offsets(nf + 1);
+    low_cell_.resize(nf);
+    for (;;) {
+        for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
+        if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) { cell_ *= 2; continue; }
+        offsets[0] = 0;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                const Range c = cells(boxes_[f]);
+                low_cell_[f] = {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])};
+                offsets[f + 1] = (c.hi[0] - c.lo[0] + 1) * (c.hi[1] - c.lo[1] + 1) * (c.hi[2] - c.lo[2] + 1);
+            }
+        });
+        for (std::size_t f = 0; f < nf; ++f) offsets[f + 1] += offsets[f];
+        if (offsets[nf] <= 16 * nf + 1024) break;
+        cell_ *= 2;
+    }
+    entries_.resize(offsets[nf]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const Range c = cells(boxes_[f]);
+            std::uint64_t o = offsets[f];
+            for (auto i = c.lo[0]; i <= c.hi[0]; ++i)
+                for (auto j = c.lo[1]; j <= c.hi[1]; ++j)
+                    for (auto k = c.lo[2]; k <= c.hi[2]; ++k) entries_[o++] = (key(i, j, k) << 32) | f;
+        }
+    });
+    tbb::parallel_sort(entries_.begin(), entries_.end());
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+        if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
+    runs_.push_back(entries_.size());
+}
+
+SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
+    Range r;
+    for (int a = 0; a < 3; ++a) {
+        const auto axis = std::size_t(a);
+        const double top = double(dims_[axis] - 1);
+        r.lo[axis] = std::uint64_t(std::clamp(std::floor((double(b.lo[a]) - origin_[a]) / cell_), 0.0, top));
+        r.hi[axis] = std::uint64_t(std::clamp(std::floor((double(b.hi[a]) - origin_[a]) / cell_), 0.0, top));
+    }
+    return r;
+}
+
+std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) const {
+    tbb::enumerable_thread_specific<std::vector<FacePair>> found;
+    if (runs_.size() < 2) return {};
+    // The triangles' boxes at p (the index's boxes cover both poses).
+    std::vector<Box> now;
+    if (two_poses_) {
+        now.resize(triangles_.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, now.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t f = r.begin(); f != r.end(); ++f) now[f] = face_box(p, triangles_[f]);
+        });
+    }
+    const std::vector<Box>& current = two_poses_ ? now : boxes_;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        auto& local = found.local();
+        struct Item {
+            Box box;
+            std::uint32_t face;
+        };
+        std::vector<Item> items;
+        for (std::size_t run = r.begin(); run != r.end(); ++run) {
+            const std::size_t b = runs_[run], e = runs_[run + 1];
+            const std::uint64_t here = entries_[b] >> 32;
+            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
+            items.clear();
+            for (std::size_t x = b; x < e; ++x) {
+                const auto f = std::uint32_t(entries_[x]);
+                items.push_back({boxes_[f], f});
+            }
+            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
+            for (std::size_t x = 0; x < items.size(); ++x)
+                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= items[x].box.hi.x; ++y) {
+                    const Box &ba = items[x].box, &bb = items[y].box;
+                    if (ba.lo.y > bb.hi.y || bb.lo.y > ba.hi.y || ba.lo.z > bb.hi.z || bb.lo.z > ba.hi.z) continue;
+                    const std::uint32_t fa = std::min(items[x].face, items[y].face);
+                    const std::uint32_t fb = std::max(items[x].face, items[y].face);
+                    // Each pair once: in the cell holding the low corner of the boxes' overlap,
+                    // whose cell is the larger of the two boxes' low cells on each axis.
+                    const auto& la = low_cell_[fa];
+                    const auto& lb = low_cell_[fb];
+                    if (key(std::max(la[0], lb[0]), std::max(la[1], lb[1]), std::max(la[2], lb[2])) != here) continue;
+                    if (two_poses_ && !overlap(current[fa], current[fb])) continue;
+                    if (triangles_cross(p, triangles_[fa], triangles_[fb])) local.push_back({fa, fb});
+                }
+        }
+    });
+    std::vector<FacePair> pairs;
+    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+}
+
+std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::uint32_t>& faces,
+                                                       const std::vector<Vec3f>& p) const {
+    tbb::enumerable_thread_specific<std::vector<FacePair>> found;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        auto& local = found.local();
+        std::vector<std::uint32_t> near;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const std::uint32_t fa = faces[i];
+            const Range c = cells(boxes_[fa]);
+            near.clear();
+            for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
+                for (auto y = c.lo[1]; y <= c.hi[1]; ++y)
+                    for (auto z = c.lo[2]; z <= c.hi[2]; ++z) {
+                        const std::uint64_t cell = key(x, y, z);
+                        for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
+                             it != entries_.end() && (*it >> 32) == cell; ++it)
+                            if (std::uint32_t(*it) != fa) near.push_back(std::uint32_t(*it));
+                    }
+            std::sort(near.begin(), near.end());
+            near.erase(std::unique(near.begin(), near.end()), near.end());
+            const Box ba = face_box(p, triangles_[fa]);
+            for (std::uint32_t fb : near)
+                if (overlap(ba, face_box(p, triangles_[fb])) && triangles_cross(p, triangles_[fa], triangles_[fb]))
+                    local.push_back({std::min(fa, fb), std::max(fa, fb)});
+        }
+    });
+    std::vector<FacePair> pairs;
+    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    return pairs;
+}
+
+std::vector<FacePair> find_self_intersections(const Mesh& m) {
+    return SelfIntersectionIndex(m.triangles, m.positions).all(m.positions);
+}
+
+std::size_t count_self_intersections(const Mesh& m) { return find_self_intersections(m).size(); }
 
 } // namespace cm

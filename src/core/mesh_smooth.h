@@ -23,6 +23,11 @@ struct SmoothOptions {
     /// that would leave the band is shortened by bisection along its direction.
     const HullDistance* hull = nullptr;
     double tolerance = 0.0;
+    /// Keep the surface valid: after smoothing, vertices of faces that cross another face,
+    /// turn over (normal against the input's) or collapse to zero area are moved back
+    /// towards their input positions (half the way, a quarter, then all the way) until no
+    /// such face is left. The input must be free of them itself.
+    bool guard = true;
     /// Called after each iteration with the fraction done; may throw to cancel.
     std::function<void(double)> progress;
 };
@@ -30,6 +35,10 @@ struct SmoothOptions {
 struct SmoothStats {
     std::size_t clamped_steps = 0;   ///< vertex steps shortened by the hull constraint
     double max_hull_distance = 0;    ///< largest |hull distance| of a vertex at the end (constrained runs)
+    std::size_t bad_faces = 0;       ///< guard: faces crossing, turned over or collapsed after smoothing
+    std::size_t pulled_back = 0;     ///< guard: vertices moved back towards their input positions
+    std::size_t guard_rounds = 0;    ///< guard: checks run (the first covers every face)
+    std::size_t unresolved = 0;      ///< guard: bad faces left (only when the input had them)
 };
 
 /// @brief Smooths `mesh` in place (positions; normals are recomputed when present).

@@ -16,7 +16,10 @@ std::vector<ParamSpec> smooth_common_params(std::int64_t default_iterations) {
                             "(needs the views input), so the drawn outline is kept"),
             ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
                              "hull constraint: largest distance of a vertex from the hull, in pixels of the "
-                             "finest view")};
+                             "finest view"),
+            ParamSpec::Bool("guard", true,
+                            "keep the surface valid: vertices of faces that would cross another face, turn "
+                            "over or collapse are moved back towards their input positions")};
 }
 
 std::vector<PortSpec> smooth_ports() {
@@ -36,6 +39,7 @@ Data run_smooth_stage(const Inputs& in, Context& ctx, const ParamSet& params, Sm
         opt.hull = hull.get();
         opt.tolerance = params.get_float("tolerance") * hull->finest_pixel();
     }
+    opt.guard = params.get_bool("guard");
     opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
     auto out = std::make_shared<Mesh>(*src);
     const double v0 = check_mesh(*src).signed_volume;
@@ -46,6 +50,13 @@ Data run_smooth_stage(const Inputs& in, Context& ctx, const ParamSet& params, Sm
     ctx.metric("volume_before", v0);
     ctx.metric("volume_after", v1);
     if (v0 != 0) ctx.metric("volume_change_pct", 100.0 * (v1 - v0) / v0);
+    if (opt.guard) {
+        ctx.metric("guard_bad_faces", double(st.bad_faces));
+        ctx.metric("guard_pulled_back", double(st.pulled_back));
+        if (st.unresolved)
+            ctx.warn(std::to_string(st.unresolved) +
+                     " faces of the input cross another face, turn over or collapse; smoothing left them as they were");
+    }
     if (hull) {
         ctx.metric("clamped_steps", double(st.clamped_steps));
         ctx.metric("max_hull_distance_px", st.max_hull_distance / hull->finest_pixel());

@@ -1,0 +1,133 @@
+// The self-intersection index (against brute force) and the smoothing guard, on the
+// surfaces where smoothing goes wrong: Marching Cubes of random voxels, full of one-voxel
+// slots and plates whose sheets cross when the staircase is relaxed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "core/mesh.h"
+#include "core/mesh_intersect.h"
+#include "core/mesh_smooth.h"
+#include "core/volume.h"
+#include "marching_cubes.h"
+#include "mesh_shapes.h"
+
+using namespace cm;
+using openvdb::Coord;
+
+namespace {
+
+// Binary Marching Cubes (edge midpoints) of random voxels in an n^3 box.
+Mesh random_voxel_surface(std::uint32_t seed, int n, double density) {
+    Volume v;
+    v.occupancy = openvdb::BoolGrid::create(false);
+    auto acc = v.occupancy->getAccessor();
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z)
+                if (u(rng) < density) acc.setValueOn(Coord(x, y, z), true);
+    MarchingCubesOptions o;
+    o.use_crossings = false;
+    return marching_cubes(v, o);
+}
+
+std::vector<FacePair> brute_force(const Mesh& m) {
+    std::vector<FacePair> out;
+    for (std::uint32_t a = 0; a < m.face_count(); ++a)
+        for (std::uint32_t b = a + 1; b < m.face_count(); ++b)
+            if (triangles_cross(m.positions, m.triangles[a], m.triangles[b])) out.push_back({a, b});
+    return out;
+}
+
+Mesh smoothed(const Mesh& m, bool guard, SmoothStats* st = nullptr) {
+    Mesh s = m;
+    SmoothOptions o;
+    o.iterations = 10;
+    o.guard = guard;
+    const SmoothStats r = smooth_mesh(s, o);
+    if (st) *st = r;
+    return s;
+}
+
+std::size_t turned_or_collapsed(const Mesh& before, const Mesh& after) {
+    std::size_t n = 0;
+    for (const auto& t : before.triangles) {
+        const Vec3d a0(before.positions[t[0]]), b0(before.positions[t[1]]), c0(before.positions[t[2]]);
+        const Vec3d a(after.positions[t[0]]), b(after.positions[t[1]]), c(after.positions[t[2]]);
+        const Vec3d n0 = cross(b0 - a0, c0 - a0), n1 = cross(b - a, c - a);
+        n += dot(n0, n1) <= 0 || length(n1) == 0;
+    }
+    return n;
+}
+
+} // namespace
+
+TEST(SelfIntersections, GridIndexFindsExactlyTheBruteForcePairs) {
+    std::size_t found = 0;
+    for (std::uint32_t seed : {1u, 2u, 3u, 4u}) {
+        const Mesh m = smoothed(random_voxel_surface(seed, 9, 0.45), false);
+        const std::vector<FacePair> grid = find_self_intersections(m);
+        EXPECT_EQ(grid, brute_force(m)) << "seed " << seed;
+        found += grid.size();
+    }
+    EXPECT_GT(found, 0u) << "these surfaces should have crossings to find";
+}
+
+TEST(SelfIntersections, TwoPoseIndexAnswersForBlendsAndSubsets) {
+    const Mesh a = random_voxel_surface(4, 9, 0.45);
+    const Mesh b = smoothed(a, false);
+    const SelfIntersectionIndex index(a.triangles, a.positions, &b.positions);
+    for (float w : {0.0f, 0.5f, 1.0f}) {
+        Mesh blend = a;
+        for (std::size_t v = 0; v < blend.positions.size(); ++v)
+            blend.positions[v] = a.positions[v] + (b.positions[v] - a.positions[v]) * w;
+        const std::vector<FacePair> expected = find_self_intersections(blend);
+        EXPECT_EQ(index.all(blend.positions), expected) << "blend " << w;
+        // involving(): the pairs with a face among every third face.
+        std::vector<std::uint32_t> some;
+        for (std::uint32_t f = 0; f < blend.face_count(); f += 3) some.push_back(f);
+        std::vector<FacePair> want;
+        for (const auto& p : expected)
+            if (p[0] % 3 == 0 || p[1] % 3 == 0) want.push_back(p);
+        EXPECT_EQ(index.involving(some, blend.positions), want) << "blend " << w;
+    }
+    EXPECT_TRUE(find_self_intersections(a).empty()) << "Marching Cubes itself gives an embedded surface";
+}
+
+TEST(SmoothGuard, LeavesNoCrossingTurnedOrCollapsedFace) {
+    std::size_t unguarded_total = 0;
+    for (std::uint32_t seed : {11u, 12u, 13u, 14u}) {
+        const Mesh input = random_voxel_surface(seed, 14, 0.5);
+        ASSERT_EQ(count_self_intersections(input), 0u);
+        const Mesh plain = smoothed(input, false);
+        unguarded_total += count_self_intersections(plain) + turned_or_collapsed(input, plain);
+        SmoothStats st;
+        const Mesh guarded = smoothed(input, true, &st);
+        EXPECT_EQ(count_self_intersections(guarded), 0u) << "seed " << seed;
+        EXPECT_EQ(turned_or_collapsed(input, guarded), 0u) << "seed " << seed;
+        const MeshCheck c = check_mesh(guarded);
+        EXPECT_TRUE(c.closed_manifold());
+        EXPECT_EQ(c.degenerate_faces, 0u);
+        EXPECT_EQ(st.unresolved, 0u);
+        EXPECT_GT(st.guard_rounds, 0u);
+        // The guard is local: only the vertices around bad faces differ from plain smoothing.
+        std::size_t differ = 0;
+        for (std::size_t v = 0; v < input.positions.size(); ++v) differ += guarded.positions[v] != plain.positions[v];
+        EXPECT_LE(differ, st.pulled_back);
+        EXPECT_LT(double(differ), 0.25 * double(input.positions.size())) << "seed " << seed;
+    }
+    EXPECT_GT(unguarded_total, 0u) << "plain smoothing of these surfaces should go wrong somewhere";
+}
+
+TEST(SmoothGuard, ChangesNothingWhereSmoothingIsHarmless) {
+    const Mesh box = test::make_grid_box(-1.0f, 1.0f, 12);
+    SmoothStats st;
+    const Mesh guarded = smoothed(box, true, &st);
+    const Mesh plain = smoothed(box, false);
+    EXPECT_EQ(st.bad_faces, 0u);
+    EXPECT_EQ(st.pulled_back, 0u);
+    EXPECT_EQ(guarded.positions, plain.positions);
+}
