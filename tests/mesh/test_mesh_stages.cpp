@@ -14,6 +14,7 @@ Stage* make_mesh_laplacian_smooth();
 Stage* make_mesh_taubin_smooth();
 Stage* make_mesh_reduce();
 Stage* make_mesh_quadric_decimate();
+Stage* make_mesh_write();
 }
 
 using namespace cm;
@@ -101,4 +102,41 @@ TEST(MeshStages, QuadricNeedsATarget) {
     ParamSet p = defaults(*s);
     p.set("target_ratio", 0.0);
     EXPECT_NE(error_of([&] { s->prepare(p); }).find("give a target"), std::string::npos);
+}
+
+TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
+    test::TempDir dir("mesh_write_check");
+    std::unique_ptr<Stage> s(make_mesh_write());
+    ParamSet p = defaults(*s);
+    p.set("path", (dir / "clean.ply").string());
+    s->prepare(p);
+    Inputs in;
+    in.set("mesh", std::make_shared<const Mesh>(test::make_box({0, 0, 0}, {1, 1, 1})));
+    Context clean("write", "mesh.write", {});
+    s->run(in, clean);
+    EXPECT_EQ(std::stod(clean.metrics_json().at("self_intersections")), 0.0);
+    EXPECT_EQ(std::stod(clean.metrics_json().at("boundary_edges")), 0.0);
+    EXPECT_TRUE(clean.warnings().empty());
+
+    Mesh two = test::make_box({0, 0, 0}, {1, 1, 1});
+    const Mesh b = test::make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f});
+    const auto off = std::uint32_t(two.positions.size());
+    for (auto q : b.positions) two.positions.push_back(q);
+    for (auto t : b.triangles) two.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    p.set("path", (dir / "crossing.ply").string());
+    s->prepare(p);
+    in.set("mesh", std::make_shared<const Mesh>(two));
+    Context bad("write", "mesh.write", {});
+    s->run(in, bad);
+    EXPECT_GT(std::stod(bad.metrics_json().at("self_intersections")), 0.0);
+    ASSERT_EQ(bad.warnings().size(), 1u);
+    EXPECT_NE(bad.warnings()[0].find("self-intersecting face pairs"), std::string::npos) << bad.warnings()[0];
+    EXPECT_NE(bad.warnings()[0].find("crossing.ply"), std::string::npos) << bad.warnings()[0];
+
+    p.set("check", false);
+    s->prepare(p);
+    Context unchecked("write", "mesh.write", {});
+    s->run(in, unchecked);
+    EXPECT_EQ(unchecked.metrics_json().count("self_intersections"), 0u);
+    EXPECT_TRUE(unchecked.warnings().empty());
 }

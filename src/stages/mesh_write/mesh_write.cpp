@@ -1,13 +1,42 @@
 // mesh.write: writes the mesh to OBJ, PLY, STL, OFF or glTF binary (format from
 // the extension), under a temporary name that the host renames when the run succeeds.
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "core/mesh.h"
+#include "core/mesh_intersect.h"
 #include "core/mesh_io.h"
 #include "core/stage.h"
 
 namespace cm {
 namespace {
+
+// The output rules, measured on what is written; broken rules become one warning.
+void report_check(const Mesh& m, const std::filesystem::path& path, Context& ctx) {
+    const MeshCheck c = check_mesh(m);
+    const std::size_t crossings = count_self_intersections(m);
+    ctx.metric("boundary_edges", double(c.boundary_edges));
+    ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges + c.nonmanifold_vertices));
+    ctx.metric("degenerate_faces", double(c.degenerate_faces));
+    ctx.metric("self_intersections", double(crossings));
+    ctx.metric("volume", c.signed_volume);
+    std::vector<std::string> broken;
+    auto add = [&](std::size_t n, const char* what) {
+        if (n) broken.push_back(std::to_string(n) + " " + what);
+    };
+    add(c.boundary_edges, "boundary edges");
+    add(c.nonmanifold_edges, "non-manifold edges");
+    add(c.nonmanifold_vertices, "non-manifold vertices");
+    add(c.inconsistent_edges, "inconsistently oriented edges");
+    add(c.degenerate_faces, "degenerate faces");
+    add(crossings, "self-intersecting face pairs");
+    if (c.signed_volume <= 0) broken.push_back("inward orientation (volume " + std::to_string(c.signed_volume) + ")");
+    if (broken.empty()) return;
+    std::string text = "\"" + path.string() + "\" is not a clean closed mesh: ";
+    for (std::size_t i = 0; i < broken.size(); ++i) text += (i ? ", " : "") + broken[i];
+    ctx.warn(text);
+}
 
 class MeshWrite : public Stage {
 public:
@@ -18,7 +47,10 @@ public:
                 DataKind::File,
                 {ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"),
                  ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"),
-                 ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them")}};
+                 ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"),
+                 ParamSpec::Bool("check", true,
+                                 "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
+                                 "self-intersections): figures in the run report, a warning when a rule is broken")}};
     }
     void prepare(const ParamSet& p) override {
         Stage::prepare(p);
@@ -54,6 +86,7 @@ public:
         ctx.metric("vertices", double(m->vertex_count()));
         ctx.metric("path", path.string());
         ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
+        if (params_.get_bool("check")) report_check(*m, path, ctx);
         auto out = std::make_shared<FileOutput>();
         out->paths.push_back(path);
         return std::shared_ptr<const FileOutput>(out);
