@@ -50,6 +50,12 @@ for n in names:
     row = next((s for s in e["sweep"] if abs(s["max_angle_deg"] - angle) < 1e-9), None)
     ok = row["reduce"]["closed_manifold"] and row["reduce"]["outward"] if row else None
     si = row["reduce"]["self_intersections"] if row else None
+    # mesh.write checks what it writes (boundary, manifold, degenerate, crossings, volume).
+    w = p.get("write", {}).get("metrics", {})
+    if "self_intersections" in w:
+        si = int(w["self_intersections"])
+        ok = (w["boundary_edges"] == 0 and w["nonmanifold_edges"] == 0 and w["degenerate_faces"] == 0
+              and w["volume"] > 0)
     rows.append((mc_faces, faces, xor, e["mc"]["xor_pct"]))
     print("| %s | %d | %d | %.1f %% | %.3f | %.3f | %s | %s | %.1f |" % (
         n, mc_faces, faces, 100.0 * faces / mc_faces, e["mc"]["xor_pct"], xor,
