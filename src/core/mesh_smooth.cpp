@@ -78,8 +78,21 @@ void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vec
 // The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
 // input positions until no face crosses another, turns over or collapses.
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
+    const SelfIntersectionIndex index(in.triangles, in.positions, &p);
+    std::vector<std::uint32_t> bad;
+    auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
+        bad.clear();
+        for (const auto& pr : pairs) { bad.push_back(pr[0]); bad.push_back(pr[1]); }
+        find_bad_shapes(in, p, only, bad);
+        std::sort(bad.begin(), bad.end());
+        bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+        ++st.guard_rounds;
+    };
+    collect(index.all(p), nullptr);
+    st.bad_faces = bad.size();
+    if (bad.empty()) return;   // the common case: nothing more to build
+
     const std::vector<Vec3f> smoothed = p;
-    const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
     std::vector<float> weight(p.size(), 1.0f);   // position = input + weight * (smoothed - input)
     // Faces around each vertex, to re-check only what moved.
     std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
@@ -92,19 +105,9 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         for (std::size_t f = 0; f < in.triangles.size(); ++f)
             for (auto v : in.triangles[f]) vertex_faces[fill[v]++] = std::uint32_t(f);
     }
-    std::vector<std::uint32_t> check;   // faces to re-check; empty on the first round (all)
-    std::vector<std::uint32_t> bad, moved;
+    std::vector<std::uint32_t> check, moved;   // faces to re-check, vertices moved this round
     std::vector<char> marked(p.size(), 0);
-    for (;;) {
-        bad.clear();
-        const std::vector<FacePair> pairs = st.guard_rounds == 0 ? index.all(p) : index.involving(check, p);
-        for (const auto& pr : pairs) { bad.push_back(pr[0]); bad.push_back(pr[1]); }
-        find_bad_shapes(in, p, st.guard_rounds == 0 ? nullptr : &check, bad);
-        ++st.guard_rounds;
-        std::sort(bad.begin(), bad.end());
-        bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
-        if (st.guard_rounds == 1) st.bad_faces = bad.size();
-        if (bad.empty()) break;
+    while (!bad.empty()) {
         moved.clear();
         for (auto f : bad)
             for (auto v : in.triangles[f]) {
@@ -123,6 +126,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());
+        collect(index.involving(check, p), &check);
     }
 }
 
