@@ -541,3 +541,47 @@ TEST(ViewsLoad, FixedCameraErrorsNameTheFileLineAndView) {
     expect_has(msg("bounds: [0, 2, 0, 1, 1, 1]\nviews:\n  front: {image: f.png, scale: 2, origin: [1, 2]}\n"),
                {"m.yaml:1", "ymin must not exceed ymax"});
 }
+
+TEST(ViewsLoad, FreeObliqueViewIsPlacedAgainstFixedAxisViews) {
+    // The lopsided object framed as render-views frames it; the axis views keep their
+    // cameras, the oblique one forgets its own and is placed through the hull at the fixed
+    // views' scale.
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    Views views;
+    std::vector<Camera> truth;
+    for (const char* name : {"front", "right", "top", "az45el30"}) {
+        const Camera dir = Camera::named(name) ? *Camera::named(name) : Camera::from_azimuth_elevation(45, 30);
+        truth.push_back(framed_camera(dir, Vec3d(lo), Vec3d(hi), 240, 240));
+        View v;
+        v.name = name;
+        v.width = v.height = 240;
+        v.camera = truth.back();
+        const auto mask = render_mask(m, truth.back(), 240, 240);
+        v.coverage.assign(mask.begin(), mask.end());
+        views.views.push_back(v);
+    }
+    views.views[3].camera = Camera::from_azimuth_elevation(45, 30);   // direction only
+    AlignOptions opt;
+    opt.fixed = {true, true, true, false};
+    std::vector<std::string> warnings;
+    align_views(views, opt, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(views.views[i].camera.cx, truth[i].cx);
+        EXPECT_EQ(views.views[i].camera.cy, truth[i].cy);
+    }
+    const Camera& c = views.views[3].camera;
+    EXPECT_EQ(c.scale, truth[3].scale);
+    EXPECT_NEAR(c.cx, truth[3].cx, 2.0);
+    EXPECT_NEAR(c.cy, truth[3].cy, 2.0);
+    // The mesh in the fixed cameras' world (its own) against the views, as it is.
+    const SilhouetteError e = silhouette_error(m, views);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(e.views[i].xor_px, 0.0) << e.views[i].view;
+    EXPECT_LT(e.views[3].xor_pct, 1.5);
+}
