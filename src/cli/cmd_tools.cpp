@@ -3,6 +3,7 @@
 //   compare       silhouette error of a mesh against a views manifest
 //   preview       contact sheet of a mesh against its views
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -87,6 +88,20 @@ void fit_bbox(Mesh& m, const Views& views) {
     m.normals.clear();
 }
 
+// Moves the mesh so its bounding box's bottom centre is at the origin (the output frame's
+// pivot), keeping its size.
+void fit_pivot(Mesh& m) {
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Vec3d pivot{0.5 * (double(lo.x) + double(hi.x)), double(lo.y), 0.5 * (double(lo.z) + double(hi.z))};
+    for (auto& p : m.positions) p = Vec3f(Vec3d(p) - pivot);
+}
+
+void fit_mesh(Mesh& m, const Views& views, const std::string& fit) {
+    if (fit == "bbox") fit_bbox(m, views);
+    else if (fit == "pivot") fit_pivot(m);
+}
+
 struct ViewSpec {
     std::string name;   ///< file stem and manifest key
     Camera dir;
@@ -129,6 +144,14 @@ std::string number_text(double v) {
     std::ostringstream os;
     os << std::setprecision(10) << v;
     return os.str();
+}
+
+// The shortest text that reads back as the same double.
+std::string exact_text(double v) {
+    if (v == 0) v = 0;   // no "-0"
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
 }
 
 void write_image_atomic(const Image& img, const fs::path& file) {
@@ -199,6 +222,11 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                 const Mesh mesh = load_oriented(o->mesh, orient);
                 Vec3f lo, hi;
                 mesh.bounds(lo, hi);
+                // The manifest's world is the output frame: the rotated mesh moved so that the
+                // bottom centre of its bounding box is the origin, in the mesh's units.
+                const Vec3d pivot{0.5 * (double(lo.x) + double(hi.x)), double(lo.y), 0.5 * (double(lo.z) + double(hi.z))};
+                const Vec3d box_lo = Vec3d(lo) - pivot, box_hi = Vec3d(hi) - pivot;
+                const Vec3d box_mid{0, 0.5 * (double(hi.y) - double(lo.y)), 0};
                 const fs::path dir = o->out;
                 std::error_code ec;
                 fs::create_directories(dir, ec);
@@ -207,6 +235,12 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                 yaml << "# Written by conceptmesh render-views from " << fs::path(o->mesh).filename().string() << " (style "
                      << o->style << ", " << o->size << " px, up " << o->up << ", front " << o->front << ").\n"
                      << "# Framing: bounding-box centre at the image centre, 0.9 * size / largest extent px per unit.\n"
+                     << "# The cameras are exact: per view, scale (px per world unit) and origin (image point of the\n"
+                     << "# world origin). The world is Y up, front +Z, origin at the bottom centre of the model's\n"
+                     << "# bounding box, in the model's units; bounds is that box. Delete scale, origin and bounds to\n"
+                     << "# have views.load align the views from their silhouettes instead, as it does for drawings.\n"
+                     << "bounds: [" << exact_text(box_lo.x) << ", " << exact_text(box_lo.y) << ", " << exact_text(box_lo.z) << ", "
+                     << exact_text(box_hi.x) << ", " << exact_text(box_hi.y) << ", " << exact_text(box_hi.z) << "]\n"
                      << "views:\n";
                 ArtOptions art;
                 art.seed = o->seed;
@@ -241,10 +275,14 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                                       "bounding box's largest extent, which an oblique view can exceed)");
                     const fs::path file = dir / (s.name + ".png");
                     write_image_atomic(img, file);
-                    if (s.named) yaml << "  " << s.name << ": " << file.filename().string() << "\n";
-                    else
-                        yaml << "  " << s.name << ": {image: " << file.filename().string() << ", azimuth: " << number_text(s.az)
-                             << ", elevation: " << number_text(s.el) << "}\n";
+                    // The same camera in the world frame: the box's centre, (0, height / 2, 0) there,
+                    // at the image centre.
+                    const double cx = 0.5 * o->size - cam.scale * dot(box_mid, cam.r);
+                    const double cy = 0.5 * o->size + cam.scale * dot(box_mid, cam.u);
+                    yaml << "  " << s.name << ": {image: " << file.filename().string();
+                    if (!s.named) yaml << ", azimuth: " << number_text(s.az) << ", elevation: " << number_text(s.el);
+                    yaml << ", scale: " << exact_text(cam.scale) << ", origin: [" << exact_text(cx) << ", " << exact_text(cy)
+                         << "]}\n";
                     if (!g.quiet) std::cerr << "conceptmesh: wrote " << file.string() << "\n";
                 }
                 const fs::path manifest = dir / "views.yaml";
@@ -270,9 +308,11 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
         cmd->add_option("mesh", o->mesh, "Mesh file (.obj .ply .stl .off)")->required();
         cmd->add_option("views", o->manifest, "Views manifest (YAML), loaded as views.load loads it")->required();
         cmd->add_flag("--json", o->json, "Print a JSON object (top-level xor_pct, mean_iou, views)");
-        cmd->add_option("--fit", o->fit, "bbox: first map the mesh's bounding box onto the box the aligned views imply")
+        cmd->add_option("--fit", o->fit,
+                        "bbox: first map the mesh's bounding box onto the box the aligned views imply; pivot: move the "
+                        "mesh so its box's bottom centre is at the origin, keeping its size")
             ->capture_default_str()
-            ->check(CLI::IsMember({"none", "bbox"}));
+            ->check(CLI::IsMember({"none", "bbox", "pivot"}));
         cmd->add_option("--up", o->up, "The mesh's own up axis")->capture_default_str();
         cmd->add_option("--front", o->front, "The mesh's own front axis")->capture_default_str();
         cmd->add_flag("-q,--quiet", g.quiet, "No warnings from loading the views");
@@ -282,7 +322,7 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                 const Orientation orient = parse_orientation(o->up, o->front);
                 Mesh mesh = load_oriented(o->mesh, orient);
                 const Views views = load_for_tool(o->manifest, g);
-                if (o->fit == "bbox") fit_bbox(mesh, views);
+                fit_mesh(mesh, views, o->fit);
                 const SilhouetteError e = silhouette_error(mesh, views);
                 if (o->json) {
                     json j;
@@ -324,9 +364,11 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
         cmd->add_option("-o,--output", o->out, "Sheet image (.png)")->required();
         cmd->add_option("--views", o->manifest,
                         "Views manifest (YAML); without it the mesh is drawn from front, right and top against itself");
-        cmd->add_option("--fit", o->fit, "bbox: map the mesh's bounding box onto the box the aligned views imply")
+        cmd->add_option("--fit", o->fit,
+                        "bbox: map the mesh's bounding box onto the box the aligned views imply; pivot: move the mesh so "
+                        "its box's bottom centre is at the origin, keeping its size")
             ->capture_default_str()
-            ->check(CLI::IsMember({"none", "bbox"}));
+            ->check(CLI::IsMember({"none", "bbox", "pivot"}));
         cmd->add_option("--up", o->up, "The mesh's own up axis")->capture_default_str();
         cmd->add_option("--front", o->front, "The mesh's own front axis")->capture_default_str();
         cmd->add_option("--panel", o->panel, "Panel size in pixels")->capture_default_str()->check(CLI::Range(32, 4096));
@@ -340,7 +382,7 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                     views = self_views(mesh, parse_views(o->views), std::clamp(2 * o->panel, 128, 1024));
                 } else {
                     views = load_for_tool(o->manifest, g);
-                    if (o->fit == "bbox") fit_bbox(mesh, views);
+                    fit_mesh(mesh, views, o->fit);
                 }
                 PreviewOptions opt;
                 opt.panel = o->panel;

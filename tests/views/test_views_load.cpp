@@ -345,3 +345,243 @@ TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
     EXPECT_LT(sil.at(5, 5, 0), 0.01f);
     EXPECT_TRUE(ctx.metrics_json().count("views"));
 }
+
+namespace {
+
+// The box X in [-20, 20], Y in [0, 60], Z in [-15, 15] seen through known cameras, as
+// rectangles on the pixel grid: front 1.5 px/unit at (70, 100), right 2 px/unit at (50, 130),
+// top 1 px/unit at (30, 20), and a second top drawn at 2.5 px/unit at (57, 46.5).
+struct KnownView {
+    const char* name;
+    const char* view;
+    int w, h;
+    double scale, cx, cy;
+    int x0, y0, x1, y1;
+};
+constexpr KnownView kFront{"front", "front", 150, 120, 1.5, 70, 100, 40, 10, 100, 100};
+constexpr KnownView kRight{"right", "right", 100, 140, 2.0, 50, 130, 20, 10, 80, 130};
+constexpr KnownView kTop{"top", "top", 60, 40, 1.0, 30, 20, 10, 5, 50, 35};
+constexpr KnownView kTopLarge{"top", "top", 120, 100, 2.5, 57, 46.5, 7, 9, 107, 84};
+
+View known_view(const KnownView& k, bool with_camera) {
+    View v = rect_view(k.view, k.w, k.h, k.x0, k.y0, k.x1, k.y1);
+    v.name = k.name;
+    if (with_camera) v.camera.scale = k.scale, v.camera.cx = k.cx, v.camera.cy = k.cy;
+    return v;
+}
+
+void expect_camera(const Camera& c, const KnownView& k, double tol) {
+    EXPECT_NEAR(c.scale, k.scale, tol) << k.name;
+    EXPECT_NEAR(c.cx, k.cx, tol) << k.name;
+    EXPECT_NEAR(c.cy, k.cy, tol) << k.name;
+}
+
+} // namespace
+
+TEST(ViewsLoad, FixedCamerasAreKeptExactly) {
+    Views views;
+    for (const auto& k : {kFront, kRight, kTop}) views.views.push_back(known_view(k, true));
+    AlignOptions opt;
+    opt.fixed = {true, true, true};
+    std::vector<std::string> warnings;
+    align_views(views, opt, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    expect_camera(views.views[0].camera, kFront, 0.0);
+    expect_camera(views.views[1].camera, kRight, 0.0);
+    expect_camera(views.views[2].camera, kTop, 0.0);
+    // The box the silhouettes imply under the fixed cameras, in their world.
+    ASSERT_TRUE(views.has_bounds);
+    const Vec3d lo{-20, 0, -15}, hi{20, 60, 15};
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(views.bounds_min[k], lo[k], 1e-9) << k;
+        EXPECT_NEAR(views.bounds_max[k], hi[k], 1e-9) << k;
+    }
+    EXPECT_NEAR(views.units_per_pixel, 1 / 1.5, 1e-12);
+    EXPECT_EQ(silhouette_error(test::make_box(Vec3f(lo), Vec3f(hi)), views).xor_pct, 0.0);
+
+    // A given box wins over the silhouettes'; the cameras stay.
+    opt.bounds = std::array<double, 6>{-21, -1, -16, 21, 61, 16};
+    align_views(views, opt, warnings);
+    EXPECT_EQ(views.bounds_min.x, -21);
+    EXPECT_EQ(views.bounds_max.y, 61);
+    expect_camera(views.views[1].camera, kRight, 0.0);
+
+    // A fixed camera that puts its silhouette 3 units off along X is kept, with a warning
+    // naming both views and the axis.
+    views.views[2].camera.cx = 33;
+    opt.bounds.reset();
+    align_views(views, opt, warnings);
+    EXPECT_EQ(views.views[2].camera.cx, 33);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("\"front\""), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("\"top\""), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("width (X)"), std::string::npos) << warnings[0];
+
+    // A real size cannot go with fixed cameras: they set the units.
+    opt.height = 2.0;
+    EXPECT_NE(error_of([&] { align_views(views, opt, warnings); }).find("real size"), std::string::npos);
+}
+
+TEST(ViewsLoad, FreeViewsAlignToTheFixedOnes) {
+    // front and right fixed; top free, drawn at its own scale and placement: alignment finds
+    // them through the widths (front) and depths (right) it shares.
+    {
+        Views views;
+        views.views.push_back(known_view(kFront, true));
+        views.views.push_back(known_view(kRight, true));
+        views.views.push_back(known_view(kTopLarge, false));
+        AlignOptions opt;
+        opt.fixed = {true, true, false};
+        std::vector<std::string> warnings;
+        align_views(views, opt, warnings);
+        EXPECT_TRUE(warnings.empty()) << warnings.front();
+        expect_camera(views.views[0].camera, kFront, 0.0);
+        expect_camera(views.views[1].camera, kRight, 0.0);
+        expect_camera(views.views[2].camera, kTopLarge, 1e-9);
+    }
+    // Only the top view fixed, and not first: the height is measured by the free views only,
+    // and stands on Y = 0.
+    {
+        Views views;
+        views.views.push_back(known_view(kFront, false));
+        views.views.push_back(known_view(kRight, false));
+        views.views.push_back(known_view(kTop, true));
+        AlignOptions opt;
+        opt.fixed = {false, false, true};
+        std::vector<std::string> warnings;
+        align_views(views, opt, warnings);
+        EXPECT_TRUE(warnings.empty()) << warnings.front();
+        expect_camera(views.views[0].camera, kFront, 1e-9);
+        expect_camera(views.views[1].camera, kRight, 1e-9);
+        expect_camera(views.views[2].camera, kTop, 0.0);
+        EXPECT_NEAR(views.bounds_min.y, 0, 1e-9);
+        EXPECT_NEAR(views.bounds_max.y, 60, 1e-9);
+        EXPECT_NEAR(views.units_per_pixel, 1 / 1.5, 1e-9);
+    }
+    // A free view whose two axes disagree with the fixed ones warns, naming views and axis.
+    {
+        Views views;
+        views.views.push_back(known_view(kFront, true));
+        views.views.push_back(known_view(kTop, true));
+        View right = known_view(kRight, false);
+        right.coverage.assign(right.coverage.size(), 0.0f);   // 30 units deep but 66 high
+        for (int y = 0; y < 132; ++y)
+            for (int x = 20; x < 80; ++x) right.coverage[std::size_t(y) * 100 + x] = 1.0f;
+        views.views.push_back(right);
+        AlignOptions opt;
+        opt.fixed = {true, true, false};
+        std::vector<std::string> warnings;
+        align_views(views, opt, warnings);
+        // Its scale is the best fit to both axes, so both are off by about 5 %.
+        ASSERT_EQ(warnings.size(), 2u);
+        EXPECT_NE(warnings[0].find("views \"top\" and \"right\" disagree on the depth (Z)"), std::string::npos) << warnings[0];
+        EXPECT_NE(warnings[1].find("views \"front\" and \"right\" disagree on the height (Y)"), std::string::npos) << warnings[1];
+    }
+}
+
+TEST(ViewsLoad, ManifestFixesCamerasAndBounds) {
+    test::TempDir dir("vl_fixed");
+    for (const auto& k : {kFront, kRight, kTopLarge})
+        write_rect(dir / (std::string(k.view) + ".png"), k.w, k.h, k.x0, k.y0, k.x1, k.y1);
+    test::write_text(dir / "views.yaml",
+                     "bounds: [-20, 0, -15, 20, 60, 15]\n"
+                     "views:\n"
+                     "  front: {image: front.png, scale: 1.5, origin: [70, 100]}\n"
+                     "  side: {image: right.png, view: right, scale: 2, origin: [50, 130]}\n"
+                     "  top: top.png\n");
+    const Manifest m = read_manifest(dir / "views.yaml");
+    ASSERT_EQ(m.views.size(), 3u);
+    EXPECT_TRUE(m.fixed_cameras());
+    EXPECT_EQ(m.views[0].scale, 1.5);
+    ASSERT_TRUE(m.views[1].origin.has_value());
+    EXPECT_EQ((*m.views[1].origin)[0], 50.0);
+    EXPECT_EQ((*m.views[1].origin)[1], 130.0);
+    EXPECT_FALSE(m.views[2].scale.has_value());
+    LoadViewsReport report;
+    const Views v = load_views(dir / "views.yaml", {}, report);
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+    EXPECT_FALSE(v.calibrated);
+    expect_camera(v.views[0].camera, kFront, 0.0);
+    expect_camera(v.views[1].camera, kRight, 0.0);
+    expect_camera(v.views[2].camera, kTopLarge, 1e-6);   // the extraction's float coverage
+    ASSERT_TRUE(v.has_bounds);
+    EXPECT_EQ(v.bounds_min.x, -20);
+    EXPECT_EQ(v.bounds_max.y, 60);
+    const Mesh box = test::make_box({-20, 0, -15}, {20, 60, 15});
+    EXPECT_EQ(silhouette_error(box, v).xor_pct, 0.0);
+}
+
+TEST(ViewsLoad, FixedCameraErrorsNameTheFileLineAndView) {
+    test::TempDir dir("vl_fixed_errors");
+    write_rect(dir / "f.png", 40, 40, 10, 10, 30, 30);
+    auto msg = [&](const std::string& yaml) {
+        test::write_text(dir / "m.yaml", yaml);
+        return error_of([&] { read_manifest(dir / "m.yaml"); });
+    };
+    auto expect_has = [](const std::string& e, std::initializer_list<const char*> parts) {
+        for (const char* p : parts) EXPECT_NE(e.find(p), std::string::npos) << "\"" << p << "\" not in: " << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    };
+    expect_has(msg("views:\n  front: {image: f.png, scale: -2, origin: [1, 2]}\n"),
+               {"m.yaml:2", "view \"front\"", "scale must be a positive number"});
+    expect_has(msg("views:\n  front: {image: f.png, scale: 0, origin: [1, 2]}\n"), {"m.yaml:2", "view \"front\"", "positive"});
+    expect_has(msg("views:\n  front: {image: f.png, scale: big, origin: [1, 2]}\n"),
+               {"m.yaml:2", "view \"front\"", "scale must be a number", "big"});
+    expect_has(msg("views:\n  front: f.png\n  right:\n    image: f.png\n    scale: 2\n    origin: [1, 2, 3]\n"),
+               {"m.yaml:6", "view \"right\"", "origin must be 2 numbers", "got 3"});
+    expect_has(msg("views:\n  front: {image: f.png, scale: 2, origin: [1, x]}\n"), {"m.yaml:2", "view \"front\"", "\"x\""});
+    expect_has(msg("views:\n  front: {image: f.png, scale: 2}\n"), {"m.yaml:2", "view \"front\"", "scale and origin go together"});
+    expect_has(msg("views:\n  front: {image: f.png, origin: [1, 2]}\n"), {"view \"front\"", "scale and origin go together"});
+    expect_has(msg("views:\n  a: {image: f.png, matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]], scale: 2, origin: [1, 2]}\n"),
+               {"m.yaml:2", "view \"a\"", "calibrated view (matrix) takes neither"});
+    expect_has(msg("height: 1.8\nviews:\n  front: {image: f.png, scale: 2, origin: [1, 2]}\n"),
+               {"m.yaml:1", "height cannot go with fixed cameras"});
+    expect_has(msg("bounds: [0, 0, 0, 1, 1, 1]\nviews:\n  front: f.png\n"),
+               {"m.yaml:1", "bounds needs calibrated views (matrix) or fixed cameras"});
+    expect_has(msg("bounds: [0, 2, 0, 1, 1, 1]\nviews:\n  front: {image: f.png, scale: 2, origin: [1, 2]}\n"),
+               {"m.yaml:1", "ymin must not exceed ymax"});
+}
+
+TEST(ViewsLoad, FreeObliqueViewIsPlacedAgainstFixedAxisViews) {
+    // The lopsided object framed as render-views frames it; the axis views keep their
+    // cameras, the oblique one forgets its own and is placed through the hull at the fixed
+    // views' scale.
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
+    const auto base = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    Views views;
+    std::vector<Camera> truth;
+    for (const char* name : {"front", "right", "top", "az45el30"}) {
+        const Camera dir = Camera::named(name) ? *Camera::named(name) : Camera::from_azimuth_elevation(45, 30);
+        truth.push_back(framed_camera(dir, Vec3d(lo), Vec3d(hi), 240, 240));
+        View v;
+        v.name = name;
+        v.width = v.height = 240;
+        v.camera = truth.back();
+        const auto mask = render_mask(m, truth.back(), 240, 240);
+        v.coverage.assign(mask.begin(), mask.end());
+        views.views.push_back(v);
+    }
+    views.views[3].camera = Camera::from_azimuth_elevation(45, 30);   // direction only
+    AlignOptions opt;
+    opt.fixed = {true, true, true, false};
+    std::vector<std::string> warnings;
+    align_views(views, opt, warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(views.views[i].camera.cx, truth[i].cx);
+        EXPECT_EQ(views.views[i].camera.cy, truth[i].cy);
+    }
+    const Camera& c = views.views[3].camera;
+    EXPECT_EQ(c.scale, truth[3].scale);
+    EXPECT_NEAR(c.cx, truth[3].cx, 2.0);
+    EXPECT_NEAR(c.cy, truth[3].cy, 2.0);
+    // The mesh in the fixed cameras' world (its own) against the views, as it is.
+    const SilhouetteError e = silhouette_error(m, views);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(e.views[i].xor_px, 0.0) << e.views[i].view;
+    EXPECT_LT(e.views[3].xor_pct, 1.5);
+}

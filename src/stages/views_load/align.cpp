@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -64,7 +65,7 @@ bool axis_view(const Camera& c) { return c.orthographic() && axis_of(c.r) >= 0 &
 // placed at the centre of the placements that keep the silhouette's boundary inside the
 // projection, searched around the one that matches centroids. Its scale stays the first
 // view's (a turnaround is drawn at one scale).
-void place_oblique_views(Views& views) {
+void place_oblique_views(Views& views, const std::vector<bool>& fixed) {
     std::vector<const View*> axis;
     for (const auto& v : views.views)
         if (axis_view(v.camera)) axis.push_back(&v);
@@ -72,9 +73,10 @@ void place_oblique_views(Views& views) {
     const Vec3d lo = views.bounds_min, hi = views.bounds_max, ext = hi - lo;
     const double longest = std::max({ext.x, ext.y, ext.z});
     if (!(longest > 0)) return;
-    for (auto& v : views.views) {
+    for (std::size_t vi = 0; vi < views.views.size(); ++vi) {
+        View& v = views.views[vi];
         Camera& c = v.camera;
-        if (!c.orthographic() || axis_view(c)) continue;
+        if (!c.orthographic() || axis_view(c) || fixed[vi]) continue;
         // Hull cells of about 2 px in this view (at most 200 along the longest side).
         const int n = std::clamp(int(std::ceil(longest * c.scale / 2.0)), 16, 200);
         const double h = longest / n;
@@ -150,13 +152,15 @@ void place_oblique_views(Views& views) {
     }
 }
 
-} // namespace
+void warn_once(std::vector<std::string>& warnings, const std::string& msg) {
+    if (std::find(warnings.begin(), warnings.end(), msg) == warnings.end()) warnings.push_back(msg);
+}
 
-void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>& warnings) {
+// No camera fixed: the first view sets the unit, the silhouettes everything else, and the
+// world is the output frame (pivot at the bottom centre of the box they imply).
+void align_from_silhouettes(Views& views, const AlignOptions& opt, const std::vector<Extent>& ext,
+                            std::vector<std::string>& warnings) {
     const std::size_t n = views.views.size();
-    std::vector<Extent> ext(n);
-    for (std::size_t i = 0; i < n; ++i) ext[i] = silhouette_extent(views.views[i]);
-
     // World extent of each axis in units of the first view's pixels, and who measured it.
     std::array<double, 3> size{-1, -1, -1};
     std::array<std::string, 3> measured_by;
@@ -193,10 +197,7 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
                     os << "views \"" << measured_by[a] << "\" and \"" << views.views[i].name << "\" disagree on the "
                        << axis_name(a) << ": " << size[a] << " against " << world << " units ("
                        << 100.0 * std::abs(world - size[a]) / size[a] << "% apart)";
-                    const std::string msg = os.str();
-                    bool seen = false;
-                    for (const auto& w : warnings) seen |= w == msg;
-                    if (!seen) warnings.push_back(msg);
+                    warn_once(warnings, os.str());
                 }
             };
             record(ar, wr);
@@ -254,7 +255,176 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
         c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
         c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
     }
-    place_oblique_views(views);
+}
+
+// The world interval along one axis that a silhouette covers under its view's camera, from
+// its extent along image x (`along_u` false: the axis of r) or image y (true: the axis of u).
+struct Span {
+    int axis = -1;
+    double lo = 0, hi = 0;
+};
+
+Span span_of(const Camera& c, const Extent& e, bool along_u) {
+    Span sp;
+    const Vec3d& dir = along_u ? c.u : c.r;
+    sp.axis = axis_of(dir);
+    if (sp.axis < 0) return sp;
+    // p . r = (x - cx) / s;  p . u = (cy - y) / s.
+    const double a = along_u ? (c.cy - e.y1) / c.scale : (e.x0 - c.cx) / c.scale;
+    const double b = along_u ? (c.cy - e.y0) / c.scale : (e.x1 - c.cx) / c.scale;
+    if (dir[sp.axis] > 0) sp.lo = a, sp.hi = b;
+    else sp.lo = -b, sp.hi = -a;
+    return sp;
+}
+
+// Some cameras fixed: the world is theirs. They measure the axes they see; the other views
+// take their scale from the axes they share with what is measured, and their placement from
+// the box; an axis nobody fixed measures is centred on 0 (the height stands on Y = 0).
+void align_to_fixed_cameras(Views& views, const AlignOptions& opt, const std::vector<Extent>& ext,
+                            const std::vector<bool>& fixed, std::vector<std::string>& warnings) {
+    const std::size_t n = views.views.size();
+    std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+    std::array<bool, 3> known{false, false, false};
+    std::array<std::string, 3> measured_by;
+    auto set_axis = [&](int k, double size, const std::string& by) {
+        lo[std::size_t(k)] = k == 1 ? 0.0 : -size / 2;
+        hi[std::size_t(k)] = k == 1 ? size : size / 2;
+        known[std::size_t(k)] = true;
+        measured_by[std::size_t(k)] = by;
+    };
+
+    // The fixed views measure their axes directly: the mean of their spans, and a warning
+    // where two of them place or size an axis differently.
+    std::array<std::vector<std::pair<Span, std::size_t>>, 3> spans;
+    double first_fixed_scale = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!fixed[i]) continue;
+        const Camera& c = views.views[i].camera;
+        if (first_fixed_scale == 0) first_fixed_scale = c.scale;
+        for (bool along_u : {false, true}) {
+            const Span sp = span_of(c, ext[i], along_u);
+            if (sp.axis >= 0) spans[std::size_t(sp.axis)].push_back({sp, i});
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        const auto& sk = spans[std::size_t(k)];
+        if (sk.empty()) continue;
+        double l = 0, h = 0;
+        for (const auto& [sp, i] : sk) l += sp.lo, h += sp.hi;
+        lo[std::size_t(k)] = l / double(sk.size());
+        hi[std::size_t(k)] = h / double(sk.size());
+        known[std::size_t(k)] = true;
+        measured_by[std::size_t(k)] = views.views[sk.front().second].name;
+        const double size = hi[std::size_t(k)] - lo[std::size_t(k)];
+        for (std::size_t a = 0; a < sk.size(); ++a)
+            for (std::size_t b = a + 1; b < sk.size(); ++b) {
+                const Span &p = sk[a].first, &q = sk[b].first;
+                const double apart = std::max(std::abs(p.lo - q.lo), std::abs(p.hi - q.hi));
+                if (!(apart > opt.tolerance * size)) continue;
+                std::ostringstream os;
+                os.precision(4);
+                os << "views \"" << views.views[sk[a].second].name << "\" and \"" << views.views[sk[b].second].name
+                   << "\" disagree on the " << axis_name(k) << " under their fixed cameras: " << p.lo << " to " << p.hi
+                   << " against " << q.lo << " to " << q.hi << " units (" << std::setprecision(3)
+                   << 100.0 * apart / size << "% of the size apart)";
+                warn_once(warnings, os.str());
+            }
+    }
+
+    // The other axis views: scale from the measured axes they see (in the log domain, the
+    // mean over both when both are measured); an axis only they see is measured by them.
+    std::vector<double> scale(n, -1.0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (fixed[i]) scale[i] = views.views[i].camera.scale;
+    for (;;) {
+        bool changed = false;
+        for (std::size_t i = 0; i < n; ++i) {
+            const View& v = views.views[i];
+            if (scale[i] > 0 || !axis_view(v.camera)) continue;
+            const int ar = axis_of(v.camera.r), au = axis_of(v.camera.u);
+            const double wr = ext[i].x1 - ext[i].x0, hu = ext[i].y1 - ext[i].y0;
+            double lsum = 0, lcnt = 0;
+            if (known[std::size_t(ar)]) lsum += std::log(wr / (hi[std::size_t(ar)] - lo[std::size_t(ar)])), ++lcnt;
+            if (known[std::size_t(au)]) lsum += std::log(hu / (hi[std::size_t(au)] - lo[std::size_t(au)])), ++lcnt;
+            if (lcnt == 0) continue;
+            scale[i] = std::exp(lsum / lcnt);
+            changed = true;
+            for (const auto& [a, pix] : {std::pair{ar, wr}, std::pair{au, hu}}) {
+                const double world = pix / scale[i];
+                if (!known[std::size_t(a)]) {
+                    set_axis(a, world, v.name);
+                    continue;
+                }
+                const double size = hi[std::size_t(a)] - lo[std::size_t(a)];
+                if (std::abs(world - size) > opt.tolerance * size) {
+                    std::ostringstream os;
+                    os.precision(3);
+                    os << "views \"" << measured_by[std::size_t(a)] << "\" and \"" << v.name << "\" disagree on the "
+                       << axis_name(a) << ": " << size << " against " << world << " units ("
+                       << 100.0 * std::abs(world - size) / size << "% apart)";
+                    warn_once(warnings, os.str());
+                }
+            }
+        }
+        if (changed) continue;
+        // An axis view that shares no measured axis (only oblique views are fixed): drawn at
+        // the first fixed view's scale.
+        std::size_t next = n;
+        for (std::size_t i = 0; i < n && next == n; ++i)
+            if (scale[i] < 0 && axis_view(views.views[i].camera)) next = i;
+        if (next == n) break;
+        scale[next] = first_fixed_scale;
+        const Camera& c = views.views[next].camera;
+        set_axis(axis_of(c.r), (ext[next].x1 - ext[next].x0) / scale[next], views.views[next].name);
+        set_axis(axis_of(c.u), (ext[next].y1 - ext[next].y0) / scale[next], views.views[next].name);
+    }
+    // An axis no view measured: as long as the longest, so the box still holds the object.
+    double longest = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+        if (known[k]) longest = std::max(longest, hi[k] - lo[k]);
+    if (!(longest > 0)) longest = 1.0 / first_fixed_scale;
+    for (int k = 0; k < 3; ++k)
+        if (!known[std::size_t(k)]) set_axis(k, longest, "");
+
+    // The other views: the box's centre onto the silhouette's centre (an oblique view's
+    // placement is refined afterwards), at the first fixed view's scale when they share no axis.
+    const Vec3d mid{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    for (std::size_t i = 0; i < n; ++i) {
+        if (fixed[i]) continue;
+        Camera& c = views.views[i].camera;
+        c.scale = scale[i] > 0 ? scale[i] : first_fixed_scale;
+        c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
+        c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
+    }
+    views.has_bounds = true;
+    if (opt.bounds) {
+        const auto& b = *opt.bounds;
+        views.bounds_min = {b[0], b[1], b[2]};
+        views.bounds_max = {b[3], b[4], b[5]};
+    } else {
+        views.bounds_min = {lo[0], lo[1], lo[2]};
+        views.bounds_max = {hi[0], hi[1], hi[2]};
+    }
+    views.units_per_pixel = 1.0 / views.views.front().camera.scale;
+}
+
+} // namespace
+
+void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>& warnings) {
+    const std::size_t n = views.views.size();
+    std::vector<Extent> ext(n);
+    for (std::size_t i = 0; i < n; ++i) ext[i] = silhouette_extent(views.views[i]);
+    std::vector<bool> fixed(n, false);
+    for (std::size_t i = 0; i < n && i < opt.fixed.size(); ++i) fixed[i] = opt.fixed[i] && views.views[i].camera.orthographic();
+    if (std::find(fixed.begin(), fixed.end(), true) == fixed.end()) {
+        if (opt.bounds) throw Error("a box (bounds) for drawn views needs fixed cameras (scale and origin)");
+        align_from_silhouettes(views, opt, ext, warnings);
+    } else {
+        if (opt.height || opt.width || opt.depth)
+            throw Error("a real size (height, width or depth) cannot go with fixed cameras (scale, origin): they set the units");
+        align_to_fixed_cameras(views, opt, ext, fixed, warnings);
+    }
+    place_oblique_views(views, fixed);
 }
 
 } // namespace cm

@@ -60,6 +60,11 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             if (mv.matrix) v.camera = Camera::perspective(*mv.matrix);
             else if (mv.view) v.camera = *Camera::named(*mv.view);
             else v.camera = Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
+            if (mv.scale) {
+                v.camera.scale = *mv.scale;
+                v.camera.cx = (*mv.origin)[0];
+                v.camera.cy = (*mv.origin)[1];
+            }
         } catch (const std::exception& e) {
             errors[i] = "view \"" + mv.key + "\": " + e.what();
         }
@@ -88,6 +93,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
         ao.width = man.width;
         ao.depth = man.depth;
         ao.tolerance = opt.align_tolerance;
+        for (const auto& mv : man.views) ao.fixed.push_back(mv.scale.has_value());
+        ao.bounds = man.bounds;
         align_views(views, ao, report.warnings);
     }
     return views;

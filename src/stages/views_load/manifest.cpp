@@ -1,5 +1,7 @@
 #include "manifest.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 
@@ -34,14 +36,15 @@ std::string scalar(const fs::path& f, const YAML::Node& n, const std::string& vi
 
 // N numbers, flat or as rows.
 template <std::size_t N>
-std::array<double, N> numbers(const fs::path& f, const YAML::Node& val, const std::string& what) {
+std::array<double, N> numbers(const fs::path& f, const YAML::Node& val, const std::string& what,
+                              const std::string& entry = "a matrix entry") {
     std::vector<double> flat;
     if (val.IsSequence())
         for (const auto& row : val) {
             if (row.IsSequence())
-                for (const auto& x : row) flat.push_back(number(f, x, "a matrix entry"));
+                for (const auto& x : row) flat.push_back(number(f, x, entry));
             else
-                flat.push_back(number(f, row, "a matrix entry"));
+                flat.push_back(number(f, row, entry));
         }
     if (flat.size() != N) throw Error(what + ", got " + std::to_string(flat.size()) + " numbers");
     std::array<double, N> a{};
@@ -71,6 +74,10 @@ std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& w
 
 } // namespace
 
+bool Manifest::fixed_cameras() const {
+    return std::any_of(views.begin(), views.end(), [](const ManifestView& v) { return v.scale.has_value(); });
+}
+
 Manifest read_manifest(const fs::path& file) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error("cannot read views manifest \"" + file.string() + "\": no such file");
@@ -97,7 +104,11 @@ Manifest read_manifest(const fs::path& file) {
             if (!it->second.IsSequence() || it->second.size() != 6)
                 throw Error(at(file, it->second) + ": bounds must be a list of 6 numbers: [xmin, ymin, zmin, xmax, ymax, zmax]");
             std::array<double, 6> b{};
-            for (int i = 0; i < 6; ++i) b[i] = number(file, it->second[i], "bounds");
+            for (int i = 0; i < 6; ++i) b[std::size_t(i)] = number(file, it->second[i], "bounds");
+            for (std::size_t k = 0; k < 3; ++k)
+                if (!std::isfinite(b[k]) || !std::isfinite(b[k + 3]) || b[k] > b[k + 3])
+                    throw Error(at(file, it->second) + ": bounds: " + "xyz"[k] + "min must not exceed " + "xyz"[k] +
+                                "max ([xmin, ymin, zmin, xmax, ymax, zmax])");
             m.bounds = b;
         } else
             throw Error(at(file, it->first) + ": unknown manifest key \"" + k + "\" (known: views, height, width, depth, bounds)");
@@ -145,13 +156,22 @@ Manifest read_manifest(const fs::path& file) {
                     if (mf.is_relative()) mf = base / mf;
                     v.matrix = read_matrix_file(mf, where);
                     ++matrix_sources;
+                } else if (k == "scale") {
+                    v.scale = number(file, val, "view \"" + v.key + "\": scale");
+                    if (!(*v.scale > 0) || !std::isfinite(*v.scale))
+                        throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
+                } else if (k == "origin") {
+                    v.origin = numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
+                                          "view \"" + v.key + "\": an origin coordinate");
+                    if (!std::isfinite((*v.origin)[0]) || !std::isfinite((*v.origin)[1]))
+                        throw Error(where + "origin must be finite");
                 } else if (k == "K") K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
                 else if (k == "R") R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
                 else if (k == "t") tvec = numbers<3>(file, val, where + "t must be 3 numbers");
                 else
                     throw Error(at(file, f->first) + ": view \"" + v.key + "\": unknown key \"" + k +
-                                "\" (known: image, view, azimuth, elevation, matrix, matrix_file, K, R, t, background, "
-                                "threshold, keep, holes)");
+                                "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
+                                "background, threshold, keep, holes)");
             }
             if (K || R || tvec) {
                 if (!(K && R && tvec)) throw Error(at(file, n) + ": view \"" + v.key + "\": K, R and t go together (P = K [R | t])");
@@ -171,6 +191,12 @@ Manifest read_manifest(const fs::path& file) {
                 throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
             if (v.view && (v.azimuth || v.elevation))
                 throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
+            if (v.matrix && (v.scale || v.origin))
+                throw Error(at(file, n) + ": view \"" + v.key +
+                            "\": scale and origin fix an orthographic camera; a calibrated view (matrix) takes neither");
+            if (v.scale.has_value() != v.origin.has_value())
+                throw Error(at(file, n) + ": view \"" + v.key + "\": scale and origin go together (together they fix the "
+                            "camera): give both or neither");
         } else {
             throw Error(at(file, n) + ": view \"" + v.key + "\" must be an image path or a mapping with \"image\"");
         }
@@ -199,6 +225,17 @@ Manifest read_manifest(const fs::path& file) {
             throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
         m.views.push_back(std::move(v));
     }
+    // Fixed cameras set the world frame and its units: no real size on top, and the box is
+    // theirs. Without them drawn views are aligned into a frame of their own, which a box
+    // given here could not refer to.
+    const bool calibrated = std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
+    if (m.fixed_cameras())
+        for (const char* k : {"height", "width", "depth"})
+            if (doc[k])
+                throw Error(at(file, doc[k]) + ": " + k + " cannot go with fixed cameras (scale, origin): they set the units");
+    if (m.bounds && !calibrated && !m.fixed_cameras())
+        throw Error(at(file, doc["bounds"]) + ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
+                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a real size)");
     return m;
 }
 

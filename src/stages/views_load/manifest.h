@@ -14,6 +14,11 @@ struct ManifestView {
     std::optional<std::string> view;       ///< named view
     std::optional<double> azimuth, elevation;
     std::optional<std::array<double, 12>> matrix;   ///< from matrix, matrix_file or K/R/t
+    /// A fixed orthographic camera: pixels per world unit and the image point of the world
+    /// origin (pixel convention of the conventions). Given together or not at all; views
+    /// without them are aligned from their silhouettes.
+    std::optional<double> scale;
+    std::optional<std::array<double, 2>> origin;
     std::string background = "auto";      ///< auto | alpha | colour (#rrggbb or "r,g,b")
     std::optional<double> threshold;       ///< background distance threshold in [0,1]
     std::string keep = "auto";             ///< auto | largest | all ("auto" defers to the stage's keep)
@@ -25,7 +30,10 @@ struct Manifest {
     std::filesystem::path file;
     std::vector<ManifestView> views;
     std::optional<double> height, width, depth;   ///< real size of the object in output units
-    std::optional<std::array<double, 6>> bounds;  ///< world box (min xyz, max xyz) for calibrated views
+    /// World box (min xyz, max xyz) that holds the object: for calibrated views, or for drawn
+    /// views with fixed cameras (scale, origin), whose world frame the manifest then sets.
+    std::optional<std::array<double, 6>> bounds;
+    bool fixed_cameras() const;   ///< true when some view gives scale and origin
 };
 
 /// Reads a manifest; throws cm::Error naming the file and line.
