@@ -125,7 +125,7 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     // Cells of about two mean face sizes; grown while large faces would fill too many
     // cells or the cells would not fit the 32 bits of a key.
     cell_ = std::max(2.0 * total.diag / double(nf), largest * 1e-6);
-    std::vector<std::uint64_t> offsets(nf + 1);
+    UninitVector<std::uint64_t> offsets(nf + 1);
     low_cell_.resize(nf);
     for (;;) {
         for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
@@ -173,14 +173,14 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) co
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
     if (runs_.size() < 2) return {};
     // The triangles' boxes at p (the index's boxes cover both poses).
-    std::vector<Box> now;
+    UninitVector<Box> now;
     if (two_poses_) {
         now.resize(triangles_.size());
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, now.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t f = r.begin(); f != r.end(); ++f) now[f] = face_box(p, triangles_[f]);
         });
     }
-    const std::vector<Box>& current = two_poses_ ? now : boxes_;
+    const UninitVector<Box>& current = two_poses_ ? now : boxes_;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         auto& local = found.local();

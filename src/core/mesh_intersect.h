@@ -5,6 +5,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/mesh.h"
@@ -12,6 +14,29 @@
 namespace cm {
 
 using FacePair = std::array<std::uint32_t, 2>;   ///< (a, b) with a < b
+
+/// An allocator whose resize() leaves trivial elements uninitialised, for large arrays
+/// that are filled right after (no pass of zeros over hundreds of megabytes).
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = UninitAllocator<U>;
+    };
+    UninitAllocator() = default;
+    template <typename U>
+    UninitAllocator(const UninitAllocator<U>&) noexcept {}
+    template <typename U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+template <typename T>
+using UninitVector = std::vector<T, UninitAllocator<T>>;
 
 /// @brief Do triangles ta and tb (vertex indices into p) cross at a point inside both?
 /// Triangles sharing an edge never cross; with one shared vertex only the edges away
@@ -45,12 +70,12 @@ private:
 
     const std::vector<std::array<std::uint32_t, 3>>& triangles_;
     bool two_poses_ = false;
-    std::vector<Box> boxes_;
-    std::vector<std::array<std::uint32_t, 3>> low_cell_;   ///< cell of each box's low corner
+    UninitVector<Box> boxes_;
+    UninitVector<std::array<std::uint32_t, 3>> low_cell_;   ///< cell of each box's low corner
     Vec3d origin_;
     double cell_ = 1;
     std::array<std::uint64_t, 3> dims_{1, 1, 1};
-    std::vector<std::uint64_t> entries_;   ///< (cell << 32) | face, sorted
+    UninitVector<std::uint64_t> entries_;   ///< (cell << 32) | face, sorted
     std::vector<std::size_t> runs_;   ///< starts of the runs of one cell in entries_, then entries_.size()
 };
 
