@@ -67,7 +67,9 @@ void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
         o.method = method;
         o.iterations = 10;
         o.guard = st.range(1) != 0;
-        smooth_mesh(m, o);
+        const SmoothStats s = smooth_mesh(m, o);
+        st.counters["bad_faces"] = double(s.bad_faces);
+        st.counters["rounds"] = double(s.guard_rounds);
         benchmark::DoNotOptimize(m.positions.data());
     }
     st.SetLabel(std::string(name_of(int(st.range(0)))) + (st.range(1) ? " guard" : " no guard"));

@@ -87,30 +87,22 @@ bool triangles_cross(const std::vector<Vec3f>& p, const std::array<std::uint32_t
 
 SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                              const std::vector<Vec3f>& a, const std::vector<Vec3f>* b)
-    : triangles_(triangles), two_poses_(b != nullptr) {
+    : triangles_(triangles), a_(a), b_(b) {
+    // Nothing per face is stored but the (cell, face) keys: on machines where fresh pages are
+    // expensive, arrays of boxes cost more to allocate than the boxes cost to recompute.
     const std::size_t nf = triangles.size();
-    boxes_.resize(nf);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t f = r.begin(); f != r.end(); ++f) {
-            Box x = face_box(a, triangles[f]);
-            if (b) {
-                const Box y = face_box(*b, triangles[f]);
-                x = {vmin(x.lo, y.lo), vmax(x.hi, y.hi)};
-            }
-            boxes_[f] = x;
-        }
-    });
     if (nf == 0) return;
     struct Sum {
         Box box;
         double diag = 0;
     };
     const Sum total = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, nf, 8192), Sum{boxes_[0], 0.0},
+        tbb::blocked_range<std::size_t>(0, nf, 8192), Sum{box(0), 0.0},
         [&](const tbb::blocked_range<std::size_t>& r, Sum s) {
             for (std::size_t f = r.begin(); f != r.end(); ++f) {
-                s.box = {vmin(s.box.lo, boxes_[f].lo), vmax(s.box.hi, boxes_[f].hi)};
-                s.diag += double(length(boxes_[f].hi - boxes_[f].lo));
+                const Box x = box(std::uint32_t(f));
+                s.box = {vmin(s.box.lo, x.lo), vmax(s.box.hi, x.hi)};
+                s.diag += double(length(x.hi - x.lo));
             }
             return s;
         },
@@ -125,27 +117,31 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     // Cells of about two mean face sizes; grown while large faces would fill too many
     // cells or the cells would not fit the 32 bits of a key.
     cell_ = std::max(2.0 * total.diag / double(nf), largest * 1e-6);
-    UninitVector<std::uint64_t> offsets(nf + 1);
-    low_cell_.resize(nf);
+    UninitVector<std::uint32_t> offsets(nf + 1);
     for (;;) {
         for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
         if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) { cell_ *= 2; continue; }
+        const std::uint64_t limit = 16 * std::uint64_t(nf) + 1024;
         offsets[0] = 0;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t f = r.begin(); f != r.end(); ++f) {
-                const Range c = cells(boxes_[f]);
-                low_cell_[f] = {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])};
-                offsets[f + 1] = (c.hi[0] - c.lo[0] + 1) * (c.hi[1] - c.lo[1] + 1) * (c.hi[2] - c.lo[2] + 1);
+                const Range c = cells(box(std::uint32_t(f)));
+                const std::uint64_t n = (c.hi[0] - c.lo[0] + 1) * (c.hi[1] - c.lo[1] + 1) * (c.hi[2] - c.lo[2] + 1);
+                offsets[f + 1] = std::uint32_t(std::min<std::uint64_t>(n, limit + 1));
             }
         });
-        for (std::size_t f = 0; f < nf; ++f) offsets[f + 1] += offsets[f];
-        if (offsets[nf] <= 16 * nf + 1024) break;
+        std::uint64_t sum = 0;
+        for (std::size_t f = 0; f < nf && sum <= limit; ++f) {
+            sum += offsets[f + 1];
+            offsets[f + 1] = std::uint32_t(std::min<std::uint64_t>(sum, limit + 1));
+        }
+        if (sum <= limit) break;
         cell_ *= 2;
     }
     entries_.resize(offsets[nf]);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t f = r.begin(); f != r.end(); ++f) {
-            const Range c = cells(boxes_[f]);
+            const Range c = cells(box(std::uint32_t(f)));
             std::uint64_t o = offsets[f];
             for (auto i = c.lo[0]; i <= c.hi[0]; ++i)
                 for (auto j = c.lo[1]; j <= c.hi[1]; ++j)
@@ -156,6 +152,15 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
     runs_.push_back(entries_.size());
+}
+
+SelfIntersectionIndex::Box SelfIntersectionIndex::box(std::uint32_t f) const {
+    Box x = face_box(a_, triangles_[f]);
+    if (b_) {
+        const Box y = face_box(*b_, triangles_[f]);
+        x = {vmin(x.lo, y.lo), vmax(x.hi, y.hi)};
+    }
+    return x;
 }
 
 SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
@@ -172,47 +177,50 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
 std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
     if (runs_.size() < 2) return {};
-    // The triangles' boxes at p (the index's boxes cover both poses).
-    UninitVector<Box> now;
-    if (two_poses_) {
-        now.resize(triangles_.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, now.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t f = r.begin(); f != r.end(); ++f) now[f] = face_box(p, triangles_[f]);
-        });
-    }
-    const UninitVector<Box>& current = two_poses_ ? now : boxes_;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         auto& local = found.local();
+        // Everything the pair tests read, gathered once per face of the cell (the faces of a
+        // cell are scattered in memory; the pairs are many more than the faces).
         struct Item {
-            Box box;
+            Box box, now;
+            std::array<std::uint32_t, 3> low, tri;
             std::uint32_t face;
         };
         std::vector<Item> items;
         for (std::size_t run = r.begin(); run != r.end(); ++run) {
             const std::size_t b = runs_[run], e = runs_[run + 1];
             const std::uint64_t here = entries_[b] >> 32;
-            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
             items.clear();
             for (std::size_t x = b; x < e; ++x) {
                 const auto f = std::uint32_t(entries_[x]);
-                items.push_back({boxes_[f], f});
+                const Box u = box(f);
+                const Range c = cells(u);
+                items.push_back({u, b_ ? face_box(p, triangles_[f]) : u,
+                                 {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])}, triangles_[f], f});
             }
+            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
             std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
-            for (std::size_t x = 0; x < items.size(); ++x)
-                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= items[x].box.hi.x; ++y) {
-                    const Box &ba = items[x].box, &bb = items[y].box;
-                    if (ba.lo.y > bb.hi.y || bb.lo.y > ba.hi.y || ba.lo.z > bb.hi.z || bb.lo.z > ba.hi.z) continue;
-                    const std::uint32_t fa = std::min(items[x].face, items[y].face);
-                    const std::uint32_t fb = std::max(items[x].face, items[y].face);
+            for (std::size_t x = 0; x < items.size(); ++x) {
+                const Item& ia = items[x];
+                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
+                    const Item& ib = items[y];
+                    if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
+                        ib.box.lo.z > ia.box.hi.z)
+                        continue;
                     // Each pair once: in the cell holding the low corner of the boxes' overlap,
                     // whose cell is the larger of the two boxes' low cells on each axis.
-                    const auto& la = low_cell_[fa];
-                    const auto& lb = low_cell_[fb];
-                    if (key(std::max(la[0], lb[0]), std::max(la[1], lb[1]), std::max(la[2], lb[2])) != here) continue;
-                    if (two_poses_ && !overlap(current[fa], current[fb])) continue;
-                    if (triangles_cross(p, triangles_[fa], triangles_[fb])) local.push_back({fa, fb});
+                    if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
+                            std::max(ia.low[2], ib.low[2])) != here)
+                        continue;
+                    if (b_ && !overlap(ia.now, ib.now)) continue;
+                    int shared = 0;
+                    for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
+                    if (shared >= 2) continue;   // neighbours across an edge never cross
+                    if (triangles_cross(p, ia.tri, ib.tri))
+                        local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
                 }
+            }
         }
     });
     std::vector<FacePair> pairs;
@@ -229,7 +237,7 @@ std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::ui
         std::vector<std::uint32_t> near;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const std::uint32_t fa = faces[i];
-            const Range c = cells(boxes_[fa]);
+            const Range c = cells(box(fa));
             near.clear();
             for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
                 for (auto y = c.lo[1]; y <= c.hi[1]; ++y)

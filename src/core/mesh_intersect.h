@@ -48,7 +48,8 @@ bool triangles_cross(const std::vector<Vec3f>& p, const std::array<std::uint32_t
 /// face sizes, built by sorting (cell, face) keys. Each face's box covers its triangle at
 /// positions `a` and, when given, at positions `b` (and so at every blend of the two):
 /// the index then answers for any vertex positions between the two poses, which is what
-/// a stage that moves vertices back towards where they were needs.
+/// a stage that moves vertices back towards where they were needs. The index keeps
+/// references to `triangles`, `a` and `b`: they must outlive it and not change.
 class SelfIntersectionIndex {
 public:
     struct Box {
@@ -66,12 +67,12 @@ private:
         std::array<std::uint64_t, 3> lo{}, hi{};
     };
     Range cells(const Box& b) const;
+    Box box(std::uint32_t face) const;   ///< covering both poses
     std::uint64_t key(std::uint64_t i, std::uint64_t j, std::uint64_t k) const { return (i * dims_[1] + j) * dims_[2] + k; }
 
     const std::vector<std::array<std::uint32_t, 3>>& triangles_;
-    bool two_poses_ = false;
-    UninitVector<Box> boxes_;
-    UninitVector<std::array<std::uint32_t, 3>> low_cell_;   ///< cell of each box's low corner
+    const std::vector<Vec3f>& a_;
+    const std::vector<Vec3f>* b_ = nullptr;
     Vec3d origin_;
     double cell_ = 1;
     std::array<std::uint64_t, 3> dims_{1, 1, 1};

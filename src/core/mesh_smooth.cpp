@@ -78,7 +78,8 @@ void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vec
 // The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
 // input positions until no face crosses another, turns over or collapses.
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
-    const SelfIntersectionIndex index(in.triangles, in.positions, &p);
+    const std::vector<Vec3f> smoothed = p;   // the index covers every blend of input and this
+    const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
     std::vector<std::uint32_t> bad;
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
         bad.clear();
@@ -92,7 +93,6 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     st.bad_faces = bad.size();
     if (bad.empty()) return;   // the common case: nothing more to build
 
-    const std::vector<Vec3f> smoothed = p;
     std::vector<float> weight(p.size(), 1.0f);   // position = input + weight * (smoothed - input)
     // Faces around each vertex, to re-check only what moved.
     std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
