@@ -1,7 +1,10 @@
 #include "core/mesh_decimate.h"
 
+#include "core/mesh_intersect.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -28,7 +31,8 @@ double aspect_ratio(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
 // changes), per-face unit normals, and the validity checks.
 class Collapser {
 public:
-    explicit Collapser(Mesh& m) : mesh_(m), P_(m.positions), T_(m.triangles) {
+    /// `frozen` (optional, per vertex): vertices that must stay, on top of the locked ones.
+    Collapser(Mesh& m, const std::vector<char>* frozen) : mesh_(m), P_(m.positions), T_(m.triangles) {
         const std::size_t nv = P_.size(), nf = T_.size();
         vdead_.assign(nv, 0);
         alive_faces_ = nf;
@@ -40,6 +44,8 @@ public:
             for (std::size_t v = r.begin(); v != r.end(); ++v) lock_[v] = !closed_fan(std::uint32_t(v));
         });
         for (std::size_t v = 0; v < nv; ++v) locked_ += lock_[v] && vcount_[v] > 0;
+        if (frozen)
+            for (std::size_t v = 0; v < nv; ++v) lock_[v] |= (*frozen)[v];
     }
 
     std::size_t alive_faces() const { return alive_faces_; }
@@ -396,12 +402,11 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
     return collapses;
 }
 
-} // namespace
-
-DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
+// One reduction run (see reduce_mesh).
+DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
     DecimateStats st;
     st.faces_before = mesh.face_count();
-    Collapser c(mesh);
+    Collapser c(mesh, frozen);
     st.locked_vertices = c.locked();
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
@@ -458,7 +463,6 @@ DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
     return st;
 }
 
-namespace {
 // Symmetric 4x4 quadric: a2 ab ac ad b2 bc bd c2 cd d2.
 struct Quadric {
     double q[10] = {};
@@ -477,9 +481,8 @@ struct Quadric {
                2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
     }
 };
-} // namespace
 
-DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
+DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen) {
     DecimateStats st;
     st.faces_before = mesh.face_count();
     const std::size_t nv = mesh.positions.size();
@@ -493,7 +496,7 @@ DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
         const Vec3d n = n2 / len;
         for (int k = 0; k < 3; ++k) Q[t[k]].add_plane(n, -dot(n, a), 0.5 * len);
     }
-    Collapser c(mesh);
+    Collapser c(mesh, frozen);
     st.locked_vertices = c.locked();
     const double cos_limit = std::cos(opt.max_normal_deviation_deg * kPi / 180.0);
     const double max_err2 = opt.max_error > 0 ? opt.max_error * opt.max_error : HUGE_VAL;
@@ -543,6 +546,68 @@ DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
     st.max_error = std::sqrt(max_err);
     st.faces_after = mesh.face_count();
     return st;
+}
+
+// Runs `once` and, while the result has faces crossing each other, runs it again from
+// the input with the input vertices frozen where those faces cross (the overlap of the two
+// faces' boxes, grown by a quarter). Frozen regions only grow and stay as the input had
+// them, so the loop ends; it also stops when a restart removes nothing.
+template <typename Once>
+DecimateStats without_crossings(Mesh& mesh, bool enabled, Once&& once) {
+    if (!enabled) return once(mesh, nullptr);
+    constexpr std::size_t kMaxRestarts = 6;
+    const Mesh input = mesh;
+    std::vector<char> frozen;
+    std::size_t last = SIZE_MAX;
+    for (std::size_t restart = 0;; ++restart) {
+        DecimateStats st = once(mesh, restart ? &frozen : nullptr);
+        const std::vector<FacePair> pairs = find_self_intersections(mesh);
+        st.restarts = restart;
+        st.crossings_left = pairs.size();
+        st.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), char(1)));
+        if (pairs.empty() || restart == kMaxRestarts || pairs.size() >= last) return st;
+        last = pairs.size();
+        // The region of each crossing: where the two faces' boxes overlap, grown a little.
+        std::vector<std::array<Vec3f, 2>> boxes;
+        for (const auto& pr : pairs) {
+            std::array<Vec3f, 2> fb[2];
+            for (int i = 0; i < 2; ++i) {
+                const auto& t = mesh.triangles[pr[std::size_t(i)]];
+                fb[i] = {vmin(mesh.positions[t[0]], vmin(mesh.positions[t[1]], mesh.positions[t[2]])),
+                         vmax(mesh.positions[t[0]], vmax(mesh.positions[t[1]], mesh.positions[t[2]]))};
+            }
+            const Vec3f lo = vmax(fb[0][0], fb[1][0]), hi = vmin(fb[0][1], fb[1][1]);
+            const float small = std::min(length(fb[0][1] - fb[0][0]), length(fb[1][1] - fb[1][0]));
+            const float grow = 0.25f * std::max(length(hi - lo), 0.25f * small);
+            const Vec3f g(grow, grow, grow);
+            boxes.push_back({lo - g, hi + g});
+        }
+        frozen.resize(input.positions.size(), 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, input.positions.size(), 4096), [&](const auto& r) {
+            for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                const Vec3f& p = input.positions[v];
+                for (const auto& b : boxes)
+                    if (p.x >= b[0].x && p.x <= b[1].x && p.y >= b[0].y && p.y <= b[1].y && p.z >= b[0].z &&
+                        p.z <= b[1].z) {
+                        frozen[v] = 1;
+                        break;
+                    }
+            }
+        });
+        mesh = input;
+    }
+}
+
+} // namespace
+
+DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
+    return without_crossings(mesh, opt.no_crossings,
+                             [&](Mesh& m, const std::vector<char>* frozen) { return reduce_once(m, opt, frozen); });
+}
+
+DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
+    return without_crossings(mesh, opt.no_crossings,
+                             [&](Mesh& m, const std::vector<char>* frozen) { return quadric_once(m, opt, frozen); });
 }
 
 } // namespace cm

@@ -5,7 +5,8 @@
 // Every collapse keeps a closed 2-manifold closed and 2-manifold: the edge must
 // have two faces and pass the link condition, and no face may flip, collapse to
 // zero area or turn by more than the allowed normal deviation. Vertices on a
-// boundary or a non-manifold edge are never moved or removed.
+// boundary or a non-manifold edge are never moved or removed. Faces of distant parts
+// that end up crossing are caught after the run (a restart keeps that region).
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -21,6 +22,7 @@ struct ReduceOptions {
     double max_angle_deg = 15.0;
     std::size_t target_faces = 0;    ///< stop at or below this many faces; 0: until no vertex can go
     double max_aspect_ratio = 0.0;   ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
+    bool no_crossings = true;        ///< see DecimateStats::restarts
     std::function<void(double)> progress;   ///< fraction done; may throw to cancel
 };
 
@@ -29,6 +31,7 @@ struct QuadricOptions {
     double max_error = 0.0;                  ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
     double max_normal_deviation_deg = 45.0;  ///< refuse collapses turning a face more than this
     double max_aspect_ratio = 20.0;          ///< refuse collapses making a face thinner than this; 0: off
+    bool no_crossings = true;                ///< see DecimateStats::restarts
     std::function<void(double)> progress;
 };
 
@@ -37,6 +40,11 @@ struct DecimateStats {
     std::size_t collapses = 0;
     std::size_t locked_vertices = 0;   ///< on a boundary or non-manifold edge, kept as they are
     double max_error = 0;              ///< quadric: largest sqrt(quadric error) of a collapse made
+    /// With `no_crossings`: the result is checked for faces crossing each other; where
+    /// some do, the reduction runs again from the input with the input vertices in those
+    /// faces' boxes kept (frozen), until none is left. Restarts made, vertices frozen,
+    /// and the crossing pairs left (only when the input had its own, or after 6 restarts).
+    std::size_t restarts = 0, frozen_vertices = 0, crossings_left = 0;
 };
 
 /// @brief The paper's reduction: least important vertex first, importance

@@ -184,3 +184,55 @@ TEST(SelfIntersections, FoundBetweenTwoCrossingBoxesAndNotInOne) {
     for (auto t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
     EXPECT_GT(count_self_intersections(a), 0u);
 }
+
+namespace {
+
+// A hollow ball: a sphere and, inside it, a small sphere (its surface turned inwards)
+// that almost touches the shell at one place. Coarsening either surface there makes
+// them cross unless the reduction keeps that region.
+Mesh ball_with_near_inner_part() {
+    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    const Mesh inner = test::make_sphere({0.0f, 0.0f, 0.594f}, 0.4f, 4);
+    const auto off = std::uint32_t(m.positions.size());
+    for (auto p : inner.positions) m.positions.push_back(p);
+    for (auto t : inner.triangles) m.triangles.push_back({t[0] + off, t[2] + off, t[1] + off});
+    return m;
+}
+
+} // namespace
+
+TEST(CrossingGuard, ReductionsLeaveNearPartsUncrossed) {
+    const Mesh input = ball_with_near_inner_part();
+    ASSERT_EQ(count_self_intersections(input), 0u);
+    for (const bool quadric : {false, true}) {
+        SCOPED_TRACE(quadric ? "quadric" : "reduce");
+        auto run = [&](bool guard, DecimateStats& st) {
+            Mesh m = input;
+            if (quadric) {
+                QuadricOptions o;
+                o.target_faces = input.face_count() / 100;
+                o.no_crossings = guard;
+                st = quadric_decimate(m, o);
+            } else {
+                ReduceOptions o;
+                o.max_angle_deg = 30;
+                o.no_crossings = guard;
+                st = reduce_mesh(m, o);
+            }
+            return m;
+        };
+        DecimateStats plain_st, guarded_st;
+        const Mesh plain = run(false, plain_st);
+        const Mesh guarded = run(true, guarded_st);
+        ASSERT_GT(count_self_intersections(plain), 0u) << "the case should make the parts cross without the guard";
+        EXPECT_EQ(count_self_intersections(guarded), 0u);
+        EXPECT_GT(guarded_st.restarts, 0u);
+        EXPECT_GT(guarded_st.frozen_vertices, 0u);
+        EXPECT_EQ(guarded_st.crossings_left, 0u);
+        EXPECT_TRUE(check_mesh(guarded).closed_manifold());
+        // Only the region of the contact is kept (at a hundredth of the faces the coarse
+        // faces are large, so the region is too).
+        EXPECT_LT(double(guarded_st.frozen_vertices), 0.25 * double(input.vertex_count()))
+            << guarded_st.restarts << " restarts";
+    }
+}

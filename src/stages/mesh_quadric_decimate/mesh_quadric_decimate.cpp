@@ -22,6 +22,7 @@ public:
                                           "refuse collapses that turn a face by more than this"));
         params.push_back(ParamSpec::Float("max_aspect_ratio", 20.0, 0.0, 1e6, "",
                                           "refuse collapses that make a face thinner than this (1 = equilateral); 0: off"));
+        params.push_back(crossing_guard_param());
         return {"mesh.quadric_decimate",
                 "Garland-Heckbert quadric decimation to a face count or an error, keeping the mesh 2-manifold",
                 {{"mesh", DataKind::Mesh, "the mesh to decimate"}},
@@ -41,6 +42,7 @@ public:
         opt.max_error = params_.get_float("max_error");
         opt.max_normal_deviation_deg = params_.get_float("max_normal_deviation_deg");
         opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
+        opt.no_crossings = params_.get_bool("guard");
         opt.progress = [&ctx](double f) { ctx.progress(f, "decimating"); };
         const DecimateStats st = quadric_decimate(*out, opt);
         report_decimation(ctx, st, *out);

@@ -22,6 +22,7 @@ public:
         params.push_back(ParamSpec::Float("max_aspect_ratio", 0.0, 0.0, 1e6, "",
                                           "refuse collapses that make a face thinner than this (1 = equilateral); "
                                           "0: off, as in the paper"));
+        params.push_back(crossing_guard_param());
         return {"mesh.reduce",
                 "The paper's importance-based polygon reduction: flat regions lose triangles, sharp borders stay",
                 {{"mesh", DataKind::Mesh, "the mesh to reduce (closed 2-manifold parts are reduced; "
@@ -39,6 +40,7 @@ public:
         opt.max_angle_deg = params_.get_float("max_angle_deg");
         opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
         opt.target_faces = face_target(params_, src->face_count());
+        opt.no_crossings = params_.get_bool("guard");
         opt.progress = [&ctx](double f) { ctx.progress(f, "reducing"); };
         const DecimateStats st = reduce_mesh(*out, opt);
         report_decimation(ctx, st, *out);
