@@ -553,10 +553,10 @@ DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vec
 // faces' boxes, grown by a quarter). Frozen regions only grow and stay as the input had
 // them, so the loop ends; it also stops when a restart removes nothing.
 template <typename Once>
-DecimateStats without_crossings(Mesh& mesh, bool enabled, Once&& once) {
+DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Once&& once) {
+    mesh = input;
     if (!enabled) return once(mesh, nullptr);
     constexpr std::size_t kMaxRestarts = 6;
-    const Mesh input = mesh;
     std::vector<char> frozen;
     std::size_t last = SIZE_MAX;
     for (std::size_t restart = 0;; ++restart) {
@@ -600,14 +600,24 @@ DecimateStats without_crossings(Mesh& mesh, bool enabled, Once&& once) {
 
 } // namespace
 
-DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
-    return without_crossings(mesh, opt.no_crossings,
+DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt) {
+    return without_crossings(input, out, opt.no_crossings,
                              [&](Mesh& m, const std::vector<char>* frozen) { return reduce_once(m, opt, frozen); });
 }
 
-DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
-    return without_crossings(mesh, opt.no_crossings,
+DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
+    const Mesh input = std::move(mesh);
+    return reduce_mesh(input, mesh, opt);
+}
+
+DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt) {
+    return without_crossings(input, out, opt.no_crossings,
                              [&](Mesh& m, const std::vector<char>* frozen) { return quadric_once(m, opt, frozen); });
+}
+
+DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
+    const Mesh input = std::move(mesh);
+    return quadric_decimate(input, mesh, opt);
 }
 
 } // namespace cm

@@ -52,9 +52,13 @@ struct DecimateStats {
 /// neighbour that keeps the face normals best. Per-vertex attributes of surviving
 /// vertices are kept; normals are recomputed when present.
 DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt);
+/// The same into `out`, leaving `input` as it is (one copy fewer for a caller that keeps it).
+DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt);
 
 /// @brief Garland-Heckbert quadric decimation (half-edge collapses, so surviving
 /// vertices keep their positions and attributes).
 DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt);
+/// The same into `out`, leaving `input` as it is.
+DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt);
 
 } // namespace cm

@@ -36,7 +36,7 @@ public:
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto src = in.get<Mesh>("mesh");
-        auto out = std::make_shared<Mesh>(*src);
+        auto out = std::make_shared<Mesh>();
         QuadricOptions opt;
         opt.target_faces = face_target(params_, src->face_count());
         opt.max_error = params_.get_float("max_error");
@@ -44,7 +44,7 @@ public:
         opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
         opt.no_crossings = params_.get_bool("guard");
         opt.progress = [&ctx](double f) { ctx.progress(f, "decimating"); };
-        const DecimateStats st = quadric_decimate(*out, opt);
+        const DecimateStats st = quadric_decimate(*src, *out, opt);
         report_decimation(ctx, st, *out);
         ctx.metric("max_error", st.max_error);
         if (opt.target_faces && st.faces_after > opt.target_faces)

@@ -35,14 +35,14 @@ public:
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto src = in.get<Mesh>("mesh");
-        auto out = std::make_shared<Mesh>(*src);
+        auto out = std::make_shared<Mesh>();
         ReduceOptions opt;
         opt.max_angle_deg = params_.get_float("max_angle_deg");
         opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
         opt.target_faces = face_target(params_, src->face_count());
         opt.no_crossings = params_.get_bool("guard");
         opt.progress = [&ctx](double f) { ctx.progress(f, "reducing"); };
-        const DecimateStats st = reduce_mesh(*out, opt);
+        const DecimateStats st = reduce_mesh(*src, *out, opt);
         report_decimation(ctx, st, *out);
         return std::shared_ptr<const Mesh>(std::move(out));
     }
