@@ -20,15 +20,8 @@ models=$root/../shared/data/models
 work=${TMPDIR:-/tmp}/cm-accuracy
 mkdir -p "$work"
 
-# name  file  --up  --front   (the model's own axes; see ../shared/data/models/README.md)
-list="spot spot.obj +Y -Z
-bob bob_tri.obj +Y -X
-bunny bunny00.off +Y -X
-armadillo armadillo.off +Y -Z
-fertility fertility.off +Y +Z
-fandisk fandisk.off +Y +Z
-camel camel.off +Y +Z
-man man.off +Z -Y"
+# name, file, --up, --front of each model: bench/models.txt
+list=$(grep -v '^#' "$root/bench/models.txt" | tr -s ' ')
 
 header="| model |"
 rule="|---|"

@@ -19,18 +19,9 @@ data=$root/../shared/data/models
 work=${TMPDIR:-/tmp}/cm-speed
 mkdir -p "$work"
 
-axes() {   # file --up --front, as in ../shared/data/models/README.md
-    case $1 in
-        spot) echo "spot.obj +Y -Z" ;;
-        bob) echo "bob_tri.obj +Y -X" ;;
-        bunny) echo "bunny00.off +Y -X" ;;
-        armadillo) echo "armadillo.off +Y -Z" ;;
-        fertility) echo "fertility.off +Y +Z" ;;
-        fandisk) echo "fandisk.off +Y +Z" ;;
-        camel) echo "camel.off +Y +Z" ;;
-        man) echo "man.off +Z -Y" ;;
-        *) echo "unknown model $1" >&2; exit 2 ;;
-    esac
+axes() {   # file --up --front, from bench/models.txt
+    line=$(grep -v '^#' "$root/bench/models.txt" | tr -s ' ' | grep "^$1 ") || { echo "unknown model $1" >&2; exit 2; }
+    echo "$line" | cut -d' ' -f2-
 }
 
 # Wall seconds mean little on a shared machine. "chain CPU s" is the CPU time (user + sys,

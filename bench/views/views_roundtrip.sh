@@ -16,15 +16,8 @@ iou="$build/bin/views_iou"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# model file, then its own up and front axes (../shared/data/models/README.md).
-table="spot.obj +Y -Z
-bob_tri.obj +Y -X
-bunny00.off +Y -X
-armadillo.off +Y -Z
-fertility.off +Y +Z
-fandisk.off +Y +Z
-camel.off +Y +Z
-man.off +Z -Y"
+# model file, then its own up and front axes (bench/models.txt).
+table=$(grep -v '^#' "$here/../models.txt" | tr -s ' ' | cut -d' ' -f2-)
 
 # xor_pct of compare --fit bbox as a number with 3 decimals.
 xor() {
