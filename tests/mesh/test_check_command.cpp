@@ -15,11 +15,7 @@ TEST(CheckCommand, CleanBoxPassesAndOverlappingBoxesFail) {
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("closed, 2-manifold, outward, clean"), std::string::npos) << r.out;
 
-    Mesh two = test::make_box({0, 0, 0}, {1, 1, 1});
-    const Mesh b = test::make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f});
-    const auto off = std::uint32_t(two.positions.size());
-    for (auto p : b.positions) two.positions.push_back(p);
-    for (auto t : b.triangles) two.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    const Mesh two = test::make_crossing_boxes();
     write_mesh(two, dir / "two.ply");
     r = test::run_cli("check --json \"" + (dir / "two.ply").string() + "\"");
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;

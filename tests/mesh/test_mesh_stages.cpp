@@ -118,11 +118,7 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     EXPECT_EQ(std::stod(clean.metrics_json().at("boundary_edges")), 0.0);
     EXPECT_TRUE(clean.warnings().empty());
 
-    Mesh two = test::make_box({0, 0, 0}, {1, 1, 1});
-    const Mesh b = test::make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f});
-    const auto off = std::uint32_t(two.positions.size());
-    for (auto q : b.positions) two.positions.push_back(q);
-    for (auto t : b.triangles) two.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+    const Mesh two = test::make_crossing_boxes();
     p.set("path", (dir / "crossing.ply").string());
     s->prepare(p);
     in.set("mesh", std::make_shared<const Mesh>(two));

@@ -178,11 +178,7 @@ TEST(SelfIntersections, FoundBetweenTwoCrossingBoxesAndNotInOne) {
     Mesh a = test::make_box({0, 0, 0}, {1, 1, 1});
     EXPECT_EQ(count_self_intersections(a), 0u);
     EXPECT_EQ(count_self_intersections(test::make_sphere({0, 0, 0}, 1.0f, 3)), 0u);
-    const Mesh b = test::make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f});
-    const std::uint32_t off = std::uint32_t(a.positions.size());
-    for (auto p : b.positions) a.positions.push_back(p);
-    for (auto t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
-    EXPECT_GT(count_self_intersections(a), 0u);
+    EXPECT_GT(count_self_intersections(test::make_crossing_boxes()), 0u);
 }
 
 namespace {
@@ -192,10 +188,7 @@ namespace {
 // them cross unless the reduction keeps that region.
 Mesh ball_with_near_inner_part() {
     Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
-    const Mesh inner = test::make_sphere({0.0f, 0.0f, 0.594f}, 0.4f, 4);
-    const auto off = std::uint32_t(m.positions.size());
-    for (auto p : inner.positions) m.positions.push_back(p);
-    for (auto t : inner.triangles) m.triangles.push_back({t[0] + off, t[2] + off, t[1] + off});
+    test::append_mesh(m, test::make_sphere({0.0f, 0.0f, 0.594f}, 0.4f, 4), true);
     return m;
 }
 

@@ -106,4 +106,24 @@ Mesh make_sphere(Vec3f c, float r, int subdivisions) {
     return m;
 }
 
+void append_mesh(Mesh& into, const Mesh& part, bool flip) {
+    const auto base = std::uint32_t(into.positions.size());
+    into.positions.insert(into.positions.end(), part.positions.begin(), part.positions.end());
+    for (auto t : part.triangles)
+        into.triangles.push_back(flip ? std::array<std::uint32_t, 3>{t[0] + base, t[2] + base, t[1] + base}
+                                      : std::array<std::uint32_t, 3>{t[0] + base, t[1] + base, t[2] + base});
+}
+
+Mesh make_crossing_boxes() {
+    Mesh m = make_box({0, 0, 0}, {1, 1, 1});
+    append_mesh(m, make_box({0.5f, 0.3f, 0.6f}, {1.5f, 1.4f, 1.7f}));
+    return m;
+}
+
+Mesh make_lopsided() {
+    Mesh m = make_sphere({0, 0, 0}, 1.0f, 4);
+    append_mesh(m, make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f}));
+    return m;
+}
+
 } // namespace cm::test

@@ -36,5 +36,11 @@ std::filesystem::path source_dir();
 /// Closed, outward triangle meshes built in code.
 Mesh make_box(Vec3f lo, Vec3f hi);
 Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4);   ///< icosphere
+/// Appends `part`'s vertices and triangles to `into` (turned inside out when `flip`).
+void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
+/// Two boxes that overlap: closed and 2-manifold, but their faces cross.
+Mesh make_crossing_boxes();
+/// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
+Mesh make_lopsided();
 
 } // namespace cm::test

@@ -26,14 +26,7 @@ Stage* make_eval_preview();
 namespace {
 
 // A lopsided object (box on a sphere) so that a wrong axis or a mirror would show.
-Mesh lopsided() {
-    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
-    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
-    const auto base = std::uint32_t(m.positions.size());
-    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-    return m;
-}
+Mesh lopsided() { return test::make_lopsided(); }
 
 json compare_json(const std::string& args, const std::filesystem::path& cwd) {
     const auto r = test::run_cli("compare " + args + " --json", cwd);

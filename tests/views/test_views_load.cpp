@@ -247,11 +247,7 @@ TEST(ViewsLoad, TumBunnyCalibratedSilhouettes) {
 TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
     // A sphere with a box on its shoulder, framed as render-views frames it; then the views
     // forget their cameras' scale and origin and alignment must find them again.
-    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
-    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
-    const auto base = std::uint32_t(m.positions.size());
-    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    const Mesh m = test::make_lopsided();
     Vec3f lo, hi;
     m.bounds(lo, hi);
     Views views;
@@ -546,11 +542,7 @@ TEST(ViewsLoad, FreeObliqueViewIsPlacedAgainstFixedAxisViews) {
     // The lopsided object framed as render-views frames it; the axis views keep their
     // cameras, the oblique one forgets its own and is placed through the hull at the fixed
     // views' scale.
-    Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 4);
-    const Mesh b = test::make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f});
-    const auto base = std::uint32_t(m.positions.size());
-    m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-    for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    const Mesh m = test::make_lopsided();
     Vec3f lo, hi;
     m.bounds(lo, hi);
     Views views;
