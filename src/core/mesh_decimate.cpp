@@ -1,7 +1,5 @@
 #include "core/mesh_decimate.h"
 
-#include "core/mesh_intersect.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +7,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include "core/mesh_intersect.h"
 
 namespace cm {
 

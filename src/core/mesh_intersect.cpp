@@ -11,6 +11,8 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
+#include "core/error.h"
+
 namespace cm {
 
 namespace {
@@ -113,6 +115,8 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
         });
     origin_ = Vec3d(total.box.lo);
     const Vec3d extent = Vec3d(total.box.hi) - origin_;
+    if (!std::isfinite(extent.x + extent.y + extent.z + origin_.x + origin_.y + origin_.z) || !std::isfinite(total.diag))
+        throw Error("the mesh has vertices with infinite or NaN coordinates");
     const double largest = std::max({extent.x, extent.y, extent.z, 1e-30});
     // Cells of about two mean face sizes; grown while large faces would fill too many
     // cells or the cells would not fit the 32 bits of a key.
@@ -168,8 +172,13 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
     for (int a = 0; a < 3; ++a) {
         const auto axis = std::size_t(a);
         const double top = double(dims_[axis] - 1);
-        r.lo[axis] = std::uint64_t(std::clamp(std::floor((double(b.lo[a]) - origin_[a]) / cell_), 0.0, top));
-        r.hi[axis] = std::uint64_t(std::clamp(std::floor((double(b.hi[a]) - origin_[a]) / cell_), 0.0, top));
+        // NaN coordinates (a broken input) land in cell 0 instead of an undefined index.
+        auto index = [&](float x) {
+            const double i = std::floor((double(x) - origin_[a]) / cell_);
+            return std::uint64_t(i > 0 ? std::min(i, top) : 0.0);
+        };
+        r.lo[axis] = index(b.lo[a]);
+        r.hi[axis] = index(b.hi[a]);
     }
     return r;
 }
