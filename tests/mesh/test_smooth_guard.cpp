@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
+#include "core/error.h"
 #include "core/mesh.h"
 #include "core/mesh_intersect.h"
 #include "core/mesh_smooth.h"
@@ -130,4 +132,15 @@ TEST(SmoothGuard, ChangesNothingWhereSmoothingIsHarmless) {
     EXPECT_EQ(st.bad_faces, 0u);
     EXPECT_EQ(st.pulled_back, 0u);
     EXPECT_EQ(guarded.positions, plain.positions);
+}
+
+TEST(SelfIntersections, NonFiniteCoordinatesAreAClearError) {
+    Mesh m = test::make_grid_box(-1.0f, 1.0f, 4);
+    m.positions[3].y = std::numeric_limits<float>::quiet_NaN();
+    try {
+        find_self_intersections(m);
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("NaN"), std::string::npos) << e.what();
+    }
 }
