@@ -190,7 +190,7 @@ Pipeline Pipeline::parse(const std::string& text, const fs::path& file) {
                 const std::string key = it->first.Scalar();
                 node.param_lines[key] = line_of(it->second);
                 node.param_is_yaml[key] = true;
-                const YAML::Node& v = it->second;
+                const YAML::Node v = it->second;   // a copy: it->second lives in a temporary
                 node.yaml_kind[key] = v.IsScalar() ? (v.Tag() == "!" ? "quoted" : "scalar")
                                       : v.IsSequence() ? "list" : v.IsMap() ? "mapping" : "null value";
                 node.raw_params[key] = v.IsScalar() ? v.Scalar() : YAML::Dump(v);

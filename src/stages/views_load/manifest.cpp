@@ -121,7 +121,7 @@ Manifest read_manifest(const fs::path& file) {
         ManifestView v;
         v.key = it->first.Scalar();
         v.line = it->first.Mark().line + 1;
-        const YAML::Node& n = it->second;
+        const YAML::Node n = it->second;   // a copy: it->second lives in a temporary
         if (n.IsScalar()) {
             v.image = n.Scalar();
         } else if (n.IsMap()) {
@@ -130,7 +130,7 @@ Manifest read_manifest(const fs::path& file) {
             int matrix_sources = 0;
             for (auto f = n.begin(); f != n.end(); ++f) {
                 const std::string k = f->first.Scalar();
-                const YAML::Node& val = f->second;
+                const YAML::Node val = f->second;   // a copy: f->second lives in a temporary
                 const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
                 if (k == "image") v.image = scalar(file, val, v.key, k);
                 else if (k == "view") v.view = scalar(file, val, v.key, k);
