@@ -1,6 +1,8 @@
 // conceptmesh check MESH: the quality rules of an output mesh in one table — closed,
 // 2-manifold, outward, no degenerate faces, no self-intersections — for a run's result
 // or a mesh from elsewhere. Exit code 1 when a rule is broken, so scripts can gate on it.
+#include <algorithm>
+#include <array>
 #include <iomanip>
 #include <iostream>
 
@@ -19,16 +21,26 @@ void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
     struct Opts {
         std::string mesh;
         bool json = false;
+        int list = 0;
     };
     auto o = std::make_shared<Opts>();
     cmd->add_option("mesh", o->mesh, "Mesh file (.obj .ply .stl .off .glb)")->required();
     cmd->add_flag("--json", o->json, "Print a JSON object");
+    cmd->add_option("--list", o->list, "Also give where the first N crossing face pairs are (face ids and centres)")
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&g, &action, o] {
         action = [&g, o]() -> int {
             (void)g;
             const Mesh mesh = read_mesh(o->mesh);
             const MeshCheck c = check_mesh(mesh);
-            const std::size_t crossings = count_self_intersections(mesh);
+            const std::vector<FacePair> pairs = find_self_intersections(mesh);
+            const std::size_t crossings = pairs.size();
+            auto centre = [&](std::uint32_t f) {
+                const auto& t = mesh.triangles[f];
+                const Vec3f c = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (1.0f / 3.0f);
+                return std::array<float, 3>{c.x, c.y, c.z};
+            };
+            const std::size_t shown = std::min(pairs.size(), std::size_t(o->list));
             const bool ok = c.closed_manifold() && c.degenerate_faces == 0 && c.signed_volume > 0 && crossings == 0;
             if (o->json) {
                 nlohmann::json j = {{"mesh", o->mesh},
@@ -45,6 +57,12 @@ void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                                     {"volume", c.signed_volume},
                                     {"area", c.area},
                                     {"euler", c.euler}};
+                if (o->list > 0) {
+                    j["crossing_pairs"] = nlohmann::json::array();
+                    for (std::size_t i = 0; i < shown; ++i)
+                        j["crossing_pairs"].push_back({{"faces", {pairs[i][0], pairs[i][1]}},
+                                                       {"centres", {centre(pairs[i][0]), centre(pairs[i][1])}}});
+                }
                 std::cout << j.dump(2) << "\n";
                 return ok ? 0 : 1;
             }
@@ -61,6 +79,12 @@ void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
             row("degenerate faces", c.degenerate_faces, c.degenerate_faces == 0);
             row("self-intersections", crossings, crossings == 0);
             row("volume", c.signed_volume, c.signed_volume > 0);
+            for (std::size_t i = 0; i < shown; ++i) {
+                const auto a = centre(pairs[i][0]), b = centre(pairs[i][1]);
+                std::cout << "  crossing: faces " << pairs[i][0] << " and " << pairs[i][1] << " near (" << a[0] << ", "
+                          << a[1] << ", " << a[2] << ") / (" << b[0] << ", " << b[1] << ", " << b[2] << ")\n";
+            }
+            if (shown < crossings && o->list > 0) std::cout << "  ... and " << crossings - shown << " more pairs\n";
             std::cout << (ok ? "closed, 2-manifold, outward, clean" : "not a clean closed mesh") << "\n";
             return ok ? 0 : 1;
         };

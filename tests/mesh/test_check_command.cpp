@@ -24,6 +24,18 @@ TEST(CheckCommand, CleanBoxPassesAndOverlappingBoxesFail) {
     EXPECT_GT(j["self_intersections"].get<int>(), 0);
     EXPECT_EQ(j["boundary_edges"].get<int>(), 0);
     EXPECT_EQ(j["components"].get<int>(), 2);
+    EXPECT_FALSE(j.contains("crossing_pairs"));
+
+    // --list says where: face ids and centres of the first pairs.
+    r = test::run_cli("check --json --list 2 \"" + (dir / "two.ply").string() + "\"");
+    const auto listed = nlohmann::json::parse(r.out);
+    ASSERT_EQ(listed["crossing_pairs"].size(), 2u);
+    const auto& first = listed["crossing_pairs"][0];
+    EXPECT_LT(first["faces"][0].get<int>(), first["faces"][1].get<int>());
+    EXPECT_EQ(first["centres"][0].size(), 3u);
+    r = test::run_cli("check --list 1 \"" + (dir / "two.ply").string() + "\"");
+    EXPECT_NE(r.out.find("crossing: faces"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("more pairs"), std::string::npos) << r.out;
 
     // An open mesh: one face removed.
     Mesh open = test::make_box({0, 0, 0}, {1, 1, 1});
