@@ -212,6 +212,26 @@ TEST(Silhouette, HolesThroughAFilledDrawingStayOpen) {
     EXPECT_GT(iou(extract(img, false, fill).coverage, 200, 200, disc), 0.99);
 }
 
+TEST(Silhouette, TinyPocketsAreFilledUnlessHolesAreKept) {
+    // A filled square with a 2 x 2 px pocket: under 9 px, `auto` reads it as a gap between
+    // strokes and fills it; `keep` keeps every enclosed region, however small.
+    const Shape square_with_pocket = [](double x, double y) {
+        const bool square = x > 40 && x < 160 && y > 40 && y < 160;
+        const bool pocket = x >= 100 && x < 102 && y >= 100 && y < 102;
+        return square && !pocket;
+    };
+    const Image img = draw(200, 200, square_with_pocket, {0.3f, 0.35f, 0.5f, 1}, {1, 1, 1, 1});
+    const SilhouetteResult filled = extract(img);
+    EXPECT_EQ(filled.holes_kept, 0);
+    EXPECT_EQ(filled.coverage[std::size_t(100) * 200 + 100], 1.0f);
+    SilhouetteOptions keep;
+    keep.holes = "keep";
+    const SilhouetteResult kept = extract(img, false, keep);
+    EXPECT_EQ(kept.holes_kept, 1);
+    EXPECT_LT(kept.coverage[std::size_t(100) * 200 + 100], 0.5f);
+    EXPECT_GT(iou(kept.coverage, 200, 200, square_with_pocket), 0.995);
+}
+
 TEST(Silhouette, WhiteOnBlackMaskAndAntiAliasedCoverage) {
     // A half-plane edge at x = 100.25: the pixel column 100 is 75 % covered.
     const Shape half = [](double x, double y) { return x < 100.75 && y > 20 && y < 180 && x > 20; };

@@ -282,7 +282,9 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
         const int nreg = label(enclosed, w, h, false, lab, sizes);
-        const std::size_t min_hole = 9;
+        // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
+        // `keep` keeps every enclosed region.
+        const std::size_t min_hole = opt.holes == "keep" ? 1 : 9;
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         const bool holes = opt.holes == "keep" || (opt.holes == "auto" && ink > blank);
