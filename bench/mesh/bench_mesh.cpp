@@ -87,17 +87,15 @@ void BM_SelfIntersections(benchmark::State& st) {
     st.counters["pairs"] = double(pairs);
 }
 
-void BM_Reduce(benchmark::State& st) {
+// Runs a decimation to a tenth of the faces as the stages run it: from the const input into
+// a new mesh (one copy of the input included), with the crossing guard when range(1) says so.
+template <typename Decimate>
+void run_decimation(benchmark::State& st, Decimate&& decimate) {
     const Mesh& m0 = input(int(st.range(0)));
     std::size_t out = 0;
     for (auto _ : st) {
-        // As the stage runs it: into a new mesh (one copy of the input included).
         Mesh m;
-        ReduceOptions o;
-        o.max_angle_deg = 40;
-        o.target_faces = m0.face_count() / 10;
-        o.no_crossings = st.range(1) != 0;
-        const DecimateStats ds = reduce_mesh(m0, m, o);
+        const DecimateStats ds = decimate(m0, m, m0.face_count() / 10, st.range(1) != 0);
         out = m.face_count();
         st.counters["restarts"] = double(ds.restarts);
     }
@@ -106,21 +104,23 @@ void BM_Reduce(benchmark::State& st) {
     st.counters["faces_out"] = double(out);
 }
 
+void BM_Reduce(benchmark::State& st) {
+    run_decimation(st, [](const Mesh& in, Mesh& out, std::size_t target, bool guard) {
+        ReduceOptions o;
+        o.max_angle_deg = 40;
+        o.target_faces = target;
+        o.no_crossings = guard;
+        return reduce_mesh(in, out, o);
+    });
+}
+
 void BM_QuadricOwn(benchmark::State& st) {
-    const Mesh& m0 = input(int(st.range(0)));
-    std::size_t out = 0;
-    for (auto _ : st) {
-        Mesh m;
+    run_decimation(st, [](const Mesh& in, Mesh& out, std::size_t target, bool guard) {
         QuadricOptions o;
-        o.target_faces = m0.face_count() / 10;
-        o.no_crossings = st.range(1) != 0;
-        const DecimateStats ds = quadric_decimate(m0, m, o);
-        out = m.face_count();
-        st.counters["restarts"] = double(ds.restarts);
-    }
-    st.SetLabel(std::string(name_of(int(st.range(0)))) + (st.range(1) ? " guard" : " no guard"));
-    st.counters["faces_in"] = double(m0.face_count());
-    st.counters["faces_out"] = double(out);
+        o.target_faces = target;
+        o.no_crossings = guard;
+        return quadric_decimate(in, out, o);
+    });
 }
 
 #ifdef CM_HAVE_MESHOPTIMIZER

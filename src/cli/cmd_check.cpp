@@ -15,7 +15,7 @@
 
 namespace cm::cli {
 
-void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action) {
+void add_check_command(CLI::App& app, GlobalOptions&, std::function<int()>& action) {
     auto* cmd = app.add_subcommand(
         "check", "Check a mesh: closed, 2-manifold, outward, no degenerate faces, no self-intersections (exit 1 if not)");
     struct Opts {
@@ -28,12 +28,12 @@ void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
     cmd->add_flag("--json", o->json, "Print a JSON object");
     cmd->add_option("--list", o->list, "Also give where the first N crossing face pairs are (face ids and centres)")
         ->check(CLI::NonNegativeNumber);
-    cmd->callback([&g, &action, o] {
-        action = [&g, o]() -> int {
-            (void)g;
+    cmd->callback([&action, o] {
+        action = [o]() -> int {
             const Mesh mesh = read_mesh(o->mesh);
-            const MeshCheck c = check_mesh(mesh);
-            const std::vector<FacePair> pairs = find_self_intersections(mesh);
+            const OutputCheck check = check_output(mesh);
+            const MeshCheck& c = check.mesh;
+            const std::vector<FacePair>& pairs = check.crossings;
             const std::size_t crossings = pairs.size();
             auto centre = [&](std::uint32_t f) {
                 const auto& t = mesh.triangles[f];
@@ -41,7 +41,7 @@ void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
                 return std::array<float, 3>{c.x, c.y, c.z};
             };
             const std::size_t shown = std::min(pairs.size(), std::size_t(o->list));
-            const bool ok = c.closed_manifold() && c.degenerate_faces == 0 && c.signed_volume > 0 && crossings == 0;
+            const bool ok = check.clean();
             if (o->json) {
                 nlohmann::json j = {{"mesh", o->mesh},
                                     {"ok", ok},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -276,5 +277,26 @@ std::vector<FacePair> find_self_intersections(const Mesh& m) {
 }
 
 std::size_t count_self_intersections(const Mesh& m) { return find_self_intersections(m).size(); }
+
+bool OutputCheck::clean() const {
+    return mesh.closed_manifold() && mesh.degenerate_faces == 0 && mesh.signed_volume > 0 && crossings.empty();
+}
+
+std::vector<std::string> OutputCheck::broken() const {
+    std::vector<std::string> out;
+    auto add = [&](std::size_t n, const char* what) {
+        if (n) out.push_back(std::to_string(n) + " " + what);
+    };
+    add(mesh.boundary_edges, "boundary edges");
+    add(mesh.nonmanifold_edges, "non-manifold edges");
+    add(mesh.nonmanifold_vertices, "non-manifold vertices");
+    add(mesh.inconsistent_edges, "inconsistently oriented edges");
+    add(mesh.degenerate_faces, "degenerate faces");
+    add(crossings.size(), "self-intersecting face pairs");
+    if (mesh.signed_volume <= 0) out.push_back("inward orientation (volume " + std::to_string(mesh.signed_volume) + ")");
+    return out;
+}
+
+OutputCheck check_output(const Mesh& m) { return {check_mesh(m), find_self_intersections(m)}; }
 
 } // namespace cm

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -86,5 +87,16 @@ std::vector<FacePair> find_self_intersections(const Mesh& mesh);
 
 /// @brief Number of pairs find_self_intersections() reports.
 std::size_t count_self_intersections(const Mesh& mesh);
+
+/// The output rules of a mesh leaving the tool: closed, 2-manifold, consistently oriented,
+/// outward, no degenerate face, no crossing faces (mesh.write and `conceptmesh check`).
+struct OutputCheck {
+    MeshCheck mesh;
+    std::vector<FacePair> crossings;
+    bool clean() const;
+    /// One phrase per broken rule ("3 boundary edges", ...); empty when clean.
+    std::vector<std::string> broken() const;
+};
+OutputCheck check_output(const Mesh& mesh);
 
 } // namespace cm

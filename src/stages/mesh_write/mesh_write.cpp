@@ -14,24 +14,14 @@ namespace {
 
 // The output rules, measured on what is written; broken rules become one warning.
 void report_check(const Mesh& m, const std::filesystem::path& path, Context& ctx) {
-    const MeshCheck c = check_mesh(m);
-    const std::size_t crossings = count_self_intersections(m);
+    const OutputCheck check = check_output(m);
+    const MeshCheck& c = check.mesh;
     ctx.metric("boundary_edges", double(c.boundary_edges));
     ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges + c.nonmanifold_vertices));
     ctx.metric("degenerate_faces", double(c.degenerate_faces));
-    ctx.metric("self_intersections", double(crossings));
+    ctx.metric("self_intersections", double(check.crossings.size()));
     ctx.metric("volume", c.signed_volume);
-    std::vector<std::string> broken;
-    auto add = [&](std::size_t n, const char* what) {
-        if (n) broken.push_back(std::to_string(n) + " " + what);
-    };
-    add(c.boundary_edges, "boundary edges");
-    add(c.nonmanifold_edges, "non-manifold edges");
-    add(c.nonmanifold_vertices, "non-manifold vertices");
-    add(c.inconsistent_edges, "inconsistently oriented edges");
-    add(c.degenerate_faces, "degenerate faces");
-    add(crossings, "self-intersecting face pairs");
-    if (c.signed_volume <= 0) broken.push_back("inward orientation (volume " + std::to_string(c.signed_volume) + ")");
+    const std::vector<std::string> broken = check.broken();
     if (broken.empty()) return;
     std::string text = "\"" + path.string() + "\" is not a clean closed mesh: ";
     for (std::size_t i = 0; i < broken.size(); ++i) text += (i ? ", " : "") + broken[i];
