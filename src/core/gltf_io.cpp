@@ -51,7 +51,7 @@ int accessor(tinygltf::Model& model, int view, int component, int type, std::siz
 
 } // namespace
 
-void write_glb(const Mesh& mesh, const fs::path& file, bool normals) {
+void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name) {
     tinygltf::Model model;
     model.asset.version = "2.0";
     model.asset.generator = "conceptmesh";
@@ -104,7 +104,7 @@ void write_glb(const Mesh& mesh, const fs::path& file, bool normals) {
                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, idx.size());
 
     tinygltf::Mesh gm;
-    gm.name = file.stem().string();
+    gm.name = name.empty() ? file.stem().string() : name;
     gm.primitives.push_back(prim);
     model.meshes.push_back(gm);
     tinygltf::Node node;

@@ -77,7 +77,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
     if (lower_ext(file) == ".glb") {
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
-        return write_glb(mesh, file, wo.normals);
+        return write_glb(mesh, file, wo.normals, wo.name);
     }
     quiet_openmesh();
     OMesh om;

@@ -2,6 +2,7 @@
 // (.glb) through tinygltf.
 #pragma once
 #include <filesystem>
+#include <string>
 
 #include "core/mesh.h"
 
@@ -13,6 +14,7 @@ Mesh read_mesh(const std::filesystem::path& file);
 struct MeshWriteOptions {
     bool binary = true;      ///< PLY and STL: binary when true
     bool normals = true;     ///< write per-vertex normals where the format can hold them
+    std::string name;        ///< object name where the format holds one (glTF); empty: the file's stem
 };
 
 /// Writes by extension: .obj .ply .stl .off .glb. Writes exactly to `file` (callers

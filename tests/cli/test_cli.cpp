@@ -63,6 +63,17 @@ TEST(Cli, SetOverridesReachTheStage) {
     EXPECT_FLOAT_EQ(hi.x - lo.x, 4.0f);
 }
 
+TEST(Cli, GlbObjectIsNamedAfterTheOutputFile) {
+    // Blender's outliner shows the glTF node name: the output's name, not the temporary file's.
+    test::TempDir dir("cli-glbname");
+    test::write_text(dir / "p.yaml", kBoxPipeline);
+    auto r = cli_with_testkit("run p.yaml --set write.path=crate.glb -q", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string bytes = test::read_text(dir / "crate.glb");
+    EXPECT_NE(bytes.find("\"name\":\"crate\""), std::string::npos);
+    EXPECT_EQ(bytes.find(".part-"), std::string::npos);
+}
+
 TEST(Cli, UnknownSetTargetIsAnErrorAndWritesNothing) {
     test::TempDir dir("cli-badset");
     test::write_text(dir / "p.yaml", kBoxPipeline);

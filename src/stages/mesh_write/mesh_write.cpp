@@ -62,6 +62,7 @@ public:
         MeshWriteOptions opt;
         opt.binary = params_.get_bool("binary");
         opt.normals = params_.get_bool("normals");
+        opt.name = path.stem().string();   // not the temporary file's name
         Mesh with_normals;
         const Mesh* m = mesh.get();
         if (opt.normals && mesh->normals.size() != mesh->positions.size()) {
