@@ -1,17 +1,30 @@
-# conceptmesh_add_plugin(<name> SOURCES <files...> [LIBS <targets...>])
+# conceptmesh_no_undefined(<target>)
 #
-# A stage folder holds plugin.cpp (the CONCEPTMESH_DEFINE_PLUGIN entry, nothing
-# else) and the stage code. The stage code becomes an OBJECT library
-# cm_<name>_obj that tests link directly; plugin.cpp plus those objects become
-# libcm_<name>.so in the plugin folder next to the executable
+# A shared library or plugin must resolve every symbol against what it links, so a
+# layer that calls into a layer above it fails to link. Sanitizer builds leave the
+# runtime's symbols to the executable, so the check is off there.
+function(conceptmesh_no_undefined target)
+  if(NOT CMAKE_CXX_FLAGS MATCHES "sanitize")
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
+  endif()
+endfunction()
+
+# conceptmesh_add_family(<family> SOURCES <files...> [LIBS <targets...>])
+#
+# A stage family folder (stages/<family>/) holds plugin.cpp (the
+# CONCEPTMESH_DEFINE_PLUGIN entry naming every stage of the family, nothing else)
+# and the stages with their algorithms. The code becomes an OBJECT library
+# cm_<family>_obj that the family's tests link directly; plugin.cpp plus those
+# objects become libcm_<family>.so in the plugin folder next to the executable
 # (<build>/lib/conceptmesh/plugins), installed to the same relative place.
-function(conceptmesh_add_plugin name)
+function(conceptmesh_add_family name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
   add_library(cm_${name}_obj OBJECT ${ARG_SOURCES})
-  target_link_libraries(cm_${name}_obj PUBLIC conceptmesh ${ARG_LIBS} PRIVATE conceptmesh_warnings)
+  target_link_libraries(cm_${name}_obj PUBLIC cm_core ${ARG_LIBS} PRIVATE conceptmesh_warnings)
   target_include_directories(cm_${name}_obj PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
   add_library(cm_${name} MODULE plugin.cpp)
-  target_link_libraries(cm_${name} PRIVATE cm_${name}_obj conceptmesh_warnings)
+  target_link_libraries(cm_${name} PRIVATE cm_${name}_obj cm_plugins conceptmesh_warnings)
+  conceptmesh_no_undefined(cm_${name})
   set_target_properties(cm_${name} PROPERTIES
     PREFIX "lib"
     LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/${CONCEPTMESH_PLUGIN_SUBDIR}

@@ -13,8 +13,8 @@
 #include <sys/resource.h>
 
 #include "carve.h"
-#include "core/mesh_io.h"
-#include "core/raster.h"
+#include "io/mesh_io.h"
+#include "render/raster.h"
 #include "refine.h"
 
 using namespace cm;

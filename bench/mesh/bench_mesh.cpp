@@ -20,11 +20,11 @@
 #endif
 
 #include "core/mesh.h"
-#include "core/mesh_adjacency.h"
-#include "core/mesh_decimate.h"
-#include "core/mesh_intersect.h"
-#include "core/mesh_io.h"
-#include "core/mesh_smooth.h"
+#include "geometry/mesh_adjacency.h"
+#include "mesh_decimate.h"
+#include "geometry/mesh_intersect.h"
+#include "io/mesh_io.h"
+#include "mesh_smooth.h"
 #include "mesh_shapes.h"
 
 using namespace cm;

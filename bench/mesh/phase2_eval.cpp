@@ -15,13 +15,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/hull_distance.h"
+#include "geometry/hull_distance.h"
 #include "core/mesh.h"
-#include "core/mesh_decimate.h"
-#include "core/mesh_intersect.h"
-#include "core/mesh_io.h"
-#include "core/mesh_smooth.h"
-#include "core/raster.h"
+#include "mesh_decimate.h"
+#include "geometry/mesh_intersect.h"
+#include "io/mesh_io.h"
+#include "mesh_smooth.h"
+#include "render/raster.h"
 #include "load.h"
 
 using namespace cm;

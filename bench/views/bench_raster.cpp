@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 
-#include "core/raster.h"
+#include "render/raster.h"
 
 namespace {
 

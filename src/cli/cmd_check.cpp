@@ -10,8 +10,8 @@
 
 #include "cli/commands.h"
 #include "core/mesh.h"
-#include "core/mesh_intersect.h"
-#include "core/mesh_io.h"
+#include "geometry/mesh_intersect.h"
+#include "io/mesh_io.h"
 
 namespace cm::cli {
 

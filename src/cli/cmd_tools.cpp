@@ -16,12 +16,12 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
-#include "core/image_io.h"
-#include "core/mesh_io.h"
-#include "core/raster.h"
-#include "core/shade.h"
-#include "load.h"            // stages/views_load: the one implementation of view loading
-#include "preview_sheet.h"   // stages/eval_preview: the one implementation of the sheet
+#include "io/image_io.h"
+#include "io/mesh_io.h"
+#include "render/raster.h"
+#include "render/shade.h"
+#include "io/file_commit.h"
+#include "pipeline/run_stage.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -155,21 +155,43 @@ std::string exact_text(double v) {
 }
 
 void write_image_atomic(const Image& img, const fs::path& file) {
-    fs::path tmp = file;
-    tmp.replace_filename(file.stem().string() + ".part" + file.extension().string());
-    write_image(img, tmp);
-    fs::rename(tmp, file);
+    FileCommit files;
+    write_image(img, files.stage(file));
+    files.commit();
 }
 
-Views load_for_tool(const std::string& manifest, const GlobalOptions& g) {
-    LoadViewsReport report;
-    Views views = load_views(manifest, LoadViewsOptions{}, report);
-    if (!g.quiet) {
-        for (const auto& w : report.warnings) print_warning(w);
-        if (g.verbose)
-            for (const auto& n : report.notes) std::cerr << "conceptmesh: " << n << "\n";
+// Prints what a tool's stage says: warnings unless quiet, notes when verbose.
+class ToolMessages : public ProgressSink {
+public:
+    explicit ToolMessages(const GlobalOptions& g) : g_(g) {}
+    void started(const std::string&, const std::string&) override {}
+    void progress(const std::string&, double, const std::string&) override {}
+    void finished(const std::string&, double) override {}
+    void message(const std::string&, const std::string& level, const std::string& text) override {
+        if (g_.quiet) return;
+        if (level == "warning") print_warning(text);
+        else if (g_.verbose) std::cerr << "conceptmesh: " << text << "\n";
     }
-    return views;
+
+private:
+    const GlobalOptions& g_;
+};
+
+// The views as views.load loads them in a pipeline, run through the registry.
+std::shared_ptr<const Views> load_for_tool(const std::string& manifest, const GlobalOptions& g) {
+    ToolMessages messages(g);
+    StageRunOptions opt;
+    opt.sink = &messages;
+    opt.node = "views";
+    StageRun run = run_stage(Registry::global(), "views.load", text_params({{"manifest", manifest}}), Inputs{}, opt);
+    return std::get<std::shared_ptr<const Views>>(run.output);
+}
+
+Inputs mesh_and_views(Mesh mesh, std::shared_ptr<const Views> views) {
+    Inputs in;
+    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(std::move(mesh))));
+    in.set("views", std::move(views));
+    return in;
 }
 
 // Views of the mesh itself, framed as render-views frames them: art drawings as the
@@ -321,23 +343,33 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
             action = [&g, o]() -> int {
                 const Orientation orient = parse_orientation(o->up, o->front);
                 Mesh mesh = load_oriented(o->mesh, orient);
-                const Views views = load_for_tool(o->manifest, g);
-                fit_mesh(mesh, views, o->fit);
-                const SilhouetteError e = silhouette_error(mesh, views);
+                const auto views = load_for_tool(o->manifest, g);
+                fit_mesh(mesh, *views, o->fit);
+                const StageRun run = run_stage(Registry::global(), "eval.silhouette_error", {},
+                                               mesh_and_views(std::move(mesh), views));
+                const json report = json::parse(std::get<std::shared_ptr<const Report>>(run.output)->json);
                 if (o->json) {
                     json j;
-                    j["xor_pct"] = e.xor_pct;
-                    j["mean_iou"] = e.mean_iou;
+                    j["xor_pct"] = report["xor_pct"];
+                    j["mean_iou"] = report["mean_iou"];
                     j["fit"] = o->fit;
                     j["mesh"] = o->mesh;
                     j["views_manifest"] = o->manifest;
-                    j["views"] = json::array();
-                    for (const auto& v : e.views)
-                        j["views"].push_back({{"view", v.view}, {"xor_pct", v.xor_pct}, {"iou", v.iou}, {"input_px", v.input_px},
-                                              {"render_px", v.render_px}, {"xor_px", v.xor_px}});
+                    j["views"] = report["views"];
                     std::cout << j.dump(2) << "\n";
                     return 0;
                 }
+                struct Row {
+                    std::string view;
+                    double input_px, render_px, xor_px, xor_pct, iou;
+                };
+                std::vector<Row> rows;
+                for (const auto& v : report["views"])
+                    rows.push_back({v["view"], v["input_px"], v["render_px"], v["xor_px"], v["xor_pct"], v["iou"]});
+                struct {
+                    std::vector<Row> views;
+                    double xor_pct, mean_iou;
+                } e{rows, report["xor_pct"], report["mean_iou"]};
                 std::cout << std::left << std::setw(14) << "view" << std::right << std::setw(12) << "input px" << std::setw(12)
                           << "mesh px" << std::setw(10) << "xor px" << std::setw(10) << "xor %" << std::setw(9) << "IoU" << "\n";
                 for (const auto& v : e.views)
@@ -377,23 +409,24 @@ void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& ac
             action = [&g, o]() -> int {
                 const Orientation orient = parse_orientation(o->up, o->front);
                 Mesh mesh = load_oriented(o->mesh, orient);
-                Views views;
+                std::shared_ptr<const Views> views;
                 if (o->manifest.empty()) {
-                    views = self_views(mesh, parse_views(o->views), std::clamp(2 * o->panel, 128, 1024));
+                    views = std::make_shared<Views>(
+                        self_views(mesh, parse_views(o->views), std::clamp(2 * o->panel, 128, 1024)));
                 } else {
                     views = load_for_tool(o->manifest, g);
-                    fit_mesh(mesh, views, o->fit);
+                    fit_mesh(mesh, *views, o->fit);
                 }
-                PreviewOptions opt;
-                opt.panel = o->panel;
-                opt.title = fs::path(o->mesh).filename().string() +
-                            (o->manifest.empty() ? std::string() : " / " + fs::path(o->manifest).filename().string());
-                SilhouetteError e;
-                const Image sheet = make_preview_sheet(mesh, views, opt, e);
-                write_image_atomic(sheet, o->out);
+                const std::string title = fs::path(o->mesh).filename().string() +
+                                          (o->manifest.empty() ? std::string() : " / " + fs::path(o->manifest).filename().string());
+                const StageRun run = run_stage(
+                    Registry::global(), "eval.preview",
+                    text_params({{"path", o->out}, {"panel", std::to_string(o->panel)}, {"title", title}}),
+                    mesh_and_views(std::move(mesh), views));
                 if (!g.quiet)
-                    std::cerr << "conceptmesh: wrote " << o->out << " (xor " << std::fixed << std::setprecision(3) << e.xor_pct
-                              << "%, mean IoU " << std::setprecision(4) << e.mean_iou << ")\n";
+                    std::cerr << "conceptmesh: wrote " << o->out << " (xor " << std::fixed << std::setprecision(3)
+                              << json::parse(run.metrics_json.at("xor_pct")).get<double>() << "%, mean IoU "
+                              << std::setprecision(4) << json::parse(run.metrics_json.at("mean_iou")).get<double>() << ")\n";
                 return 0;
             };
         });

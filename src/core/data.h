@@ -17,6 +17,11 @@ struct FileOutput {
     std::vector<std::filesystem::path> paths;
 };
 
+/// A temporary name beside `final_path`, unique in this process and across processes
+/// ("<final>.part-<pid>-<n><ext>": the extension stays, so writers that pick a format
+/// from it still work). Files are written there and renamed when the run succeeds.
+std::filesystem::path temporary_path(const std::filesystem::path& final_path);
+
 /// A stage's findings (e.g. silhouette error), as JSON text merged into the run report.
 struct Report {
     std::string json;   ///< a JSON object

@@ -6,6 +6,28 @@
 
 namespace cm {
 
+const char* to_string(DataKind k) {
+    switch (k) {
+    case DataKind::Views: return "views";
+    case DataKind::Volume: return "volume";
+    case DataKind::Mesh: return "mesh";
+    case DataKind::File: return "file";
+    case DataKind::Report: return "report";
+    }
+    return "?";
+}
+
+DataKind kind_of(const Data& d) {
+    switch (d.index()) {
+    case 1: return DataKind::Views;
+    case 2: return DataKind::Volume;
+    case 3: return DataKind::Mesh;
+    case 4: return DataKind::File;
+    case 5: return DataKind::Report;
+    default: throw Error("a stage returned no data");
+    }
+}
+
 Context::Context(std::string node, std::string stage, Hooks hooks)
     : node_(std::move(node)), stage_(std::move(stage)), hooks_(std::move(hooks)), interrupter_(node_, hooks_.sink) {}
 
@@ -36,10 +58,15 @@ void Context::metric_json(const std::string& key, const std::string& json_text) 
     metrics_[key] = json_text;
 }
 
-std::filesystem::path Context::output_file(const std::filesystem::path& final_path) {
+std::filesystem::path temporary_path(const std::filesystem::path& final_path) {
     static std::atomic<unsigned> counter{0};
     auto tmp = final_path;
     tmp += ".part-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + final_path.extension().string();
+    return tmp;
+}
+
+std::filesystem::path Context::output_file(const std::filesystem::path& final_path) {
+    const auto tmp = temporary_path(final_path);
     if (hooks_.stage_file) hooks_.stage_file(tmp, final_path);
     return tmp;
 }

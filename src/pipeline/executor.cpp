@@ -11,6 +11,7 @@
 #include <tbb/task_group.h>
 #include <unistd.h>
 
+#include "io/file_commit.h"
 #include "pipeline/pipeline.h"
 
 namespace fs = std::filesystem;
@@ -121,8 +122,8 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
 
     std::vector<Data> outputs(n);
     std::vector<NodeRecord> records(n);
-    std::mutex files_mutex, error_mutex;
-    std::vector<std::pair<fs::path, fs::path>> staged;   // tmp -> final
+    std::mutex error_mutex;
+    FileCommit files;
     std::atomic<bool> failed{false};
     std::string first_error;
     bool cancelled = false;
@@ -137,10 +138,7 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
         Context::Hooks hooks;
         hooks.sink = opt.sink;
         hooks.side_output_dir = opt.side_output_dir;
-        hooks.stage_file = [&](const fs::path& tmp, const fs::path& fin) {
-            std::lock_guard<std::mutex> lock(files_mutex);
-            staged.emplace_back(tmp, fin);
-        };
+        hooks.stage_file = [&files](const fs::path& tmp, const fs::path& fin) { files.add(tmp, fin); };
         Context ctx(node.id, node.stage, hooks);
         Inputs in;
         for (const auto& [port, src] : node.inputs) in.set(port, outputs[index[src]]);
@@ -191,23 +189,12 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
     group.wait();
 
     if (failed) {
-        for (const auto& [tmp, fin] : staged) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-        }
+        files.discard();
         if (cancelled) throw Cancelled();
         throw Error(first_error);
     }
     RunResult result;
-    for (const auto& [tmp, fin] : staged) {
-        std::error_code ec;
-        fs::rename(tmp, fin, ec);
-        if (ec) {
-            for (const auto& [t2, f2] : staged) fs::remove(t2, ec);
-            throw Error("could not move the finished file to \"" + fin.string() + "\": " + ec.message());
-        }
-        result.outputs.push_back(fin);
-    }
+    result.outputs = files.commit();
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
     result.peak_rss_bytes = peak_rss();
     for (std::size_t i : p.order) result.nodes.push_back(records[i]);

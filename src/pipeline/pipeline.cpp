@@ -187,13 +187,11 @@ Pipeline Pipeline::parse(const std::string& text, const fs::path& file) {
         }
         if (n["params"]) {
             for (auto it = n["params"].begin(); it != n["params"].end(); ++it) {
-                const std::string key = it->first.Scalar();
-                node.param_lines[key] = line_of(it->second);
-                node.param_is_yaml[key] = true;
-                const YAML::Node v = it->second;   // a copy: it->second lives in a temporary
-                node.yaml_kind[key] = v.IsScalar() ? (v.Tag() == "!" ? "quoted" : "scalar")
-                                      : v.IsSequence() ? "list" : v.IsMap() ? "mapping" : "null value";
-                node.raw_params[key] = v.IsScalar() ? v.Scalar() : YAML::Dump(v);
+                RawParam raw;
+                raw.node = it->second;   // a copy: it->second lives in a temporary
+                raw.line = line_of(raw.node);
+                if (raw.node.IsScalar()) raw.text = raw.node.Scalar();
+                node.raw_params[it->first.Scalar()] = raw;
             }
         }
         p.nodes.push_back(std::move(node));
@@ -214,14 +212,54 @@ void Pipeline::apply_override(const std::string& assignment) {
                       value = assignment.substr(eq + 1);
     for (auto& n : nodes) {
         if (n.id != id) continue;
-        n.raw_params[param] = value;
-        n.param_is_yaml[param] = false;
-        n.param_lines[param] = 0;
+        RawParam raw;
+        raw.text = value;
+        n.raw_params[param] = raw;
         return;
     }
     std::string known;
     for (auto& n : nodes) known += (known.empty() ? "" : ", ") + n.id;
     throw Error("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known + ")");
+}
+
+ParamValue param_value(const ParamSpec& spec, const RawParam& raw) {
+    if (raw.from_set()) return parse_param_text(spec, raw.text);
+    const YAML::Node& n = raw.node;
+    const std::string kind = n.IsScalar() ? (n.Tag() == "!" ? "quoted" : "scalar")
+                             : n.IsSequence() ? "list" : n.IsMap() ? "mapping" : "null value";
+    return parse_param_yaml(spec, n.IsScalar() ? n.Scalar() : std::string(), kind);
+}
+
+ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawParam>& raw_params,
+                        const std::function<std::string(int)>& where) {
+    ParamSet ps;
+    for (const auto& [key, raw] : raw_params) {
+        const ParamSpec* spec = nullptr;
+        for (const auto& s : info.params)
+            if (s.name == key) spec = &s;
+        const std::string src = raw.from_set() ? " (from --set)" : "";
+        if (!spec) {
+            std::string known;
+            for (const auto& s : info.params) known += (known.empty() ? "" : ", ") + s.name;
+            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src +
+                        " (parameters: " + (known.empty() ? "none" : known) + ")");
+        }
+        ParamValue v;
+        try {
+            v = param_value(*spec, raw);
+        } catch (const Error& e) {
+            throw Error(where(raw.line) + e.what() + src);
+        }
+        if (auto why = check_param(*spec, v); !why.empty()) throw Error(where(raw.line) + why + src);
+        ps.set(key, v);
+        ps.mark_explicit(key);
+    }
+    for (const auto& s : info.params) {
+        if (ps.has(s.name)) continue;
+        if (s.default_value) ps.set(s.name, *s.default_value);
+        else if (!s.is_optional) throw Error(where(0) + "parameter \"" + s.name + "\" is required: " + s.doc);
+    }
+    return ps;
 }
 
 void Pipeline::validate(const Registry& registry) {
@@ -243,34 +281,7 @@ void Pipeline::validate(const Registry& registry) {
             throw Error(where(n) + e.what());
         }
         n.info = stage->info();
-        ParamSet ps;
-        for (const auto& [key, raw] : n.raw_params) {
-            const ParamSpec* spec = nullptr;
-            for (const auto& s : n.info.params)
-                if (s.name == key) spec = &s;
-            const std::string src = n.param_lines[key] ? "" : " (from --set)";
-            if (!spec) {
-                std::string known;
-                for (const auto& s : n.info.params) known += (known.empty() ? "" : ", ") + s.name;
-                throw Error(where(n, n.param_lines[key]) + "unknown parameter \"" + key + "\"" + src +
-                            " (parameters: " + (known.empty() ? "none" : known) + ")");
-            }
-            ParamValue v;
-            try {
-                v = n.param_is_yaml[key] ? parse_param_yaml(*spec, raw, n.yaml_kind[key]) : parse_param_text(*spec, raw);
-            } catch (const Error& e) {
-                throw Error(where(n, n.param_lines[key]) + e.what() + src);
-            }
-            if (auto why = check_param(*spec, v); !why.empty()) throw Error(where(n, n.param_lines[key]) + why + src);
-            ps.set(key, v);
-            ps.mark_explicit(key);
-        }
-        for (const auto& s : n.info.params) {
-            if (ps.has(s.name)) continue;
-            if (s.default_value) ps.set(s.name, *s.default_value);
-            else if (!s.is_optional) throw Error(where(n) + "parameter \"" + s.name + "\" is required: " + s.doc);
-        }
-        n.params = std::move(ps);
+        n.params = resolve_params(n.info, n.raw_params, [&](int line) { return where(n, line); });
 
         // Ports: every connection names a declared port, a known node and the right kind.
         for (const auto& [port, src] : n.inputs) {

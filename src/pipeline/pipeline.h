@@ -2,10 +2,13 @@
 // then executed in dependency order with TBB.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "core/params.h"
 #include "core/stage.h"
@@ -13,16 +16,34 @@
 
 namespace cm {
 
+/// One parameter value as the user gave it, before it meets its declaration: the YAML
+/// node itself (typed: plain or quoted scalar, list, mapping, null) with its source line,
+/// or the text of a --set override (no node, line 0).
+struct RawParam {
+    YAML::Node node{YAML::NodeType::Undefined};
+    std::string text;   ///< --set: the value; YAML: the scalar as written, for messages
+    int line = 0;       ///< 1-based line in the pipeline file; 0 for --set
+    bool from_set() const { return !node.IsDefined(); }
+};
+
+/// Converts a raw value to the declared type: a YAML node by its own kind (a quoted
+/// scalar is never a number, a list is never a scalar), --set text by parse_param_text().
+/// Throws cm::Error "<name> must be ..., got ...".
+ParamValue param_value(const ParamSpec& spec, const RawParam& raw);
+
+/// Checks every raw value against the declaration (unknown names, types, ranges,
+/// choices), fills in the defaults and reports missing required ones. Messages start
+/// with `where(line)` (line 0: the node's own line) and name --set values as such.
+ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawParam>& raw,
+                        const std::function<std::string(int line)>& where);
+
 struct PipelineNode {
     std::string id;
     std::string stage;
     int line = 0;                                    ///< 1-based line of the node in the file
     std::map<std::string, std::string> inputs;       ///< port -> node id
     std::map<std::string, int> input_lines;
-    std::map<std::string, std::string> raw_params;   ///< as written (YAML scalars as text)
-    std::map<std::string, int> param_lines;
-    std::map<std::string, bool> param_is_yaml;       ///< from the file (typed YAML) vs --set
-    std::map<std::string, std::string> yaml_kind;    ///< file-given values: scalar, quoted, list, mapping, null value
+    std::map<std::string, RawParam> raw_params;      ///< as given, by parameter name
     ParamSet params;                                 ///< filled by validate()
     StageInfo info;                                  ///< filled by validate()
 };

@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 #include "support/test_support.h"
 
 using namespace cm;

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mesh.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 #include "support/test_support.h"
 
 using namespace cm;

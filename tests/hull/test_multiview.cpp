@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "carve.h"
-#include "core/raster.h"
+#include "render/raster.h"
 #include "core/stage.h"
 #include "marching_cubes.h"
 #include "multiview.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "carve.h"
-#include "core/silhouette_field.h"
+#include "geometry/silhouette_field.h"
 #include "hull_shapes.h"
 #include "refine.h"
 

@@ -4,9 +4,9 @@
 #include <map>
 
 #include "core/mesh.h"
-#include "core/mesh_decimate.h"
-#include "core/mesh_intersect.h"
-#include "core/mesh_io.h"
+#include "mesh_decimate.h"
+#include "geometry/mesh_intersect.h"
+#include "io/mesh_io.h"
 #include "mesh_shapes.h"
 #include "support/test_support.h"
 

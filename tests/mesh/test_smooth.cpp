@@ -3,9 +3,9 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/hull_distance.h"
-#include "core/mesh_adjacency.h"
-#include "core/mesh_smooth.h"
+#include "geometry/hull_distance.h"
+#include "geometry/mesh_adjacency.h"
+#include "mesh_smooth.h"
 #include "mesh_shapes.h"
 #include "support/test_support.h"
 

@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
-#include "core/mesh_intersect.h"
-#include "core/mesh_smooth.h"
+#include "geometry/mesh_intersect.h"
+#include "mesh_smooth.h"
 #include "core/volume.h"
 #include "marching_cubes.h"
 #include "mesh_shapes.h"

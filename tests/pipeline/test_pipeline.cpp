@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "core/mesh_io.h"
+#include "io/mesh_io.h"
 #include "fixtures/testkit_stages.h"
 #include "pipeline/pipeline.h"
 #include "support/test_support.h"

@@ -120,7 +120,7 @@ TEST(Loader, DefaultSearchPathFindsTheBuiltPluginsAndHonoursTheEnvironment) {
     const auto dirs = Registry::default_dirs();
     ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
     ASSERT_EQ(dirs.size(), 2u);
-    EXPECT_TRUE(fs::exists(dirs[0] / "libcm_mesh_write.so")) << dirs[0];
+    EXPECT_TRUE(fs::exists(dirs[0] / "libcm_write.so")) << dirs[0];
     EXPECT_EQ(dirs[1], kRoot / "good");
     Registry r;
     r.load_directories(dirs);

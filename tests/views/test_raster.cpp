@@ -3,7 +3,7 @@
 #include <numeric>
 
 #include "core/error.h"
-#include "core/raster.h"
+#include "render/raster.h"
 #include "support/test_support.h"
 
 using namespace cm;

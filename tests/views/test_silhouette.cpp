@@ -8,7 +8,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "core/error.h"
-#include "core/image_io.h"
+#include "io/image_io.h"
 #include "silhouette.h"
 #include "support/test_support.h"
 

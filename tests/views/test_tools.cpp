@@ -6,12 +6,12 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "core/image_io.h"
-#include "core/mesh_io.h"
-#include "core/raster.h"
+#include "io/image_io.h"
+#include "io/mesh_io.h"
+#include "render/raster.h"
 #include "core/stage.h"
 #include "load.h"
-#include "manifest.h"
+#include "io/manifest.h"
 #include "preview_sheet.h"
 #include "support/test_support.h"
 

@@ -5,11 +5,11 @@
 
 #include "align.h"
 #include "core/error.h"
-#include "core/image_io.h"
-#include "core/raster.h"
+#include "io/image_io.h"
+#include "render/raster.h"
 #include "core/stage.h"
 #include "load.h"
-#include "manifest.h"
+#include "io/manifest.h"
 #include "support/test_support.h"
 
 using namespace cm;

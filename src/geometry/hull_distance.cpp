@@ -1,0 +1,151 @@
+#include "geometry/hull_distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+
+namespace cm {
+
+namespace {
+
+constexpr float kFar = 1e20f;
+
+// 1D squared distance transform of f (Felzenszwalb and Huttenlocher 2012) into d.
+void edt_1d(const float* f, float* d, int n, int* v, float* z) {
+    int k = 0;
+    v[0] = 0;
+    z[0] = -std::numeric_limits<float>::infinity();
+    z[1] = std::numeric_limits<float>::infinity();
+    auto meet = [&](int q, int p) {
+        return ((f[q] + float(q) * float(q)) - (f[p] + float(p) * float(p))) / (2.0f * float(q - p));
+    };
+    for (int q = 1; q < n; ++q) {
+        float s = meet(q, v[k]);
+        while (s <= z[k]) {
+            --k;
+            s = meet(q, v[k]);
+        }
+        ++k;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1] = std::numeric_limits<float>::infinity();
+    }
+    k = 0;
+    for (int q = 0; q < n; ++q) {
+        while (z[k + 1] < float(q)) ++k;
+        const float dq = float(q - v[k]);
+        d[q] = dq * dq + f[v[k]];
+    }
+}
+
+// Squared distance from every pixel centre to the nearest pixel where seed is true.
+std::vector<float> squared_edt(const std::vector<char>& seed, int w, int h) {
+    std::vector<float> g(std::size_t(w) * h);
+    for (std::size_t i = 0; i < g.size(); ++i) g[i] = seed[i] ? 0.0f : kFar;
+    // Columns, then rows.
+    tbb::parallel_for(tbb::blocked_range<int>(0, w, 16), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> f(h), d(h), z(h + 1);
+        std::vector<int> v(h);
+        for (int x = r.begin(); x != r.end(); ++x) {
+            for (int y = 0; y < h; ++y) f[y] = g[std::size_t(y) * w + x];
+            edt_1d(f.data(), d.data(), h, v.data(), z.data());
+            for (int y = 0; y < h; ++y) g[std::size_t(y) * w + x] = d[y];
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> f(w), z(w + 1);
+        std::vector<int> v(w);
+        for (int y = r.begin(); y != r.end(); ++y) {
+            float* row = g.data() + std::size_t(y) * w;
+            std::copy(row, row + w, f.begin());
+            edt_1d(f.data(), row, w, v.data(), z.data());
+        }
+    });
+    return g;
+}
+
+} // namespace
+
+SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, const std::string& view_name) {
+    if (w <= 0 || h <= 0 || coverage.size() != std::size_t(w) * h)
+        throw Error("view \"" + view_name + "\": the silhouette does not match the image size");
+    std::vector<char> inside(coverage.size()), outside(coverage.size());
+    std::size_t n_in = 0;
+    for (std::size_t i = 0; i < coverage.size(); ++i) {
+        inside[i] = coverage[i] >= 0.5f;
+        outside[i] = !inside[i];
+        n_in += inside[i];
+    }
+    if (n_in == 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
+    const auto to_in = squared_edt(inside, w, h);
+    const std::vector<float> to_out = n_in == coverage.size() ? std::vector<float>(coverage.size(), kFar)
+                                                               : squared_edt(outside, w, h);
+    SilhouetteSdf s;
+    s.width = w;
+    s.height = h;
+    s.sdf.resize(coverage.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coverage.size(), 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            // The binary border lies half-way between an inside and an outside pixel centre.
+            float d = inside[i] ? -(std::sqrt(to_out[i]) - 0.5f) : (std::sqrt(to_in[i]) - 0.5f);
+            const float c = coverage[i];
+            if (c > 0.0f && c < 1.0f && std::fabs(d) <= 0.5f) d = 0.5f - c;
+            s.sdf[i] = d;
+        }
+    });
+    return s;
+}
+
+double SilhouetteSdf::sample(double x, double y) const {
+    // Pixel-centre lattice coordinates.
+    double fx = x - 0.5, fy = y - 0.5;
+    const double cx = std::clamp(fx, 0.0, double(width - 1));
+    const double cy = std::clamp(fy, 0.0, double(height - 1));
+    const double beyond = std::hypot(fx - cx, fy - cy);
+    const int x0 = std::min(int(cx), width - 1), y0 = std::min(int(cy), height - 1);
+    const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+    const double tx = cx - x0, ty = cy - y0;
+    auto at = [&](int i, int j) { return double(sdf[std::size_t(j) * width + i]); };
+    const double v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+    // Beyond the image: at least as far as the border sample plus the way out.
+    return beyond > 0 ? std::max(v, 0.0) + beyond : v;
+}
+
+HullDistance::HullDistance(const Views& views) {
+    if (views.views.empty()) throw Error("the hull constraint needs at least one view");
+    finest_pixel_ = views.finest_pixel();
+    for (const auto& v : views.views)
+        views_.push_back({v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)});
+}
+
+double HullDistance::operator()(const Vec3d& p) const {
+    double best = -std::numeric_limits<double>::infinity();
+    for (const auto& e : views_) {
+        const Vec2d q = e.camera.project(p);
+        const double px = e.sdf.sample(q.x, q.y);
+        double pixel_size;   // world units per pixel at p
+        if (e.camera.orthographic()) {
+            pixel_size = 1.0 / e.camera.scale;
+        } else {
+            // Local scale of the projection, from finite differences along the axes.
+            const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
+            double s = 0;
+            for (int a = 0; a < 3; ++a) {
+                Vec3d o = p;
+                o[a] += h;
+                const Vec2d qa = e.camera.project(o);
+                s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
+            }
+            pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
+        }
+        best = std::max(best, px * pixel_size);
+    }
+    return best;
+}
+
+} // namespace cm

@@ -1,0 +1,270 @@
+#include "io/manifest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <fstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/camera.h"
+#include "core/error.h"
+
+namespace fs = std::filesystem;
+
+namespace cm {
+
+namespace {
+
+std::string at(const fs::path& f, const YAML::Node& n) {
+    return f.string() + (n.Mark().line >= 0 ? ":" + std::to_string(n.Mark().line + 1) : "");
+}
+
+double number(const fs::path& f, const YAML::Node& n, const std::string& what) {
+    try {
+        return n.as<double>();
+    } catch (const YAML::Exception&) {
+        throw Error(at(f, n) + ": " + what + " must be a number, got \"" + (n.IsScalar() ? n.Scalar() : "?") + "\"");
+    }
+}
+
+std::string scalar(const fs::path& f, const YAML::Node& n, const std::string& view, const std::string& key) {
+    if (!n.IsScalar()) throw Error(at(f, n) + ": view \"" + view + "\": " + key + " must be a single value");
+    return n.Scalar();
+}
+
+// N numbers, flat or as rows.
+template <std::size_t N>
+std::array<double, N> numbers(const fs::path& f, const YAML::Node& val, const std::string& what,
+                              const std::string& entry = "a matrix entry") {
+    std::vector<double> flat;
+    if (val.IsSequence())
+        for (const auto& row : val) {
+            if (row.IsSequence())
+                for (const auto& x : row) flat.push_back(number(f, x, entry));
+            else
+                flat.push_back(number(f, row, entry));
+        }
+    if (flat.size() != N) throw Error(what + ", got " + std::to_string(flat.size()) + " numbers");
+    std::array<double, N> a{};
+    std::copy(flat.begin(), flat.end(), a.begin());
+    return a;
+}
+
+// A text file holding the 12 numbers of a 3x4 projection, row by row; words (such as
+// the "CONTOUR" header of some calibration files) are skipped.
+std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& where) {
+    std::ifstream in(mf);
+    if (!in) throw Error(where + "cannot read matrix_file \"" + mf.string() + "\"");
+    std::vector<double> v;
+    std::string tok;
+    while (in >> tok) {
+        char* end = nullptr;
+        const double x = std::strtod(tok.c_str(), &end);
+        if (end && *end == '\0' && end != tok.c_str()) v.push_back(x);
+    }
+    if (v.size() != 12)
+        throw Error(where + "matrix_file \"" + mf.string() + "\" must hold 12 numbers (a 3x4 projection, row by row), found " +
+                    std::to_string(v.size()));
+    std::array<double, 12> P{};
+    std::copy(v.begin(), v.end(), P.begin());
+    return P;
+}
+
+} // namespace
+
+bool Manifest::fixed_cameras() const {
+    return std::any_of(views.begin(), views.end(), [](const ManifestView& v) { return v.scale.has_value(); });
+}
+
+bool parse_background_colour(const std::string& s, std::array<double, 3>& c) {
+    if (s == "white") { c = {1, 1, 1}; return true; }
+    if (s == "black") { c = {0, 0, 0}; return true; }
+    if (s == "grey" || s == "gray") { c = {0.5, 0.5, 0.5}; return true; }
+    auto hex = [](char ch) { return std::isxdigit(static_cast<unsigned char>(ch)) != 0; };
+    if (s.size() == 7 && s[0] == '#' && std::all_of(s.begin() + 1, s.end(), hex)) {
+        for (int k = 0; k < 3; ++k) c[k] = double(std::stoi(s.substr(1 + 2 * k, 2), nullptr, 16)) / 255.0;
+        return true;
+    }
+    std::stringstream ss(s);
+    char c1 = 0, c2 = 0;
+    if (ss >> c[0] >> c1 >> c[1] >> c2 >> c[2] && c1 == ',' && c2 == ',' && (ss >> std::ws).eof()) {
+        for (auto& x : c) {
+            if (x < 0 || x > 255) return false;
+            x /= 255.0;
+        }
+        return true;
+    }
+    return false;
+}
+
+void check_background_option(const std::string& background) {
+    std::array<double, 3> c{};
+    if (background == "auto" || background == "alpha" || parse_background_colour(background, c)) return;
+    throw Error("background \"" + background +
+                "\" is not auto, alpha, white, black, grey, \"#rrggbb\" or \"r,g,b\" (0-255)");
+}
+
+Manifest read_manifest(const fs::path& file) {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw Error("cannot read views manifest \"" + file.string() + "\": no such file");
+    YAML::Node doc;
+    try {
+        doc = YAML::LoadFile(file.string());
+    } catch (const YAML::ParserException& e) {
+        throw Error(file.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+    } catch (const YAML::Exception& e) {
+        throw Error("cannot read views manifest \"" + file.string() + "\": " + e.msg);
+    }
+    if (!doc.IsMap() || !doc["views"] || !doc["views"].IsMap() || doc["views"].size() == 0)
+        throw Error(file.string() + ": a views manifest needs a \"views\" mapping, e.g. views: {front: front.png, right: right.png}");
+    Manifest m;
+    m.file = file;
+    const fs::path base = file.parent_path();
+    for (auto it = doc.begin(); it != doc.end(); ++it) {
+        const std::string k = it->first.Scalar();
+        if (k == "views") continue;
+        if (k == "height") m.height = number(file, it->second, "height");
+        else if (k == "width") m.width = number(file, it->second, "width");
+        else if (k == "depth") m.depth = number(file, it->second, "depth");
+        else if (k == "bounds") {
+            if (!it->second.IsSequence() || it->second.size() != 6)
+                throw Error(at(file, it->second) + ": bounds must be a list of 6 numbers: [xmin, ymin, zmin, xmax, ymax, zmax]");
+            std::array<double, 6> b{};
+            for (int i = 0; i < 6; ++i) b[std::size_t(i)] = number(file, it->second[i], "bounds");
+            for (std::size_t k = 0; k < 3; ++k)
+                if (!std::isfinite(b[k]) || !std::isfinite(b[k + 3]) || b[k] > b[k + 3])
+                    throw Error(at(file, it->second) + ": bounds: " + "xyz"[k] + "min must not exceed " + "xyz"[k] +
+                                "max ([xmin, ymin, zmin, xmax, ymax, zmax])");
+            m.bounds = b;
+        } else
+            throw Error(at(file, it->first) + ": unknown manifest key \"" + k + "\" (known: views, height, width, depth, bounds)");
+    }
+    for (const char* k : {"height", "width", "depth"}) {
+        auto& v = std::string(k) == "height" ? m.height : std::string(k) == "width" ? m.width : m.depth;
+        if (v && !(*v > 0)) throw Error(at(file, doc[k]) + ": " + k + " must be positive");
+    }
+    for (auto it = doc["views"].begin(); it != doc["views"].end(); ++it) {
+        ManifestView v;
+        v.key = it->first.Scalar();
+        v.line = it->first.Mark().line + 1;
+        const YAML::Node n = it->second;   // a copy: it->second lives in a temporary
+        if (n.IsScalar()) {
+            v.image = n.Scalar();
+        } else if (n.IsMap()) {
+            std::optional<std::array<double, 9>> K, R;
+            std::optional<std::array<double, 3>> tvec;
+            int matrix_sources = 0;
+            for (auto f = n.begin(); f != n.end(); ++f) {
+                const std::string k = f->first.Scalar();
+                const YAML::Node val = f->second;   // a copy: f->second lives in a temporary
+                const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
+                if (k == "image") v.image = scalar(file, val, v.key, k);
+                else if (k == "view") v.view = scalar(file, val, v.key, k);
+                else if (k == "azimuth") v.azimuth = number(file, val, "azimuth");
+                else if (k == "elevation") v.elevation = number(file, val, "elevation");
+                else if (k == "background") {
+                    v.background = scalar(file, val, v.key, k);
+                    try {
+                        check_background_option(v.background);
+                    } catch (const Error& e) {
+                        throw Error(where + e.what());
+                    }
+                } else if (k == "threshold") {
+                    v.threshold = number(file, val, "threshold");
+                    if (*v.threshold <= 0 || *v.threshold >= 1) throw Error(where + "threshold must be in (0, 1)");
+                } else if (k == "keep") v.keep = scalar(file, val, v.key, k);
+                else if (k == "holes") v.holes = scalar(file, val, v.key, k);
+                else if (k == "matrix") {
+                    v.matrix = numbers<12>(file, val, where + "matrix must be 3 rows of 4 numbers (a 3x4 projection)");
+                    ++matrix_sources;
+                } else if (k == "matrix_file") {
+                    fs::path mf = scalar(file, val, v.key, k);
+                    if (mf.is_relative()) mf = base / mf;
+                    v.matrix = read_matrix_file(mf, where);
+                    ++matrix_sources;
+                } else if (k == "scale") {
+                    v.scale = number(file, val, "view \"" + v.key + "\": scale");
+                    if (!(*v.scale > 0) || !std::isfinite(*v.scale))
+                        throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
+                } else if (k == "origin") {
+                    v.origin = numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
+                                          "view \"" + v.key + "\": an origin coordinate");
+                    if (!std::isfinite((*v.origin)[0]) || !std::isfinite((*v.origin)[1]))
+                        throw Error(where + "origin must be finite");
+                } else if (k == "K") K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
+                else if (k == "R") R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
+                else if (k == "t") tvec = numbers<3>(file, val, where + "t must be 3 numbers");
+                else
+                    throw Error(at(file, f->first) + ": view \"" + v.key + "\": unknown key \"" + k +
+                                "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
+                                "background, threshold, keep, holes)");
+            }
+            if (K || R || tvec) {
+                if (!(K && R && tvec)) throw Error(at(file, n) + ": view \"" + v.key + "\": K, R and t go together (P = K [R | t])");
+                std::array<double, 12> P{};
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 4; ++c) {
+                        double x = 0;
+                        for (int k = 0; k < 3; ++k) x += (*K)[r * 3 + k] * (c < 3 ? (*R)[k * 3 + c] : (*tvec)[k]);
+                        P[r * 4 + c] = x;
+                    }
+                v.matrix = P;
+                ++matrix_sources;
+            }
+            if (matrix_sources > 1)
+                throw Error(at(file, n) + ": view \"" + v.key + "\": give the camera once: matrix, matrix_file, or K/R/t");
+            if (v.matrix && (v.view || v.azimuth || v.elevation))
+                throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
+            if (v.view && (v.azimuth || v.elevation))
+                throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
+            if (v.matrix && (v.scale || v.origin))
+                throw Error(at(file, n) + ": view \"" + v.key +
+                            "\": scale and origin fix an orthographic camera; a calibrated view (matrix) takes neither");
+            if (v.scale.has_value() != v.origin.has_value())
+                throw Error(at(file, n) + ": view \"" + v.key + "\": scale and origin go together (together they fix the "
+                            "camera): give both or neither");
+        } else {
+            throw Error(at(file, n) + ": view \"" + v.key + "\" must be an image path or a mapping with \"image\"");
+        }
+        if (v.image.empty()) throw Error(at(file, n) + ": view \"" + v.key + "\" has no image");
+        if (v.image.is_relative()) v.image = base / v.image;
+        if (!v.view && !v.azimuth && !v.elevation && !v.matrix) {
+            // Short form: the key names the view.
+            if (!Camera::named(v.key))
+                throw Error(at(file, n) + ": view \"" + v.key +
+                            "\": the key is not a view name (front, back, right, left, top, bottom); give view, "
+                            "azimuth/elevation or matrix");
+            v.view = v.key;
+        }
+        if (v.view && !Camera::named(*v.view))
+            throw Error(at(file, n) + ": view \"" + v.key + "\": unknown view name \"" + *v.view +
+                        "\" (use front, back, right, left, top, bottom, or azimuth/elevation, or matrix)");
+        if (!v.view && !v.matrix) {
+            v.azimuth = v.azimuth.value_or(0.0);
+            v.elevation = v.elevation.value_or(0.0);
+            if (*v.elevation < -90 || *v.elevation > 90)
+                throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
+        }
+        if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
+            throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep + "\"");
+        if (v.holes != "auto" && v.holes != "fill" && v.holes != "keep")
+            throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
+        m.views.push_back(std::move(v));
+    }
+    // Fixed cameras set the world frame and its units: no real size on top, and the box is
+    // theirs. Without them drawn views are aligned into a frame of their own, which a box
+    // given here could not refer to.
+    const bool calibrated = std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
+    if (m.fixed_cameras())
+        for (const char* k : {"height", "width", "depth"})
+            if (doc[k])
+                throw Error(at(file, doc[k]) + ": " + k + " cannot go with fixed cameras (scale, origin): they set the units");
+    if (m.bounds && !calibrated && !m.fixed_cameras())
+        throw Error(at(file, doc["bounds"]) + ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
+                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a real size)");
+    return m;
+}
+
+} // namespace cm

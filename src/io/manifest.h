@@ -1,0 +1,48 @@
+// The views manifest (short and long forms), see docs/views.md.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cm {
+
+struct ManifestView {
+    std::string key;                       ///< manifest key ("front", "sketch_3q", ...)
+    std::filesystem::path image;           ///< resolved against the manifest's folder
+    std::optional<std::string> view;       ///< named view
+    std::optional<double> azimuth, elevation;
+    std::optional<std::array<double, 12>> matrix;   ///< from matrix, matrix_file or K/R/t
+    /// A fixed orthographic camera: pixels per world unit and the image point of the world
+    /// origin (pixel convention of the conventions). Given together or not at all; views
+    /// without them are aligned from their silhouettes.
+    std::optional<double> scale;
+    std::optional<std::array<double, 2>> origin;
+    std::string background = "auto";      ///< auto | alpha | colour (#rrggbb or "r,g,b")
+    std::optional<double> threshold;       ///< background distance threshold in [0,1]
+    std::string keep = "auto";             ///< auto | largest | all ("auto" defers to the stage's keep)
+    std::string holes = "auto";            ///< auto | fill | keep
+    int line = 0;
+};
+
+struct Manifest {
+    std::filesystem::path file;
+    std::vector<ManifestView> views;
+    std::optional<double> height, width, depth;   ///< real size of the object in output units
+    /// World box (min xyz, max xyz) that holds the object: for calibrated views, or for drawn
+    /// views with fixed cameras (scale, origin), whose world frame the manifest then sets.
+    std::optional<std::array<double, 6>> bounds;
+    bool fixed_cameras() const;   ///< true when some view gives scale and origin
+};
+
+/// A background colour as a manifest writes it: white, black, grey, "#rrggbb" or "r,g,b"
+/// (0-255); false when `s` is none of these. `rgb` is in [0, 1].
+bool parse_background_colour(const std::string& s, std::array<double, 3>& rgb);
+/// Checks a background option (auto, alpha or a colour); throws cm::Error naming the accepted forms.
+void check_background_option(const std::string& background);
+
+/// Reads a manifest; throws cm::Error naming the file and line.
+Manifest read_manifest(const std::filesystem::path& file);
+
+} // namespace cm

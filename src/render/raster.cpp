@@ -1,0 +1,311 @@
+#include "render/raster.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "core/error.h"
+
+namespace cm {
+
+namespace {
+
+// A vertex on screen: pixel coordinates and an attribute that is affine in screen
+// space and grows towards the camera (orthographic: -depth; perspective: 1/w).
+struct SV {
+    double x, y, k;
+};
+
+// Homogeneous projection of every vertex (orthographic: w = 1 and k = -depth).
+struct Projected {
+    bool perspective = false;
+    std::vector<double> x, y, w, k;
+};
+
+Projected project_vertices(const Mesh& mesh, const Camera& cam) {
+    Projected p;
+    p.perspective = !cam.orthographic();
+    const std::size_t n = mesh.positions.size();
+    p.x.resize(n);
+    p.y.resize(n);
+    p.w.resize(n);
+    p.k.resize(n);
+    // A matrix and its negation project alike; pick the sign that makes w > 0 in front.
+    std::array<double, 12> P = cam.P;
+    if (p.perspective) {
+        const double det = P[0] * (P[5] * P[10] - P[6] * P[9]) - P[1] * (P[4] * P[10] - P[6] * P[8]) +
+                           P[2] * (P[4] * P[9] - P[5] * P[8]);
+        if (det < 0)
+            for (double& v : P) v = -v;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Vec3d q(mesh.positions[i]);
+            if (!p.perspective) {
+                const Vec2d s = cam.project(q);
+                p.x[i] = s.x;
+                p.y[i] = s.y;
+                p.w[i] = 1.0;
+                p.k[i] = -dot(q, cam.d);
+            } else {
+                p.x[i] = P[0] * q.x + P[1] * q.y + P[2] * q.z + P[3];
+                p.y[i] = P[4] * q.x + P[5] * q.y + P[6] * q.z + P[7];
+                p.w[i] = P[8] * q.x + P[9] * q.y + P[10] * q.z + P[11];
+                p.k[i] = 0;
+            }
+        }
+    });
+    return p;
+}
+
+// Calls f(a, b, c) for the screen triangles of face t: one triangle, none (behind the
+// camera, or not finite), or up to two after clipping a perspective triangle at w = eps.
+template <typename F>
+void screen_triangles(const Mesh& mesh, const Projected& p, std::size_t t, F&& f) {
+    const auto& tri = mesh.triangles[t];
+    if (!p.perspective) {
+        f(SV{p.x[tri[0]], p.y[tri[0]], p.k[tri[0]]}, SV{p.x[tri[1]], p.y[tri[1]], p.k[tri[1]]},
+          SV{p.x[tri[2]], p.y[tri[2]], p.k[tri[2]]});
+        return;
+    }
+    struct H {
+        double x, y, w;
+    };
+    const H h[3] = {{p.x[tri[0]], p.y[tri[0]], p.w[tri[0]]},
+                    {p.x[tri[1]], p.y[tri[1]], p.w[tri[1]]},
+                    {p.x[tri[2]], p.y[tri[2]], p.w[tri[2]]}};
+    const double wmax = std::max({h[0].w, h[1].w, h[2].w});
+    if (!(wmax > 0)) return;
+    const double eps = 1e-7 * wmax;
+    auto to_sv = [](const H& v) { return SV{v.x / v.w, v.y / v.w, 1.0 / v.w}; };
+    if (h[0].w >= eps && h[1].w >= eps && h[2].w >= eps) {
+        f(to_sv(h[0]), to_sv(h[1]), to_sv(h[2]));
+        return;
+    }
+    // Sutherland-Hodgman against w >= eps in homogeneous space.
+    H poly[4];
+    int n = 0;
+    for (int i = 0; i < 3; ++i) {
+        const H& a = h[i];
+        const H& b = h[(i + 1) % 3];
+        const bool ain = a.w >= eps, bin = b.w >= eps;
+        if (ain) poly[n++] = a;
+        if (ain != bin) {
+            const double s = (eps - a.w) / (b.w - a.w);
+            poly[n++] = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), eps};
+        }
+    }
+    for (int i = 1; i + 1 < n; ++i) f(to_sv(poly[0]), to_sv(poly[i]), to_sv(poly[i + 1]));
+}
+
+// Edge function of the directed edge p->q at (x, y), computed from a canonical order of
+// the two ends so that edge(p, q) == -edge(q, p) exactly: a pixel centre on an edge
+// shared by two triangles is inside both (inclusive test), never inside neither.
+inline double edge(const SV& p, const SV& q, double x, double y) {
+    if (p.x < q.x || (p.x == q.x && p.y < q.y)) return (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+    return -((p.x - q.x) * (y - q.y) - (p.y - q.y) * (x - q.x));
+}
+
+// Visits the pixels whose centre lies inside triangle abc, rows [row0, row1).
+// f(index, k) with k interpolated in screen space (affine there for both camera kinds).
+template <typename F>
+void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
+    double area = edge(a, b, c.x, c.y);
+    if (!(std::abs(area) > 0)) return;   // degenerate or not finite
+    if (area < 0) {
+        std::swap(b, c);
+        area = -area;
+    }
+    const double xmin = std::min({a.x, b.x, c.x}), xmax = std::max({a.x, b.x, c.x});
+    const double ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
+    if (!std::isfinite(xmin) || !std::isfinite(xmax) || !std::isfinite(ymin) || !std::isfinite(ymax)) return;
+    const int i0 = int(std::max(0.0, std::ceil(xmin - 0.5)));
+    const int i1 = int(std::min(double(width - 1), std::floor(xmax - 0.5)));
+    const int j0 = int(std::max(double(row0), std::ceil(ymin - 0.5)));
+    const int j1 = int(std::min(double(row1 - 1), std::floor(ymax - 0.5)));
+    const double inv = 1.0 / area;
+    for (int j = j0; j <= j1; ++j) {
+        const double y = j + 0.5;
+        const std::size_t rowbase = std::size_t(j) * width;
+        for (int i = i0; i <= i1; ++i) {
+            const double x = i + 0.5;
+            const double e0 = edge(b, c, x, y);
+            if (e0 < 0) continue;
+            const double e1 = edge(c, a, x, y);
+            if (e1 < 0) continue;
+            const double e2 = edge(a, b, x, y);
+            if (e2 < 0) continue;
+            f(rowbase + i, (e0 * a.k + e1 * b.k + e2 * c.k) * inv);
+        }
+    }
+}
+
+void check_size(int width, int height) {
+    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+        throw Error("cannot render a " + std::to_string(width) + "x" + std::to_string(height) +
+                    " image: width and height must be in [1, 65536]");
+}
+
+} // namespace
+
+std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height) {
+    check_size(width, height);
+    std::vector<std::uint8_t> mask(std::size_t(width) * height, 0);
+    const Projected p = project_vertices(mesh, cam);
+    std::uint8_t* out = mask.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t t = r.begin(); t != r.end(); ++t)
+                              screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
+                                  raster_triangle(a, b, c, width, 0, height, [&](std::size_t i, double) {
+                                      // Several triangles may set one pixel at once; all write 1.
+                                      std::atomic_ref<std::uint8_t>(out[i]).store(1, std::memory_order_relaxed);
+                                  });
+                              });
+                      });
+    return mask;
+}
+
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height) {
+    check_size(width, height);
+    DepthImage img;
+    img.width = width;
+    img.height = height;
+    const std::size_t npx = std::size_t(width) * height;
+    img.depth.assign(npx, std::numeric_limits<float>::infinity());
+    img.face.assign(npx, DepthImage::kNoFace);
+    const Projected p = project_vertices(mesh, cam);
+    const std::size_t nt = mesh.triangles.size();
+
+    // Bin faces into bands of rows so each band owns its pixels (no locks).
+    constexpr int kBand = 8;
+    const int nbands = (height + kBand - 1) / kBand;
+    std::vector<std::int32_t> band_lo(nt, 0), band_hi(nt, -1);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+            double ymin = std::numeric_limits<double>::infinity(), ymax = -ymin;
+            screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
+                ymin = std::min({ymin, a.y, b.y, c.y});
+                ymax = std::max({ymax, a.y, b.y, c.y});
+            });
+            if (!(ymin <= ymax) || !std::isfinite(ymin) || !std::isfinite(ymax)) continue;
+            const double j0 = std::max(0.0, std::ceil(ymin - 0.5));
+            const double j1 = std::min(double(height - 1), std::floor(ymax - 0.5));
+            if (j0 > j1) continue;
+            band_lo[t] = std::int32_t(j0) / kBand;
+            band_hi[t] = std::int32_t(j1) / kBand;
+        }
+    });
+    std::vector<std::size_t> start(std::size_t(nbands) + 1, 0);
+    for (std::size_t t = 0; t < nt; ++t)
+        for (int b = band_lo[t]; b <= band_hi[t]; ++b) ++start[std::size_t(b) + 1];
+    for (int b = 0; b < nbands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
+    std::vector<std::uint32_t> faces(start.back());
+    {
+        std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t t = 0; t < nt; ++t)
+            for (int b = band_lo[t]; b <= band_hi[t]; ++b) faces[fill[std::size_t(b)]++] = std::uint32_t(t);
+    }
+
+    std::vector<double> nearness(npx, -std::numeric_limits<double>::infinity());
+    tbb::parallel_for(0, nbands, [&](int b) {
+        const int row0 = b * kBand, row1 = std::min(height, row0 + kBand);
+        for (std::size_t k = start[std::size_t(b)]; k < start[std::size_t(b) + 1]; ++k) {
+            const std::uint32_t t = faces[k];
+            screen_triangles(mesh, p, t, [&](const SV& a, const SV& bb, const SV& c) {
+                raster_triangle(a, bb, c, width, row0, row1, [&](std::size_t i, double near) {
+                    if (near > nearness[i] || img.face[i] == DepthImage::kNoFace) {
+                        nearness[i] = near;
+                        img.face[i] = t;
+                    }
+                });
+            });
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npx, 65536), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+            if (img.face[i] != DepthImage::kNoFace)
+                img.depth[i] = float(p.perspective ? 1.0 / nearness[i] : -nearness[i]);
+    });
+    return img;
+}
+
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views) {
+    SilhouetteError res;
+    double sum_xor = 0, sum_input = 0, sum_iou = 0;
+    for (const View& v : views.views) {
+        if (v.coverage.size() != std::size_t(v.width) * v.height || v.width <= 0 || v.height <= 0)
+            throw Error("view \"" + v.name + "\" has no silhouette to compare with");
+        const std::vector<std::uint8_t> r = render_mask(mesh, v.camera, v.width, v.height);
+        struct Counts {
+            std::size_t s = 0, r = 0, both = 0;
+        };
+        const Counts c = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, r.size(), 65536), Counts{},
+            [&](const tbb::blocked_range<std::size_t>& rg, Counts acc) {
+                for (std::size_t i = rg.begin(); i != rg.end(); ++i) {
+                    const bool s = v.coverage[i] >= 0.5f, m = r[i] != 0;
+                    acc.s += s;
+                    acc.r += m;
+                    acc.both += s && m;
+                }
+                return acc;
+            },
+            [](Counts x, const Counts& y) {
+                x.s += y.s;
+                x.r += y.r;
+                x.both += y.both;
+                return x;
+            });
+        ViewError e;
+        e.view = v.name;
+        e.input_px = double(c.s);
+        e.render_px = double(c.r);
+        e.xor_px = double(c.s + c.r - 2 * c.both);
+        const double uni = double(c.s + c.r - c.both);
+        e.iou = uni > 0 ? double(c.both) / uni : 1.0;
+        e.xor_pct = c.s > 0 ? 100.0 * e.xor_px / e.input_px : (c.r > 0 ? 100.0 : 0.0);
+        sum_xor += e.xor_px;
+        sum_input += e.input_px;
+        sum_iou += e.iou;
+        res.views.push_back(e);
+    }
+    res.xor_pct = sum_input > 0 ? 100.0 * sum_xor / sum_input : (sum_xor > 0 ? 100.0 : 0.0);
+    res.mean_iou = res.views.empty() ? 0.0 : sum_iou / double(res.views.size());
+    return res;
+}
+
+Camera resized_camera(const Camera& cam, double factor) {
+    if (!(factor > 0) || !std::isfinite(factor)) throw Error("an image can only be resized by a positive factor");
+    if (cam.orthographic()) {
+        Camera c = cam;
+        c.scale *= factor;
+        c.cx *= factor;
+        c.cy *= factor;
+        return c;
+    }
+    std::array<double, 12> P = cam.P;
+    for (int i = 0; i < 8; ++i) P[std::size_t(i)] *= factor;
+    return Camera::perspective(P);
+}
+
+Camera framed_camera(const Camera& direction, Vec3d bbox_min, Vec3d bbox_max, int width, int height) {
+    if (!direction.orthographic()) throw Error("a framed view must be orthographic");
+    check_size(width, height);
+    const Vec3d ext = bbox_max - bbox_min;
+    const double e = std::max({ext.x, ext.y, ext.z});
+    if (!(e > 0) || !std::isfinite(e)) throw Error("cannot frame an empty or degenerate bounding box");
+    Camera c = direction;
+    c.scale = 0.9 * std::min(width, height) / e;
+    const Vec3d mid = (bbox_min + bbox_max) * 0.5;
+    c.cx = 0.5 * width - c.scale * dot(mid, c.r);
+    c.cy = 0.5 * height + c.scale * dot(mid, c.u);
+    return c;
+}
+
+} // namespace cm

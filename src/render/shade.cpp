@@ -1,0 +1,181 @@
+#include "render/shade.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "render/raster.h"
+
+namespace cm {
+
+namespace {
+
+// Deterministic noise in [0, 1) per pixel (splitmix64 of the coordinates).
+double hash01(std::uint64_t x, std::uint64_t y, std::uint64_t seed) {
+    std::uint64_t z = (x * 0x9E3779B97F4A7C15ull) ^ (y * 0xC2B2AE3D27D4EB4Full) ^ (seed * 0x165667B19E3779F9ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return double(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+// Approximate Euclidean distance (chamfer 3-4, in pixels) from every pixel to the nearest
+// pixel where `seed` is set; pixels outside the image count as seeds when `outside_seeds`.
+std::vector<float> distance_to(const std::vector<char>& seed, int w, int h, bool outside_seeds) {
+    const float inf = 1e9f;
+    std::vector<float> d(seed.size());
+    for (std::size_t i = 0; i < seed.size(); ++i) d[i] = seed[i] ? 0.0f : inf;
+    const float a = 1.0f, b = 1.4142f;
+    auto at = [&](int x, int y) -> float {
+        if (x < 0 || y < 0 || x >= w || y >= h) return outside_seeds ? 0.0f : inf;
+        return d[std::size_t(y) * w + x];
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float& v = d[std::size_t(y) * w + x];
+            v = std::min({v, at(x - 1, y) + a, at(x, y - 1) + a, at(x - 1, y - 1) + b, at(x + 1, y - 1) + b});
+        }
+    for (int y = h - 1; y >= 0; --y)
+        for (int x = w - 1; x >= 0; --x) {
+            float& v = d[std::size_t(y) * w + x];
+            v = std::min({v, at(x + 1, y) + a, at(x, y + 1) + a, at(x + 1, y + 1) + b, at(x - 1, y + 1) + b});
+        }
+    return d;
+}
+
+double smoothstep(double e0, double e1, double x) {
+    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3 - 2 * t);
+}
+
+} // namespace
+
+Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt) {
+    if (width <= 0 || height <= 0) throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
+    // Samples per pixel, kept to about 12 M samples so large images stay within memory.
+    int ss = std::max(1, opt.supersample);
+    while (ss > 1 && double(width) * height * ss * ss > 12e6) --ss;
+    const int W = width * ss, H = height * ss;
+    const Camera hi = resized_camera(cam, ss);
+    Mesh mesh = mesh_in;
+    if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+    const DepthImage D = render_depth(mesh, hi, W, H);
+    const std::size_t N = std::size_t(W) * H;
+
+    std::vector<Vec3d> fnormal(mesh.triangles.size());
+    tbb::parallel_for(std::size_t(0), mesh.triangles.size(), [&](std::size_t t) {
+        const auto& f = mesh.triangles[t];
+        const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
+        fnormal[t] = normalize(cross(b - a, c - a));
+    });
+
+    // Camera frame for the light: from the upper left, in front.
+    Vec3d d = cam.d, u = cam.u, r = cam.r;
+    if (!cam.orthographic()) {
+        const Vec3d up{0, 1, 0};
+        r = normalize(cross(d, up));
+        if (length(r) < 0.5) r = {1, 0, 0};
+        u = cross(r, d);
+    }
+    const Vec3d light = normalize(d * -0.55 + u * 0.65 - r * 0.45);
+
+    // Lines: silhouette outline inside the silhouette, and creases / inner contours.
+    std::vector<char> empty(N), crease(N, 0);
+    for (std::size_t i = 0; i < N; ++i) empty[i] = D.face[i] == DepthImage::kNoFace;
+    const double cos_crease = std::cos(double(opt.crease_deg) * 3.14159265358979323846 / 180.0);
+    const double jump = cam.orthographic() ? 6.0 / hi.scale : 0.0;
+    auto depth_jump = [&](std::size_t i, std::size_t j) {
+        const double a = D.depth[i], b = D.depth[j];
+        return cam.orthographic() ? std::abs(a - b) > jump : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
+    };
+    if (opt.lines) {
+        tbb::parallel_for(0, H, [&](int y) {
+            for (int x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * W + x;
+                if (empty[i]) continue;
+                const std::size_t nb[2] = {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i};
+                for (std::size_t j : nb) {
+                    if (j == i || empty[j] || D.face[j] == D.face[i]) continue;
+                    if (dot(fnormal[D.face[i]], fnormal[D.face[j]]) < cos_crease || depth_jump(i, j)) {
+                        crease[i] = 1;   // the nearer side carries the line
+                        if (D.depth[j] < D.depth[i]) { crease[i] = 0; crease[j] = 1; }
+                    }
+                }
+            }
+        });
+    }
+    const std::vector<float> to_outside = distance_to(empty, W, H, true);
+    const std::vector<float> to_crease = opt.lines ? distance_to(crease, W, H, false) : std::vector<float>(N, 1e9f);
+
+    std::vector<float> hires(N * 3);
+    const float outline = opt.outline_px * float(ss), crease_half = 0.5f * opt.crease_px * float(ss);
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * W + x;
+            float* out = &hires[i * 3];
+            if (empty[i]) {
+                // Paper with a mild vignette.
+                const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
+                const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
+                for (int k = 0; k < 3; ++k) out[k] = float(opt.paper[std::size_t(k)] * v);
+                continue;
+            }
+            if (opt.lines && (to_outside[i] <= outline || to_crease[i] <= crease_half)) {
+                for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
+                continue;
+            }
+            // Smooth normal at the pixel centre: barycentric coordinates of the ray's hit.
+            const std::uint32_t t = D.face[i];
+            const auto& f = mesh.triangles[t];
+            const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
+            Vec3d o, dir;
+            hi.ray(x + 0.5, y + 0.5, o, dir);
+            const Vec3d e1 = b - a, e2 = c - a, pv = cross(dir, e2);
+            const double det = dot(e1, pv);
+            Vec3d n = fnormal[t];
+            if (std::abs(det) > 1e-300) {
+                const Vec3d tv = o - a;
+                const double bu = std::clamp(dot(tv, pv) / det, 0.0, 1.0);
+                const double bv = std::clamp(dot(dir, cross(tv, e1)) / det, 0.0, 1.0 - bu);
+                const Vec3d sn = Vec3d(mesh.normals[f[0]]) * (1 - bu - bv) + Vec3d(mesh.normals[f[1]]) * bu +
+                                 Vec3d(mesh.normals[f[2]]) * bv;
+                if (length(sn) > 1e-12) n = normalize(sn);
+            }
+            if (dot(n, d) > 0) n = -n;   // seen from behind (open or inconsistently wound meshes)
+            const double diffuse = std::max(0.0, dot(n, light));
+            // Two tones with a soft terminator, as a painted study would have.
+            const double tone = 0.60 + 0.32 * smoothstep(0.18, 0.38, diffuse) + 0.12 * diffuse;
+            for (int k = 0; k < 3; ++k) out[k] = float(std::min(1.0, opt.fill[std::size_t(k)] * tone));
+        }
+    });
+
+    Image img;
+    img.width = width;
+    img.height = height;
+    img.channels = 4;
+    img.pixels.assign(std::size_t(width) * height * 4, 1.0f);
+    const float inv = 1.0f / float(ss * ss);
+    tbb::parallel_for(0, height, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            float acc[3] = {0, 0, 0};
+            int covered = 0;
+            for (int sy = 0; sy < ss; ++sy)
+                for (int sx = 0; sx < ss; ++sx) {
+                    const std::size_t i = std::size_t(y * ss + sy) * W + std::size_t(x * ss + sx);
+                    for (int k = 0; k < 3; ++k) acc[k] += hires[i * 3 + k];
+                    covered += !empty[i];
+                }
+            const double g = opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
+            const double on_paper = 1.0 - 0.7 * double(covered) * inv;
+            float* out = &img.pixels[(std::size_t(y) * width + x) * 4];
+            for (int k = 0; k < 3; ++k) out[k] = std::clamp(float(acc[k] * inv + g * on_paper), 0.0f, 1.0f);
+        }
+    });
+    return img;
+}
+
+} // namespace cm

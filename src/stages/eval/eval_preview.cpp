@@ -1,0 +1,66 @@
+// eval.preview: the contact sheet of a run's mesh against its input views, written
+// beside the run's other outputs.
+#include <filesystem>
+
+#include "io/image_io.h"
+#include "core/mesh.h"
+#include "core/stage.h"
+#include "core/views.h"
+#include "preview_sheet.h"
+
+namespace fs = std::filesystem;
+
+namespace cm {
+namespace {
+
+class EvalPreview : public Stage {
+public:
+    StageInfo info() const override {
+        return {"eval.preview",
+                "Contact sheet: per view the input drawing, the mesh drawn from that view, and an overlay of the silhouettes",
+                {{"mesh", DataKind::Mesh, "the mesh to show"}, {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
+                DataKind::File,
+                {ParamSpec::Path("path", std::nullopt, "output image (.png)"),
+                 ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"),
+                 ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name")}};
+    }
+    void prepare(const ParamSet& p) override {
+        Stage::prepare(p);
+        const fs::path path = p.get_string("path");
+        std::string ext = path.extension().string();
+        for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".png") throw Error("path \"" + path.string() + "\" must end in .png");
+        // A missing folder is created when the run writes; refuse only what cannot become one.
+        for (auto dir = fs::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+            if (fs::is_directory(dir)) break;
+            if (fs::exists(dir)) throw Error("path \"" + path.string() + "\": \"" + dir.string() + "\" is not a folder");
+            if (dir == dir.parent_path()) break;
+        }
+    }
+    Data run(const Inputs& in, Context& ctx) override {
+        auto mesh = in.get<Mesh>("mesh");
+        auto views = in.get<Views>("views");
+        const fs::path path = params_.get_string("path");
+        PreviewOptions opt;
+        opt.panel = int(params_.get_int("panel"));
+        const std::string title = params_.has("title") ? params_.get_string("title") : std::string();
+        opt.title = title.empty() ? path.stem().string() : title;
+        SilhouetteError err;
+        ctx.progress(0.1, "drawing");
+        const Image sheet = make_preview_sheet(*mesh, *views, opt, err);
+        fs::create_directories(fs::absolute(path).parent_path());
+        write_image(sheet, ctx.output_file(path));
+        ctx.metric("path", path.string());
+        ctx.metric("xor_pct", err.xor_pct);
+        ctx.metric("mean_iou", err.mean_iou);
+        auto out = std::make_shared<FileOutput>();
+        out->paths.push_back(path);
+        return std::shared_ptr<const FileOutput>(out);
+    }
+};
+
+} // namespace
+
+Stage* make_eval_preview() { return new EvalPreview; }
+
+} // namespace cm

@@ -1,0 +1,11 @@
+// The eval family's plugin entry: the stages this library provides.
+#include "plugins/plugin_abi.h"
+
+namespace cm {
+Stage* make_eval_silhouette_error();
+Stage* make_eval_preview();
+}
+
+CONCEPTMESH_DEFINE_PLUGIN("eval",
+                          {"eval.silhouette_error", &cm::make_eval_silhouette_error},
+                          {"eval.preview", &cm::make_eval_preview})

@@ -1,0 +1,181 @@
+#include "preview_sheet.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "render/shade.h"
+
+namespace cm {
+
+namespace {
+
+// 5x7 glyphs, one row per byte (low 5 bits, leftmost pixel in bit 4).
+struct Glyph {
+    char c;
+    unsigned char rows[7];
+};
+constexpr Glyph kFont[] = {
+    {'A', {14, 17, 17, 31, 17, 17, 17}}, {'B', {30, 17, 17, 30, 17, 17, 30}}, {'C', {14, 17, 16, 16, 16, 17, 14}},
+    {'D', {28, 18, 17, 17, 17, 18, 28}}, {'E', {31, 16, 16, 30, 16, 16, 31}}, {'F', {31, 16, 16, 30, 16, 16, 16}},
+    {'G', {14, 17, 16, 23, 17, 17, 15}}, {'H', {17, 17, 17, 31, 17, 17, 17}}, {'I', {14, 4, 4, 4, 4, 4, 14}},
+    {'J', {7, 2, 2, 2, 2, 18, 12}},      {'K', {17, 18, 20, 24, 20, 18, 17}}, {'L', {16, 16, 16, 16, 16, 16, 31}},
+    {'M', {17, 27, 21, 21, 17, 17, 17}}, {'N', {17, 17, 25, 21, 19, 17, 17}}, {'O', {14, 17, 17, 17, 17, 17, 14}},
+    {'P', {30, 17, 17, 30, 16, 16, 16}}, {'Q', {14, 17, 17, 17, 21, 18, 13}}, {'R', {30, 17, 17, 30, 20, 18, 17}},
+    {'S', {15, 16, 16, 14, 1, 1, 30}},   {'T', {31, 4, 4, 4, 4, 4, 4}},       {'U', {17, 17, 17, 17, 17, 17, 14}},
+    {'V', {17, 17, 17, 17, 17, 10, 4}},  {'W', {17, 17, 17, 21, 21, 21, 10}}, {'X', {17, 17, 10, 4, 10, 17, 17}},
+    {'Y', {17, 17, 17, 10, 4, 4, 4}},    {'Z', {31, 1, 2, 4, 8, 16, 31}},     {'0', {14, 17, 19, 21, 25, 17, 14}},
+    {'1', {4, 12, 4, 4, 4, 4, 14}},      {'2', {14, 17, 1, 2, 4, 8, 31}},     {'3', {31, 2, 4, 2, 1, 17, 14}},
+    {'4', {2, 6, 10, 18, 31, 2, 2}},     {'5', {31, 16, 30, 1, 1, 17, 14}},   {'6', {6, 8, 16, 30, 17, 17, 14}},
+    {'7', {31, 1, 2, 4, 8, 8, 8}},       {'8', {14, 17, 17, 14, 17, 17, 14}}, {'9', {14, 17, 17, 15, 1, 2, 12}},
+    {'.', {0, 0, 0, 0, 0, 12, 12}},      {'%', {24, 25, 2, 4, 8, 19, 3}},     {'-', {0, 0, 0, 31, 0, 0, 0}},
+    {'_', {0, 0, 0, 0, 0, 0, 31}},       {':', {0, 12, 12, 0, 12, 12, 0}},    {'=', {0, 0, 31, 0, 31, 0, 0}},
+    {'/', {0, 1, 2, 4, 8, 16, 0}},       {'(', {2, 4, 8, 8, 8, 4, 2}},        {')', {8, 4, 2, 2, 2, 4, 8}},
+    {',', {0, 0, 0, 0, 12, 4, 8}},       {'+', {0, 4, 4, 31, 4, 4, 0}},       {'|', {4, 4, 4, 4, 4, 4, 4}},
+};
+
+struct Canvas {
+    Image img;
+    Canvas(int w, int h, float grey) {
+        img.width = w;
+        img.height = h;
+        img.channels = 3;
+        img.pixels.assign(std::size_t(w) * h * 3, grey);
+    }
+    void put(int x, int y, const float* c) {
+        if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
+        float* p = &img.pixels[(std::size_t(y) * img.width + x) * 3];
+        p[0] = c[0];
+        p[1] = c[1];
+        p[2] = c[2];
+    }
+    void rect(int x0, int y0, int w, int h, const float* c) {
+        for (int y = y0; y < y0 + h; ++y)
+            for (int x = x0; x < x0 + w; ++x) put(x, y, c);
+    }
+    /// Upper-case text with its top-left at (x, y), each font pixel drawn as scale x scale.
+    void text(int x, int y, const std::string& s, int scale, const float* c) {
+        for (char ch : s) {
+            const char u = char(std::toupper(static_cast<unsigned char>(ch)));
+            for (const Glyph& g : kFont)
+                if (g.c == u)
+                    for (int r = 0; r < 7; ++r)
+                        for (int k = 0; k < 5; ++k)
+                            if (g.rows[r] & (16 >> k)) rect(x + k * scale, y + r * scale, scale, scale, c);
+            x += 6 * scale;
+        }
+    }
+    /// Pastes `src` (RGB or RGBA over white), resized by area averaging to fit box w x h, centred.
+    void paste(const Image& src, int x0, int y0, int w, int h) {
+        const double f = std::min(double(w) / src.width, double(h) / src.height);
+        const int dw = std::max(1, int(std::lround(src.width * f))), dh = std::max(1, int(std::lround(src.height * f)));
+        const int ox = x0 + (w - dw) / 2, oy = y0 + (h - dh) / 2;
+        tbb::parallel_for(0, dh, [&](int y) {
+            for (int x = 0; x < dw; ++x) {
+                // Source pixels whose centres fall in the destination pixel; the nearest when none.
+                const double sx0 = x / f, sx1 = (x + 1) / f, sy0 = y / f, sy1 = (y + 1) / f;
+                int i0 = int(std::ceil(sx0 - 0.5)), i1 = int(std::ceil(sx1 - 0.5)) - 1;
+                int j0 = int(std::ceil(sy0 - 0.5)), j1 = int(std::ceil(sy1 - 0.5)) - 1;
+                if (i1 < i0) i0 = i1 = std::min(src.width - 1, int((sx0 + sx1) / 2));
+                if (j1 < j0) j0 = j1 = std::min(src.height - 1, int((sy0 + sy1) / 2));
+                i1 = std::min(i1, src.width - 1);
+                j1 = std::min(j1, src.height - 1);
+                double acc[3] = {0, 0, 0};
+                int cnt = 0;
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i) {
+                        const float* p = &src.pixels[(std::size_t(j) * src.width + i) * src.channels];
+                        const float a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
+                        for (int k = 0; k < 3; ++k) {
+                            const float v = src.channels == 1 ? p[0] : p[k];
+                            acc[k] += std::clamp(v, 0.0f, 1.0f) * a + (1.0f - a);
+                        }
+                        ++cnt;
+                    }
+                float c[3];
+                for (int k = 0; k < 3; ++k) c[k] = float(acc[k] / std::max(cnt, 1));
+                put(ox + x, oy + y, c);
+            }
+        });
+    }
+};
+
+std::string fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+} // namespace
+
+Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error) {
+    if (views.views.empty()) throw Error("there are no views to preview");
+    if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
+    error = silhouette_error(mesh, views);
+    const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
+    const int line = 7 * scale + 2 * gap;          // a row of text
+    const int nviews = int(views.views.size());
+    const int width = 3 * P + 4 * gap;
+    const int height = 2 * line + nviews * (line + P + gap) + line + gap;
+    Canvas sheet(width, height, 0.93f);
+    const float ink[3] = {0.12f, 0.12f, 0.14f}, grey[3] = {0.45f, 0.45f, 0.48f};
+
+    std::string title = opt.title.empty() ? std::string("preview") : opt.title;
+    const int max_chars = (width - 2 * gap) / (6 * scale);
+    if (int(title.size()) > max_chars) title = "..." + title.substr(title.size() - std::size_t(max_chars - 3));
+    sheet.text(gap, gap, title, scale, ink);
+    sheet.text(gap, line, "all views: xor " + fixed(error.xor_pct, 3) + "%  mean iou " + fixed(error.mean_iou, 4), scale, ink);
+
+    ArtOptions art;
+    art.paper = {1.0f, 1.0f, 1.0f};
+    art.grain = 0;
+    art.vignette = 0;
+    for (int v = 0; v < nviews; ++v) {
+        const View& view = views.views[std::size_t(v)];
+        const ViewError& e = error.views[std::size_t(v)];
+        const int y0 = 2 * line + v * (line + P + gap);
+        sheet.text(gap, y0 + gap, view.name + ":  xor " + fixed(e.xor_pct, 3) + "%  iou " + fixed(e.iou, 4), scale, ink);
+        const int py = y0 + line;
+        // 1. the input drawing
+        if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P);
+        // 2. the mesh drawn from the view's camera
+        // (drawn at about twice the panel's size: enough for the sheet, far cheaper than full size)
+        const double f = std::min(1.0, 2.0 * P / std::max(view.width, view.height));
+        const int sw = std::max(1, int(std::lround(view.width * f))), sh = std::max(1, int(std::lround(view.height * f)));
+        sheet.paste(render_art(mesh, resized_camera(view.camera, double(sw) / view.width), sw, sh, art), 2 * gap + P, py, P, P);
+        // 3. overlay: both grey, input only and mesh only in their colours
+        const std::vector<std::uint8_t> r = render_mask(mesh, view.camera, view.width, view.height);
+        Image ov;
+        ov.width = view.width;
+        ov.height = view.height;
+        ov.channels = 3;
+        ov.pixels.resize(r.size() * 3);
+        for (std::size_t i = 0; i < r.size(); ++i) {
+            const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
+            const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
+            const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
+            for (int k = 0; k < 3; ++k) ov.pixels[i * 3 + std::size_t(k)] = c[k];
+        }
+        sheet.paste(ov, 3 * gap + 2 * P, py, P, P);
+    }
+    // Legend.
+    const int ly = 2 * line + nviews * (line + P + gap) + gap / 2;
+    const int box = 7 * scale;
+    int x = gap;
+    sheet.text(x, ly, "input | mesh | overlay:", scale, grey);
+    x += 24 * 6 * scale;
+    sheet.rect(x, ly, box, box, kInputOnly);
+    x += box + 2 * scale;
+    sheet.text(x, ly, "input only", scale, grey);
+    x += 11 * 6 * scale;
+    sheet.rect(x, ly, box, box, kMeshOnly);
+    x += box + 2 * scale;
+    sheet.text(x, ly, "mesh only", scale, grey);
+    return sheet.img;
+}
+
+} // namespace cm

@@ -1,0 +1,25 @@
+// The contact sheet of a mesh against its views: per view the input drawing, the mesh
+// shaded from that view, and an overlay of the two silhouettes.
+#pragma once
+#include <string>
+
+#include "core/mesh.h"
+#include "render/raster.h"
+#include "core/views.h"
+
+namespace cm {
+
+struct PreviewOptions {
+    int panel = 320;      ///< each panel fits in panel x panel pixels
+    std::string title;    ///< printed at the top (e.g. the mesh file)
+};
+
+/// Overlay colours: pixels only in the input silhouette (the mesh misses them) and pixels
+/// only in the re-rendered mesh (the mesh adds them).
+inline constexpr float kInputOnly[3] = {0.93f, 0.33f, 0.10f};
+inline constexpr float kMeshOnly[3] = {0.10f, 0.47f, 0.93f};
+
+/// @brief Builds the sheet (RGB) and fills `error` with the silhouette error it shows.
+Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error);
+
+} // namespace cm

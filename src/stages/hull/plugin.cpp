@@ -1,0 +1,11 @@
+// The hull family's plugin entry: the stages this library provides.
+#include "plugins/plugin_abi.h"
+
+namespace cm {
+Stage* make_hull_carve();
+Stage* make_hull_marching_intersections();
+}
+
+CONCEPTMESH_DEFINE_PLUGIN("hull",
+                          {"hull.carve", &cm::make_hull_carve},
+                          {"hull.marching_intersections", &cm::make_hull_marching_intersections})

@@ -1,0 +1,325 @@
+#include "refine.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "geometry/visual_hull.h"
+
+namespace cm {
+
+namespace {
+
+using Coord = openvdb::Coord;
+using BoolLeaf = openvdb::BoolTree::LeafNodeType;
+using VecTree = openvdb::Vec3fTree;
+using VecLeaf = VecTree::LeafNodeType;
+using Word = std::uint64_t;
+using OccAccessor = openvdb::tree::ValueAccessor<const openvdb::BoolTree>;
+constexpr int kDim = 8;
+const openvdb::Vec3f kUnset(-1.f, -1.f, -1.f);
+
+// Occupancy of one 8^3 block as 8 words (word x, bit 8 y + z), as in OpenVDB's leaf masks.
+using BlockBits = std::array<Word, 8>;
+
+BlockBits block_bits(const OccAccessor& acc, const Coord& origin) {
+    BlockBits b;
+    if (const BoolLeaf* leaf = acc.probeConstLeaf(origin)) {
+        for (int x = 0; x < 8; ++x) b[x] = leaf->getValueMask().getWord<Word>(x);
+    } else {
+        b.fill(acc.isValueOn(origin) ? ~Word(0) : Word(0));
+    }
+    return b;
+}
+
+struct Lattice {
+    Vec3d origin;
+    double h = 1;
+    Vec3d at(const Coord& c) const { return {origin.x + h * c.x(), origin.y + h * c.y(), origin.z + h * c.z()}; }
+};
+
+// Per axis, the bits of the block where the edge p -> p + e_a joins differing occupancy.
+void edge_diffs(const BlockBits& w, const BlockBits& nx, const BlockBits& ny, const BlockBits& nz,
+                std::array<BlockBits, 3>& d) {
+    constexpr Word kZ7 = 0x7f7f7f7f7f7f7f7fULL;   // bits with z != 7
+    constexpr Word kZ0 = 0x0101010101010101ULL;   // bits with z == 0
+    for (int x = 0; x < 8; ++x) {
+        const Word wx = w[x];
+        d[0][x] = wx ^ (x < 7 ? w[x + 1] : nx[0]);
+        d[1][x] = ((wx ^ (wx >> 8)) & 0x00ffffffffffffffULL) | ((((wx >> 56) ^ ny[x]) & 0xffULL) << 56);
+        d[2][x] = ((wx ^ (wx >> 1)) & kZ7) | ((((wx >> 7) ^ nz[x]) & kZ0) << 7);
+    }
+}
+
+struct ThinHit {
+    Coord p;
+    int axis;
+    float t0, t1;
+};
+
+} // namespace
+
+std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> views, const RefineOptions& opt,
+                               const std::function<void(double)>& progress, RefineStats* stats) {
+    if (!in.occupancy) throw Error("the volume has no occupancy grid");
+    if (!views) views = in.views;
+    if (!views || views->views.empty()) throw Error("no views: the crossings are found from the views' silhouettes");
+    const auto& xform = in.occupancy->transform();
+    if (!xform.isLinear() || !xform.hasUniformScale())
+        throw Error("the volume's transform is not a uniform linear transform");
+    Lattice lat;
+    {
+        const openvdb::Vec3d o = xform.indexToWorld(openvdb::Vec3d(0, 0, 0));
+        lat.origin = {o.x(), o.y(), o.z()};
+        lat.h = xform.voxelSize()[0];
+    }
+    Vec3d clip_lo{-1e300, -1e300, -1e300}, clip_hi{1e300, 1e300, 1e300};
+    if (auto m = in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_min")) {
+        const auto v = m->value();
+        clip_lo = {v.x(), v.y(), v.z()};
+    }
+    if (auto m = in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
+        const auto v = m->value();
+        clip_hi = {v.x(), v.y(), v.z()};
+    }
+    const VisualHull hull(*views, clip_lo, clip_hi);
+    const openvdb::BoolTree& occ = in.occupancy->tree();
+
+    // Topology of the crossings: every occupancy leaf and its -x, -y, -z neighbours (an
+    // outside point there may have an inside neighbour in the leaf). Tiles never touch
+    // the outside (volume.h), so no other block can hold a crossing.
+    // A neighbour block that is not a leaf itself is constant; it needs a leaf only when
+    // it is outside and the leaf's face towards it has inside voxels.
+    std::vector<Coord> blocks;
+    {
+        OccAccessor acc(occ);
+        for (auto it = occ.cbeginLeaf(); it; ++it) {
+            const Coord o = it->origin();
+            blocks.push_back(o);
+            const auto& m = it->getValueMask();
+            Word face[3] = {m.getWord<Word>(0), 0, 0};
+            for (int x = 0; x < 8; ++x) {
+                face[1] |= m.getWord<Word>(x) & 0xffULL;
+                face[2] |= m.getWord<Word>(x) & 0x0101010101010101ULL;
+            }
+            for (int a = 0; a < 3; ++a) {
+                Coord n = o;
+                n[a] -= kDim;
+                if (!face[a] || acc.probeConstLeaf(n) || acc.isValueOn(n)) continue;
+                blocks.push_back(n);
+            }
+        }
+        std::sort(blocks.begin(), blocks.end());
+        blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    }
+    // Leaves are made (in parallel) only for blocks that get a crossing, then linked in.
+    std::vector<VecLeaf*> made(blocks.size(), nullptr);
+    struct LeafGuard {
+        std::vector<VecLeaf*>& v;
+        ~LeafGuard() {
+            for (VecLeaf* l : v) delete l;
+        }
+    } guard{made};
+
+    // A view along axis a sees an a-edge as one point: when one end is inside every view,
+    // so is the whole edge in that view, and it can be left out of the edge's test.
+    VisualHull::ViewMask along[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < hull.size() && i < 64; ++i)
+        if (const int k = hull.field(i).drop_axis(); k >= 0) along[k] |= VisualHull::ViewMask(1) << i;
+
+    std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
+    // Grid spacing in pixels of the finest view, at the centre of the hull.
+    double cell_px = 0;
+    {
+        openvdb::CoordBBox bb;
+        occ.evalActiveVoxelBoundingBox(bb);
+        const Vec3d centre = (lat.at(bb.min()) + lat.at(bb.max())) * 0.5;
+        double finest = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < hull.size(); ++i) finest = std::min(finest, hull.field(i).pixel_size_at(centre));
+        cell_px = lat.h / finest;
+    }
+    const bool do_thin = opt.thin == RefineOptions::Thin::On ||
+                         (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
+    const double total_work = double(blocks.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
+    const std::size_t chunk = std::max<std::size_t>(256, blocks.size() / 50);
+    for (std::size_t c0 = 0; c0 < blocks.size(); c0 += chunk) {
+        const std::size_t c1 = std::min(blocks.size(), c0 + chunk);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+            OccAccessor acc(occ);
+            std::size_t cross = 0, unresolved = 0;
+            double flips[256];
+            std::array<BlockBits, 3> diff;
+            for (std::size_t li = r.begin(); li < r.end(); ++li) {
+                const Coord o = blocks[li];
+                VecLeaf* leaf = nullptr;
+                const BlockBits w = block_bits(acc, o);
+                edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
+                           block_bits(acc, o.offsetBy(0, 0, kDim)), diff);
+                // Views that see the whole block (with its edges) inside need no test.
+                VisualHull::ViewMask mask = VisualHull::kAllViews;
+                hull.classify(lat.at(o), lat.at(o.offsetBy(kDim)), mask);
+                for (int a = 0; a < 3; ++a)
+                    for (int x = 0; x < 8; ++x) {
+                        Word bits = diff[a][x];
+                        while (bits) {
+                            const int b = __builtin_ctzll(bits);
+                            bits &= bits - 1;
+                            const Coord p = o.offsetBy(x, b >> 3, b & 7);
+                            Coord q = p;
+                            q[a] += 1;
+                            const bool p_in = (w[x] >> b) & 1u;
+                            bool start = false;
+                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask & ~along[a]);
+                            double t;
+                            if (p_in) {
+                                // Where the inside end's solid stops: the first flip to outside.
+                                if (start && nf > 0) t = flips[0];
+                                else t = start ? 1.0 : 0.0, ++unresolved;
+                            } else {
+                                // Where the solid that reaches q starts: the last flip to inside.
+                                const bool end_in = start != (nf % 2 == 1);
+                                if (end_in && nf > 0) t = flips[nf - 1];
+                                else t = end_in ? 0.0 : 1.0, ++unresolved;
+                            }
+                            if (!leaf) leaf = made[li] = new VecLeaf(o, kUnset, false);
+                            const openvdb::Index off = VecLeaf::coordToOffset(p);
+                            openvdb::Vec3f v = leaf->isValueOn(off) ? leaf->getValue(off) : kUnset;
+                            v[a] = float(std::clamp(t, 0.0, 1.0));
+                            leaf->setValueOn(off, v);
+                            ++cross;
+                        }
+                    }
+            }
+            n_cross += cross;
+            n_unresolved += unresolved;
+        });
+        if (progress) progress(double(c1) / total_work);
+    }
+    auto ctree = std::make_shared<VecTree>(kUnset);
+    for (VecLeaf*& l : made)
+        if (l) ctree->addLeaf(l), l = nullptr;
+
+    auto out = std::make_shared<Volume>();
+    out->occupancy = in.occupancy;
+    out->views = views;
+    out->extra = in.extra;
+    auto cgrid = openvdb::Vec3fGrid::create(ctree);
+    cgrid->setTransform(in.occupancy->transform().copy());
+    cgrid->setName("crossings");
+    out->crossings = cgrid;
+
+    std::size_t n_thin = 0;
+    if (do_thin) {
+        // Thin parts: edges whose two ends are outside but which pass through the hull.
+        // Blocks are decided hierarchically on the box their edges sweep ([o, o + n] in
+        // index space); only blocks the silhouettes cannot decide are tested edge by edge.
+        // The lattice points of the clip box (one more on each side); without a clip box,
+        // the occupied region grown by a leaf.
+        openvdb::CoordBBox region;
+        occ.evalActiveVoxelBoundingBox(region);
+        region.expand(kDim);
+        if (in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_min") &&
+            in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
+            Coord lo, hi;
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = int(std::floor((clip_lo[a] - lat.origin[a]) / lat.h)) - 1;
+                hi[a] = int(std::ceil((clip_hi[a] - lat.origin[a]) / lat.h)) + 1;
+            }
+            region = openvdb::CoordBBox(lo, hi);
+        }
+        constexpr int kTop = 64;
+        std::vector<Coord> tops;
+        auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
+        for (int x = align(region.min().x()); x <= region.max().x(); x += kTop)
+            for (int y = align(region.min().y()); y <= region.max().y(); y += kTop)
+                for (int z = align(region.min().z()); z <= region.max().z(); z += kTop) tops.emplace_back(x, y, z);
+        tbb::enumerable_thread_specific<std::vector<ThinHit>> hits;
+        const std::size_t tchunk = std::max<std::size_t>(1, tops.size() / 50);
+        for (std::size_t c0 = 0; c0 < tops.size(); c0 += tchunk) {
+            const std::size_t c1 = std::min(tops.size(), c0 + tchunk);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+                OccAccessor acc(occ);
+                auto& mine = hits.local();
+                double flips[256];
+                std::function<void(const Coord&, int, VisualHull::ViewMask)> rec = [&](const Coord& o, int n,
+                                                                                        VisualHull::ViewMask mask) {
+                    const auto c = hull.classify(lat.at(o), lat.at(o.offsetBy(n)), mask);
+                    if (c != VisualHull::Class::Mixed) return;   // all outside, or all inside (no outside ends)
+                    if (n > 4) {
+                        const int hn = n / 2;
+                        for (int k = 0; k < 8; ++k) rec(o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask);
+                        return;
+                    }
+                    for (int x = 0; x < n; ++x)
+                        for (int y = 0; y < n; ++y)
+                            for (int z = 0; z < n; ++z) {
+                                const Coord p = o.offsetBy(x, y, z);
+                                if (acc.isValueOn(p)) continue;
+                                for (int a = 0; a < 3; ++a) {
+                                    Coord q = p;
+                                    q[a] += 1;
+                                    if (acc.isValueOn(q)) continue;
+                                    bool start = false;
+                                    const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask);
+                                    if (nf < 2) continue;
+                                    // Inside intervals between the two outside ends; keep the longest.
+                                    double best0 = 0, best1 = 0;
+                                    bool cur = start;
+                                    double pos = 0;
+                                    for (int k = 0; k < nf; ++k) {
+                                        if (cur && flips[k] - pos > best1 - best0) best0 = pos, best1 = flips[k];
+                                        cur = !cur;
+                                        pos = flips[k];
+                                    }
+                                    if (best1 - best0 > 1e-6 && best0 > 0 && best1 < 1)
+                                        mine.push_back({p, a, float(best0), float(best1)});
+                                }
+                            }
+                };
+                for (std::size_t i = r.begin(); i < r.end(); ++i) rec(tops[i], kTop, VisualHull::kAllViews);
+            });
+            if (progress) progress((double(blocks.size()) + double(blocks.size()) * double(c1) / tops.size()) / total_work);
+        }
+        std::vector<ThinHit> all;
+        for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
+        if (!all.empty()) {
+            auto enter = openvdb::Vec3fGrid::create(kUnset), leave = openvdb::Vec3fGrid::create(kUnset);
+            auto ea = enter->getAccessor();
+            auto la = leave->getAccessor();
+            for (const ThinHit& t : all) {
+                openvdb::Vec3f e = ea.isValueOn(t.p) ? ea.getValue(t.p) : kUnset;
+                openvdb::Vec3f l = la.isValueOn(t.p) ? la.getValue(t.p) : kUnset;
+                e[t.axis] = t.t0;
+                l[t.axis] = t.t1;
+                ea.setValueOn(t.p, e);
+                la.setValueOn(t.p, l);
+            }
+            for (auto& g : {enter, leave}) g->setTransform(in.occupancy->transform().copy());
+            enter->setName("thin_enter");
+            leave->setName("thin_leave");
+            // Replace any previous thin grids.
+            std::erase_if(out->extra, [](const openvdb::GridBase::Ptr& g) {
+                return g && (g->getName() == "thin_enter" || g->getName() == "thin_leave");
+            });
+            out->extra.push_back(enter);
+            out->extra.push_back(leave);
+        }
+        n_thin = all.size();
+    }
+    if (progress) progress(1.0);
+    if (stats) {
+        stats->crossings = n_cross;
+        stats->thin_crossings = n_thin;
+        stats->unresolved = n_unresolved;
+        stats->cell_px = cell_px;
+        stats->thin_searched = do_thin;
+    }
+    return out;
+}
+
+} // namespace cm

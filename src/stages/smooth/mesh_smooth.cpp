@@ -1,0 +1,168 @@
+#include "mesh_smooth.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "geometry/hull_distance.h"
+#include "geometry/mesh_adjacency.h"
+#include "geometry/mesh_intersect.h"
+
+namespace cm {
+
+namespace {
+
+constexpr int kBisections = 8;
+
+// One Jacobi step: dst[v] = src[v] + w * (mean of src over v's neighbours - src[v]).
+// With a hull, the step is shortened so that |hull distance| stays within the
+// tolerance (or does not grow, for a vertex that starts outside the band).
+std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std::vector<Vec3f>& dst, double w,
+                  const HullDistance* hull, double tol) {
+    const std::size_t nv = src.size();
+    std::atomic<std::size_t> clamped{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::size_t local = 0;
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const std::uint32_t b = adj.offsets[v], e = adj.offsets[v + 1];
+            const Vec3f p = src[v];
+            if (b == e) { dst[v] = p; continue; }
+            Vec3f sum{0, 0, 0};
+            for (std::uint32_t i = b; i < e; ++i) sum += src[adj.neighbours[i]];
+            const Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
+            if (!hull) { dst[v] = p + step; continue; }
+            const Vec3d p0(p), s(step);
+            const double h1 = (*hull)(p0 + s);
+            if (std::fabs(h1) <= tol) { dst[v] = p + step; continue; }
+            const double bound = std::max(tol, std::fabs((*hull)(p0)));
+            if (std::fabs(h1) <= bound) { dst[v] = p + step; continue; }
+            double lo = 0, hi = 1;
+            for (int k = 0; k < kBisections; ++k) {
+                const double mid = 0.5 * (lo + hi);
+                if (std::fabs((*hull)(p0 + s * mid)) <= bound) lo = mid; else hi = mid;
+            }
+            dst[v] = p + step * float(lo);
+            ++local;
+        }
+        clamped += local;
+    });
+    return clamped.load();
+}
+
+// Faces that turned over against their input normal or lost (almost) all their area.
+void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vector<std::uint32_t>* only,
+                     std::vector<std::uint32_t>& out) {
+    const std::size_t n = only ? only->size() : in.triangles.size();
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> found;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        auto& local = found.local();
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const std::uint32_t f = only ? (*only)[i] : std::uint32_t(i);
+            const auto& t = in.triangles[f];
+            const Vec3d a(p[t[0]]), b(p[t[1]]), c(p[t[2]]);
+            const Vec3d a0(in.positions[t[0]]), b0(in.positions[t[1]]), c0(in.positions[t[2]]);
+            const Vec3d n = cross(b - a, c - a), n0 = cross(b0 - a0, c0 - a0);
+            const double len = length(n), len0 = length(n0);
+            // Collapsed: area below 1e-6 of the face's input area (MC faces can be small).
+            if (len <= 1e-6 * len0 || dot(n, n0) <= 0) local.push_back(f);
+        }
+    });
+    for (auto& v : found) out.insert(out.end(), v.begin(), v.end());
+}
+
+// The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
+// input positions until no face crosses another, turns over or collapses.
+void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
+    const std::vector<Vec3f> smoothed = p;   // the index covers every blend of input and this
+    const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
+    std::vector<std::uint32_t> bad;
+    auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
+        bad.clear();
+        for (const auto& pr : pairs) { bad.push_back(pr[0]); bad.push_back(pr[1]); }
+        find_bad_shapes(in, p, only, bad);
+        std::sort(bad.begin(), bad.end());
+        bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+        ++st.guard_rounds;
+    };
+    collect(index.all(p), nullptr);
+    st.bad_faces = bad.size();
+    if (bad.empty()) return;   // the common case: nothing more to build
+
+    std::vector<float> weight(p.size(), 1.0f);   // position = input + weight * (smoothed - input)
+    // Faces around each vertex, to re-check only what moved.
+    std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
+    for (const auto& t : in.triangles)
+        for (auto v : t) ++face_offsets[v + 1];
+    for (std::size_t v = 0; v < p.size(); ++v) face_offsets[v + 1] += face_offsets[v];
+    vertex_faces.resize(face_offsets.back());
+    {
+        std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
+        for (std::size_t f = 0; f < in.triangles.size(); ++f)
+            for (auto v : in.triangles[f]) vertex_faces[fill[v]++] = std::uint32_t(f);
+    }
+    std::vector<std::uint32_t> check, moved;   // faces to re-check, vertices moved this round
+    std::vector<char> marked(p.size(), 0);
+    while (!bad.empty()) {
+        moved.clear();
+        for (auto f : bad)
+            for (auto v : in.triangles[f]) {
+                if (marked[v] || weight[v] == 0.0f) continue;
+                marked[v] = 1;
+                moved.push_back(v);
+                weight[v] = weight[v] > 0.3f ? weight[v] * 0.5f : 0.0f;
+                p[v] = in.positions[v] + (smoothed[v] - in.positions[v]) * weight[v];
+            }
+        if (moved.empty()) { st.unresolved = bad.size(); break; }   // the input's own faces
+        st.pulled_back += moved.size();
+        check.clear();
+        for (auto v : moved) {
+            marked[v] = 0;
+            check.insert(check.end(), vertex_faces.begin() + face_offsets[v], vertex_faces.begin() + face_offsets[v + 1]);
+        }
+        std::sort(check.begin(), check.end());
+        check.erase(std::unique(check.begin(), check.end()), check.end());
+        collect(index.involving(check, p), &check);
+    }
+}
+
+} // namespace
+
+SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
+    SmoothStats stats;
+    if (mesh.positions.empty() || opt.iterations <= 0) return stats;
+    const VertexAdjacency adj = build_vertex_adjacency(mesh);
+    std::vector<Vec3f> a = mesh.positions, b(a.size());
+    const double tol = opt.tolerance;
+    for (int it = 0; it < opt.iterations; ++it) {
+        if (opt.method == SmoothOptions::Method::Laplacian) {
+            stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
+            a.swap(b);
+        } else {
+            stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
+            stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+        }
+        if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
+    }
+    if (opt.guard) guard_surface(mesh, a, stats);
+    mesh.positions = std::move(a);
+    if (opt.hull) {
+        stats.max_hull_distance = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), 0.0,
+            [&](const tbb::blocked_range<std::size_t>& r, double m) {
+                for (std::size_t v = r.begin(); v != r.end(); ++v)
+                    if (adj.degree(std::uint32_t(v)) > 0)
+                        m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
+                return m;
+            },
+            [](double x, double y) { return std::max(x, y); });
+    }
+    if (!mesh.normals.empty()) mesh.compute_normals();
+    return stats;
+}
+
+} // namespace cm

@@ -1,0 +1,67 @@
+#include "smooth_stage.h"
+
+#include <memory>
+
+#include "geometry/hull_distance.h"
+#include "core/mesh.h"
+#include "core/views.h"
+
+namespace cm {
+
+std::vector<ParamSpec> smooth_common_params(std::int64_t default_iterations) {
+    return {ParamSpec::Int("iterations", default_iterations, 0, 10000, "",
+                           "smoothing iterations (Taubin: one lambda step and one mu step each)"),
+            ParamSpec::Enum("constrain", "none", {"none", "hull"},
+                            "hull: keep every vertex within `tolerance` of the visual hull of the views "
+                            "(needs the views input), so the drawn outline is kept"),
+            ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
+                             "hull constraint: largest distance of a vertex from the hull, in pixels of the "
+                             "finest view"),
+            ParamSpec::Bool("guard", true,
+                            "keep the surface valid: vertices of faces that would cross another face, turn "
+                            "over or collapse are moved back towards their input positions")};
+}
+
+std::vector<PortSpec> smooth_ports() {
+    return {{"mesh", DataKind::Mesh, "the mesh to smooth"},
+            {"views", DataKind::Views, "the views whose visual hull bounds the vertices (constrain: hull)", true}};
+}
+
+Data run_smooth_stage(const Inputs& in, Context& ctx, const ParamSet& params, SmoothOptions opt) {
+    auto src = in.get<Mesh>("mesh");
+    opt.iterations = int(params.get_int("iterations"));
+    std::unique_ptr<HullDistance> hull;
+    if (params.get_string("constrain") == "hull") {
+        if (!in.has("views"))
+            throw Error("constrain: hull needs the views input (inputs: { mesh: ..., views: <views node> })");
+        auto views = in.get<Views>("views");
+        hull = std::make_unique<HullDistance>(*views);
+        opt.hull = hull.get();
+        opt.tolerance = params.get_float("tolerance") * hull->finest_pixel();
+    }
+    opt.guard = params.get_bool("guard");
+    opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
+    auto out = std::make_shared<Mesh>(*src);
+    const double v0 = check_mesh(*src).signed_volume;
+    const SmoothStats st = smooth_mesh(*out, opt);
+    const double v1 = check_mesh(*out).signed_volume;
+    ctx.metric("vertices", double(out->vertex_count()));
+    ctx.metric("faces", double(out->face_count()));
+    ctx.metric("volume_before", v0);
+    ctx.metric("volume_after", v1);
+    if (v0 != 0) ctx.metric("volume_change_pct", 100.0 * (v1 - v0) / v0);
+    if (opt.guard) {
+        ctx.metric("guard_bad_faces", double(st.bad_faces));
+        ctx.metric("guard_pulled_back", double(st.pulled_back));
+        if (st.unresolved)
+            ctx.warn(std::to_string(st.unresolved) +
+                     " faces of the input cross another face, turn over or collapse; smoothing left them as they were");
+    }
+    if (hull) {
+        ctx.metric("clamped_steps", double(st.clamped_steps));
+        ctx.metric("max_hull_distance_px", st.max_hull_distance / hull->finest_pixel());
+    }
+    return std::shared_ptr<const Mesh>(std::move(out));
+}
+
+} // namespace cm

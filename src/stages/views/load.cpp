@@ -1,0 +1,112 @@
+#include "load.h"
+
+#include <atomic>
+
+#include <tbb/parallel_for.h>
+
+#include "align.h"
+#include "core/error.h"
+#include "io/image_io.h"
+#include "io/manifest.h"
+#include "silhouette.h"
+
+namespace fs = std::filesystem;
+
+namespace cm {
+
+Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadViewsReport& report,
+                 const std::function<void(double)>& progress) {
+    const Manifest man = read_manifest(manifest);
+    Views views;
+    views.manifest = man.file;
+    views.views.resize(man.views.size());
+    std::size_t perspective = 0;
+    for (const auto& mv : man.views) perspective += mv.matrix.has_value();
+    if (perspective != 0 && perspective != man.views.size())
+        throw Error(man.file.string() + ": mixes calibrated (matrix) and drawn views; use one kind per manifest");
+    views.calibrated = perspective != 0;
+    if (views.calibrated && (man.height || man.width || man.depth))
+        throw Error(man.file.string() + ": a real size (height, width, depth) applies to drawn views; calibrated views keep "
+                                        "the calibration's units");
+
+    std::vector<std::string> errors(man.views.size()), notes(man.views.size());
+    tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
+        const ManifestView& mv = man.views[i];
+        View& v = views.views[i];
+        try {
+            v.name = mv.key;
+            v.source = mv.image;
+            ImageInfo info;
+            v.image = read_image(mv.image, &info);
+            v.width = v.image.width;
+            v.height = v.image.height;
+            SilhouetteOptions so;
+            so.background = mv.background;
+            so.threshold = mv.threshold.value_or(-1.0);
+            so.keep = mv.keep != "auto" ? mv.keep : opt.keep;
+            so.holes = mv.holes;
+            SilhouetteResult s = extract_silhouette(v.image, info, so);
+            v.coverage = std::move(s.coverage);
+            std::string note;
+            if (s.components_dropped)
+                note += "dropped " + std::to_string(s.components_dropped) +
+                        " separate mark(s) away from the object (keep: all keeps them)";
+            if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+                if (!note.empty()) note += "; ";
+                note += "filled " + std::to_string(s.regions_filled) +
+                        " blank region(s) enclosed by the drawing (holes: keep keeps them open)";
+            }
+            if (!note.empty()) notes[i] = "view \"" + v.name + "\": " + note;
+            if (mv.matrix) v.camera = Camera::perspective(*mv.matrix);
+            else if (mv.view) v.camera = *Camera::named(*mv.view);
+            else v.camera = Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
+            if (mv.scale) {
+                v.camera.scale = *mv.scale;
+                v.camera.cx = (*mv.origin)[0];
+                v.camera.cy = (*mv.origin)[1];
+            }
+        } catch (const std::exception& e) {
+            errors[i] = "view \"" + mv.key + "\": " + e.what();
+        }
+    });
+    for (const auto& e : errors)
+        if (!e.empty()) throw Error(e);
+    for (const auto& n : notes)
+        if (!n.empty()) report.notes.push_back(n);
+    if (progress) progress(0.8);
+
+    for (const auto& v : views.views) {
+        std::size_t inside = 0;
+        for (float c : v.coverage) inside += c >= 0.5f;
+        if (inside == 0)
+            throw Error("view \"" + v.name + "\" (" + v.source.string() + ") has an empty silhouette: no object was found in it");
+    }
+    if (views.calibrated) {
+        if (man.bounds) {
+            views.has_bounds = true;
+            views.bounds_min = {(*man.bounds)[0], (*man.bounds)[1], (*man.bounds)[2]};
+            views.bounds_max = {(*man.bounds)[3], (*man.bounds)[4], (*man.bounds)[5]};
+        }
+    } else {
+        AlignOptions ao;
+        ao.height = man.height;
+        ao.width = man.width;
+        ao.depth = man.depth;
+        ao.tolerance = opt.align_tolerance;
+        for (const auto& mv : man.views) ao.fixed.push_back(mv.scale.has_value());
+        ao.bounds = man.bounds;
+        align_views(views, ao, report.warnings);
+    }
+    return views;
+}
+
+Image silhouette_image(const View& v) {
+    Image img;
+    img.width = v.width;
+    img.height = v.height;
+    img.channels = 1;
+    img.pixels = v.coverage;
+    return img;
+}
+
+} // namespace cm

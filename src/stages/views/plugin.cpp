@@ -1,0 +1,9 @@
+// The views family's plugin entry: the stages this library provides.
+#include "plugins/plugin_abi.h"
+
+namespace cm {
+Stage* make_views_load();
+}
+
+CONCEPTMESH_DEFINE_PLUGIN("views",
+                          {"views.load", &cm::make_views_load})

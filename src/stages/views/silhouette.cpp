@@ -1,0 +1,372 @@
+#include "silhouette.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/manifest.h"
+
+namespace cm {
+
+namespace {
+
+using Rgb = std::array<double, 3>;
+
+// RMS distance over the three channels, so a threshold reads as a fraction of full scale.
+double dist(const Rgb& a, const Rgb& b) {
+    const double dr = a[0] - b[0], dg = a[1] - b[1], db = a[2] - b[2];
+    return std::sqrt((dr * dr + dg * dg + db * db) / 3.0);
+}
+
+// A smooth background colour field over the image: per channel a quadratic in the
+// normalised coordinates (u, v) in [-1, 1], enough for paper tone and vignetting.
+struct BackgroundModel {
+    std::array<std::array<double, 6>, 3> coef{};
+    static std::array<double, 6> basis(double u, double v) { return {1.0, u, v, u * u, v * v, u * v}; }
+    Rgb at(double u, double v) const {
+        const auto b = basis(u, v);
+        Rgb c{};
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 6; ++i) c[k] += coef[k][i] * b[i];
+        return c;
+    }
+    void set_constant(const Rgb& c) {
+        coef = {};
+        for (int k = 0; k < 3; ++k) coef[k][0] = c[k];
+    }
+};
+
+struct Sample {
+    double u, v;
+    Rgb c;
+};
+
+// Least squares of the quadratic on the samples marked in `use`; false when ill-posed.
+bool fit_quadratic(const std::vector<Sample>& s, const std::vector<char>& use, BackgroundModel& m) {
+    double A[6][6] = {};
+    double B[3][6] = {};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (!use[i]) continue;
+        ++n;
+        const auto b = BackgroundModel::basis(s[i].u, s[i].v);
+        for (int r = 0; r < 6; ++r) {
+            for (int c = 0; c < 6; ++c) A[r][c] += b[r] * b[c];
+            for (int k = 0; k < 3; ++k) B[k][r] += b[r] * s[i].c[k];
+        }
+    }
+    if (n < 24) return false;
+    for (int r = 0; r < 6; ++r) A[r][r] += 1e-9 * double(n);
+    // Gaussian elimination with partial pivoting, three right-hand sides.
+    for (int col = 0; col < 6; ++col) {
+        int piv = col;
+        for (int r = col + 1; r < 6; ++r)
+            if (std::abs(A[r][col]) > std::abs(A[piv][col])) piv = r;
+        if (std::abs(A[piv][col]) < 1e-12 * double(n)) return false;
+        if (piv != col) {
+            for (int c = 0; c < 6; ++c) std::swap(A[col][c], A[piv][c]);
+            for (int k = 0; k < 3; ++k) std::swap(B[k][col], B[k][piv]);
+        }
+        for (int r = col + 1; r < 6; ++r) {
+            const double f = A[r][col] / A[col][col];
+            for (int c = col; c < 6; ++c) A[r][c] -= f * A[col][c];
+            for (int k = 0; k < 3; ++k) B[k][r] -= f * B[k][col];
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        for (int r = 5; r >= 0; --r) {
+            double v = B[k][r];
+            for (int c = r + 1; c < 6; ++c) v -= A[r][c] * m.coef[k][c];
+            m.coef[k][r] = v / A[r][r];
+        }
+    return true;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+// Connected components of `mask` (4- or 8-connected); labels -1 outside the mask.
+int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab, std::vector<std::size_t>& sizes) {
+    lab.assign(mask.size(), -1);
+    sizes.clear();
+    std::vector<int> stack;
+    for (int start = 0; start < w * h; ++start) {
+        if (!mask[std::size_t(start)] || lab[std::size_t(start)] >= 0) continue;
+        const int id = int(sizes.size());
+        sizes.push_back(0);
+        stack.push_back(start);
+        lab[std::size_t(start)] = id;
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            ++sizes[std::size_t(id)];
+            const int x = p % w, y = p / w;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    if ((dx == 0 && dy == 0) || (!eight && dx != 0 && dy != 0)) continue;
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const int q = yy * w + xx;
+                    if (mask[std::size_t(q)] && lab[std::size_t(q)] < 0) {
+                        lab[std::size_t(q)] = id;
+                        stack.push_back(q);
+                    }
+                }
+        }
+    }
+    return int(sizes.size());
+}
+
+// Estimates the background field and its noise from a band along the image border.
+void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise) {
+    const int w = img.width, h = img.height;
+    const int band = std::max(1, std::min({2, w / 8, h / 8}));
+    std::vector<Sample> s;
+    const std::size_t perimeter = 2 * std::size_t(w + h) * std::size_t(band);
+    const int stride = int(std::max<std::size_t>(1, perimeter / 40000));
+    auto add = [&](int x, int y) {
+        const float* p = &img.pixels[(std::size_t(y) * w + x) * 4];
+        s.push_back({(x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1, {p[0], p[1], p[2]}});
+    };
+    for (int b = 0; b < band; ++b) {
+        for (int x = 0; x < w; x += stride) {
+            add(x, b);
+            add(x, h - 1 - b);
+        }
+        for (int y = band; y < h - band; y += stride) {
+            add(b, y);
+            add(w - 1 - b, y);
+        }
+    }
+    Rgb fixed{};
+    const bool given = option != "auto";
+    if (given && !parse_background_colour(option, fixed)) check_background_option(option);
+    Rgb med{};
+    for (int k = 0; k < 3; ++k) {
+        std::vector<double> c(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) c[i] = s[i].c[k];
+        med[k] = median(c);
+    }
+    model.set_constant(given ? fixed : med);
+    std::vector<double> d(s.size());
+    auto residuals = [&] {
+        for (std::size_t i = 0; i < s.size(); ++i) d[i] = dist(s[i].c, model.at(s[i].u, s[i].v));
+    };
+    residuals();
+    std::vector<char> use(s.size(), 1);
+    if (!given) {
+        // Robust refit: drop what the object (touching the border) contributes, fit again.
+        for (int iter = 0; iter < 4; ++iter) {
+            const double sigma = median(d);
+            const double keep_below = std::max(3.0 * sigma, 0.03);
+            for (std::size_t i = 0; i < s.size(); ++i) use[i] = d[i] <= keep_below;
+            BackgroundModel trial = model;
+            if (!fit_quadratic(s, use, trial)) break;
+            model = trial;
+            residuals();
+        }
+    }
+    std::vector<double> kept;
+    const double cut = std::max(3.0 * median(d), 0.03);
+    for (std::size_t i = 0; i < s.size(); ++i)
+        if (d[i] <= cut || given) kept.push_back(d[i]);
+    noise = median(kept);
+}
+
+} // namespace
+
+SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, const SilhouetteOptions& opt) {
+    check_background_option(opt.background);
+    if (opt.keep != "auto" && opt.keep != "largest" && opt.keep != "all")
+        throw Error("keep must be auto, largest or all, got \"" + opt.keep + "\"");
+    if (opt.holes != "auto" && opt.holes != "fill" && opt.holes != "keep")
+        throw Error("holes must be auto, fill or keep, got \"" + opt.holes + "\"");
+    const int w = img.width, h = img.height;
+    const std::size_t n = std::size_t(w) * h;
+    if (w <= 0 || h <= 0 || img.channels != 4 || img.pixels.size() != n * 4)
+        throw Error("the image is empty or not RGBA");
+    SilhouetteResult res;
+    res.coverage.assign(n, 0.0f);
+
+    bool use_alpha = opt.background == "alpha";
+    if (use_alpha && !info.has_alpha) throw Error("background: alpha, but the image has no alpha channel");
+    if (opt.background == "auto" && info.has_alpha) {
+        // Alpha is meaningful when it separates something: some pixels transparent, some opaque.
+        std::size_t transparent = 0;
+        for (std::size_t i = 0; i < n; ++i) transparent += img.pixels[i * 4 + 3] < 0.5f;
+        use_alpha = transparent > 0 && transparent < n;
+    }
+    if (use_alpha) {
+        res.method = "alpha";
+        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.pixels[i * 4 + 3], 0.0f, 1.0f);
+    } else {
+        res.method = "background";
+        BackgroundModel model;
+        double noise = 0;
+        background_from_border(img, opt.background, model, noise);
+        res.noise = noise;
+        const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
+        res.threshold = t;
+
+        std::vector<Rgb> bgc(n);
+        std::vector<double> d(n);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                bgc[i] = model.at((x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1);
+                const float* p = &img.pixels[i * 4];
+                d[i] = dist({p[0], p[1], p[2]}, bgc[i]);
+            }
+        // Background: background-coloured pixels 4-connected to the border (so a line drawn
+        // with 8-connected pixels closes a region).
+        std::vector<char> bg(n, 0);
+        std::vector<int> stack;
+        auto seed = [&](int p) {
+            if (!bg[std::size_t(p)] && d[std::size_t(p)] < t) {
+                bg[std::size_t(p)] = 1;
+                stack.push_back(p);
+            }
+        };
+        for (int x = 0; x < w; ++x) { seed(x); seed((h - 1) * w + x); }
+        for (int y = 0; y < h; ++y) { seed(y * w); seed(y * w + w - 1); }
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            const int x = p % w, y = p / w;
+            if (x > 0) seed(p - 1);
+            if (x + 1 < w) seed(p + 1);
+            if (y > 0) seed(p - w);
+            if (y + 1 < h) seed(p + w);
+        }
+        // Background-coloured regions the object encloses: holes through a filled drawing, or
+        // the blank inside of a line drawing. A drawing whose ink covers less than its enclosed
+        // blank regions is a line drawing.
+        std::vector<char> enclosed(n, 0);
+        std::size_t ink = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            enclosed[i] = !bg[i] && d[i] < t;
+            ink += !bg[i] && d[i] >= t;
+        }
+        std::vector<int> lab;
+        std::vector<std::size_t> sizes;
+        const int nreg = label(enclosed, w, h, false, lab, sizes);
+        // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
+        // `keep` keeps every enclosed region.
+        const std::size_t min_hole = opt.holes == "keep" ? 1 : 9;
+        std::size_t blank = 0;
+        for (auto s : sizes) blank += s >= min_hole ? s : 0;
+        const bool holes = opt.holes == "keep" || (opt.holes == "auto" && ink > blank);
+        std::vector<char> is_hole(std::size_t(nreg), 0);
+        for (int r = 0; r < nreg; ++r) {
+            is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
+            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
+        }
+        for (std::size_t i = 0; i < n; ++i)
+            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg[i] = 1;
+
+        // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
+        // background and the nearest interior object colour, which keeps anti-aliasing.
+        std::vector<char> edge(n, 0);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                for (int dy = -1; dy <= 1 && !edge[i]; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        if (bg[std::size_t(yy) * w + xx] != bg[i]) { edge[i] = 1; break; }
+                    }
+            }
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                if (!edge[i]) {
+                    res.coverage[i] = bg[i] ? 0.0f : 1.0f;
+                    continue;
+                }
+                // Object colour: the nearest interior object pixel within 2 px, else the most
+                // distinct object pixel there.
+                std::size_t best = n, strongest = n;
+                int best_r2 = 1 << 30;
+                for (int dy = -2; dy <= 2; ++dy)
+                    for (int dx = -2; dx <= 2; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        const std::size_t j = std::size_t(yy) * w + xx;
+                        if (bg[j]) continue;
+                        if (strongest == n || d[j] > d[strongest]) strongest = j;
+                        const int r2 = dx * dx + dy * dy;
+                        if (!edge[j] && (r2 < best_r2 || (r2 == best_r2 && d[j] > d[best]))) {
+                            best = j;
+                            best_r2 = r2;
+                        }
+                    }
+                const std::size_t o = best != n ? best : strongest;
+                const bool object = !bg[i];
+                if (o == n) {
+                    res.coverage[i] = object ? 1.0f : 0.0f;
+                    continue;
+                }
+                const float* p = &img.pixels[i * 4];
+                const float* q = &img.pixels[o * 4];
+                const Rgb& b = bgc[i];
+                double num = 0, den = 0;
+                for (int k = 0; k < 3; ++k) {
+                    num += (p[k] - b[k]) * (q[k] - b[k]);
+                    den += (q[k] - b[k]) * (q[k] - b[k]);
+                }
+                const double alpha = den > 0 ? std::clamp(num / den, 0.0, 1.0) : (object ? 1.0 : 0.0);
+                if (std::sqrt(den / 3.0) >= 2.0 * t) res.coverage[i] = float(alpha);   // clear contrast: the mix decides
+                else res.coverage[i] = float(object ? std::max(alpha, 0.5) : std::min(alpha, 0.49));
+            }
+    }
+
+    // Components: drop specks and separate marks a user would not keep.
+    std::vector<char> mask(n);
+    for (std::size_t i = 0; i < n; ++i) mask[i] = res.coverage[i] >= 0.5f;
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int nc = label(mask, w, h, true, lab, sizes);
+    if (nc == 0 || opt.keep == "all") {
+        res.components_kept = nc;
+        return res;
+    }
+    const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
+    std::vector<char> keep(std::size_t(nc), 0);
+    bool largest_taken = false;
+    for (int c = 0; c < nc; ++c) {
+        if (opt.keep == "largest") {
+            keep[std::size_t(c)] = sizes[std::size_t(c)] == largest && !largest_taken;
+            largest_taken |= keep[std::size_t(c)] != 0;
+        } else {
+            keep[std::size_t(c)] = double(sizes[std::size_t(c)]) >= 0.05 * double(largest);
+        }
+        (keep[std::size_t(c)] ? res.components_kept : res.components_dropped)++;
+    }
+    if (res.components_dropped == 0) return res;
+    for (std::size_t i = 0; i < n; ++i)
+        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) res.coverage[i] = 0.0f;
+    // Fractional coverage goes with the component it borders.
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (res.coverage[i] >= 0.5f || res.coverage[i] == 0.0f) continue;
+            bool near_kept = false;
+            for (int dy = -1; dy <= 1 && !near_kept; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const int l = lab[std::size_t(yy) * w + xx];
+                    if (l >= 0 && keep[std::size_t(l)]) { near_kept = true; break; }
+                }
+            if (!near_kept) res.coverage[i] = 0.0f;
+        }
+    return res;
+}
+
+} // namespace cm

@@ -1,0 +1,41 @@
+// From a drawing to a silhouette (coverage in [0,1], anti-aliased edges kept).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "io/image_io.h"
+#include "core/views.h"
+
+namespace cm {
+
+struct SilhouetteOptions {
+    /// auto | alpha | a colour ("#rrggbb", "r,g,b" in 0-255, "white", "black", "grey").
+    std::string background = "auto";
+    /// Colour distance (0-1, RMS over R, G, B) from the background that makes a pixel object;
+    /// < 0: from the spread of the image border.
+    double threshold = -1;
+    /// auto: drop specks and separate marks much smaller than the object; largest; all.
+    std::string keep = "auto";
+    /// Regions enclosed by the object that look like the background: auto (holes in a filled
+    /// drawing, interior of a line drawing), fill (always object), keep (always holes).
+    std::string holes = "auto";
+};
+
+struct SilhouetteResult {
+    std::vector<float> coverage;   ///< width*height, row 0 at the top
+    std::string method;            ///< "alpha" or "background"
+    double threshold = 0;          ///< the colour distance used (background method)
+    double noise = 0;              ///< spread of the border around the background model
+    int components_kept = 0, components_dropped = 0;
+    int holes_kept = 0, regions_filled = 0;   ///< enclosed background-like regions
+};
+
+/// @brief Extracts the silhouette of the object in a drawing.
+/// A meaningful alpha channel (some pixels transparent, some opaque) is the coverage.
+/// Otherwise the background is modelled from the image border (a smooth colour field that
+/// follows vignetting, with a spread that follows grain and compression noise) and the
+/// object is everything not connected to it. Edge pixels keep fractional coverage.
+/// @throw cm::Error for an unusable option (a bad colour name).
+SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, const SilhouetteOptions& opt);
+
+} // namespace cm

@@ -1,0 +1,72 @@
+// views.load: reads the views manifest and its drawings, extracts each
+// silhouette, sets up the cameras and aligns hand-drawn views.
+#include <filesystem>
+
+#include "io/image_io.h"
+#include "core/stage.h"
+#include "core/views.h"
+#include "load.h"
+
+namespace fs = std::filesystem;
+
+namespace cm {
+namespace {
+
+class ViewsLoad : public Stage {
+public:
+    StageInfo info() const override {
+        return {"views.load",
+                "Read the views manifest and its drawings: silhouettes, cameras, alignment",
+                {},
+                DataKind::Views,
+                {ParamSpec::Path("manifest", std::nullopt, "the views manifest (YAML): which image is which view"),
+                 ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
+                                 "which separate marks to keep: auto drops specks and small marks (a view's own keep wins)"),
+                 ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
+                                  "relative disagreement between views on a shared axis that raises a warning"),
+                 ParamSpec::Bool("save_silhouettes", false,
+                                 "write each extracted silhouette as <view>.silhouette.png beside the run report")}};
+    }
+
+    void prepare(const ParamSet& p) override {
+        Stage::prepare(p);
+        const fs::path m = p.get_string("manifest");
+        std::error_code ec;
+        if (!fs::exists(m, ec)) throw Error("manifest \"" + m.string() + "\" does not exist");
+    }
+
+    Data run(const Inputs&, Context& ctx) override {
+        LoadViewsOptions opt;
+        opt.keep = params_.get_string("keep");
+        opt.align_tolerance = params_.get_float("align_tolerance");
+        LoadViewsReport report;
+        auto views = std::make_shared<Views>(
+            load_views(params_.get_string("manifest"), opt, report, [&](double f) { ctx.progress(f, "aligning"); }));
+        for (const auto& n : report.notes) ctx.info(n);
+        for (const auto& w : report.warnings) ctx.warn(w);
+
+        if (params_.get_bool("save_silhouettes")) {
+            for (const auto& v : views->views) {
+                const fs::path out = ctx.side_output_dir() / (v.name + ".silhouette.png");
+                write_image(silhouette_image(v), ctx.output_file(out));
+            }
+        }
+        ctx.metric("views", double(views->views.size()));
+        for (const auto& v : views->views) {
+            double area = 0;
+            for (float c : v.coverage) area += c;
+            ctx.metric("silhouette_area_px." + v.name, area);
+        }
+        if (views->has_bounds) {
+            const Vec3d e = views->bounds_max - views->bounds_min;
+            ctx.metric_json("bounds_size", "[" + std::to_string(e.x) + "," + std::to_string(e.y) + "," + std::to_string(e.z) + "]");
+        }
+        return std::shared_ptr<const Views>(views);
+    }
+};
+
+} // namespace
+
+Stage* make_views_load() { return new ViewsLoad; }
+
+} // namespace cm

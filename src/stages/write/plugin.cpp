@@ -1,0 +1,11 @@
+// The write family's plugin entry: the stages this library provides.
+#include "plugins/plugin_abi.h"
+
+namespace cm {
+Stage* make_mesh_write();
+Stage* make_volume_write();
+}
+
+CONCEPTMESH_DEFINE_PLUGIN("write",
+                          {"mesh.write", &cm::make_mesh_write},
+                          {"volume.write", &cm::make_volume_write})
