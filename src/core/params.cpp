@@ -176,6 +176,15 @@ std::string check_param(const ParamSpec& spec, const ParamValue& v) {
     return {};
 }
 
+std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps) {
+    for (const auto& s : specs) {
+        if (ps.has(s.name)) continue;
+        if (s.default_value) ps.set(s.name, *s.default_value);
+        else if (!s.is_optional) return "parameter \"" + s.name + "\" is required: " + s.doc;
+    }
+    return {};
+}
+
 nlohmann::json param_to_json(const ParamValue& v) {
     return std::visit([](const auto& x) { return nlohmann::json(x); }, v);
 }

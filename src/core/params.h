@@ -70,6 +70,9 @@ ParamValue parse_param_text(const ParamSpec& spec, const std::string& text);
 ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, const std::string& kind);
 /// Range and choice checks; returns an empty string when valid, else the reason.
 std::string check_param(const ParamSpec& spec, const ParamValue& v);
+/// Sets every declared default that `ps` lacks. Returns the reason when a required
+/// parameter is missing ("parameter "x" is required: <doc>"), else an empty string.
+std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps);
 
 /// JSON Schema (draft-07) fragment for one parameter.
 nlohmann::json param_schema(const ParamSpec& spec);

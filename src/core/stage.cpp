@@ -58,6 +58,13 @@ void Context::metric_json(const std::string& key, const std::string& json_text) 
     metrics_[key] = json_text;
 }
 
+void Stage::configure(const ParamSet& params) {
+    ParamSet filled = params;
+    if (auto missing = fill_defaults(info().params, filled); !missing.empty()) throw Error(missing);
+    params_ = std::move(filled);
+    check();
+}
+
 std::filesystem::path temporary_path(const std::filesystem::path& final_path) {
     static std::atomic<unsigned> counter{0};
     auto tmp = final_path;

@@ -1,7 +1,8 @@
 // The Stage interface. The host drives a fixed lifecycle:
-//   1. info()     what the stage is: name, ports, declared parameters;
-//   2. prepare()  gets the checked parameters; rejects bad combinations early;
-//   3. run()      does the work on its inputs and returns its output.
+//   1. info()       what the stage is: name, ports, declared parameters;
+//   2. configure()  takes the checked parameters (non-virtual: fills in the declared
+//                   defaults, stores them, then calls the stage's check());
+//   3. run()        does the work on its inputs and returns its output.
 // A stage never calls another stage. It throws cm::Error with a sentence; the
 // host prefixes the pipeline file, node id and stage name.
 #pragma once
@@ -99,12 +100,15 @@ class Stage {
 public:
     virtual ~Stage() = default;
     virtual StageInfo info() const = 0;
-    /// Receives the node's checked parameters (defaults filled in). Throw cm::Error
-    /// for combinations that cannot work (a missing file, exclusive options).
-    virtual void prepare(const ParamSet& params) { params_ = params; }
+    /// The host's one call before run(): stores `params` with every declared default that
+    /// is missing filled in (a required one missing is a cm::Error), then calls check().
+    void configure(const ParamSet& params);
     virtual Data run(const Inputs& inputs, Context& ctx) = 0;
 
 protected:
+    /// Called by configure() once the parameters are in place. Throw cm::Error for
+    /// combinations that cannot work (a missing file, exclusive options).
+    virtual void check() {}
     ParamSet params_;
 };
 

@@ -94,14 +94,14 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
     std::map<std::string, std::size_t> index;
     for (std::size_t i = 0; i < n; ++i) index[p.nodes[i].id] = i;
 
-    // Instantiate and prepare every stage before anything runs, so a bad
+    // Instantiate and configure every stage before anything runs, so a bad
     // combination of parameters fails fast.
     std::vector<std::unique_ptr<Stage>> stages(n);
     for (std::size_t i : p.order) {
         auto& node = p.nodes[i];
         try {
             stages[i] = registry.create(node.stage);
-            stages[i]->prepare(node.params);
+            stages[i]->configure(node.params);
         } catch (const std::exception& e) {
             throw Error(p.where(node) + e.what());
         }

@@ -254,11 +254,7 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
         ps.set(key, v);
         ps.mark_explicit(key);
     }
-    for (const auto& s : info.params) {
-        if (ps.has(s.name)) continue;
-        if (s.default_value) ps.set(s.name, *s.default_value);
-        else if (!s.is_optional) throw Error(where(0) + "parameter \"" + s.name + "\" is required: " + s.doc);
-    }
+    if (auto missing = fill_defaults(info.params, ps); !missing.empty()) throw Error(where(0) + missing);
     return ps;
 }
 

@@ -37,7 +37,7 @@ StageRun run_stage(const Registry& registry, const std::string& stage, const std
                    const Inputs& inputs, const StageRunOptions& opt) {
     std::unique_ptr<Stage> s = registry.create(stage);
     const StageInfo info = s->info();
-    s->prepare(resolve_params(info, params, [](int) { return std::string(); }));
+    s->configure(resolve_params(info, params, [](int) { return std::string(); }));
 
     FileCommit files;
     Context::Hooks hooks;

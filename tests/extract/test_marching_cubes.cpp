@@ -404,7 +404,7 @@ TEST(ExtractMarchingCubesStage, ReportsCountsAndRefusesAnEmptyVolume) {
     EXPECT_EQ(info.name, "extract.marching_cubes");
     ParamSet params;
     for (const auto& p : info.params) params.set(p.name, *p.default_value);
-    stage->prepare(params);
+    stage->configure(params);
 
     auto vol = std::make_shared<Volume>(volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 5.3); },
                                                         openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0}));

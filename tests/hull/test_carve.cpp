@@ -255,7 +255,7 @@ TEST(HullCarve, StageLetsVoxelRatioDecide) {
     p.mark_explicit("resolution");
     p.set("voxel_ratio", 4.0);
     p.mark_explicit("voxel_ratio");
-    st->prepare(p);
+    st->configure(p);
     Inputs in;
     in.set("views", std::shared_ptr<const Views>(sphere_views(1.0, 320, 150.0)));
     Context ctx("hull", "hull.carve", {});
@@ -269,7 +269,7 @@ TEST(HullCarve, StageReportsMetrics) {
     std::unique_ptr<Stage> st(make_hull_carve());
     ParamSet p;
     p.set("resolution", std::int64_t(48));
-    st->prepare(p);
+    st->configure(p);
     Inputs in;
     in.set("views", std::shared_ptr<const Views>(sphere_views(1.0, 200, 90.0)));
     Context ctx("hull", "hull.carve", {});

@@ -29,7 +29,7 @@ std::shared_ptr<const Views> load(const fs::path& manifest) {
     p.set("keep", std::string("largest"));
     p.set("align_tolerance", 0.02);
     p.set("save_silhouettes", false);
-    st->prepare(p);
+    st->configure(p);
     Context ctx("views", "views.load", {});
     return std::get<std::shared_ptr<const Views>>(st->run(Inputs{}, ctx));
 }

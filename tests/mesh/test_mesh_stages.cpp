@@ -44,7 +44,7 @@ TEST(MeshStages, HullConstraintWithoutViewsIsAClearError) {
     std::unique_ptr<Stage> s(make_mesh_laplacian_smooth());
     ParamSet p = defaults(*s);
     p.set("constrain", std::string("hull"));
-    s->prepare(p);
+    s->configure(p);
     Inputs in;
     in.set("mesh", std::make_shared<const Mesh>(test::make_sphere({0, 0, 0}, 1.0f, 2)));
     Context ctx("smooth", "mesh.laplacian_smooth", {});
@@ -56,7 +56,7 @@ TEST(MeshStages, HullConstrainedSmoothingThroughTheStage) {
     std::unique_ptr<Stage> s(make_mesh_taubin_smooth());
     ParamSet p = defaults(*s);
     p.set("constrain", std::string("hull"));
-    s->prepare(p);
+    s->configure(p);
     Inputs in;
     in.set("mesh", std::make_shared<const Mesh>(test::make_grid_box(-1.0f, 1.0f, 8)));
     in.set("views", std::make_shared<const Views>(test::make_box_views(-1.0f, 1.0f, 128)));
@@ -70,7 +70,7 @@ TEST(MeshStages, TaubinRefusesAShrinkingMu) {
     std::unique_ptr<Stage> s(make_mesh_taubin_smooth());
     ParamSet p = defaults(*s);
     p.set("mu", -0.5);
-    const std::string e = error_of([&] { s->prepare(p); });
+    const std::string e = error_of([&] { s->configure(p); });
     EXPECT_NE(e.find("mu < -lambda"), std::string::npos) << e;
 }
 
@@ -81,13 +81,13 @@ TEST(MeshStages, ReduceRefusesTwoTargetsAndMeetsARatio) {
     p.mark_explicit("target_faces");
     p.set("target_ratio", 0.5);
     p.mark_explicit("target_ratio");
-    EXPECT_NE(error_of([&] { s->prepare(p); }).find("not both"), std::string::npos);
+    EXPECT_NE(error_of([&] { s->configure(p); }).find("not both"), std::string::npos);
 
     ParamSet q = defaults(*s);
     q.set("target_ratio", 0.25);
     q.mark_explicit("target_ratio");
     q.set("max_angle_deg", 40.0);
-    s->prepare(q);
+    s->configure(q);
     Inputs in;
     const Mesh sphere = test::make_sphere({0, 0, 0}, 1.0f, 4);
     in.set("mesh", std::make_shared<const Mesh>(sphere));
@@ -101,7 +101,7 @@ TEST(MeshStages, QuadricNeedsATarget) {
     std::unique_ptr<Stage> s(make_mesh_quadric_decimate());
     ParamSet p = defaults(*s);
     p.set("target_ratio", 0.0);
-    EXPECT_NE(error_of([&] { s->prepare(p); }).find("give a target"), std::string::npos);
+    EXPECT_NE(error_of([&] { s->configure(p); }).find("give a target"), std::string::npos);
 }
 
 TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
@@ -109,7 +109,7 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     std::unique_ptr<Stage> s(make_mesh_write());
     ParamSet p = defaults(*s);
     p.set("path", (dir / "clean.ply").string());
-    s->prepare(p);
+    s->configure(p);
     Inputs in;
     in.set("mesh", std::make_shared<const Mesh>(test::make_box({0, 0, 0}, {1, 1, 1})));
     Context clean("write", "mesh.write", {});
@@ -120,7 +120,7 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
 
     const Mesh two = test::make_crossing_boxes();
     p.set("path", (dir / "crossing.ply").string());
-    s->prepare(p);
+    s->configure(p);
     in.set("mesh", std::make_shared<const Mesh>(two));
     Context bad("write", "mesh.write", {});
     s->run(in, bad);
@@ -130,7 +130,7 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     EXPECT_NE(bad.warnings()[0].find("crossing.ply"), std::string::npos) << bad.warnings()[0];
 
     p.set("check", false);
-    s->prepare(p);
+    s->configure(p);
     Context unchecked("write", "mesh.write", {});
     s->run(in, unchecked);
     EXPECT_EQ(unchecked.metrics_json().count("self_intersections"), 0u);

@@ -58,7 +58,7 @@ TEST(VolumeWrite, OccupancyBecomesALevelSetThatReadsBack) {
     test::TempDir dir("volume_write");
     std::unique_ptr<Stage> st(make_volume_write());
     const auto out = dir / "hull.vdb";
-    st->prepare(params(out));
+    st->configure(params(out));
     Inputs in;
     in.set("volume", box_volume());
     Context ctx("vdb", "volume.write", {});
@@ -88,7 +88,7 @@ TEST(VolumeWrite, MeshSourceKeepsTheSubVoxelSurface) {
     std::unique_ptr<Stage> st(make_volume_write());
     auto p = params(dir / "hull.vdb");
     p.set("occupancy", false);
-    st->prepare(p);
+    st->configure(p);
     Inputs in;
     in.set("volume", box_volume());
     // A surface between voxel faces: the level set must follow it, not the voxels.
@@ -106,5 +106,5 @@ TEST(VolumeWrite, MeshSourceKeepsTheSubVoxelSurface) {
 
 TEST(VolumeWrite, RefusesOtherExtensions) {
     std::unique_ptr<Stage> st(make_volume_write());
-    EXPECT_THROW(st->prepare(params("hull.obj")), Error);
+    EXPECT_THROW(st->configure(params("hull.obj")), Error);
 }

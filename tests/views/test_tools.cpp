@@ -232,7 +232,7 @@ TEST(EvalStages, SilhouetteErrorReportsPerViewAndOverall) {
     std::unique_ptr<Stage> st(make_eval_silhouette_error());
     ParamSet p;
     p.set("max_xor_pct", -1.0);
-    st->prepare(p);
+    st->configure(p);
     Inputs in;
     in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
     in.set("views", std::shared_ptr<const Views>(views));
@@ -251,7 +251,7 @@ TEST(EvalStages, SilhouetteErrorReportsPerViewAndOverall) {
     for (auto& q : moved.positions) q.y += 0.5f;
     ParamSet strict;
     strict.set("max_xor_pct", 1.0);
-    st->prepare(strict);
+    st->configure(strict);
     in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(moved)));
     Context ctx2("err", "eval.silhouette_error", {});
     EXPECT_THROW(st->run(in, ctx2), Error);
@@ -272,7 +272,7 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     ParamSet p;
     p.set("path", (dir / "sheet.png").string());
     p.set("panel", std::int64_t(64));
-    st->prepare(p);
+    st->configure(p);
     Inputs in;
     in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
     in.set("views", std::shared_ptr<const Views>(views));
@@ -293,5 +293,5 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     ParamSet bad;
     bad.set("path", (dir / "sheet.jpg").string());
     bad.set("panel", std::int64_t(64));
-    EXPECT_THROW(st->prepare(bad), Error);
+    EXPECT_THROW(st->configure(bad), Error);
 }

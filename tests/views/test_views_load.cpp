@@ -322,7 +322,7 @@ TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
     p.set("keep", std::string("auto"));
     p.set("align_tolerance", 0.02);
     p.set("save_silhouettes", true);
-    st->prepare(p);
+    st->configure(p);
     Context::Hooks hooks;
     hooks.side_output_dir = dir.path();
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;

@@ -28,10 +28,9 @@ public:
                 {{"mesh", DataKind::Mesh, "the mesh to decimate"}},
                 DataKind::Mesh, params};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        check_face_target(p);
-        if (p.get_int("target_faces") == 0 && p.get_float("target_ratio") == 0 && p.get_float("max_error") == 0)
+    void check() override {
+        check_face_target(params_);
+        if (params_.get_int("target_faces") == 0 && params_.get_float("target_ratio") == 0 && params_.get_float("max_error") == 0)
             throw Error("give a target: target_faces, target_ratio or max_error");
     }
     Data run(const Inputs& in, Context& ctx) override {

@@ -29,9 +29,8 @@ public:
                                           "vertices on boundaries or non-manifold edges stay)"}},
                 DataKind::Mesh, params};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        check_face_target(p);
+    void check() override {
+        check_face_target(params_);
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto src = in.get<Mesh>("mesh");

@@ -24,9 +24,8 @@ public:
                  ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"),
                  ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name")}};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        const fs::path path = p.get_string("path");
+    void check() override {
+        const fs::path path = params_.get_string("path");
         std::string ext = path.extension().string();
         for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".png") throw Error("path \"" + path.string() + "\" must end in .png");

@@ -15,9 +15,8 @@ public:
                 "Umbrella-operator Laplacian smoothing (the paper's step 4), optionally kept on the visual hull",
                 smooth_ports(), DataKind::Mesh, params};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        if (p.get_float("factor") <= 0.0) throw Error("factor must be in (0, 1], got 0");
+    void check() override {
+        if (params_.get_float("factor") <= 0.0) throw Error("factor must be in (0, 1], got 0");
     }
     Data run(const Inputs& in, Context& ctx) override {
         SmoothOptions opt;

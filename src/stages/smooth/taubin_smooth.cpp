@@ -19,9 +19,8 @@ public:
                 "Taubin lambda|mu smoothing: removes noise without shrinking, optionally kept on the visual hull",
                 smooth_ports(), DataKind::Mesh, params};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        const double l = p.get_float("lambda"), m = p.get_float("mu");
+    void check() override {
+        const double l = params_.get_float("lambda"), m = params_.get_float("mu");
         if (l <= 0.0 || m >= 0.0 || -m <= l) {
             std::ostringstream s;
             s << "lambda must be > 0 and mu < -lambda, got lambda " << l << " and mu " << m;

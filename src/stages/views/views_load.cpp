@@ -28,9 +28,8 @@ public:
                                  "write each extracted silhouette as <view>.silhouette.png beside the run report")}};
     }
 
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        const fs::path m = p.get_string("manifest");
+    void check() override {
+        const fs::path m = params_.get_string("manifest");
         std::error_code ec;
         if (!fs::exists(m, ec)) throw Error("manifest \"" + m.string() + "\" does not exist");
     }

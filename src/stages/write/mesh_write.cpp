@@ -42,9 +42,8 @@ public:
                                  "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
                                  "self-intersections): figures in the run report, a warning when a rule is broken")}};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        const std::filesystem::path path = p.get_string("path");
+    void check() override {
+        const std::filesystem::path path = params_.get_string("path");
         if (!mesh_format_supported(path))
             throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl, .off or .glb)");
         // A missing folder is created when the run writes; refuse only what cannot become one.

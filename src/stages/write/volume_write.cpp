@@ -42,13 +42,12 @@ public:
                                 "occupancy source: smoothing passes over the level set (softens the voxel staircase)"),
                  ParamSpec::Bool("occupancy", false, "also write the occupancy grid (bool) as \"occupancy\"")}};
     }
-    void prepare(const ParamSet& p) override {
-        Stage::prepare(p);
-        const std::filesystem::path path = p.get_string("path");
+    void check() override {
+        const std::filesystem::path path = params_.get_string("path");
         std::string ext = path.extension().string();
         for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".vdb") throw Error("path \"" + path.string() + "\" must end in .vdb");
-        if (p.get_string("grid_name").empty()) throw Error("grid_name must not be empty");
+        if (params_.get_string("grid_name").empty()) throw Error("grid_name must not be empty");
     }
     Data run(const Inputs& in, Context& ctx) override {
         openvdb::initialize();
