@@ -80,6 +80,7 @@ bool parse_bool(const std::string& t, bool& out) {
     if (t == "false" || t == "False" || t == "FALSE" || t == "no" || t == "off" || t == "0") { out = false; return true; }
     return false;
 }
+} // namespace
 
 std::string type_phrase(const ParamSpec& s) {
     switch (s.type) {
@@ -96,7 +97,6 @@ std::string type_phrase(const ParamSpec& s) {
     }
     return "?";
 }
-} // namespace
 
 bool ParamSet::get_bool(const std::string& name) const { return std::get<bool>(lookup(values_, name)); }
 std::int64_t ParamSet::get_int(const std::string& name) const { return std::get<std::int64_t>(lookup(values_, name)); }
@@ -152,7 +152,22 @@ ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, cons
     return parse_param_text(spec, text);
 }
 
+namespace {
+bool holds_declared_type(const ParamSpec& spec, const ParamValue& v) {
+    switch (spec.type) {
+    case ParamType::Bool: return std::holds_alternative<bool>(v);
+    case ParamType::Int: return std::holds_alternative<std::int64_t>(v);
+    case ParamType::Float: return std::holds_alternative<double>(v) || std::holds_alternative<std::int64_t>(v);
+    case ParamType::String:
+    case ParamType::Path:
+    case ParamType::Enum: return std::holds_alternative<std::string>(v);
+    }
+    return false;
+}
+} // namespace
+
 std::string check_param(const ParamSpec& spec, const ParamValue& v) {
+    if (!holds_declared_type(spec, v)) return spec.name + " must be " + type_phrase(spec) + ", got " + format_value(v);
     if (spec.type == ParamType::Int || spec.type == ParamType::Float) {
         double x = std::holds_alternative<std::int64_t>(v) ? double(std::get<std::int64_t>(v)) : std::get<double>(v);
         if ((spec.min && x < *spec.min) || (spec.max && x > *spec.max)) {
@@ -174,6 +189,18 @@ std::string check_param(const ParamSpec& spec, const ParamValue& v) {
         std::get<std::string>(v).empty() && !spec.default_value)
         return spec.name + " must not be empty";
     return {};
+}
+
+const ParamSpec* find_param(const std::vector<ParamSpec>& specs, const std::string& name) {
+    for (const auto& s : specs)
+        if (s.name == name) return &s;
+    return nullptr;
+}
+
+std::string param_names(const std::vector<ParamSpec>& specs) {
+    std::string known;
+    for (const auto& s : specs) known += (known.empty() ? "" : ", ") + s.name;
+    return known.empty() ? "none" : known;
 }
 
 std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps) {

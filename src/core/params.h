@@ -42,6 +42,8 @@ struct ParamSpec {
 };
 
 std::string format_value(const ParamValue& v);
+/// What a value of `spec` must be, for messages: "a number", "one of auto, on, off".
+std::string type_phrase(const ParamSpec& spec);
 
 /// Checked, typed parameter values of one node (defaults filled in).
 class ParamSet {
@@ -68,8 +70,12 @@ ParamValue parse_param_text(const ParamSpec& spec, const std::string& text);
 /// Converts a value written in YAML to the declared type. `kind` is how it was
 /// written: "scalar" (plain), "quoted", "list", "mapping" or "null value".
 ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, const std::string& kind);
-/// Range and choice checks; returns an empty string when valid, else the reason.
+/// Type, range and choice checks; returns an empty string when valid, else the reason.
 std::string check_param(const ParamSpec& spec, const ParamValue& v);
+/// The declaration named `name` in `specs`, or null.
+const ParamSpec* find_param(const std::vector<ParamSpec>& specs, const std::string& name);
+/// "a, b, c" (or "none"): the declared names, for messages about an unknown one.
+std::string param_names(const std::vector<ParamSpec>& specs);
 /// Sets every declared default that `ps` lacks. Returns the reason when a required
 /// parameter is missing ("parameter "x" is required: <doc>"), else an empty string.
 std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps);

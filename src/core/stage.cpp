@@ -58,9 +58,25 @@ void Context::metric_json(const std::string& key, const std::string& json_text) 
     metrics_[key] = json_text;
 }
 
+StageInfo Stage::info() const {
+    ParamBinder b;
+    // declare() only records where each value goes; nothing is written through it here.
+    const_cast<Stage*>(this)->declare(b);
+    return {signature(), b.specs()};
+}
+
 void Stage::configure(const ParamSet& params) {
+    ParamBinder b;
+    declare(b);
+    const std::vector<ParamSpec> specs = b.specs();
+    for (const auto& [name, value] : params.values()) {
+        const ParamSpec* spec = find_param(specs, name);
+        if (!spec) throw Error("unknown parameter \"" + name + "\" (parameters: " + param_names(specs) + ")");
+        if (auto why = check_param(*spec, value); !why.empty()) throw Error(why);
+    }
     ParamSet filled = params;
-    if (auto missing = fill_defaults(info().params, filled); !missing.empty()) throw Error(missing);
+    if (auto missing = fill_defaults(specs, filled); !missing.empty()) throw Error(missing);
+    b.assign(filled);
     params_ = std::move(filled);
     check();
 }

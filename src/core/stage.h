@@ -1,8 +1,11 @@
 // The Stage interface. The host drives a fixed lifecycle:
-//   1. info()       what the stage is: name, ports, declared parameters;
-//   2. configure()  takes the checked parameters (non-virtual: fills in the declared
-//                   defaults, stores them, then calls the stage's check());
+//   1. info()       what the stage is: its signature() (name, ports, output) and the
+//                   parameters its declare() adds;
+//   2. configure()  takes the checked parameters: fills in the declared defaults, stores
+//                   them, sets every member declare() bound, then calls check();
 //   3. run()        does the work on its inputs and returns its output.
+// info() and configure() are the host's and not virtual; a stage writes signature(),
+// declare(), check() (when some combination cannot work) and run().
 // A stage never calls another stage. It throws cm::Error with a sentence; the
 // host prefixes the pipeline file, node id and stage name.
 #pragma once
@@ -16,6 +19,7 @@
 
 #include "core/data.h"
 #include "core/error.h"
+#include "core/param_binder.h"
 #include "core/params.h"
 #include "core/progress.h"
 
@@ -28,11 +32,16 @@ struct PortSpec {
     bool optional = false;
 };
 
-struct StageInfo {
+/// What a stage says about itself: name, summary, input ports and output kind.
+struct StageSignature {
     std::string name;       ///< "hull.carve"
     std::string summary;    ///< one line
     std::vector<PortSpec> inputs;
     DataKind output;
+};
+
+/// The signature and the declared parameters.
+struct StageInfo : StageSignature {
     std::vector<ParamSpec> params;
 };
 
@@ -99,16 +108,28 @@ private:
 class Stage {
 public:
     virtual ~Stage() = default;
-    virtual StageInfo info() const = 0;
-    /// The host's one call before run(): stores `params` with every declared default that
-    /// is missing filled in (a required one missing is a cm::Error), then calls check().
+    /// The signature() and the parameters declare() adds, in their order.
+    StageInfo info() const;
+    /// The host's one call before run(). Stores `params` with every declared default that
+    /// is missing filled in, sets every member declare() bound (output paths checked, see
+    /// ParamSpec::OutputPath), then calls check(). Throws cm::Error for an undeclared or
+    /// missing required parameter, a value outside its declaration, or what check() refuses.
     void configure(const ParamSet& params);
+    /// Does the work on `inputs` with the members configure() set.
     virtual Data run(const Inputs& inputs, Context& ctx) = 0;
+    /// The parameters configure() stored (defaults filled in; which the user gave).
+    const ParamSet& params() const { return params_; }
 
 protected:
-    /// Called by configure() once the parameters are in place. Throw cm::Error for
+    virtual StageSignature signature() const = 0;
+    /// Declares each parameter once and binds it to the member that holds its value:
+    /// b.add(member_, ParamSpec::Float(...)). Called by info() and by configure().
+    virtual void declare(ParamBinder& b) { (void)b; }
+    /// Called by configure() once every bound member is set. Throw cm::Error for
     /// combinations that cannot work (a missing file, exclusive options).
     virtual void check() {}
+
+private:
     ParamSet params_;
 };
 

@@ -234,16 +234,12 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
                         const std::function<std::string(int)>& where) {
     ParamSet ps;
     for (const auto& [key, raw] : raw_params) {
-        const ParamSpec* spec = nullptr;
-        for (const auto& s : info.params)
-            if (s.name == key) spec = &s;
+        const ParamSpec* spec = find_param(info.params, key);
         const std::string src = raw.from_set() ? " (from --set)" : "";
-        if (!spec) {
-            std::string known;
-            for (const auto& s : info.params) known += (known.empty() ? "" : ", ") + s.name;
-            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src +
-                        " (parameters: " + (known.empty() ? "none" : known) + ")");
-        }
+        if (!spec)
+            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src + " (parameters: " +
+                        param_names(info.params) + ")");
+        if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue;   // null: left unset
         ParamValue v;
         try {
             v = param_value(*spec, raw);

@@ -10,10 +10,10 @@
 
 namespace cm {
 
-std::vector<ParamSpec> face_target_params(double default_ratio) {
-    return {ParamSpec::Int("target_faces", 0, 0, 2e9, "faces", "stop at or below this many faces; 0: no face count"),
-            ParamSpec::Float("target_ratio", default_ratio, 0.0, 1.0, "",
-                             "stop at or below this fraction of the input's faces; 0: no ratio")};
+void FaceTarget::declare(ParamBinder& b, double default_ratio) {
+    b.add(faces, ParamSpec::Int("target_faces", 0, 0, 2e9, "faces", "stop at or below this many faces; 0: no face count"));
+    b.add(ratio, ParamSpec::Float("target_ratio", default_ratio, 0.0, 1.0, "",
+                                  "stop at or below this fraction of the input's faces; 0: no ratio"));
 }
 
 ParamSpec crossing_guard_param() {
@@ -22,21 +22,17 @@ ParamSpec crossing_guard_param() {
                            "crossing, reduce again from the input with the vertices there kept");
 }
 
-void check_face_target(const ParamSet& p) {
-    if (p.get_int("target_faces") > 0 && p.get_float("target_ratio") > 0 && p.explicitly_set("target_faces") &&
-        p.explicitly_set("target_ratio")) {
+void FaceTarget::check() const {
+    if (faces > 0 && ratio > 0 && faces.given && ratio.given) {
         std::ostringstream s;
-        s << "give target_faces or target_ratio, not both (got " << p.get_int("target_faces") << " and "
-          << p.get_float("target_ratio") << ")";
+        s << "give target_faces or target_ratio, not both (got " << faces.value << " and " << ratio.value << ")";
         throw Error(s.str());
     }
 }
 
-std::size_t face_target(const ParamSet& p, std::size_t faces) {
-    if (p.get_int("target_faces") > 0 && (p.explicitly_set("target_faces") || p.get_float("target_ratio") <= 0))
-        return std::size_t(p.get_int("target_faces"));
-    const double r = p.get_float("target_ratio");
-    if (r > 0) return std::size_t(std::floor(r * double(faces)));
+std::size_t FaceTarget::count(std::size_t input_faces) const {
+    if (faces > 0 && (faces.given || ratio <= 0)) return std::size_t(faces.value);
+    if (ratio > 0) return std::size_t(std::floor(ratio * double(input_faces)));
     return 0;
 }
 

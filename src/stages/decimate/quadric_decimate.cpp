@@ -12,36 +12,38 @@ namespace cm {
 namespace {
 
 class QuadricDecimate : public Stage {
+    QuadricOptions opt_;
+    FaceTarget target_;
+
 public:
-    StageInfo info() const override {
-        auto params = face_target_params(0.1);
-        params.push_back(ParamSpec::Float("max_error", 0.0, 0.0, 1e30, "world units",
-                                          "stop before a collapse would move the surface further than this "
-                                          "(root mean square distance to the original planes); 0: no limit"));
-        params.push_back(ParamSpec::Float("max_normal_deviation_deg", 45.0, 1.0, 180.0, "deg",
-                                          "refuse collapses that turn a face by more than this"));
-        params.push_back(ParamSpec::Float("max_aspect_ratio", 20.0, 0.0, 1e6, "",
-                                          "refuse collapses that make a face thinner than this (1 = equilateral); 0: off"));
-        params.push_back(crossing_guard_param());
+    StageSignature signature() const override {
         return {"mesh.quadric_decimate",
                 "Garland-Heckbert quadric decimation to a face count or an error, keeping the mesh 2-manifold",
                 {{"mesh", DataKind::Mesh, "the mesh to decimate"}},
-                DataKind::Mesh, params};
+                DataKind::Mesh};
+    }
+    void declare(ParamBinder& b) override {
+        target_.declare(b, 0.1);
+        b.add(opt_.max_error, ParamSpec::Float("max_error", 0.0, 0.0, 1e30, "world units",
+                                               "stop before a collapse would move the surface further than this "
+                                               "(root mean square distance to the original planes); 0: no limit"));
+        b.add(opt_.max_normal_deviation_deg, ParamSpec::Float("max_normal_deviation_deg", 45.0, 1.0, 180.0, "deg",
+                                                              "refuse collapses that turn a face by more than this"));
+        b.add(opt_.max_aspect_ratio, ParamSpec::Float("max_aspect_ratio", 20.0, 0.0, 1e6, "",
+                                                      "refuse collapses that make a face thinner than this (1 = "
+                                                      "equilateral); 0: off"));
+        b.add(opt_.no_crossings, crossing_guard_param());
     }
     void check() override {
-        check_face_target(params_);
-        if (params_.get_int("target_faces") == 0 && params_.get_float("target_ratio") == 0 && params_.get_float("max_error") == 0)
+        target_.check();
+        if (target_.faces == 0 && target_.ratio == 0 && opt_.max_error == 0)
             throw Error("give a target: target_faces, target_ratio or max_error");
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto src = in.get<Mesh>("mesh");
         auto out = std::make_shared<Mesh>();
-        QuadricOptions opt;
-        opt.target_faces = face_target(params_, src->face_count());
-        opt.max_error = params_.get_float("max_error");
-        opt.max_normal_deviation_deg = params_.get_float("max_normal_deviation_deg");
-        opt.max_aspect_ratio = params_.get_float("max_aspect_ratio");
-        opt.no_crossings = params_.get_bool("guard");
+        QuadricOptions opt = opt_;
+        opt.target_faces = target_.count(src->face_count());
         opt.progress = [&ctx](double f) { ctx.progress(f, "decimating"); };
         const DecimateStats st = quadric_decimate(*src, *out, opt);
         report_decimation(ctx, st, *out);

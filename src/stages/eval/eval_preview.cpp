@@ -14,18 +14,23 @@ namespace cm {
 namespace {
 
 class EvalPreview : public Stage {
+    fs::path path_;
+    PreviewOptions opt_;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"eval.preview",
                 "Contact sheet: per view the input drawing, the mesh drawn from that view, and an overlay of the silhouettes",
                 {{"mesh", DataKind::Mesh, "the mesh to show"}, {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
-                DataKind::File,
-                {ParamSpec::Path("path", std::nullopt, "output image (.png)"),
-                 ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"),
-                 ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name")}};
+                DataKind::File};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(path_, ParamSpec::Path("path", std::nullopt, "output image (.png)"));
+        b.add(opt_.panel, ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"));
+        b.add(opt_.title, ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name"));
     }
     void check() override {
-        const fs::path path = params_.get_string("path");
+        const fs::path& path = path_;
         std::string ext = path.extension().string();
         for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".png") throw Error("path \"" + path.string() + "\" must end in .png");
@@ -39,11 +44,9 @@ public:
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
         auto views = in.get<Views>("views");
-        const fs::path path = params_.get_string("path");
-        PreviewOptions opt;
-        opt.panel = int(params_.get_int("panel"));
-        const std::string title = params_.has("title") ? params_.get_string("title") : std::string();
-        opt.title = title.empty() ? path.stem().string() : title;
+        const fs::path& path = path_;
+        PreviewOptions opt = opt_;
+        if (opt.title.empty()) opt.title = path.stem().string();
         SilhouetteError err;
         ctx.progress(0.1, "drawing");
         const Image sheet = make_preview_sheet(*mesh, *views, opt, err);

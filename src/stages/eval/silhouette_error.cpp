@@ -11,14 +11,18 @@ namespace cm {
 namespace {
 
 class EvalSilhouetteError : public Stage {
+    double max_xor_pct_ = -1.0;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"eval.silhouette_error",
                 "Silhouette error of the mesh against the input views: xor_pct (100 |S xor R| / |S|) and IoU, per view and overall",
                 {{"mesh", DataKind::Mesh, "the mesh to check"}, {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
-                DataKind::Report,
-                {ParamSpec::Float("max_xor_pct", -1.0, -1.0, 1e6, "%",
-                                  "fail the run when the overall xor_pct is above this (negative: never fail)")}};
+                DataKind::Report};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(max_xor_pct_, ParamSpec::Float("max_xor_pct", -1.0, -1.0, 1e6, "%",
+                                             "fail the run when the overall xor_pct is above this (negative: never fail)"));
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
@@ -39,7 +43,7 @@ public:
         ctx.metric("xor_pct", e.xor_pct);
         ctx.metric("mean_iou", e.mean_iou);
         ctx.metric_json("views", j["views"].dump());
-        const double limit = params_.get_float("max_xor_pct");
+        const double limit = max_xor_pct_;
         if (limit >= 0 && e.xor_pct > limit)
             throw Error("the silhouette error xor_pct " + std::to_string(e.xor_pct) + "% is above max_xor_pct " +
                         std::to_string(limit) + "%");

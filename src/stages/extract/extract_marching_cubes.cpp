@@ -13,40 +13,45 @@ namespace {
 constexpr std::size_t kAutoCheckFaces = 5'000'000;
 
 class ExtractMarchingCubes : public Stage {
+    enum class Check { Auto, On, Off };
+    MarchingCubesOptions opt_;
+    Check check_ = Check::Auto;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"extract.marching_cubes",
                 "Marching Cubes over the sparse hull: a closed, manifold, outward triangle mesh at the exact crossings",
                 {{"volume", DataKind::Volume, "the hull (refined by hull.marching_intersections, or not)"}},
-                DataKind::Mesh,
-                {ParamSpec::Enum("ambiguity", "geometric", {"geometric", "separate", "join"},
-                                 "ambiguous faces: geometric pairs the crossings by the shorter cut; separate keeps "
-                                 "diagonal inside corners apart; join connects them"),
-                 ParamSpec::Bool("crossings", true,
-                                 "place vertices at the volume's exact crossings (false: edge midpoints, plain "
-                                 "binary Marching Cubes)"),
-                 ParamSpec::Bool("thin_parts", true,
-                                 "keep parts thinner than a cell that the refinement found between grid points"),
-                 ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
-                                  "crossings nearer than this to a grid point are moved out to it, so no two "
-                                  "vertices coincide"),
-                 ParamSpec::Enum("check", "auto", {"auto", "on", "off"},
-                                 "check the mesh (closed, manifold, outward, no degenerate faces) and report the "
-                                 "counts; auto: up to 5 million faces (the check costs more time and memory than the "
-                                 "extraction)")}};
+                DataKind::Mesh};
+    }
+    void declare(ParamBinder& b) override {
+        using Ambiguity = MarchingCubesOptions::Ambiguity;
+        b.add(opt_.ambiguity,
+              ParamSpec::Enum("ambiguity", "geometric", {"geometric", "separate", "join"},
+                              "ambiguous faces: geometric pairs the crossings by the shorter cut; separate keeps "
+                              "diagonal inside corners apart; join connects them"),
+              {Ambiguity::Geometric, Ambiguity::Separate, Ambiguity::Join});
+        b.add(opt_.use_crossings, ParamSpec::Bool("crossings", true,
+                                                  "place vertices at the volume's exact crossings (false: edge "
+                                                  "midpoints, plain binary Marching Cubes)"));
+        b.add(opt_.use_thin, ParamSpec::Bool("thin_parts", true,
+                                             "keep parts thinner than a cell that the refinement found between grid points"));
+        b.add(opt_.min_edge_fraction,
+              ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
+                               "crossings nearer than this to a grid point are moved out to it, so no two "
+                               "vertices coincide"));
+        b.add(check_,
+              ParamSpec::Enum("check", "auto", {"auto", "on", "off"},
+                              "check the mesh (closed, manifold, outward, no degenerate faces) and report the "
+                              "counts; auto: up to 5 million faces (the check costs more time and memory than the "
+                              "extraction)"),
+              {Check::Auto, Check::On, Check::Off});
     }
 
     Data run(const Inputs& in, Context& ctx) override {
         auto vol = in.get<Volume>("volume");
         if (!vol->occupancy) throw Error("the volume has no occupancy grid");
-        MarchingCubesOptions opt;
-        const std::string amb = params_.get_string("ambiguity");
-        opt.ambiguity = amb == "separate" ? MarchingCubesOptions::Ambiguity::Separate
-                        : amb == "join"   ? MarchingCubesOptions::Ambiguity::Join
-                                          : MarchingCubesOptions::Ambiguity::Geometric;
-        opt.use_crossings = params_.get_bool("crossings");
-        opt.use_thin = params_.get_bool("thin_parts");
-        opt.min_edge_fraction = params_.get_float("min_edge_fraction");
+        MarchingCubesOptions opt = opt_;
         opt.progress = [&](double f) { ctx.progress(f, "marching cubes"); };
         MarchingCubesStats st;
         auto mesh = std::make_shared<Mesh>(marching_cubes(*vol, opt, &st));
@@ -67,8 +72,7 @@ public:
             ctx.warn(std::to_string(st.missing_crossings) +
                      " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
         }
-        const std::string check = params_.get_string("check");
-        if (check == "on" || (check == "auto" && mesh->face_count() <= kAutoCheckFaces)) {
+        if (check_ == Check::On || (check_ == Check::Auto && mesh->face_count() <= kAutoCheckFaces)) {
             const MeshCheck c = check_mesh(*mesh);
             ctx.metric("boundary_edges", double(c.boundary_edges));
             ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges));

@@ -6,30 +6,35 @@ namespace cm {
 namespace {
 
 class HullCarve : public Stage {
+    Param<int> resolution_;
+    std::optional<double> voxel_ratio_;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"hull.carve",
                 "Carve the visual hull of the views' silhouettes into a sparse grid (tiles inside, leaves at the surface)",
                 {{"views", DataKind::Views, "the views whose silhouettes are carved"}},
-                DataKind::Volume,
-                {ParamSpec::Int("resolution", 256, 8, 16384, "cells",
-                                "grid cells along the longest side of the object's bounding box"),
-                 ParamSpec::Float("voxel_ratio", 4.0, 0.01, 1024.0, "px",
-                                  "image pixels per grid cell in the finest view (the paper's 4x/8x coarser grid); "
-                                  "when set it decides the resolution")
-                     .optional()}};
+                DataKind::Volume};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(resolution_, ParamSpec::Int("resolution", 256, 8, 16384, "cells",
+                                          "grid cells along the longest side of the object's bounding box"));
+        b.add(voxel_ratio_, ParamSpec::Float("voxel_ratio", 4.0, 0.01, 1024.0, "px",
+                                             "image pixels per grid cell in the finest view (the paper's 4x/8x coarser "
+                                             "grid); when set it decides the resolution")
+                                .optional());
     }
 
     Data run(const Inputs& in, Context& ctx) override {
         auto views = in.get<Views>("views");
         CarveOptions opt;
-        opt.resolution = int(params_.get_int("resolution"));
-        if (params_.has("voxel_ratio")) opt.voxel_ratio = params_.get_float("voxel_ratio");
+        opt.resolution = resolution_;
+        if (voxel_ratio_) opt.voxel_ratio = *voxel_ratio_;
         CarveStats st;
         auto vol = carve(views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
         // voxel_ratio decides when given, so `--set hull.voxel_ratio=4` works on a pipeline
         // file that names a resolution; say so when the two differ.
-        if (opt.voxel_ratio > 0 && params_.explicitly_set("resolution") && st.resolution != opt.resolution)
+        if (opt.voxel_ratio > 0 && resolution_.given && st.resolution != opt.resolution)
             ctx.warn("voxel_ratio " + std::to_string(opt.voxel_ratio) + " decides the resolution: " +
                      std::to_string(st.resolution) + " cells, not the " + std::to_string(opt.resolution) + " given");
         if (st.box_estimated) {

@@ -7,27 +7,31 @@ namespace cm {
 namespace {
 
 class HullMarchingIntersections : public Stage {
+    RefineOptions opt_;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"hull.marching_intersections",
                 "Find where the silhouette cones cross each grid edge of the hull surface, at sub-pixel precision",
                 {{"volume", DataKind::Volume, "the carved hull (hull.carve)"},
                  {"views", DataKind::Views, "the views to intersect with; the volume's own views when not connected",
                   true}},
-                DataKind::Volume,
-                {ParamSpec::Enum("thin", "auto", {"auto", "on", "off"},
-                                 "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
-                                 "auto: when a cell spans more than a pixel of the finest view")}};
+                DataKind::Volume};
+    }
+    void declare(ParamBinder& b) override {
+        using Thin = RefineOptions::Thin;
+        b.add(opt_.thin,
+              ParamSpec::Enum("thin", "auto", {"auto", "on", "off"},
+                              "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
+                              "auto: when a cell spans more than a pixel of the finest view"),
+              {Thin::Auto, Thin::On, Thin::Off});
     }
 
     Data run(const Inputs& in, Context& ctx) override {
         auto vol = in.get<Volume>("volume");
         std::shared_ptr<const Views> views = in.has("views") ? in.get<Views>("views") : vol->views;
-        RefineOptions opt;
-        const std::string thin = params_.get_string("thin");
-        opt.thin = thin == "on" ? RefineOptions::Thin::On : thin == "off" ? RefineOptions::Thin::Off : RefineOptions::Thin::Auto;
         RefineStats st;
-        auto out = refine(*vol, views, opt, [&](double f) { ctx.progress(f, "crossings"); }, &st);
+        auto out = refine(*vol, views, opt_, [&](double f) { ctx.progress(f, "crossings"); }, &st);
         ctx.metric("crossings", double(st.crossings));
         ctx.metric("thin_crossings", double(st.thin_crossings));
         ctx.metric("cell_px", st.cell_px);

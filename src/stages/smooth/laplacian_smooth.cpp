@@ -6,23 +6,28 @@ namespace cm {
 namespace {
 
 class LaplacianSmooth : public Stage {
+    SmoothCommon common_;
+    double factor_ = 1.0;
+
 public:
-    StageInfo info() const override {
-        auto params = smooth_common_params(10);
-        params.push_back(ParamSpec::Float("factor", 1.0, 0.0, 1.0, "",
-                                          "fraction of the umbrella step taken per iteration (1: the paper's operator)"));
+    StageSignature signature() const override {
         return {"mesh.laplacian_smooth",
                 "Umbrella-operator Laplacian smoothing (the paper's step 4), optionally kept on the visual hull",
-                smooth_ports(), DataKind::Mesh, params};
+                smooth_ports(), DataKind::Mesh};
+    }
+    void declare(ParamBinder& b) override {
+        common_.declare(b, 10);
+        b.add(factor_, ParamSpec::Float("factor", 1.0, 0.0, 1.0, "",
+                                        "fraction of the umbrella step taken per iteration (1: the paper's operator)"));
     }
     void check() override {
-        if (params_.get_float("factor") <= 0.0) throw Error("factor must be in (0, 1], got 0");
+        if (factor_ <= 0.0) throw Error("factor must be in (0, 1], got 0");
     }
     Data run(const Inputs& in, Context& ctx) override {
         SmoothOptions opt;
         opt.method = SmoothOptions::Method::Laplacian;
-        opt.factor = params_.get_float("factor");
-        return run_smooth_stage(in, ctx, params_, opt);
+        opt.factor = factor_;
+        return common_.run(in, ctx, opt);
     }
 };
 

@@ -8,18 +8,20 @@
 
 namespace cm {
 
-std::vector<ParamSpec> smooth_common_params(std::int64_t default_iterations) {
-    return {ParamSpec::Int("iterations", default_iterations, 0, 10000, "",
-                           "smoothing iterations (Taubin: one lambda step and one mu step each)"),
-            ParamSpec::Enum("constrain", "none", {"none", "hull"},
-                            "hull: keep every vertex within `tolerance` of the visual hull of the views "
-                            "(needs the views input), so the drawn outline is kept"),
-            ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
-                             "hull constraint: largest distance of a vertex from the hull, in pixels of the "
-                             "finest view"),
-            ParamSpec::Bool("guard", true,
-                            "keep the surface valid: vertices of faces that would cross another face, turn "
-                            "over or collapse are moved back towards their input positions")};
+void SmoothCommon::declare(ParamBinder& b, std::int64_t default_iterations) {
+    b.add(iterations, ParamSpec::Int("iterations", default_iterations, 0, 10000, "",
+                                     "smoothing iterations (Taubin: one lambda step and one mu step each)"));
+    b.add(constrain,
+          ParamSpec::Enum("constrain", "none", {"none", "hull"},
+                          "hull: keep every vertex within `tolerance` of the visual hull of the views "
+                          "(needs the views input), so the drawn outline is kept"),
+          {Constrain::None, Constrain::Hull});
+    b.add(tolerance_px, ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
+                                         "hull constraint: largest distance of a vertex from the hull, in pixels of "
+                                         "the finest view"));
+    b.add(guard, ParamSpec::Bool("guard", true,
+                                 "keep the surface valid: vertices of faces that would cross another face, turn "
+                                 "over or collapse are moved back towards their input positions"));
 }
 
 std::vector<PortSpec> smooth_ports() {
@@ -27,19 +29,19 @@ std::vector<PortSpec> smooth_ports() {
             {"views", DataKind::Views, "the views whose visual hull bounds the vertices (constrain: hull)", true}};
 }
 
-Data run_smooth_stage(const Inputs& in, Context& ctx, const ParamSet& params, SmoothOptions opt) {
+Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const {
     auto src = in.get<Mesh>("mesh");
-    opt.iterations = int(params.get_int("iterations"));
+    opt.iterations = iterations;
     std::unique_ptr<HullDistance> hull;
-    if (params.get_string("constrain") == "hull") {
+    if (constrain == Constrain::Hull) {
         if (!in.has("views"))
             throw Error("constrain: hull needs the views input (inputs: { mesh: ..., views: <views node> })");
         auto views = in.get<Views>("views");
         hull = std::make_unique<HullDistance>(*views);
         opt.hull = hull.get();
-        opt.tolerance = params.get_float("tolerance") * hull->finest_pixel();
+        opt.tolerance = tolerance_px * hull->finest_pixel();
     }
-    opt.guard = params.get_bool("guard");
+    opt.guard = guard;
     opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
     auto out = std::make_shared<Mesh>(*src);
     const double v0 = check_mesh(*src).signed_volume;

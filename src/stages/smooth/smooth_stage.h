@@ -2,6 +2,7 @@
 // parameters and ports, and the run (copy the mesh, build the hull distance when
 // asked, smooth, report). Each stage adds its own step parameters.
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "mesh_smooth.h"
@@ -9,11 +10,22 @@
 
 namespace cm {
 
-/// `iterations`, `constrain` (none|hull) and `tolerance` (px of the finest view).
-std::vector<ParamSpec> smooth_common_params(std::int64_t default_iterations);
+/// `iterations`, `constrain` (none|hull), `tolerance` (px of the finest view) and `guard`,
+/// bound together, and the run both stages share.
+struct SmoothCommon {
+    enum class Constrain { None, Hull };
+    int iterations = 0;
+    Constrain constrain = Constrain::None;
+    double tolerance_px = 0;
+    bool guard = true;
+
+    void declare(ParamBinder& b, std::int64_t default_iterations);
+    /// Smooths a copy of the `mesh` input with `opt` (its method and step set by the stage).
+    /// Throws cm::Error when `constrain: hull` is asked and the views input is not connected.
+    Data run(const Inputs& in, Context& ctx, SmoothOptions opt) const;
+};
+
 /// The ports: `mesh` and the optional `views` the hull constraint needs.
 std::vector<PortSpec> smooth_ports();
-/// Throws cm::Error when `constrain: hull` is asked and the views input is not connected.
-Data run_smooth_stage(const Inputs& in, Context& ctx, const ParamSet& params, SmoothOptions opt);
 
 } // namespace cm

@@ -10,29 +10,33 @@ namespace cm {
 namespace {
 
 class TaubinSmooth : public Stage {
+    SmoothCommon common_;
+    double lambda_ = 0.63, mu_ = -0.67;
+
 public:
-    StageInfo info() const override {
-        auto params = smooth_common_params(10);
-        params.push_back(ParamSpec::Float("lambda", 0.63, 0.0, 1.0, "", "shrinking step, in (0, 1)"));
-        params.push_back(ParamSpec::Float("mu", -0.67, -1.0, 0.0, "", "inflating step, in (-1, 0) with |mu| > lambda"));
+    StageSignature signature() const override {
         return {"mesh.taubin_smooth",
                 "Taubin lambda|mu smoothing: removes noise without shrinking, optionally kept on the visual hull",
-                smooth_ports(), DataKind::Mesh, params};
+                smooth_ports(), DataKind::Mesh};
+    }
+    void declare(ParamBinder& b) override {
+        common_.declare(b, 10);
+        b.add(lambda_, ParamSpec::Float("lambda", 0.63, 0.0, 1.0, "", "shrinking step, in (0, 1)"));
+        b.add(mu_, ParamSpec::Float("mu", -0.67, -1.0, 0.0, "", "inflating step, in (-1, 0) with |mu| > lambda"));
     }
     void check() override {
-        const double l = params_.get_float("lambda"), m = params_.get_float("mu");
-        if (l <= 0.0 || m >= 0.0 || -m <= l) {
+        if (lambda_ <= 0.0 || mu_ >= 0.0 || -mu_ <= lambda_) {
             std::ostringstream s;
-            s << "lambda must be > 0 and mu < -lambda, got lambda " << l << " and mu " << m;
+            s << "lambda must be > 0 and mu < -lambda, got lambda " << lambda_ << " and mu " << mu_;
             throw Error(s.str());
         }
     }
     Data run(const Inputs& in, Context& ctx) override {
         SmoothOptions opt;
         opt.method = SmoothOptions::Method::Taubin;
-        opt.lambda = params_.get_float("lambda");
-        opt.mu = params_.get_float("mu");
-        return run_smooth_stage(in, ctx, params_, opt);
+        opt.lambda = lambda_;
+        opt.mu = mu_;
+        return common_.run(in, ctx, opt);
     }
 };
 

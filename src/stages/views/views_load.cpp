@@ -13,38 +13,41 @@ namespace cm {
 namespace {
 
 class ViewsLoad : public Stage {
-public:
-    StageInfo info() const override {
-        return {"views.load",
-                "Read the views manifest and its drawings: silhouettes, cameras, alignment",
-                {},
-                DataKind::Views,
-                {ParamSpec::Path("manifest", std::nullopt, "the views manifest (YAML): which image is which view"),
-                 ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
-                                 "which separate marks to keep: auto drops specks and small marks (a view's own keep wins)"),
-                 ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
-                                  "relative disagreement between views on a shared axis that raises a warning"),
-                 ParamSpec::Bool("save_silhouettes", false,
-                                 "write each extracted silhouette as <view>.silhouette.png beside the run report")}};
-    }
+    fs::path manifest_;
+    LoadViewsOptions opt_;
+    bool save_silhouettes_ = false;
 
+public:
+    StageSignature signature() const override {
+        return {"views.load", "Read the views manifest and its drawings: silhouettes, cameras, alignment", {},
+                DataKind::Views};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(manifest_,
+              ParamSpec::Path("manifest", std::nullopt, "the views manifest (YAML): which image is which view"));
+        b.add(opt_.keep,
+              ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
+                              "which separate marks to keep: auto drops specks and small marks (a view's own keep wins)"));
+        b.add(opt_.align_tolerance,
+              ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
+                               "relative disagreement between views on a shared axis that raises a warning"));
+        b.add(save_silhouettes_,
+              ParamSpec::Bool("save_silhouettes", false,
+                              "write each extracted silhouette as <view>.silhouette.png beside the run report"));
+    }
     void check() override {
-        const fs::path m = params_.get_string("manifest");
         std::error_code ec;
-        if (!fs::exists(m, ec)) throw Error("manifest \"" + m.string() + "\" does not exist");
+        if (!fs::exists(manifest_, ec)) throw Error("manifest \"" + manifest_.string() + "\" does not exist");
     }
 
     Data run(const Inputs&, Context& ctx) override {
-        LoadViewsOptions opt;
-        opt.keep = params_.get_string("keep");
-        opt.align_tolerance = params_.get_float("align_tolerance");
         LoadViewsReport report;
         auto views = std::make_shared<Views>(
-            load_views(params_.get_string("manifest"), opt, report, [&](double f) { ctx.progress(f, "aligning"); }));
+            load_views(manifest_, opt_, report, [&](double f) { ctx.progress(f, "aligning"); }));
         for (const auto& n : report.notes) ctx.info(n);
         for (const auto& w : report.warnings) ctx.warn(w);
 
-        if (params_.get_bool("save_silhouettes")) {
+        if (save_silhouettes_) {
             for (const auto& v : views->views) {
                 const fs::path out = ctx.side_output_dir() / (v.name + ".silhouette.png");
                 write_image(silhouette_image(v), ctx.output_file(out));

@@ -29,21 +29,28 @@ void report_check(const Mesh& m, const std::filesystem::path& path, Context& ctx
 }
 
 class MeshWrite : public Stage {
+    std::filesystem::path path_;
+    MeshWriteOptions opt_;
+    bool check_ = true;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"mesh.write",
                 "Write the mesh to a file: .obj, .ply, .stl, .off or .glb (format from the extension)",
                 {{"mesh", DataKind::Mesh, "the mesh to write"}},
-                DataKind::File,
-                {ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"),
-                 ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"),
-                 ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"),
-                 ParamSpec::Bool("check", true,
-                                 "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
-                                 "self-intersections): figures in the run report, a warning when a rule is broken")}};
+                DataKind::File};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(path_, ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"));
+        b.add(opt_.binary, ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"));
+        b.add(opt_.normals, ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"));
+        b.add(check_, ParamSpec::Bool("check", true,
+                                      "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
+                                      "self-intersections): figures in the run report, a warning when a rule is "
+                                      "broken"));
     }
     void check() override {
-        const std::filesystem::path path = params_.get_string("path");
+        const std::filesystem::path& path = path_;
         if (!mesh_format_supported(path))
             throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl, .off or .glb)");
         // A missing folder is created when the run writes; refuse only what cannot become one.
@@ -57,10 +64,8 @@ public:
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; nothing to write");
-        const std::filesystem::path path = params_.get_string("path");
-        MeshWriteOptions opt;
-        opt.binary = params_.get_bool("binary");
-        opt.normals = params_.get_bool("normals");
+        const std::filesystem::path& path = path_;
+        MeshWriteOptions opt = opt_;
         opt.name = path.stem().string();   // not the temporary file's name
         Mesh with_normals;
         const Mesh* m = mesh.get();
@@ -76,7 +81,7 @@ public:
         ctx.metric("vertices", double(m->vertex_count()));
         ctx.metric("path", path.string());
         ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
-        if (params_.get_bool("check")) report_check(*m, path, ctx);
+        if (check_) report_check(*m, path, ctx);
         auto out = std::make_shared<FileOutput>();
         out->paths.push_back(path);
         return std::shared_ptr<const FileOutput>(out);

@@ -26,34 +26,42 @@ namespace cm {
 namespace {
 
 class VolumeWrite : public Stage {
+    std::filesystem::path path_;
+    std::string grid_name_;
+    int half_width_ = 3, smoothing_steps_ = 2;
+    bool occupancy_ = false;
+
 public:
-    StageInfo info() const override {
+    StageSignature signature() const override {
         return {"volume.write",
                 "Write the hull as an OpenVDB level set (.vdb) for Houdini, Blender and other OpenVDB tools",
                 {{"volume", DataKind::Volume, "the hull (its occupancy and transform)"},
                  {"mesh", DataKind::Mesh,
                   "optional surface of the hull (e.g. the Marching Cubes mesh): the level set follows it "
                   "with sub-voxel accuracy instead of the voxel faces", true}},
-                DataKind::File,
-                {ParamSpec::Path("path", std::nullopt, "output .vdb file"),
-                 ParamSpec::String("grid_name", std::string("surface"), "name of the level-set grid in the file"),
-                 ParamSpec::Int("half_width", 3, 1, 64, "voxels", "narrow band half width"),
-                 ParamSpec::Int("smoothing_steps", 2, 0, 64, "",
-                                "occupancy source: smoothing passes over the level set (softens the voxel staircase)"),
-                 ParamSpec::Bool("occupancy", false, "also write the occupancy grid (bool) as \"occupancy\"")}};
+                DataKind::File};
+    }
+    void declare(ParamBinder& b) override {
+        b.add(path_, ParamSpec::Path("path", std::nullopt, "output .vdb file"));
+        b.add(grid_name_, ParamSpec::String("grid_name", std::string("surface"), "name of the level-set grid in the file"));
+        b.add(half_width_, ParamSpec::Int("half_width", 3, 1, 64, "voxels", "narrow band half width"));
+        b.add(smoothing_steps_,
+              ParamSpec::Int("smoothing_steps", 2, 0, 64, "",
+                             "occupancy source: smoothing passes over the level set (softens the voxel staircase)"));
+        b.add(occupancy_, ParamSpec::Bool("occupancy", false, "also write the occupancy grid (bool) as \"occupancy\""));
     }
     void check() override {
-        const std::filesystem::path path = params_.get_string("path");
+        const std::filesystem::path& path = path_;
         std::string ext = path.extension().string();
         for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".vdb") throw Error("path \"" + path.string() + "\" must end in .vdb");
-        if (params_.get_string("grid_name").empty()) throw Error("grid_name must not be empty");
+        if (grid_name_.empty()) throw Error("grid_name must not be empty");
     }
     Data run(const Inputs& in, Context& ctx) override {
         openvdb::initialize();
         auto vol = in.get<Volume>("volume");
         if (!vol->occupancy) throw Error("the volume has no occupancy grid");
-        const int half_width = int(params_.get_int("half_width"));
+        const int half_width = half_width_;
         openvdb::FloatGrid::Ptr sdf;
         if (in.has("mesh")) {
             auto mesh = in.get<Mesh>("mesh");
@@ -77,22 +85,22 @@ public:
         } else {
             ctx.progress(0.1, "occupancy to level set");
             sdf = openvdb::tools::topologyToLevelSet(*vol->occupancy, half_width, 0, 0,
-                                                     int(params_.get_int("smoothing_steps")), &ctx.interrupter());
+                                                     smoothing_steps_, &ctx.interrupter());
             ctx.metric("source", "occupancy");
         }
         ctx.check_cancel();
         if (!sdf || sdf->activeVoxelCount() == 0) throw Error("the level set is empty (the volume has no inside)");
         sdf->setGridClass(openvdb::GRID_LEVEL_SET);
-        sdf->setName(params_.get_string("grid_name"));
+        sdf->setName(grid_name_);
         sdf->insertMeta("creator", openvdb::StringMetadata("conceptmesh volume.write"));
         openvdb::GridPtrVec grids{sdf};
-        if (params_.get_bool("occupancy")) {
+        if (occupancy_) {
             auto occ = vol->occupancy->deepCopy();
             occ->setName("occupancy");
             grids.push_back(occ);
         }
         ctx.progress(0.8, "writing");
-        const std::filesystem::path path = params_.get_string("path");
+        const std::filesystem::path& path = path_;
         if (!path.parent_path().empty()) std::filesystem::create_directories(std::filesystem::absolute(path).parent_path());
         const auto tmp = ctx.output_file(path);
         openvdb::io::File file(tmp.string());
