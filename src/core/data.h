@@ -22,6 +22,9 @@ struct FileOutput {
 /// from it still work). Files are written there and renamed when the run succeeds.
 std::filesystem::path temporary_path(const std::filesystem::path& final_path);
 
+/// The extension of `path` in lower case (".png"), for formats picked by it.
+std::string lower_extension(const std::filesystem::path& path);
+
 /// A stage's findings (e.g. silhouette error), as JSON text merged into the run report.
 struct Report {
     std::string json;   ///< a JSON object

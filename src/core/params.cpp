@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/data.h"
 #include "core/error.h"
 
 namespace cm {
@@ -49,6 +50,12 @@ ParamSpec ParamSpec::Path(std::string name, std::optional<std::string> def, std:
 ParamSpec ParamSpec::Enum(std::string name, std::string def, std::vector<std::string> choices, std::string doc) {
     ParamSpec s; s.name = std::move(name); s.type = ParamType::Enum; s.default_value = std::move(def);
     s.choices = std::move(choices); s.doc = std::move(doc);
+    return s;
+}
+ParamSpec ParamSpec::OutputPath(std::string name, std::vector<std::string> extensions, std::string doc) {
+    ParamSpec s = Path(std::move(name), std::nullopt, std::move(doc));
+    s.is_output = true;
+    s.extensions = std::move(extensions);
     return s;
 }
 ParamSpec& ParamSpec::optional() {
@@ -201,6 +208,28 @@ std::string param_names(const std::vector<ParamSpec>& specs) {
     std::string known;
     for (const auto& s : specs) known += (known.empty() ? "" : ", ") + s.name;
     return known.empty() ? "none" : known;
+}
+
+std::string check_output_path(const ParamSpec& spec, const std::filesystem::path& path) {
+    namespace fs = std::filesystem;
+    const std::string what = spec.name + " \"" + path.string() + "\"";
+    const std::string ext = lower_extension(path);
+    bool known = false;
+    for (const auto& e : spec.extensions) known = known || e == ext;
+    if (!known && spec.extensions.size() == 1) return what + " must end in " + spec.extensions[0];
+    if (!known) {
+        std::string list;
+        for (std::size_t i = 0; i < spec.extensions.size(); ++i)
+            list += (i == 0 ? "" : i + 1 == spec.extensions.size() ? " or " : ", ") + spec.extensions[i];
+        return what + " has an unknown extension (use " + list + ")";
+    }
+    // A missing folder is created when the run writes; refuse only what cannot become one.
+    for (auto dir = fs::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
+        if (fs::is_directory(dir)) break;
+        if (fs::exists(dir)) return what + ": \"" + dir.string() + "\" is not a folder";
+        if (dir == dir.parent_path()) break;
+    }
+    return {};
 }
 
 std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps) {

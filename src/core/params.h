@@ -2,6 +2,7 @@
 // `conceptmesh stages --describe`, and the generated JSON Schema.
 #pragma once
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -37,8 +38,13 @@ struct ParamSpec {
     static ParamSpec Path(std::string name, std::optional<std::string> def, std::string doc);
     static ParamSpec Enum(std::string name, std::string def, std::vector<std::string> choices,
                           std::string doc);
+    /// A file the run writes (required, a Path to the schema): configure() refuses it unless
+    /// check_output_path() passes, and Context::output_file() makes its missing folders.
+    static ParamSpec OutputPath(std::string name, std::vector<std::string> extensions, std::string doc);
     ParamSpec& optional();   ///< no default, may be left unset
     bool is_optional = false;
+    bool is_output = false;                    ///< OutputPath
+    std::vector<std::string> extensions;       ///< OutputPath: the accepted ones (".obj"), in lower case
 };
 
 std::string format_value(const ParamValue& v);
@@ -76,6 +82,11 @@ std::string check_param(const ParamSpec& spec, const ParamValue& v);
 const ParamSpec* find_param(const std::vector<ParamSpec>& specs, const std::string& name);
 /// "a, b, c" (or "none"): the declared names, for messages about an unknown one.
 std::string param_names(const std::vector<ParamSpec>& specs);
+/// The rule of an OutputPath: the extension is one of `spec.extensions` in any case, and
+/// every folder on the way exists or can be made when the run writes. Returns the reason
+/// (`path "x.abc" has an unknown extension (use .obj, .ply or .glb)`, `path "x.jpg" must
+/// end in .png`, `path "a/b.png": "/.../a" is not a folder`), else an empty string.
+std::string check_output_path(const ParamSpec& spec, const std::filesystem::path& path);
 /// Sets every declared default that `ps` lacks. Returns the reason when a required
 /// parameter is missing ("parameter "x" is required: <doc>"), else an empty string.
 std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps);

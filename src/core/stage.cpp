@@ -1,6 +1,7 @@
 #include "core/stage.h"
 
 #include <atomic>
+#include <cctype>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
@@ -72,7 +73,9 @@ void Stage::configure(const ParamSet& params) {
     for (const auto& [name, value] : params.values()) {
         const ParamSpec* spec = find_param(specs, name);
         if (!spec) throw Error("unknown parameter \"" + name + "\" (parameters: " + param_names(specs) + ")");
-        if (auto why = check_param(*spec, value); !why.empty()) throw Error(why);
+        std::string why = check_param(*spec, value);
+        if (why.empty() && spec->is_output) why = check_output_path(*spec, std::get<std::string>(value));
+        if (!why.empty()) throw Error(why);
     }
     ParamSet filled = params;
     if (auto missing = fill_defaults(specs, filled); !missing.empty()) throw Error(missing);
@@ -88,7 +91,14 @@ std::filesystem::path temporary_path(const std::filesystem::path& final_path) {
     return tmp;
 }
 
+std::string lower_extension(const std::filesystem::path& path) {
+    std::string e = path.extension().string();
+    for (auto& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+}
+
 std::filesystem::path Context::output_file(const std::filesystem::path& final_path) {
+    std::filesystem::create_directories(std::filesystem::absolute(final_path).parent_path());
     const auto tmp = temporary_path(final_path);
     if (hooks_.stage_file) hooks_.stage_file(tmp, final_path);
     return tmp;

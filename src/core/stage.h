@@ -91,8 +91,9 @@ public:
     const std::map<std::string, std::string>& metrics_json() const { return metrics_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
 
-    /// A temporary path in the same folder as `final_path`; the host renames it to
-    /// `final_path` when the whole run succeeds and deletes it otherwise.
+    /// A temporary path in the same folder as `final_path` (missing folders on the way are
+    /// made); the host renames it to `final_path` when the whole run succeeds and deletes
+    /// it otherwise.
     std::filesystem::path output_file(const std::filesystem::path& final_path);
     const std::filesystem::path& side_output_dir() const { return hooks_.side_output_dir; }
 

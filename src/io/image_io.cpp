@@ -1,9 +1,8 @@
 #include "io/image_io.h"
 
-#include <algorithm>
-
 #include <OpenImageIO/imageio.h>
 
+#include "core/data.h"
 #include "core/error.h"
 
 namespace fs = std::filesystem;
@@ -44,8 +43,7 @@ Image read_image(const fs::path& file, ImageInfo* info) {
 }
 
 void write_image(const Image& img, const fs::path& file) {
-    std::string ext = file.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lower_extension(file);
     auto out = OIIO::ImageOutput::create(file.string());
     if (!out) throw Error("cannot write image \"" + file.string() + "\": " + OIIO::geterror());
     const bool eight = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";

@@ -7,6 +7,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
+#include "core/data.h"
 #include "core/error.h"
 #include "io/gltf_io.h"
 
@@ -29,16 +30,16 @@ void quiet_openmesh() {
     (void)done;
 }
 
-std::string lower_ext(const fs::path& p) {
-    std::string e = p.extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e;
-}
 } // namespace
 
+const std::vector<std::string>& mesh_extensions() {
+    static const std::vector<std::string> extensions = {".obj", ".ply", ".stl", ".off", ".glb"};
+    return extensions;
+}
+
 bool mesh_format_supported(const fs::path& file) {
-    const std::string e = lower_ext(file);
-    return e == ".obj" || e == ".ply" || e == ".stl" || e == ".off" || e == ".glb";
+    const auto& known = mesh_extensions();
+    return std::find(known.begin(), known.end(), lower_extension(file)) != known.end();
 }
 
 Mesh read_mesh(const fs::path& file) {
@@ -46,7 +47,7 @@ Mesh read_mesh(const fs::path& file) {
     if (!fs::exists(file, ec)) throw Error("cannot read mesh \"" + file.string() + "\": no such file");
     if (!mesh_format_supported(file))
         throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
-    if (lower_ext(file) == ".glb") return read_glb(file);
+    if (lower_extension(file) == ".glb") return read_glb(file);
     quiet_openmesh();
     OMesh om;
     OpenMesh::IO::Options opt;
@@ -75,7 +76,7 @@ Mesh read_mesh(const fs::path& file) {
 void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
     if (!mesh_format_supported(file))
         throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
-    if (lower_ext(file) == ".glb") {
+    if (lower_extension(file) == ".glb") {
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
         return write_glb(mesh, file, wo.normals, wo.name);
     }
@@ -83,7 +84,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
     for (const auto& p : mesh.positions) om.add_vertex(OMesh::Point(p.x, p.y, p.z));
-    const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size() && lower_ext(file) != ".stl";
+    const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size() && lower_extension(file) != ".stl";
     if (with_normals) {
         om.request_vertex_normals();
         for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
@@ -99,7 +100,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
     }
     OpenMesh::IO::Options opt;
     if (with_normals) opt += OpenMesh::IO::Options::VertexNormal;
-    const std::string e = lower_ext(file);
+    const std::string e = lower_extension(file);
     if (wo.binary && (e == ".ply" || e == ".stl")) opt += OpenMesh::IO::Options::Binary;
     if (e == ".stl") { om.request_face_normals(); om.update_face_normals(); opt += OpenMesh::IO::Options::FaceNormal; }
     if (!OpenMesh::IO::write_mesh(om, file.string(), opt, 9))

@@ -3,6 +3,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/mesh.h"
 
@@ -21,7 +22,9 @@ struct MeshWriteOptions {
 /// that need atomicity write to a temporary name and rename).
 void write_mesh(const Mesh& mesh, const std::filesystem::path& file, const MeshWriteOptions& opt = {});
 
-/// True for the extensions write_mesh() handles.
+/// The extensions write_mesh() handles, in lower case: .obj .ply .stl .off .glb.
+const std::vector<std::string>& mesh_extensions();
+/// True for those extensions, in any case.
 bool mesh_format_supported(const std::filesystem::path& file);
 
 } // namespace cm

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -35,4 +38,22 @@ TEST(Params, SchemaCarriesTypeRangeDefaultAndUnit) {
     EXPECT_EQ(j["maximum"], 16384);
     EXPECT_EQ(j["default"], 256);
     EXPECT_EQ(j["x-unit"], "cells");
+}
+
+TEST(Params, OutputPathChecksTheExtensionAndTheFolders) {
+    const auto many = ParamSpec::OutputPath("path", {".obj", ".ply", ".glb"}, "output file");
+    EXPECT_TRUE(many.is_output);
+    EXPECT_EQ(param_schema(many)["format"], "path");
+    EXPECT_EQ(check_output_path(many, "x.abc"), "path \"x.abc\" has an unknown extension (use .obj, .ply or .glb)");
+    EXPECT_EQ(check_output_path(many, "X.PLY"), "");
+    const auto one = ParamSpec::OutputPath("sheet", {".png"}, "output image");
+    EXPECT_EQ(check_output_path(one, "a.jpg"), "sheet \"a.jpg\" must end in .png");
+    // Missing folders are fine (the run makes them); a file where a folder must be is not.
+    const auto dir = std::filesystem::temp_directory_path() / ("cm-output-path-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    { std::ofstream(dir / "file") << "x"; }
+    EXPECT_EQ(check_output_path(one, dir / "new" / "deeper" / "a.png"), "");
+    EXPECT_EQ(check_output_path(one, dir / "file" / "a.png"),
+              "sheet \"" + (dir / "file" / "a.png").string() + "\": \"" + (dir / "file").string() + "\" is not a folder");
+    std::filesystem::remove_all(dir);
 }

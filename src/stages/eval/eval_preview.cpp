@@ -25,38 +25,24 @@ public:
                 DataKind::File};
     }
     void declare(ParamBinder& b) override {
-        b.add(path_, ParamSpec::Path("path", std::nullopt, "output image (.png)"));
+        b.add(path_, ParamSpec::OutputPath("path", {".png"}, "output image (.png)"));
         b.add(opt_.panel, ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"));
         b.add(opt_.title, ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name"));
-    }
-    void check() override {
-        const fs::path& path = path_;
-        std::string ext = path.extension().string();
-        for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".png") throw Error("path \"" + path.string() + "\" must end in .png");
-        // A missing folder is created when the run writes; refuse only what cannot become one.
-        for (auto dir = fs::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
-            if (fs::is_directory(dir)) break;
-            if (fs::exists(dir)) throw Error("path \"" + path.string() + "\": \"" + dir.string() + "\" is not a folder");
-            if (dir == dir.parent_path()) break;
-        }
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
         auto views = in.get<Views>("views");
-        const fs::path& path = path_;
         PreviewOptions opt = opt_;
-        if (opt.title.empty()) opt.title = path.stem().string();
+        if (opt.title.empty()) opt.title = path_.stem().string();
         SilhouetteError err;
         ctx.progress(0.1, "drawing");
         const Image sheet = make_preview_sheet(*mesh, *views, opt, err);
-        fs::create_directories(fs::absolute(path).parent_path());
-        write_image(sheet, ctx.output_file(path));
-        ctx.metric("path", path.string());
+        write_image(sheet, ctx.output_file(path_));
+        ctx.metric("path", path_.string());
         ctx.metric("xor_pct", err.xor_pct);
         ctx.metric("mean_iou", err.mean_iou);
         auto out = std::make_shared<FileOutput>();
-        out->paths.push_back(path);
+        out->paths.push_back(path_);
         return std::shared_ptr<const FileOutput>(out);
     }
 };

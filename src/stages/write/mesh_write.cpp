@@ -41,7 +41,7 @@ public:
                 DataKind::File};
     }
     void declare(ParamBinder& b) override {
-        b.add(path_, ParamSpec::Path("path", std::nullopt, "output file; its extension picks the format"));
+        b.add(path_, ParamSpec::OutputPath("path", mesh_extensions(), "output file; its extension picks the format"));
         b.add(opt_.binary, ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"));
         b.add(opt_.normals, ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"));
         b.add(check_, ParamSpec::Bool("check", true,
@@ -49,24 +49,11 @@ public:
                                       "self-intersections): figures in the run report, a warning when a rule is "
                                       "broken"));
     }
-    void check() override {
-        const std::filesystem::path& path = path_;
-        if (!mesh_format_supported(path))
-            throw Error("path \"" + path.string() + "\" has an unknown extension (use .obj, .ply, .stl, .off or .glb)");
-        // A missing folder is created when the run writes; refuse only what cannot become one.
-        for (auto dir = std::filesystem::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
-            if (std::filesystem::is_directory(dir)) break;
-            if (std::filesystem::exists(dir))
-                throw Error("path \"" + path.string() + "\": \"" + dir.string() + "\" is not a folder");
-            if (dir == dir.parent_path()) break;
-        }
-    }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; nothing to write");
-        const std::filesystem::path& path = path_;
         MeshWriteOptions opt = opt_;
-        opt.name = path.stem().string();   // not the temporary file's name
+        opt.name = path_.stem().string();   // not the temporary file's name
         Mesh with_normals;
         const Mesh* m = mesh.get();
         if (opt.normals && mesh->normals.size() != mesh->positions.size()) {
@@ -74,16 +61,15 @@ public:
             with_normals.compute_normals();
             m = &with_normals;
         }
-        std::filesystem::create_directories(std::filesystem::absolute(path).parent_path());
-        const auto tmp = ctx.output_file(path);
+        const auto tmp = ctx.output_file(path_);
         write_mesh(*m, tmp, opt);
         ctx.metric("faces", double(m->face_count()));
         ctx.metric("vertices", double(m->vertex_count()));
-        ctx.metric("path", path.string());
+        ctx.metric("path", path_.string());
         ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
-        if (check_) report_check(*m, path, ctx);
+        if (check_) report_check(*m, path_, ctx);
         auto out = std::make_shared<FileOutput>();
-        out->paths.push_back(path);
+        out->paths.push_back(path_);
         return std::shared_ptr<const FileOutput>(out);
     }
 };

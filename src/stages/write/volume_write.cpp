@@ -42,7 +42,7 @@ public:
                 DataKind::File};
     }
     void declare(ParamBinder& b) override {
-        b.add(path_, ParamSpec::Path("path", std::nullopt, "output .vdb file"));
+        b.add(path_, ParamSpec::OutputPath("path", {".vdb"}, "output .vdb file"));
         b.add(grid_name_, ParamSpec::String("grid_name", std::string("surface"), "name of the level-set grid in the file"));
         b.add(half_width_, ParamSpec::Int("half_width", 3, 1, 64, "voxels", "narrow band half width"));
         b.add(smoothing_steps_,
@@ -51,10 +51,6 @@ public:
         b.add(occupancy_, ParamSpec::Bool("occupancy", false, "also write the occupancy grid (bool) as \"occupancy\""));
     }
     void check() override {
-        const std::filesystem::path& path = path_;
-        std::string ext = path.extension().string();
-        for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".vdb") throw Error("path \"" + path.string() + "\" must end in .vdb");
         if (grid_name_.empty()) throw Error("grid_name must not be empty");
     }
     Data run(const Inputs& in, Context& ctx) override {
@@ -100,19 +96,17 @@ public:
             grids.push_back(occ);
         }
         ctx.progress(0.8, "writing");
-        const std::filesystem::path& path = path_;
-        if (!path.parent_path().empty()) std::filesystem::create_directories(std::filesystem::absolute(path).parent_path());
-        const auto tmp = ctx.output_file(path);
+        const auto tmp = ctx.output_file(path_);
         openvdb::io::File file(tmp.string());
         file.setCompression(openvdb::io::COMPRESS_BLOSC);
         file.write(grids);
         file.close();
-        ctx.metric("path", path.string());
+        ctx.metric("path", path_.string());
         ctx.metric("active_voxels", double(sdf->activeVoxelCount()));
         ctx.metric("voxel_size", sdf->voxelSize()[0]);
         ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
         auto out = std::make_shared<FileOutput>();
-        out->paths.push_back(path);
+        out->paths.push_back(path_);
         return std::shared_ptr<const FileOutput>(out);
     }
 };
