@@ -1,5 +1,6 @@
-// A pipeline file: parsed from YAML, validated (schema, parameters, graph),
-// then executed in dependency order with TBB.
+// A pipeline file: parsed from YAML and checked against the structure schema (parse.cpp),
+// validated against the registry: parameters, ports, kinds, order (validate.cpp), then
+// executed in dependency order with TBB (executor.cpp). schema.cpp writes the schemas.
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "core/params.h"
@@ -68,6 +70,8 @@ struct Pipeline {
 
     /// "file:line: node "id" (stage): " — the prefix of every message about a node.
     std::string where(const PipelineNode& n, int line = 0) const;
+    /// Node id -> position in `nodes`.
+    std::map<std::string, std::size_t> node_index() const;
 };
 
 struct NodeRecord {
@@ -99,6 +103,9 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
 
 /// JSON Schemas generated from the declared parameters.
 std::string stage_schema_json(const StageInfo& info);
+/// The pipeline file's structure (nodes, ids, inputs, params as an object), which parse()
+/// checks a file against; `stage_names` become the examples of `stage`.
+nlohmann::json pipeline_structure_schema(const std::vector<std::string>& stage_names);
 std::string pipeline_schema_json(const Registry& registry);
 
 } // namespace cm
