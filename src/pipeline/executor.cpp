@@ -85,20 +85,12 @@ private:
     std::thread thread_;
 };
 
-} // namespace
-
-RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
-    const std::size_t n = p.nodes.size();
-    if (p.order.size() != n) p.validate(registry);
-
-    std::map<std::string, std::size_t> index;
-    for (std::size_t i = 0; i < n; ++i) index[p.nodes[i].id] = i;
-
-    // Instantiate and configure every stage before anything runs, so a bad
-    // combination of parameters fails fast.
-    std::vector<std::unique_ptr<Stage>> stages(n);
+/// Creates and configures every node's stage before anything runs, so a bad combination
+/// of parameters fails fast.
+std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Registry& registry) {
+    std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
     for (std::size_t i : p.order) {
-        auto& node = p.nodes[i];
+        const auto& node = p.nodes[i];
         try {
             stages[i] = registry.create(node.stage);
             stages[i]->configure(node.params);
@@ -106,99 +98,164 @@ RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& 
             throw Error(p.where(node) + e.what());
         }
     }
+    return stages;
+}
 
-    std::vector<std::vector<std::size_t>> dependents(n);
-    std::vector<std::atomic<int>> pending(n);
-    std::vector<std::atomic<int>> consumers(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        pending[i] = int(p.nodes[i].inputs.size());
-        consumers[i] = 0;
+/// One run of a validated pipeline: each node is launched on the task group once all its
+/// inputs are done, and an output is released once its last consumer has run.
+class PipelineRun {
+public:
+    PipelineRun(const Pipeline& p, std::vector<std::unique_ptr<Stage>> stages, const RunOptions& opt)
+        : p_(p), opt_(opt), index_(p.node_index()), stages_(std::move(stages)), n_(p.nodes.size()),
+          dependents_(n_), pending_(n_), consumers_(n_), outputs_(n_), records_(n_), memory_(n_) {
+        schedule();
     }
-    for (std::size_t i = 0; i < n; ++i)
-        for (const auto& [port, src] : p.nodes[i].inputs) {
-            dependents[index[src]].push_back(i);
-            ++consumers[index[src]];
-        }
+    /// Runs every node; commits the staged files when all succeeded, else discards them
+    /// and throws the first failure (prefixed with its node).
+    RunResult run();
 
-    std::vector<Data> outputs(n);
-    std::vector<NodeRecord> records(n);
-    std::mutex error_mutex;
-    FileCommit files;
-    std::atomic<bool> failed{false};
-    std::string first_error;
-    bool cancelled = false;
-    MemoryMonitor memory(n);
-    tbb::task_group group;
-    const auto run_start = std::chrono::steady_clock::now();
+private:
+    void schedule();
+    void launch(std::size_t i) { group_.run([this, i] { execute(i); }); }
+    void execute(std::size_t i);
+    Context context(const PipelineNode& node);
+    /// Runs the node's stage; false when it failed (the first failure is kept).
+    bool run_node(std::size_t i, const Inputs& in, Context& ctx);
+    void record(std::size_t i, const Context& ctx, double seconds, std::size_t rss0, std::size_t peak);
+    /// Frees the node's inputs nobody else needs (grids can be large) and launches the
+    /// dependents it was the last input of.
+    void release(std::size_t i);
+    RunResult commit();
 
-    std::function<void(std::size_t)> launch;
-    auto execute = [&](std::size_t i) {
-        if (failed) return;
-        auto& node = p.nodes[i];
-        Context::Hooks hooks;
-        hooks.sink = opt.sink;
-        hooks.side_output_dir = opt.side_output_dir;
-        hooks.stage_file = [&files](const fs::path& tmp, const fs::path& fin) { files.add(tmp, fin); };
-        Context ctx(node.id, node.stage, hooks);
-        Inputs in;
-        for (const auto& [port, src] : node.inputs) in.set(port, outputs[index[src]]);
-        if (opt.sink) opt.sink->started(node.id, node.stage);
-        const std::size_t rss0 = memory.begin(i);
-        const auto t0 = std::chrono::steady_clock::now();
-        try {
-            Data d = stages[i]->run(in, ctx);
-            if (kind_of(d) != node.info.output)
-                throw Error(std::string("the stage returned ") + to_string(kind_of(d)) + " instead of " +
-                            to_string(node.info.output));
-            outputs[i] = std::move(d);
-        } catch (const std::exception& e) {
-            memory.end(i);
-            std::lock_guard<std::mutex> lock(error_mutex);
-            if (!failed.exchange(true)) {
-                cancelled = dynamic_cast<const Cancelled*>(&e) != nullptr;
-                first_error = p.where(node) + e.what();
-            }
-            return;
+    const Pipeline& p_;
+    const RunOptions& opt_;
+    const std::map<std::string, std::size_t> index_;
+    std::vector<std::unique_ptr<Stage>> stages_;
+    const std::size_t n_;
+    std::vector<std::vector<std::size_t>> dependents_;
+    std::vector<std::atomic<int>> pending_;     ///< inputs not done yet
+    std::vector<std::atomic<int>> consumers_;   ///< dependents not done yet
+    std::vector<Data> outputs_;
+    std::vector<NodeRecord> records_;
+    std::mutex error_mutex_;
+    FileCommit files_;
+    std::atomic<bool> failed_{false};
+    std::string first_error_;
+    bool cancelled_ = false;
+    MemoryMonitor memory_;
+    tbb::task_group group_;
+    const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+void PipelineRun::schedule() {
+    for (std::size_t i = 0; i < n_; ++i) {
+        pending_[i] = int(p_.nodes[i].inputs.size());
+        consumers_[i] = 0;
+    }
+    for (std::size_t i = 0; i < n_; ++i)
+        for (const auto& [port, src] : p_.nodes[i].inputs) {
+            dependents_[index_.at(src)].push_back(i);
+            ++consumers_[index_.at(src)];
         }
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::size_t peak = memory.end(i);
-        auto& rec = records[i];
-        rec.id = node.id;
-        rec.stage = node.stage;
-        for (const auto& [k, v] : node.params.values()) rec.params_json[k] = param_to_json(v).dump();
-        rec.seconds = secs;
-        rec.peak_rss_bytes = peak;
-        rec.rss_growth_bytes = peak > rss0 ? peak - rss0 : 0;
-        rec.metrics_json = ctx.metrics_json();
-        rec.warnings = ctx.warnings();
-        if (opt.sink) opt.sink->finished(node.id, secs);
-        // Free inputs nobody else needs (grids can be large).
-        in = Inputs();
-        for (const auto& [port, src] : node.inputs)
-            if (--consumers[index[src]] == 0) outputs[index[src]] = Data{};
-        for (std::size_t d : dependents[i])
-            if (--pending[d] == 0) launch(d);
-    };
-    launch = [&](std::size_t i) { group.run([&, i] { execute(i); }); };
+}
+
+RunResult PipelineRun::run() {
     // Roots are decided before any task runs: a finished root decrements its
     // dependents' counters, which must not make them look like roots here too.
     std::vector<std::size_t> roots;
-    for (std::size_t i = 0; i < n; ++i)
-        if (p.nodes[i].inputs.empty()) roots.push_back(i);
+    for (std::size_t i = 0; i < n_; ++i)
+        if (p_.nodes[i].inputs.empty()) roots.push_back(i);
     for (std::size_t i : roots) launch(i);
-    group.wait();
-
-    if (failed) {
-        files.discard();
-        if (cancelled) throw Cancelled();
-        throw Error(first_error);
+    group_.wait();
+    if (failed_) {
+        files_.discard();
+        if (cancelled_) throw Cancelled();
+        throw Error(first_error_);
     }
+    return commit();
+}
+
+Context PipelineRun::context(const PipelineNode& node) {
+    Context::Hooks hooks;
+    hooks.sink = opt_.sink;
+    hooks.side_output_dir = opt_.side_output_dir;
+    hooks.stage_file = [this](const fs::path& tmp, const fs::path& fin) { files_.add(tmp, fin); };
+    return Context(node.id, node.stage, hooks);
+}
+
+void PipelineRun::execute(std::size_t i) {
+    if (failed_) return;
+    const auto& node = p_.nodes[i];
+    Context ctx = context(node);
+    Inputs in;
+    for (const auto& [port, src] : node.inputs) in.set(port, outputs_[index_.at(src)]);
+    if (opt_.sink) opt_.sink->started(node.id, node.stage);
+    const std::size_t rss0 = memory_.begin(i);
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool ok = run_node(i, in, ctx);
+    const std::size_t peak = memory_.end(i);
+    if (!ok) return;
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    record(i, ctx, secs, rss0, peak);
+    if (opt_.sink) opt_.sink->finished(node.id, secs);
+    in = Inputs();
+    release(i);
+}
+
+bool PipelineRun::run_node(std::size_t i, const Inputs& in, Context& ctx) {
+    const auto& node = p_.nodes[i];
+    try {
+        Data d = stages_[i]->run(in, ctx);
+        if (kind_of(d) != node.info.output)
+            throw Error(std::string("the stage returned ") + to_string(kind_of(d)) + " instead of " +
+                        to_string(node.info.output));
+        outputs_[i] = std::move(d);
+        return true;
+    } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(error_mutex_);
+        if (!failed_.exchange(true)) {
+            cancelled_ = dynamic_cast<const Cancelled*>(&e) != nullptr;
+            first_error_ = p_.where(node) + e.what();
+        }
+        return false;
+    }
+}
+
+void PipelineRun::record(std::size_t i, const Context& ctx, double seconds, std::size_t rss0, std::size_t peak) {
+    const auto& node = p_.nodes[i];
+    auto& rec = records_[i];
+    rec.id = node.id;
+    rec.stage = node.stage;
+    for (const auto& [k, v] : node.params.values()) rec.params_json[k] = param_to_json(v).dump();
+    rec.seconds = seconds;
+    rec.peak_rss_bytes = peak;
+    rec.rss_growth_bytes = peak > rss0 ? peak - rss0 : 0;
+    rec.metrics_json = ctx.metrics_json();
+    rec.warnings = ctx.warnings();
+}
+
+void PipelineRun::release(std::size_t i) {
+    for (const auto& [port, src] : p_.nodes[i].inputs)
+        if (--consumers_[index_.at(src)] == 0) outputs_[index_.at(src)] = Data{};
+    for (std::size_t d : dependents_[i])
+        if (--pending_[d] == 0) launch(d);
+}
+
+RunResult PipelineRun::commit() {
     RunResult result;
-    result.outputs = files.commit();
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+    result.outputs = files_.commit();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     result.peak_rss_bytes = peak_rss();
-    for (std::size_t i : p.order) result.nodes.push_back(records[i]);
+    for (std::size_t i : p_.order) result.nodes.push_back(records_[i]);
     return result;
+}
+
+} // namespace
+
+RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
+    if (p.order.size() != p.nodes.size()) p.validate(registry);
+    PipelineRun run(p, configure_stages(p, registry), opt);
+    return run.run();
 }
 
 std::string RunResult::to_json(const Pipeline& p) const {
