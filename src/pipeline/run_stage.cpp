@@ -1,5 +1,7 @@
 #include "pipeline/run_stage.h"
 
+#include <mutex>
+
 #include "core/error.h"
 #include "io/file_commit.h"
 
@@ -33,26 +35,37 @@ std::map<std::string, RawParam> yaml_params(const std::string& yaml_mapping) {
     return out;
 }
 
+std::unique_ptr<Stage> configure_stage(const Registry& registry, const std::string& stage,
+                                       const std::map<std::string, RawParam>& params) {
+    std::unique_ptr<Stage> s = registry.create(stage);
+    s->configure(resolve_params(s->info(), params, [](int) { return std::string(); }));
+    return s;
+}
+
 StageRun run_stage(const Registry& registry, const std::string& stage, const std::map<std::string, RawParam>& params,
                    const Inputs& inputs, const StageRunOptions& opt) {
-    std::unique_ptr<Stage> s = registry.create(stage);
-    const StageInfo info = s->info();
-    s->configure(resolve_params(info, params, [](int) { return std::string(); }));
+    std::unique_ptr<Stage> s = configure_stage(registry, stage, params);
+    const DataKind output = s->info().output;
 
+    StageRun run;
     FileCommit files;
+    std::mutex staged_mutex;
     Context::Hooks hooks;
     hooks.sink = opt.sink;
     hooks.side_output_dir = opt.side_output_dir;
-    hooks.stage_file = [&files](const fs::path& tmp, const fs::path& fin) { files.add(tmp, fin); };
+    hooks.stage_file = [&](const fs::path& tmp, const fs::path& fin) {
+        std::lock_guard<std::mutex> lock(staged_mutex);
+        run.staged.emplace_back(tmp, fin);
+        if (opt.commit) files.add(tmp, fin);
+    };
     Context ctx(opt.node, stage, hooks);
-    StageRun run;
     run.output = s->run(inputs, ctx);
-    if (kind_of(run.output) != info.output)
+    if (kind_of(run.output) != output)
         throw Error("stage \"" + stage + "\" returned " + to_string(kind_of(run.output)) + " instead of " +
-                    to_string(info.output));
+                    to_string(output));
     run.metrics_json = ctx.metrics_json();
     run.warnings = ctx.warnings();
-    run.outputs = files.commit();
+    if (opt.commit) run.outputs = files.commit();
     return run;
 }
 

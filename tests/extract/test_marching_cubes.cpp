@@ -17,6 +17,7 @@
 #include "core/volume.h"
 #include "marching_cubes.h"
 #include "mc_table.h"
+#include "support/stage_harness.h"
 
 using namespace cm;
 using openvdb::Coord;
@@ -394,40 +395,28 @@ TEST(MarchingCubes, EmptyAndBadVolumes) {
     EXPECT_THROW(marching_cubes(v), Error);
 }
 
-namespace cm {
-Stage* make_extract_marching_cubes();
-}
-
 TEST(ExtractMarchingCubesStage, ReportsCountsAndRefusesAnEmptyVolume) {
-    std::unique_ptr<Stage> stage(make_extract_marching_cubes());
-    const StageInfo info = stage->info();
+    test::StageHarness stage("extract.marching_cubes");   // every parameter at its default
+    const StageInfo info = stage.info();
     EXPECT_EQ(info.name, "extract.marching_cubes");
-    ParamSet params;
-    for (const auto& p : info.params) params.set(p.name, *p.default_value);
-    stage->configure(params);
 
     auto vol = std::make_shared<Volume>(volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 5.3); },
                                                         openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0}));
-    Inputs in;
-    in.set("volume", std::shared_ptr<const Volume>(vol));
-    Context ctx("surface", "extract.marching_cubes", {});
-    const Data out = stage->run(in, ctx);
-    const auto mesh = std::get<std::shared_ptr<const Mesh>>(out);
+    stage.input("volume", vol);
+    const auto mesh = stage.run<Mesh>();
     ASSERT_TRUE(mesh);
-    const auto& m = ctx.metrics_json();
+    const auto& m = stage.metrics();
     EXPECT_EQ(m.at("faces"), std::to_string(mesh->face_count()) + ".0");
     EXPECT_EQ(m.at("boundary_edges"), "0.0");
     EXPECT_EQ(m.at("nonmanifold_vertices"), "0.0");
     EXPECT_EQ(m.at("refined"), "\"yes\"");
-    EXPECT_TRUE(ctx.warnings().empty());
+    EXPECT_TRUE(stage.warnings().empty());
 
     auto empty = std::make_shared<Volume>();
     empty->occupancy = openvdb::BoolGrid::create(false);
-    Inputs in2;
-    in2.set("volume", std::shared_ptr<const Volume>(empty));
-    Context ctx2("surface", "extract.marching_cubes", {});
+    stage.input("volume", empty);
     try {
-        stage->run(in2, ctx2);
+        stage.run<Mesh>();
         FAIL() << "an empty volume must be refused";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("no surface"), std::string::npos) << e.what();

@@ -6,13 +6,10 @@
 #include "carve.h"
 #include "core/stage.h"
 #include "hull_shapes.h"
+#include "support/stage_harness.h"
 
 using namespace cm;
 using namespace cm::test;
-
-namespace cm {
-Stage* make_hull_carve();
-}
 
 namespace {
 
@@ -249,34 +246,22 @@ TEST(HullCarve, ResolutionParametersAgree) {
 // voxel_ratio decides when both are given (a pipeline file may name a resolution and
 // the command line add --set hull.voxel_ratio=...), and the stage says so.
 TEST(HullCarve, StageLetsVoxelRatioDecide) {
-    std::unique_ptr<Stage> st(make_hull_carve());
-    ParamSet p;
-    p.set("resolution", std::int64_t(128));
-    p.mark_explicit("resolution");
-    p.set("voxel_ratio", 4.0);
-    p.mark_explicit("voxel_ratio");
-    st->configure(p);
-    Inputs in;
-    in.set("views", std::shared_ptr<const Views>(sphere_views(1.0, 320, 150.0)));
-    Context ctx("hull", "hull.carve", {});
-    st->run(in, ctx);
-    EXPECT_EQ(std::stod(ctx.metrics_json().at("resolution")), 75.0);   // 300 px / 4
-    ASSERT_EQ(ctx.warnings().size(), 1u);
-    EXPECT_NE(ctx.warnings()[0].find("voxel_ratio"), std::string::npos) << ctx.warnings()[0];
+    test::StageHarness st("hull.carve");
+    st.params("{resolution: 128, voxel_ratio: 4}");
+    st.input("views", sphere_views(1.0, 320, 150.0));
+    st.run<Volume>();
+    EXPECT_EQ(std::stod(st.metrics().at("resolution")), 75.0);   // 300 px / 4
+    ASSERT_EQ(st.warnings().size(), 1u);
+    EXPECT_NE(st.warnings()[0].find("voxel_ratio"), std::string::npos) << st.warnings()[0];
 }
 
 TEST(HullCarve, StageReportsMetrics) {
-    std::unique_ptr<Stage> st(make_hull_carve());
-    ParamSet p;
-    p.set("resolution", std::int64_t(48));
-    st->configure(p);
-    Inputs in;
-    in.set("views", std::shared_ptr<const Views>(sphere_views(1.0, 200, 90.0)));
-    Context ctx("hull", "hull.carve", {});
-    Data out = st->run(in, ctx);
-    auto vol = std::get<std::shared_ptr<const Volume>>(out);
+    test::StageHarness st("hull.carve");
+    st.params("{resolution: 48}");
+    st.input("views", sphere_views(1.0, 200, 90.0));
+    auto vol = st.run<Volume>();
     ASSERT_TRUE(vol && vol->occupancy);
-    const auto& m = ctx.metrics_json();
+    const auto& m = st.metrics();
     for (const char* k : {"resolution", "voxel_size", "active_voxels", "active_tiles", "leaf_count", "grid_bytes"})
         EXPECT_TRUE(m.count(k)) << k;
     EXPECT_EQ(std::stod(m.at("resolution")), 48.0);

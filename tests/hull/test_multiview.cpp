@@ -10,28 +10,19 @@
 #include "marching_cubes.h"
 #include "multiview.h"
 #include "refine.h"
+#include "support/stage_harness.h"
 #include "support/test_support.h"
 
 using namespace cm;
 using namespace cm::test;
 namespace fs = std::filesystem;
 
-namespace cm {
-Stage* make_views_load();
-}
-
 namespace {
 
 std::shared_ptr<const Views> load(const fs::path& manifest) {
-    std::unique_ptr<Stage> st(make_views_load());
-    ParamSet p;
-    p.set("manifest", manifest.string());
-    p.set("keep", std::string("largest"));
-    p.set("align_tolerance", 0.02);
-    p.set("save_silhouettes", false);
-    st->configure(p);
-    Context ctx("views", "views.load", {});
-    return std::get<std::shared_ptr<const Views>>(st->run(Inputs{}, ctx));
+    StageHarness st("views.load");
+    st.param("manifest", manifest).params("{keep: largest, align_tolerance: 0.02, save_silhouettes: false}");
+    return st.run<Views>();
 }
 
 } // namespace

@@ -7,11 +7,8 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/volume.h"
+#include "support/stage_harness.h"
 #include "support/test_support.h"
-
-namespace cm {
-Stage* make_volume_write();
-}
 
 using namespace cm;
 
@@ -27,14 +24,10 @@ std::shared_ptr<const Volume> box_volume() {
     return v;
 }
 
-ParamSet params(const std::filesystem::path& path) {
-    ParamSet p;
-    p.set("path", path.string());
-    p.set("grid_name", std::string("surface"));
-    p.set("half_width", std::int64_t(3));
-    p.set("smoothing_steps", std::int64_t(0));
-    p.set("occupancy", true);
-    return p;
+// volume.write with every parameter given.
+void set_params(test::StageHarness& h, const std::filesystem::path& path) {
+    h.param("path", path);
+    h.params("{grid_name: surface, half_width: 3, smoothing_steps: 0, occupancy: true}");
 }
 
 openvdb::FloatGrid::Ptr read_level_set(const std::filesystem::path& f, bool expect_occupancy) {
@@ -56,15 +49,13 @@ double sample(const openvdb::FloatGrid& g, double x, double y, double z) {
 
 TEST(VolumeWrite, OccupancyBecomesALevelSetThatReadsBack) {
     test::TempDir dir("volume_write");
-    std::unique_ptr<Stage> st(make_volume_write());
+    test::StageHarness h("volume.write");
     const auto out = dir / "hull.vdb";
-    st->configure(params(out));
-    Inputs in;
-    in.set("volume", box_volume());
-    Context ctx("vdb", "volume.write", {});
-    auto res = std::get<std::shared_ptr<const FileOutput>>(st->run(in, ctx));
+    set_params(h, out);
+    h.input("volume", box_volume());
+    auto res = h.run<FileOutput>();
     ASSERT_EQ(res->paths.size(), 1u);
-    // The host renames the temporary file; here, find it beside the final name.
+    // The file the stage wrote, committed under its final name: the only one in the folder.
     std::filesystem::path written;
     for (auto& e : std::filesystem::directory_iterator(dir.path())) written = e.path();
     ASSERT_FALSE(written.empty());
@@ -85,16 +76,13 @@ TEST(VolumeWrite, OccupancyBecomesALevelSetThatReadsBack) {
 
 TEST(VolumeWrite, MeshSourceKeepsTheSubVoxelSurface) {
     test::TempDir dir("volume_write_mesh");
-    std::unique_ptr<Stage> st(make_volume_write());
-    auto p = params(dir / "hull.vdb");
-    p.set("occupancy", false);
-    st->configure(p);
-    Inputs in;
-    in.set("volume", box_volume());
+    test::StageHarness h("volume.write");
+    set_params(h, dir / "hull.vdb");
+    h.params("{occupancy: false}");
+    h.input("volume", box_volume());
     // A surface between voxel faces: the level set must follow it, not the voxels.
-    in.set("mesh", std::make_shared<const Mesh>(test::make_box({-1.02f, -1.02f, -1.02f}, {1.02f, 1.02f, 1.02f})));
-    Context ctx("vdb", "volume.write", {});
-    st->run(in, ctx);
+    h.input("mesh", test::make_box({-1.02f, -1.02f, -1.02f}, {1.02f, 1.02f, 1.02f}));
+    h.run<FileOutput>();
     std::filesystem::path written;
     for (auto& e : std::filesystem::directory_iterator(dir.path())) written = e.path();
     auto grid = read_level_set(written, false);
@@ -105,6 +93,7 @@ TEST(VolumeWrite, MeshSourceKeepsTheSubVoxelSurface) {
 }
 
 TEST(VolumeWrite, RefusesOtherExtensions) {
-    std::unique_ptr<Stage> st(make_volume_write());
-    EXPECT_THROW(st->configure(params("hull.obj")), Error);
+    test::StageHarness h("volume.write");
+    set_params(h, "hull.obj");
+    EXPECT_THROW(h.configure(), Error);
 }

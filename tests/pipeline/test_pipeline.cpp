@@ -15,15 +15,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const Registry& registry() {
-    static Registry r = [] {
-        Registry reg;
-        testkit::register_all(reg);
-        reg.load_directories({Registry::default_dirs()[0]});
-        return reg;
-    }();
-    return r;
-}
+const Registry& registry() { return testkit::registry_with_plugins(); }
 
 // Parses and validates; returns the error message ("" when valid).
 std::string rejection(const std::string& yaml, const std::vector<std::string>& sets = {}) {

@@ -13,15 +13,11 @@
 #include "load.h"
 #include "io/manifest.h"
 #include "preview_sheet.h"
+#include "support/stage_harness.h"
 #include "support/test_support.h"
 
 using namespace cm;
 using nlohmann::json;
-
-namespace cm {
-Stage* make_eval_silhouette_error();
-Stage* make_eval_preview();
-} // namespace cm
 
 namespace {
 
@@ -229,32 +225,24 @@ TEST(EvalStages, SilhouetteErrorReportsPerViewAndOverall) {
         v.coverage.assign(m.begin(), m.end());
         views->views.push_back(v);
     }
-    std::unique_ptr<Stage> st(make_eval_silhouette_error());
-    ParamSet p;
-    p.set("max_xor_pct", -1.0);
-    st->configure(p);
-    Inputs in;
-    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
-    in.set("views", std::shared_ptr<const Views>(views));
-    Context ctx("err", "eval.silhouette_error", {});
-    Data out = st->run(in, ctx);
-    auto rep = std::get<std::shared_ptr<const Report>>(out);
+    test::StageHarness h("eval.silhouette_error");
+    h.params("{max_xor_pct: -1}");
+    h.input("mesh", box);
+    h.input("views", views);
+    auto rep = h.run<Report>();
     const json j = json::parse(rep->json);
     EXPECT_EQ(j["xor_pct"].get<double>(), 0.0);
     EXPECT_EQ(j["views"].size(), 2u);
-    const auto& m = ctx.metrics_json();
+    const auto& m = h.metrics();
     for (const char* k : {"xor_pct", "mean_iou", "xor_pct.front", "iou.right", "views"}) EXPECT_TRUE(m.count(k)) << k;
     EXPECT_EQ(json::parse(m.at("xor_pct")).get<double>(), 0.0);
 
     // A limit turns a bad result into a failed run.
     Mesh moved = box;
     for (auto& q : moved.positions) q.y += 0.5f;
-    ParamSet strict;
-    strict.set("max_xor_pct", 1.0);
-    st->configure(strict);
-    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(moved)));
-    Context ctx2("err", "eval.silhouette_error", {});
-    EXPECT_THROW(st->run(in, ctx2), Error);
+    h.params("{max_xor_pct: 1}");
+    h.input("mesh", moved);
+    EXPECT_THROW(h.run<Report>(), Error);
 }
 
 TEST(EvalStages, PreviewWritesThroughTheHost) {
@@ -268,30 +256,19 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     const auto m = render_mask(box, v.camera, 64, 64);
     v.coverage.assign(m.begin(), m.end());
     views->views.push_back(v);
-    std::unique_ptr<Stage> st(make_eval_preview());
-    ParamSet p;
-    p.set("path", (dir / "sheet.png").string());
-    p.set("panel", std::int64_t(64));
-    st->configure(p);
-    Inputs in;
-    in.set("mesh", std::shared_ptr<const Mesh>(std::make_shared<Mesh>(box)));
-    in.set("views", std::shared_ptr<const Views>(views));
-    Context::Hooks hooks;
-    std::filesystem::path staged, final_path;
-    hooks.stage_file = [&](const std::filesystem::path& tmp, const std::filesystem::path& fin) {
-        staged = tmp;
-        final_path = fin;
-    };
-    Context ctx("preview", "eval.preview", hooks);
-    Data out = st->run(in, ctx);
-    auto files = std::get<std::shared_ptr<const FileOutput>>(out);
+    test::StageHarness h("eval.preview");
+    h.param("path", dir / "sheet.png").params("{panel: 64}");
+    h.input("mesh", box);
+    h.input("views", views);
+    h.keep_staged();   // as the host has it before the run commits
+    auto files = h.run<FileOutput>();
+    ASSERT_EQ(h.staged().size(), 1u);
+    const auto& [staged, final_path] = h.staged()[0];
     ASSERT_EQ(files->paths.size(), 1u);
     EXPECT_EQ(final_path, dir / "sheet.png");
     // The stage wrote a temporary file for the host to rename; it is a readable PNG.
     const Image sheet = read_image(staged);
     EXPECT_EQ(sheet.width, 3 * 64 + 4 * 8);
-    ParamSet bad;
-    bad.set("path", (dir / "sheet.jpg").string());
-    bad.set("panel", std::int64_t(64));
-    EXPECT_THROW(st->configure(bad), Error);
+    h.param("path", dir / "sheet.jpg");
+    EXPECT_THROW(h.configure(), Error);
 }

@@ -10,6 +10,7 @@
 #include "core/stage.h"
 #include "load.h"
 #include "io/manifest.h"
+#include "support/stage_harness.h"
 #include "support/test_support.h"
 
 using namespace cm;
@@ -307,29 +308,16 @@ TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
     }
 }
 
-namespace cm {
-Stage* make_views_load();
-}
-
 TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
     test::TempDir dir("vl_stage");
     write_rect(dir / "f.png", 60, 50, 10, 10, 40, 45);
     write_rect(dir / "r.png", 60, 50, 20, 10, 35, 45);
     test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  right: r.png\n");
-    std::unique_ptr<Stage> st(make_views_load());
-    ParamSet p;
-    p.set("manifest", (dir / "views.yaml").string());
-    p.set("keep", std::string("auto"));
-    p.set("align_tolerance", 0.02);
-    p.set("save_silhouettes", true);
-    st->configure(p);
-    Context::Hooks hooks;
-    hooks.side_output_dir = dir.path();
-    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
-    hooks.stage_file = [&](const std::filesystem::path& tmp, const std::filesystem::path& fin) { staged.emplace_back(tmp, fin); };
-    Context ctx("views", "views.load", hooks);
-    Data out = st->run(Inputs{}, ctx);
-    auto views = std::get<std::shared_ptr<const Views>>(out);
+    test::StageHarness h("views.load");
+    h.param("manifest", dir / "views.yaml").params("{keep: auto, align_tolerance: 0.02, save_silhouettes: true}");
+    h.side_output_dir(dir.path()).keep_staged();
+    auto views = h.run<Views>();
+    const auto& staged = h.staged();
     ASSERT_EQ(views->views.size(), 2u);
     ASSERT_EQ(staged.size(), 2u);
     EXPECT_EQ(staged[0].second, dir / "front.silhouette.png");
@@ -339,7 +327,7 @@ TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
     EXPECT_EQ(sil.height, 50);
     EXPECT_GT(sil.at(25, 20, 0), 0.99f);   // inside the right view's rectangle: white
     EXPECT_LT(sil.at(5, 5, 0), 0.01f);
-    EXPECT_TRUE(ctx.metrics_json().count("views"));
+    EXPECT_TRUE(h.metrics().count("views"));
 }
 
 namespace {
