@@ -46,8 +46,9 @@ std::map<std::string, RawParam> yaml_params(const std::string& yaml_mapping);
 std::unique_ptr<Stage> configure_stage(const Registry& registry, const std::string& stage,
                                        const std::map<std::string, RawParam>& params);
 
-/// Configures `stage` (configure_stage()), runs it on `inputs` and commits its files. Throws cm::Error (cm::Cancelled when interrupted) with the stage's own
-/// sentence; nothing it wrote is left behind on failure.
+/// Configures `stage` (configure_stage()), runs it on `inputs` and commits its files.
+/// Throws cm::Error (cm::Cancelled when interrupted) with the stage's own sentence;
+/// nothing it wrote is left behind on failure.
 StageRun run_stage(const Registry& registry, const std::string& stage, const std::map<std::string, RawParam>& params,
                    const Inputs& inputs, const StageRunOptions& opt = {});
 

@@ -11,7 +11,8 @@
 namespace cm {
 
 void FaceTarget::declare(ParamBinder& b, double default_ratio) {
-    b.add(faces, ParamSpec::Int("target_faces", 0, 0, 2e9, "faces", "stop at or below this many faces; 0: no face count"));
+    b.add(faces,
+          ParamSpec::Int("target_faces", 0, 0, 2e9, "faces", "stop at or below this many faces; 0: no face count"));
     b.add(ratio, ParamSpec::Float("target_ratio", default_ratio, 0.0, 1.0, "",
                                   "stop at or below this fraction of the input's faces; 0: no ratio"));
 }

@@ -26,8 +26,10 @@ public:
     }
     void declare(ParamBinder& b) override {
         b.add(path_, ParamSpec::OutputPath("path", {".png"}, "output image (.png)"));
-        b.add(opt_.panel, ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"));
-        b.add(opt_.title, ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name"));
+        b.add(opt_.panel,
+              ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"));
+        b.add(opt_.title,
+              ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name"));
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");

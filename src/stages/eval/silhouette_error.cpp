@@ -21,8 +21,9 @@ public:
                 DataKind::Report};
     }
     void declare(ParamBinder& b) override {
-        b.add(max_xor_pct_, ParamSpec::Float("max_xor_pct", -1.0, -1.0, 1e6, "%",
-                                             "fail the run when the overall xor_pct is above this (negative: never fail)"));
+        b.add(max_xor_pct_,
+              ParamSpec::Float("max_xor_pct", -1.0, -1.0, 1e6, "%",
+                               "fail the run when the overall xor_pct is above this (negative: never fail)"));
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");

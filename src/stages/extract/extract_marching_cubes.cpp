@@ -31,11 +31,13 @@ public:
                               "ambiguous faces: geometric pairs the crossings by the shorter cut; separate keeps "
                               "diagonal inside corners apart; join connects them"),
               {Ambiguity::Geometric, Ambiguity::Separate, Ambiguity::Join});
-        b.add(opt_.use_crossings, ParamSpec::Bool("crossings", true,
-                                                  "place vertices at the volume's exact crossings (false: edge "
-                                                  "midpoints, plain binary Marching Cubes)"));
-        b.add(opt_.use_thin, ParamSpec::Bool("thin_parts", true,
-                                             "keep parts thinner than a cell that the refinement found between grid points"));
+        b.add(opt_.use_crossings,
+              ParamSpec::Bool("crossings", true,
+                              "place vertices at the volume's exact crossings (false: edge midpoints, plain "
+                              "binary Marching Cubes)"));
+        b.add(opt_.use_thin,
+              ParamSpec::Bool("thin_parts", true,
+                              "keep parts thinner than a cell that the refinement found between grid points"));
         b.add(opt_.min_edge_fraction,
               ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
                                "crossings nearer than this to a grid point are moved out to it, so no two "

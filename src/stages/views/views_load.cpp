@@ -25,9 +25,9 @@ public:
     void declare(ParamBinder& b) override {
         b.add(manifest_,
               ParamSpec::Path("manifest", std::nullopt, "the views manifest (YAML): which image is which view"));
-        b.add(opt_.keep,
-              ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
-                              "which separate marks to keep: auto drops specks and small marks (a view's own keep wins)"));
+        b.add(opt_.keep, ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
+                                         "which separate marks to keep: auto drops specks and small marks (a "
+                                         "view's own keep wins)"));
         b.add(opt_.align_tolerance,
               ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
                                "relative disagreement between views on a shared axis that raises a warning"));

@@ -43,7 +43,8 @@ public:
     }
     void declare(ParamBinder& b) override {
         b.add(path_, ParamSpec::OutputPath("path", {".vdb"}, "output .vdb file"));
-        b.add(grid_name_, ParamSpec::String("grid_name", std::string("surface"), "name of the level-set grid in the file"));
+        b.add(grid_name_,
+              ParamSpec::String("grid_name", std::string("surface"), "name of the level-set grid in the file"));
         b.add(half_width_, ParamSpec::Int("half_width", 3, 1, 64, "voxels", "narrow band half width"));
         b.add(smoothing_steps_,
               ParamSpec::Int("smoothing_steps", 2, 0, 64, "",
