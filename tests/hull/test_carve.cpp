@@ -5,7 +5,7 @@
 
 #include "carve.h"
 #include "core/stage.h"
-#include "hull_shapes.h"
+#include "support/shapes.h"
 
 using namespace cm;
 using namespace cm::test;

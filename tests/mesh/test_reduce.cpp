@@ -7,7 +7,7 @@
 #include "mesh_decimate.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

@@ -1,10 +1,9 @@
-// Helpers shared by the tests: temporary folders, running the command, shapes.
+// Helpers shared by the tests: temporary folders, running the command, files. Shapes
+// built in code are in support/shapes.h.
 #pragma once
 #include <filesystem>
 #include <string>
 
-#include "core/mesh.h"
-#include "core/views.h"
 
 namespace cm::test {
 
@@ -32,15 +31,5 @@ std::string read_text(const std::filesystem::path& file);
 
 std::filesystem::path shared_dir();     ///< ../shared beside the checkout
 std::filesystem::path source_dir();
-
-/// Closed, outward triangle meshes built in code.
-Mesh make_box(Vec3f lo, Vec3f hi);
-Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4);   ///< icosphere
-/// Appends `part`'s vertices and triangles to `into` (turned inside out when `flip`).
-void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
-/// Two boxes that overlap: closed and 2-manifold, but their faces cross.
-Mesh make_crossing_boxes();
-/// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
-Mesh make_lopsided();
 
 } // namespace cm::test
