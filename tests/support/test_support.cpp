@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <random>
@@ -55,7 +56,11 @@ std::string read_text(const fs::path& file) {
     return ss.str();
 }
 
-fs::path shared_dir() { return fs::path(CM_SHARED_DIR); }
+fs::path shared_dir() {
+    // CONCEPTMESH_SHARED_DIR points the tests at shared data elsewhere (or at none).
+    if (const char* dir = std::getenv("CONCEPTMESH_SHARED_DIR")) return fs::path(dir);
+    return fs::path(CM_SHARED_DIR);
+}
 fs::path source_dir() { return fs::path(CM_SOURCE_DIR); }
 
 } // namespace cm::test
