@@ -1,4 +1,5 @@
 // conceptmesh stages [--describe NAME] [--json]: the stages the plugins provide.
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -14,6 +15,14 @@ using nlohmann::json;
 namespace cm::cli {
 
 namespace {
+
+// A column at least `min` wide that leaves `gap` spaces after its longest entry.
+template <class Items, class Text>
+int column_width(int min, int gap, const Items& items, Text text) {
+    std::size_t longest = 0;
+    for (const auto& item : items) longest = std::max(longest, text(item).size());
+    return std::max(min, int(longest) + gap);
+}
 
 std::string default_text(const ParamSpec& p) {
     return p.default_value ? format_value(*p.default_value) : (p.is_optional ? "(unset)" : "(required)");
@@ -40,7 +49,8 @@ json stage_json(const StageInfo& info, const StageEntry* e) {
     }
     j["inputs"] = json::array();
     for (const auto& p : info.inputs)
-        j["inputs"].push_back({{"name", p.name}, {"kind", to_string(p.kind)}, {"doc", p.doc}, {"optional", p.optional}});
+        j["inputs"].push_back(
+            {{"name", p.name}, {"kind", to_string(p.kind)}, {"doc", p.doc}, {"optional", p.optional}});
     j["output"] = to_string(info.output);
     j["params"] = json::array();
     for (const auto& p : info.params) j["params"].push_back(param_json(p));
@@ -68,22 +78,29 @@ void describe(std::ostream& os, const StageInfo& info, const StageEntry* e) {
     os << "  inputs:";
     if (info.inputs.empty()) os << " none";
     os << "\n";
+    const int input_w = column_width(12, 2, info.inputs, [](const auto& p) { return p.name; });
     for (const auto& p : info.inputs)
-        os << "    " << std::left << std::setw(12) << p.name << to_string(p.kind) << (p.optional ? " (optional)" : "")
-           << "  " << p.doc << "\n";
+        os << "    " << std::left << std::setw(input_w) << p.name << to_string(p.kind)
+           << (p.optional ? " (optional)" : "") << "  " << p.doc << "\n";
     os << "  output: " << to_string(info.output) << "\n  parameters:\n";
     if (info.params.empty()) os << "    none\n";
+    const int name_w = column_width(18, 2, info.params, [](const auto& p) { return p.name; });
     for (const auto& p : info.params)
-        os << "    " << std::left << std::setw(18) << p.name << std::setw(7) << to_string(p.type) << " default "
+        os << "    " << std::left << std::setw(name_w) << p.name << std::setw(7) << to_string(p.type) << " default "
            << default_text(p) << range_text(p) << (p.unit.empty() ? "" : " " + p.unit) << "\n      " << p.doc << "\n";
 }
 
-// One line per stage and per parameter.
+// One line per stage and per parameter, in columns that fit every stage listed.
 void list_stages(std::ostream& os, const std::vector<StageInfo>& infos) {
+    std::vector<ParamSpec> params;
+    for (const auto& info : infos) params.insert(params.end(), info.params.begin(), info.params.end());
+    const int stage_w = column_width(30, 2, infos, [](const auto& i) { return i.name; });
+    const int name_w = column_width(20, 2, params, [](const auto& p) { return p.name; });
+    const int type_w = column_width(7, 1, params, [](const auto& p) { return std::string(to_string(p.type)); });
     for (const auto& info : infos) {
-        os << std::left << std::setw(30) << info.name << info.summary << "\n";
+        os << std::left << std::setw(stage_w) << info.name << info.summary << "\n";
         for (const auto& p : info.params)
-            os << "    " << std::setw(20) << p.name << std::setw(7) << to_string(p.type) << default_text(p)
+            os << "    " << std::setw(name_w) << p.name << std::setw(type_w) << to_string(p.type) << default_text(p)
                << (p.unit.empty() ? "" : " " + p.unit) << "\n";
     }
 }
