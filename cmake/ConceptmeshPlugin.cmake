@@ -9,17 +9,20 @@ function(conceptmesh_no_undefined target)
   endif()
 endfunction()
 
-# conceptmesh_add_family(<family> SOURCES <files...> [LIBS <targets...>])
+# conceptmesh_add_family(<family> [LIBS <targets...>])
 #
 # A stage family folder (stages/<family>/) holds plugin.cpp (the
 # CONCEPTMESH_DEFINE_PLUGIN entry naming every stage of the family, nothing else)
-# and the stages with their algorithms. The code becomes an OBJECT library
+# and the stages with their algorithms: every other .cpp of the folder is built, so a
+# new stage needs no line here. The code becomes an OBJECT library
 # cm_<family>_obj that the family's tests link directly; plugin.cpp plus those
 # objects become libcm_<family>.so in the plugin folder next to the executable
 # (<build>/lib/conceptmesh/plugins), installed to the same relative place.
 function(conceptmesh_add_family name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBS" ${ARGN})
-  add_library(cm_${name}_obj OBJECT ${ARG_SOURCES})
+  cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  list(REMOVE_ITEM sources ${CMAKE_CURRENT_SOURCE_DIR}/plugin.cpp)
+  add_library(cm_${name}_obj OBJECT ${sources})
   target_link_libraries(cm_${name}_obj PUBLIC cm_core ${ARG_LIBS} PRIVATE conceptmesh_warnings)
   target_include_directories(cm_${name}_obj PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
   add_library(cm_${name} MODULE plugin.cpp)

@@ -25,7 +25,7 @@
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 #include "mesh_smooth.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 
 using namespace cm;
 

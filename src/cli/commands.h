@@ -1,4 +1,4 @@
-// Sub-commands of the conceptmesh command. Each file cmd_*.cpp adds its own.
+// Sub-commands of the conceptmesh command: each file cmd_<name>.cpp adds one.
 #pragma once
 #include <functional>
 #include <string>
@@ -18,10 +18,15 @@ void print_warning(const std::string& text);
 /// Prints the plugin loader's warnings (unless quiet).
 void print_plugin_diagnostics(const GlobalOptions& g);
 
-/// Each adds its sub-command(s) to `app`; the callback stored in `action` runs it
+/// Each adds its sub-command to `app`; once the command line is parsed, `action` runs it
 /// and returns the exit code.
-void add_pipeline_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
-void add_tool_commands(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
-void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);
+void add_run_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);            // cmd_run.cpp
+void add_validate_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);       // cmd_validate.cpp
+void add_stages_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);         // cmd_stages.cpp
+void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);         // cmd_schema.cpp
+void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);   // cmd_render_views.cpp
+void add_compare_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_compare.cpp
+void add_preview_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_preview.cpp
+void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);          // cmd_check.cpp
 
 } // namespace cm::cli

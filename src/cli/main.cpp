@@ -47,8 +47,13 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     cm::cli::GlobalOptions g;
     std::function<int()> action;
-    cm::cli::add_pipeline_commands(app, g, action);
-    cm::cli::add_tool_commands(app, g, action);
+    cm::cli::add_run_command(app, g, action);
+    cm::cli::add_validate_command(app, g, action);
+    cm::cli::add_stages_command(app, g, action);
+    cm::cli::add_schema_command(app, g, action);
+    cm::cli::add_render_views_command(app, g, action);
+    cm::cli::add_compare_command(app, g, action);
+    cm::cli::add_preview_command(app, g, action);
     cm::cli::add_check_command(app, g, action);
     try {
         app.parse(argc, argv);

@@ -1,5 +1,6 @@
-// Cameras of ../conventions: named orthographic views, azimuth/elevation, and
-// calibrated perspective 3x4 matrices. Pixel (i, j) covers [i,i+1) x [j,j+1).
+// Cameras of ../shared/conventions/views.md: named orthographic views,
+// azimuth/elevation, and calibrated perspective 3x4 matrices. Pixel (i, j) covers
+// [i,i+1) x [j,j+1).
 #pragma once
 #include <array>
 #include <optional>

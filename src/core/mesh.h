@@ -1,7 +1,7 @@
 // The mesh passed between stages: compact indexed triangles with shared
 // vertices. Compact arrays (not a half-edge structure) because the stages that
 // touch millions of faces (marching cubes, smoothing, reduction) are fastest on
-// flat arrays; mesh_openmesh.h converts to OpenMesh where its algorithms help.
+// flat arrays; io/mesh_io.h reads and writes them (through OpenMesh and tinygltf).
 #pragma once
 #include <array>
 #include <cstdint>

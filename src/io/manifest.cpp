@@ -72,6 +72,201 @@ std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& w
     return P;
 }
 
+// The manifest's YAML document, with a "views" mapping that is not empty.
+YAML::Node load_document(const fs::path& file) {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw Error("cannot read views manifest \"" + file.string() + "\": no such file");
+    YAML::Node doc;
+    try {
+        doc = YAML::LoadFile(file.string());
+    } catch (const YAML::ParserException& e) {
+        throw Error(file.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+    } catch (const YAML::Exception& e) {
+        throw Error("cannot read views manifest \"" + file.string() + "\": " + e.msg);
+    }
+    if (!doc.IsMap() || !doc["views"] || !doc["views"].IsMap() || doc["views"].size() == 0)
+        throw Error(file.string() + ": a views manifest needs a \"views\" mapping, e.g. views: {front: front.png, right: right.png}");
+    return doc;
+}
+
+std::array<double, 6> read_bounds(const fs::path& file, const YAML::Node& n) {
+    if (!n.IsSequence() || n.size() != 6)
+        throw Error(at(file, n) + ": bounds must be a list of 6 numbers: [xmin, ymin, zmin, xmax, ymax, zmax]");
+    std::array<double, 6> b{};
+    for (int i = 0; i < 6; ++i) b[std::size_t(i)] = number(file, n[i], "bounds");
+    for (std::size_t k = 0; k < 3; ++k)
+        if (!std::isfinite(b[k]) || !std::isfinite(b[k + 3]) || b[k] > b[k + 3])
+            throw Error(at(file, n) + ": bounds: " + "xyz"[k] + "min must not exceed " + "xyz"[k] +
+                        "max ([xmin, ymin, zmin, xmax, ymax, zmax])");
+    return b;
+}
+
+// The keys beside "views": the real size of the object (height, width, depth) and its box.
+void read_top_level(const fs::path& file, YAML::Node doc, Manifest& m) {
+    for (auto it = doc.begin(); it != doc.end(); ++it) {
+        const std::string k = it->first.Scalar();
+        if (k == "views") continue;
+        if (k == "height") m.height = number(file, it->second, "height");
+        else if (k == "width") m.width = number(file, it->second, "width");
+        else if (k == "depth") m.depth = number(file, it->second, "depth");
+        else if (k == "bounds") m.bounds = read_bounds(file, it->second);
+        else
+            throw Error(at(file, it->first) + ": unknown manifest key \"" + k + "\" (known: views, height, width, depth, bounds)");
+    }
+    for (const char* k : {"height", "width", "depth"}) {
+        auto& v = std::string(k) == "height" ? m.height : std::string(k) == "width" ? m.width : m.depth;
+        if (v && !(*v > 0)) throw Error(at(file, doc[k]) + ": " + k + " must be positive");
+    }
+}
+
+// The ways a view's mapping gives its camera, as they are read: K, R and t (together they
+// make the matrix), and how many of matrix, matrix_file and K/R/t were given.
+struct CameraKeys {
+    std::optional<std::array<double, 9>> K, R;
+    std::optional<std::array<double, 3>> tvec;
+    int matrix_sources = 0;
+};
+
+// One key (its node: `key`) of a view's mapping, with its value `val`.
+void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node& key, const YAML::Node& val,
+                   ManifestView& v, CameraKeys& cam) {
+    const std::string k = key.Scalar();
+    const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
+    if (k == "image") v.image = scalar(file, val, v.key, k);
+    else if (k == "view") v.view = scalar(file, val, v.key, k);
+    else if (k == "azimuth") v.azimuth = number(file, val, "azimuth");
+    else if (k == "elevation") v.elevation = number(file, val, "elevation");
+    else if (k == "background") {
+        v.background = scalar(file, val, v.key, k);
+        try {
+            check_background_option(v.background);
+        } catch (const Error& e) {
+            throw Error(where + e.what());
+        }
+    } else if (k == "threshold") {
+        v.threshold = number(file, val, "threshold");
+        if (*v.threshold <= 0 || *v.threshold >= 1) throw Error(where + "threshold must be in (0, 1)");
+    } else if (k == "keep") v.keep = scalar(file, val, v.key, k);
+    else if (k == "holes") v.holes = scalar(file, val, v.key, k);
+    else if (k == "matrix") {
+        v.matrix = numbers<12>(file, val, where + "matrix must be 3 rows of 4 numbers (a 3x4 projection)");
+        ++cam.matrix_sources;
+    } else if (k == "matrix_file") {
+        fs::path mf = scalar(file, val, v.key, k);
+        if (mf.is_relative()) mf = base / mf;
+        v.matrix = read_matrix_file(mf, where);
+        ++cam.matrix_sources;
+    } else if (k == "scale") {
+        v.scale = number(file, val, "view \"" + v.key + "\": scale");
+        if (!(*v.scale > 0) || !std::isfinite(*v.scale))
+            throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
+    } else if (k == "origin") {
+        v.origin = numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
+                              "view \"" + v.key + "\": an origin coordinate");
+        if (!std::isfinite((*v.origin)[0]) || !std::isfinite((*v.origin)[1]))
+            throw Error(where + "origin must be finite");
+    } else if (k == "K") cam.K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
+    else if (k == "R") cam.R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
+    else if (k == "t") cam.tvec = numbers<3>(file, val, where + "t must be 3 numbers");
+    else
+        throw Error(at(file, key) + ": view \"" + v.key + "\": unknown key \"" + k +
+                    "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
+                    "background, threshold, keep, holes)");
+}
+
+// A view given as a mapping (node n): its keys, then the camera they give, given once and
+// in one way.
+void read_view_mapping(const fs::path& file, const fs::path& base, const YAML::Node& n, ManifestView& v) {
+    CameraKeys cam;
+    for (auto f = n.begin(); f != n.end(); ++f) {
+        const YAML::Node key = f->first, val = f->second;   // copies: f-> gives a temporary
+        read_view_key(file, base, key, val, v, cam);
+    }
+    if (cam.K || cam.R || cam.tvec) {
+        if (!(cam.K && cam.R && cam.tvec))
+            throw Error(at(file, n) + ": view \"" + v.key + "\": K, R and t go together (P = K [R | t])");
+        std::array<double, 12> P{};
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) {
+                double x = 0;
+                for (int k = 0; k < 3; ++k) x += (*cam.K)[r * 3 + k] * (c < 3 ? (*cam.R)[k * 3 + c] : (*cam.tvec)[k]);
+                P[r * 4 + c] = x;
+            }
+        v.matrix = P;
+        ++cam.matrix_sources;
+    }
+    if (cam.matrix_sources > 1)
+        throw Error(at(file, n) + ": view \"" + v.key + "\": give the camera once: matrix, matrix_file, or K/R/t");
+    if (v.matrix && (v.view || v.azimuth || v.elevation))
+        throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
+    if (v.view && (v.azimuth || v.elevation))
+        throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
+    if (v.matrix && (v.scale || v.origin))
+        throw Error(at(file, n) + ": view \"" + v.key +
+                    "\": scale and origin fix an orthographic camera; a calibrated view (matrix) takes neither");
+    if (v.scale.has_value() != v.origin.has_value())
+        throw Error(at(file, n) + ": view \"" + v.key + "\": scale and origin go together (together they fix the "
+                    "camera): give both or neither");
+}
+
+// What every view needs, in either form (node n): an image (resolved against `base`), a
+// camera (in the short form the key names the view), and a valid keep and holes.
+void complete_view(const fs::path& file, const fs::path& base, const YAML::Node& n, ManifestView& v) {
+    if (v.image.empty()) throw Error(at(file, n) + ": view \"" + v.key + "\" has no image");
+    if (v.image.is_relative()) v.image = base / v.image;
+    if (!v.view && !v.azimuth && !v.elevation && !v.matrix) {
+        // Short form: the key names the view.
+        if (!Camera::named(v.key))
+            throw Error(at(file, n) + ": view \"" + v.key +
+                        "\": the key is not a view name (front, back, right, left, top, bottom); give view, "
+                        "azimuth/elevation or matrix");
+        v.view = v.key;
+    }
+    if (v.view && !Camera::named(*v.view))
+        throw Error(at(file, n) + ": view \"" + v.key + "\": unknown view name \"" + *v.view +
+                    "\" (use front, back, right, left, top, bottom, or azimuth/elevation, or matrix)");
+    if (!v.view && !v.matrix) {
+        v.azimuth = v.azimuth.value_or(0.0);
+        v.elevation = v.elevation.value_or(0.0);
+        if (*v.elevation < -90 || *v.elevation > 90)
+            throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
+    }
+    if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
+        throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep + "\"");
+    if (v.holes != "auto" && v.holes != "fill" && v.holes != "keep")
+        throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
+}
+
+// One entry of "views": its key (node `key`) and either an image path or a mapping (n).
+ManifestView read_view(const fs::path& file, const fs::path& base, const YAML::Node& key, const YAML::Node& n) {
+    ManifestView v;
+    v.key = key.Scalar();
+    v.line = key.Mark().line + 1;
+    if (n.IsScalar()) {
+        v.image = n.Scalar();
+    } else if (n.IsMap()) {
+        read_view_mapping(file, base, n, v);
+    } else {
+        throw Error(at(file, n) + ": view \"" + v.key + "\" must be an image path or a mapping with \"image\"");
+    }
+    complete_view(file, base, n, v);
+    return v;
+}
+
+// Fixed cameras set the world frame and its units: no real size on top, and the box is
+// theirs. Without them drawn views are aligned into a frame of their own, which a box
+// given here could not refer to.
+void check_frame(const fs::path& file, YAML::Node doc, const Manifest& m) {
+    const bool calibrated = std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
+    if (m.fixed_cameras())
+        for (const char* k : {"height", "width", "depth"})
+            if (doc[k])
+                throw Error(at(file, doc[k]) + ": " + k + " cannot go with fixed cameras (scale, origin): they set the units");
+    if (m.bounds && !calibrated && !m.fixed_cameras())
+        throw Error(at(file, doc["bounds"]) + ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
+                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a real size)");
+}
+
 } // namespace
 
 bool Manifest::fixed_cameras() const {
@@ -107,163 +302,16 @@ void check_background_option(const std::string& background) {
 }
 
 Manifest read_manifest(const fs::path& file) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw Error("cannot read views manifest \"" + file.string() + "\": no such file");
-    YAML::Node doc;
-    try {
-        doc = YAML::LoadFile(file.string());
-    } catch (const YAML::ParserException& e) {
-        throw Error(file.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-    } catch (const YAML::Exception& e) {
-        throw Error("cannot read views manifest \"" + file.string() + "\": " + e.msg);
-    }
-    if (!doc.IsMap() || !doc["views"] || !doc["views"].IsMap() || doc["views"].size() == 0)
-        throw Error(file.string() + ": a views manifest needs a \"views\" mapping, e.g. views: {front: front.png, right: right.png}");
+    YAML::Node doc = load_document(file);
     Manifest m;
     m.file = file;
     const fs::path base = file.parent_path();
-    for (auto it = doc.begin(); it != doc.end(); ++it) {
-        const std::string k = it->first.Scalar();
-        if (k == "views") continue;
-        if (k == "height") m.height = number(file, it->second, "height");
-        else if (k == "width") m.width = number(file, it->second, "width");
-        else if (k == "depth") m.depth = number(file, it->second, "depth");
-        else if (k == "bounds") {
-            if (!it->second.IsSequence() || it->second.size() != 6)
-                throw Error(at(file, it->second) + ": bounds must be a list of 6 numbers: [xmin, ymin, zmin, xmax, ymax, zmax]");
-            std::array<double, 6> b{};
-            for (int i = 0; i < 6; ++i) b[std::size_t(i)] = number(file, it->second[i], "bounds");
-            for (std::size_t k = 0; k < 3; ++k)
-                if (!std::isfinite(b[k]) || !std::isfinite(b[k + 3]) || b[k] > b[k + 3])
-                    throw Error(at(file, it->second) + ": bounds: " + "xyz"[k] + "min must not exceed " + "xyz"[k] +
-                                "max ([xmin, ymin, zmin, xmax, ymax, zmax])");
-            m.bounds = b;
-        } else
-            throw Error(at(file, it->first) + ": unknown manifest key \"" + k + "\" (known: views, height, width, depth, bounds)");
-    }
-    for (const char* k : {"height", "width", "depth"}) {
-        auto& v = std::string(k) == "height" ? m.height : std::string(k) == "width" ? m.width : m.depth;
-        if (v && !(*v > 0)) throw Error(at(file, doc[k]) + ": " + k + " must be positive");
-    }
+    read_top_level(file, doc, m);
     for (auto it = doc["views"].begin(); it != doc["views"].end(); ++it) {
-        ManifestView v;
-        v.key = it->first.Scalar();
-        v.line = it->first.Mark().line + 1;
-        const YAML::Node n = it->second;   // a copy: it->second lives in a temporary
-        if (n.IsScalar()) {
-            v.image = n.Scalar();
-        } else if (n.IsMap()) {
-            std::optional<std::array<double, 9>> K, R;
-            std::optional<std::array<double, 3>> tvec;
-            int matrix_sources = 0;
-            for (auto f = n.begin(); f != n.end(); ++f) {
-                const std::string k = f->first.Scalar();
-                const YAML::Node val = f->second;   // a copy: f->second lives in a temporary
-                const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
-                if (k == "image") v.image = scalar(file, val, v.key, k);
-                else if (k == "view") v.view = scalar(file, val, v.key, k);
-                else if (k == "azimuth") v.azimuth = number(file, val, "azimuth");
-                else if (k == "elevation") v.elevation = number(file, val, "elevation");
-                else if (k == "background") {
-                    v.background = scalar(file, val, v.key, k);
-                    try {
-                        check_background_option(v.background);
-                    } catch (const Error& e) {
-                        throw Error(where + e.what());
-                    }
-                } else if (k == "threshold") {
-                    v.threshold = number(file, val, "threshold");
-                    if (*v.threshold <= 0 || *v.threshold >= 1) throw Error(where + "threshold must be in (0, 1)");
-                } else if (k == "keep") v.keep = scalar(file, val, v.key, k);
-                else if (k == "holes") v.holes = scalar(file, val, v.key, k);
-                else if (k == "matrix") {
-                    v.matrix = numbers<12>(file, val, where + "matrix must be 3 rows of 4 numbers (a 3x4 projection)");
-                    ++matrix_sources;
-                } else if (k == "matrix_file") {
-                    fs::path mf = scalar(file, val, v.key, k);
-                    if (mf.is_relative()) mf = base / mf;
-                    v.matrix = read_matrix_file(mf, where);
-                    ++matrix_sources;
-                } else if (k == "scale") {
-                    v.scale = number(file, val, "view \"" + v.key + "\": scale");
-                    if (!(*v.scale > 0) || !std::isfinite(*v.scale))
-                        throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
-                } else if (k == "origin") {
-                    v.origin = numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
-                                          "view \"" + v.key + "\": an origin coordinate");
-                    if (!std::isfinite((*v.origin)[0]) || !std::isfinite((*v.origin)[1]))
-                        throw Error(where + "origin must be finite");
-                } else if (k == "K") K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
-                else if (k == "R") R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
-                else if (k == "t") tvec = numbers<3>(file, val, where + "t must be 3 numbers");
-                else
-                    throw Error(at(file, f->first) + ": view \"" + v.key + "\": unknown key \"" + k +
-                                "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
-                                "background, threshold, keep, holes)");
-            }
-            if (K || R || tvec) {
-                if (!(K && R && tvec)) throw Error(at(file, n) + ": view \"" + v.key + "\": K, R and t go together (P = K [R | t])");
-                std::array<double, 12> P{};
-                for (int r = 0; r < 3; ++r)
-                    for (int c = 0; c < 4; ++c) {
-                        double x = 0;
-                        for (int k = 0; k < 3; ++k) x += (*K)[r * 3 + k] * (c < 3 ? (*R)[k * 3 + c] : (*tvec)[k]);
-                        P[r * 4 + c] = x;
-                    }
-                v.matrix = P;
-                ++matrix_sources;
-            }
-            if (matrix_sources > 1)
-                throw Error(at(file, n) + ": view \"" + v.key + "\": give the camera once: matrix, matrix_file, or K/R/t");
-            if (v.matrix && (v.view || v.azimuth || v.elevation))
-                throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
-            if (v.view && (v.azimuth || v.elevation))
-                throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
-            if (v.matrix && (v.scale || v.origin))
-                throw Error(at(file, n) + ": view \"" + v.key +
-                            "\": scale and origin fix an orthographic camera; a calibrated view (matrix) takes neither");
-            if (v.scale.has_value() != v.origin.has_value())
-                throw Error(at(file, n) + ": view \"" + v.key + "\": scale and origin go together (together they fix the "
-                            "camera): give both or neither");
-        } else {
-            throw Error(at(file, n) + ": view \"" + v.key + "\" must be an image path or a mapping with \"image\"");
-        }
-        if (v.image.empty()) throw Error(at(file, n) + ": view \"" + v.key + "\" has no image");
-        if (v.image.is_relative()) v.image = base / v.image;
-        if (!v.view && !v.azimuth && !v.elevation && !v.matrix) {
-            // Short form: the key names the view.
-            if (!Camera::named(v.key))
-                throw Error(at(file, n) + ": view \"" + v.key +
-                            "\": the key is not a view name (front, back, right, left, top, bottom); give view, "
-                            "azimuth/elevation or matrix");
-            v.view = v.key;
-        }
-        if (v.view && !Camera::named(*v.view))
-            throw Error(at(file, n) + ": view \"" + v.key + "\": unknown view name \"" + *v.view +
-                        "\" (use front, back, right, left, top, bottom, or azimuth/elevation, or matrix)");
-        if (!v.view && !v.matrix) {
-            v.azimuth = v.azimuth.value_or(0.0);
-            v.elevation = v.elevation.value_or(0.0);
-            if (*v.elevation < -90 || *v.elevation > 90)
-                throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
-        }
-        if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
-            throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep + "\"");
-        if (v.holes != "auto" && v.holes != "fill" && v.holes != "keep")
-            throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
-        m.views.push_back(std::move(v));
+        const YAML::Node key = it->first, n = it->second;   // copies: it-> gives a temporary
+        m.views.push_back(read_view(file, base, key, n));
     }
-    // Fixed cameras set the world frame and its units: no real size on top, and the box is
-    // theirs. Without them drawn views are aligned into a frame of their own, which a box
-    // given here could not refer to.
-    const bool calibrated = std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
-    if (m.fixed_cameras())
-        for (const char* k : {"height", "width", "depth"})
-            if (doc[k])
-                throw Error(at(file, doc[k]) + ": " + k + " cannot go with fixed cameras (scale, origin): they set the units");
-    if (m.bounds && !calibrated && !m.fixed_cameras())
-        throw Error(at(file, doc["bounds"]) + ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
-                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a real size)");
+    check_frame(file, doc, m);
     return m;
 }
 

@@ -1,4 +1,5 @@
-// The views manifest (short and long forms), see docs/views.md.
+// The views manifest (short and long forms), see docs/views.md: read_manifest() reads it,
+// write_manifest() writes it.
 #pragma once
 #include <array>
 #include <filesystem>
@@ -28,6 +29,8 @@ struct ManifestView {
 
 struct Manifest {
     std::filesystem::path file;
+    /// Text written as comment lines ("# ...") at the top of the file; read_manifest() leaves it empty.
+    std::string comment;
     std::vector<ManifestView> views;
     std::optional<double> height, width, depth;   ///< real size of the object in output units
     /// World box (min xyz, max xyz) that holds the object: for calibrated views, or for drawn
@@ -44,5 +47,14 @@ void check_background_option(const std::string& background);
 
 /// Reads a manifest; throws cm::Error naming the file and line.
 Manifest read_manifest(const std::filesystem::path& file);
+
+/// Writes `m` to `file` (whole or not at all, through write_file_atomic()) so that
+/// read_manifest(file) gives back the same views, cameras, sizes and bounds. Images are
+/// taken as read_manifest() gives them (resolved against the manifest's folder) and are
+/// written relative to `file`'s folder when they lie inside it. Every view is one line;
+/// one with nothing but its image, whose key names the view, takes the short form.
+/// Numbers are written as the shortest text that reads back as the same double; a number
+/// that is not finite throws cm::Error, as does a file that cannot be written.
+void write_manifest(const std::filesystem::path& file, const Manifest& m);
 
 } // namespace cm

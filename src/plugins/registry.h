@@ -20,7 +20,7 @@ struct StageEntry {
 
 class Registry {
 public:
-    /// Loads every plugin in `dirs` (files named libcm_*.so / *.cmplugin.so) in order.
+    /// Loads every plugin in `dirs` (files named libcm_*.so) in order.
     /// Problems do not throw: they are collected as diagnostics, the host keeps working.
     void load_directories(const std::vector<std::filesystem::path>& dirs);
     /// Loads one library; returns false and records why when it is refused.

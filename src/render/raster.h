@@ -1,4 +1,4 @@
-// Rasterising meshes through the cameras of ../conventions/views.md: binary
+// Rasterising meshes through the cameras of ../shared/conventions/views.md: binary
 // silhouettes (pixel centre inside a projected triangle), a depth/face buffer for
 // shaded pictures, and the silhouette error of a mesh against input views.
 #pragma once
@@ -51,7 +51,7 @@ struct SilhouetteError {
 /// silhouette (coverage >= 0.5).
 SilhouetteError silhouette_error(const Mesh& mesh, const Views& views);
 
-/// @brief Orthographic camera framed as ../conventions/views.md "Rendering views of a mesh":
+/// @brief Orthographic camera framed as ../shared/conventions/views.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.
 /// `direction` gives r, u, d (and azimuth/elevation); its scale and origin are ignored.
 /// @throw cm::Error for a perspective direction or an empty (zero-size) box.

@@ -52,30 +52,67 @@ double smoothstep(double e0, double e1, double x) {
     return t * t * (3 - 2 * t);
 }
 
-} // namespace
+// What the phases of a drawing share: the mesh (with vertex normals), the caller's camera
+// and the supersampled one with its depth image, the face normals, and the empty samples.
+struct ArtScene {
+    const Mesh& mesh;
+    const Camera& cam;
+    const Camera& hi;
+    const DepthImage& D;
+    const int W, H, ss;
+    std::vector<Vec3d> fnormal;
+    std::vector<char> empty;
+};
 
-Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt) {
-    if (width <= 0 || height <= 0) throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
-    // Samples per pixel, kept to about 12 M samples so large images stay within memory.
-    int ss = std::max(1, opt.supersample);
-    while (ss > 1 && double(width) * height * ss * ss > 12e6) --ss;
-    const int W = width * ss, H = height * ss;
-    const Camera hi = resized_camera(cam, ss);
-    Mesh mesh = mesh_in;
-    if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
-    const DepthImage D = render_depth(mesh, hi, W, H);
-    const std::size_t N = std::size_t(W) * H;
-
+std::vector<Vec3d> face_normals(const Mesh& mesh) {
     std::vector<Vec3d> fnormal(mesh.triangles.size());
     tbb::parallel_for(std::size_t(0), mesh.triangles.size(), [&](std::size_t t) {
         const auto& f = mesh.triangles[t];
         const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
         fnormal[t] = normalize(cross(b - a, c - a));
     });
+    return fnormal;
+}
 
+// Creases and inner contours: samples next to one of another face that turns by more than
+// crease_deg or lies at another depth.
+std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
+    const int W = s.W, H = s.H;
+    const DepthImage& D = s.D;
+    const Camera& cam = s.cam;
+    std::vector<char> crease(std::size_t(W) * H, 0);
+    const double cos_crease = std::cos(double(opt.crease_deg) * 3.14159265358979323846 / 180.0);
+    const double jump = cam.orthographic() ? 6.0 / s.hi.scale : 0.0;
+    auto depth_jump = [&](std::size_t i, std::size_t j) {
+        const double a = D.depth[i], b = D.depth[j];
+        return cam.orthographic() ? std::abs(a - b) > jump : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
+    };
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * W + x;
+            if (s.empty[i]) continue;
+            const std::size_t nb[2] = {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i};
+            for (std::size_t j : nb) {
+                if (j == i || s.empty[j] || D.face[j] == D.face[i]) continue;
+                if (dot(s.fnormal[D.face[i]], s.fnormal[D.face[j]]) < cos_crease || depth_jump(i, j)) {
+                    crease[i] = 1;   // the nearer side carries the line
+                    if (D.depth[j] < D.depth[i]) { crease[i] = 0; crease[j] = 1; }
+                }
+            }
+        }
+    });
+    return crease;
+}
+
+// The colour (RGB) of every sample: paper, ink on the lines, or the shaded fill.
+std::vector<float> shade_samples(const ArtScene& s, const std::vector<float>& to_outside,
+                                 const std::vector<float>& to_crease, const ArtOptions& opt) {
+    const int W = s.W, H = s.H;
+    const Mesh& mesh = s.mesh;
+    const DepthImage& D = s.D;
     // Camera frame for the light: from the upper left, in front.
-    Vec3d d = cam.d, u = cam.u, r = cam.r;
-    if (!cam.orthographic()) {
+    Vec3d d = s.cam.d, u = s.cam.u, r = s.cam.r;
+    if (!s.cam.orthographic()) {
         const Vec3d up{0, 1, 0};
         r = normalize(cross(d, up));
         if (length(r) < 0.5) r = {1, 0, 0};
@@ -83,41 +120,13 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     }
     const Vec3d light = normalize(d * -0.55 + u * 0.65 - r * 0.45);
 
-    // Lines: silhouette outline inside the silhouette, and creases / inner contours.
-    std::vector<char> empty(N), crease(N, 0);
-    for (std::size_t i = 0; i < N; ++i) empty[i] = D.face[i] == DepthImage::kNoFace;
-    const double cos_crease = std::cos(double(opt.crease_deg) * 3.14159265358979323846 / 180.0);
-    const double jump = cam.orthographic() ? 6.0 / hi.scale : 0.0;
-    auto depth_jump = [&](std::size_t i, std::size_t j) {
-        const double a = D.depth[i], b = D.depth[j];
-        return cam.orthographic() ? std::abs(a - b) > jump : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
-    };
-    if (opt.lines) {
-        tbb::parallel_for(0, H, [&](int y) {
-            for (int x = 0; x < W; ++x) {
-                const std::size_t i = std::size_t(y) * W + x;
-                if (empty[i]) continue;
-                const std::size_t nb[2] = {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i};
-                for (std::size_t j : nb) {
-                    if (j == i || empty[j] || D.face[j] == D.face[i]) continue;
-                    if (dot(fnormal[D.face[i]], fnormal[D.face[j]]) < cos_crease || depth_jump(i, j)) {
-                        crease[i] = 1;   // the nearer side carries the line
-                        if (D.depth[j] < D.depth[i]) { crease[i] = 0; crease[j] = 1; }
-                    }
-                }
-            }
-        });
-    }
-    const std::vector<float> to_outside = distance_to(empty, W, H, true);
-    const std::vector<float> to_crease = opt.lines ? distance_to(crease, W, H, false) : std::vector<float>(N, 1e9f);
-
-    std::vector<float> hires(N * 3);
-    const float outline = opt.outline_px * float(ss), crease_half = 0.5f * opt.crease_px * float(ss);
+    std::vector<float> hires(std::size_t(W) * H * 3);
+    const float outline = opt.outline_px * float(s.ss), crease_half = 0.5f * opt.crease_px * float(s.ss);
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
             const std::size_t i = std::size_t(y) * W + x;
             float* out = &hires[i * 3];
-            if (empty[i]) {
+            if (s.empty[i]) {
                 // Paper with a mild vignette.
                 const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
                 const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
@@ -133,10 +142,10 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
             const auto& f = mesh.triangles[t];
             const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
             Vec3d o, dir;
-            hi.ray(x + 0.5, y + 0.5, o, dir);
+            s.hi.ray(x + 0.5, y + 0.5, o, dir);
             const Vec3d e1 = b - a, e2 = c - a, pv = cross(dir, e2);
             const double det = dot(e1, pv);
-            Vec3d n = fnormal[t];
+            Vec3d n = s.fnormal[t];
             if (std::abs(det) > 1e-300) {
                 const Vec3d tv = o - a;
                 const double bu = std::clamp(dot(tv, pv) / det, 0.0, 1.0);
@@ -152,7 +161,12 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
             for (int k = 0; k < 3; ++k) out[k] = float(std::min(1.0, opt.fill[std::size_t(k)] * tone));
         }
     });
+    return hires;
+}
 
+// The picture: each pixel the mean of its samples, with paper grain where it shows paper.
+Image average_down(const ArtScene& s, const std::vector<float>& hires, int width, int height, const ArtOptions& opt) {
+    const int ss = s.ss, W = s.W;
     Image img;
     img.width = width;
     img.height = height;
@@ -167,7 +181,7 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
                 for (int sx = 0; sx < ss; ++sx) {
                     const std::size_t i = std::size_t(y * ss + sy) * W + std::size_t(x * ss + sx);
                     for (int k = 0; k < 3; ++k) acc[k] += hires[i * 3 + k];
-                    covered += !empty[i];
+                    covered += !s.empty[i];
                 }
             const double g = opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
             const double on_paper = 1.0 - 0.7 * double(covered) * inv;
@@ -176,6 +190,31 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
         }
     });
     return img;
+}
+
+} // namespace
+
+Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt) {
+    if (width <= 0 || height <= 0) throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
+    // Samples per pixel, kept to about 12 M samples so large images stay within memory.
+    int ss = std::max(1, opt.supersample);
+    while (ss > 1 && double(width) * height * ss * ss > 12e6) --ss;
+    const int W = width * ss, H = height * ss;
+    const Camera hi = resized_camera(cam, ss);
+    Mesh mesh = mesh_in;
+    if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
+    const DepthImage D = render_depth(mesh, hi, W, H);
+    const std::size_t N = std::size_t(W) * H;
+    ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
+    for (std::size_t i = 0; i < N; ++i) scene.empty[i] = D.face[i] == DepthImage::kNoFace;
+
+    // Lines: silhouette outline inside the silhouette, and creases / inner contours.
+    const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
+    const std::vector<float> to_outside = distance_to(scene.empty, W, H, true);
+    const std::vector<float> to_crease = opt.lines ? distance_to(crease, W, H, false) : std::vector<float>(N, 1e9f);
+
+    const std::vector<float> hires = shade_samples(scene, to_outside, to_crease, opt);
+    return average_down(scene, hires, width, height, opt);
 }
 
 } // namespace cm

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/mesh_io.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

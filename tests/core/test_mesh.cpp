@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "io/mesh_io.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;
@@ -65,6 +66,7 @@ TEST(MeshIO, EveryFormatRoundTrips) {
 }
 
 TEST(MeshIO, ReadsTheSharedModels) {
+    CM_SKIP_WITHOUT(test::shared_dir() / "data/models");
     for (const char* name : {"spot.obj", "bunny00.off", "fandisk.off"}) {
         SCOPED_TRACE(name);
         const Mesh m = read_mesh(test::shared_dir() / "data/models" / name);

@@ -6,6 +6,7 @@
 
 #include "core/mesh.h"
 #include "io/mesh_io.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

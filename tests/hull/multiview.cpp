@@ -1,39 +1,26 @@
 #include "multiview.h"
 
 #include <array>
+#include <cstdio>
 #include <fstream>
 #include <set>
-#include <sstream>
 
 #include "core/error.h"
+#include "io/manifest.h"
 
 namespace fs = std::filesystem;
 
 namespace cm::test {
 
-namespace {
-
-void write_matrix(std::ostream& os, const std::array<double, 12>& P) {
-    os.precision(17);
-    os << "    matrix:\n";
-    for (int r = 0; r < 3; ++r)
-        os << "      - [" << P[4 * r] << ", " << P[4 * r + 1] << ", " << P[4 * r + 2] << ", " << P[4 * r + 3] << "]\n";
-}
-
-} // namespace
-
 void write_tum_bunny_manifest(const fs::path& dir, const fs::path& manifest) {
-    std::ostringstream os;
-    os << "# TUM bunny (Kolev, Klodt, Brox, Cremers, IJCV 2009): binary silhouettes, object black on white.\n";
+    Manifest m;
+    m.comment = "TUM bunny (Kolev, Klodt, Brox, Cremers, IJCV 2009): binary silhouettes, object black on white.";
     // The data set's approximate box (its README); every camera sees it whole.
-    os << "bounds: [-7.5, -10, -7.5, 7.5, 10, 15]\n";
-    os << "views:\n";
-    int n = 0;
+    m.bounds = {-7.5, -10, -7.5, 7.5, 10, 15};
     for (int i = 0; i < 36; i += 2) {
         char name[8];
         std::snprintf(name, sizeof name, "%04d", i);
         const fs::path calib = dir / "calib" / (std::string(name) + ".txt");
-        const fs::path image = dir / "silhouettes" / (std::string(name) + ".pgm");
         std::ifstream in(calib);
         if (!in) throw Error("cannot read \"" + calib.string() + "\"");
         std::string word;
@@ -41,11 +28,14 @@ void write_tum_bunny_manifest(const fs::path& dir, const fs::path& manifest) {
         std::array<double, 12> P{};
         for (double& v : P)
             if (!(in >> v)) throw Error("\"" + calib.string() + "\": expected a 3x4 matrix after CONTOUR");
-        os << "  v" << name << ":\n    image: \"" << fs::absolute(image).string() << "\"\n    background: white\n";
-        write_matrix(os, P);
-        ++n;
+        ManifestView v;
+        v.key = "v" + std::string(name);
+        v.image = fs::absolute(dir / "silhouettes" / (std::string(name) + ".pgm"));
+        v.background = "white";
+        v.matrix = P;
+        m.views.push_back(std::move(v));
     }
-    std::ofstream(manifest) << os.str();
+    write_manifest(manifest, m);
 }
 
 void write_dino_manifest(const fs::path& dir, const fs::path& manifest) {
@@ -59,10 +49,9 @@ void write_dino_manifest(const fs::path& dir, const fs::path& manifest) {
     }
     int count = 0;
     in >> count;
-    std::ostringstream os;
-    os << "# Middlebury dinoSparseRing (Seitz et al., CVPR 2006): white plaster on black.\n";
-    os << "bounds: [-0.061897, -0.018874, -0.057845, 0.010897, 0.068227, 0.015495]\n";
-    os << "views:\n";
+    Manifest m;
+    m.comment = "Middlebury dinoSparseRing (Seitz et al., CVPR 2006): white plaster on black.";
+    m.bounds = {-0.061897, -0.018874, -0.057845, 0.010897, 0.068227, 0.015495};
     for (int v = 0; v < count; ++v) {
         std::string file;
         double K[9], R[9], t[3];
@@ -79,11 +68,15 @@ void write_dino_manifest(const fs::path& dir, const fs::path& manifest) {
                 P[4 * r + c] = K[3 * r] * R[c] + K[3 * r + 1] * R[3 + c] + K[3 * r + 2] * R[6 + c];
             P[4 * r + 3] = K[3 * r] * t[0] + K[3 * r + 1] * t[1] + K[3 * r + 2] * t[2];
         }
-        os << "  " << fs::path(file).stem().string() << ":\n    image: \"" << fs::absolute(dir / file).string()
-           << "\"\n    background: black\n    threshold: 0.19\n";
-        write_matrix(os, P);
+        ManifestView mv;
+        mv.key = fs::path(file).stem().string();
+        mv.image = fs::absolute(dir / file);
+        mv.background = "black";
+        mv.threshold = 0.19;
+        mv.matrix = P;
+        m.views.push_back(std::move(mv));
     }
-    std::ofstream(manifest) << os.str();
+    write_manifest(manifest, m);
 }
 
 } // namespace cm::test

@@ -5,7 +5,7 @@
 
 #include "carve.h"
 #include "core/stage.h"
-#include "hull_shapes.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 
 using namespace cm;

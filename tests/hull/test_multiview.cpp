@@ -10,6 +10,7 @@
 #include "marching_cubes.h"
 #include "multiview.h"
 #include "refine.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

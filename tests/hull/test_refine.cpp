@@ -5,7 +5,7 @@
 
 #include "carve.h"
 #include "geometry/silhouette_field.h"
-#include "hull_shapes.h"
+#include "support/shapes.h"
 #include "refine.h"
 
 using namespace cm;

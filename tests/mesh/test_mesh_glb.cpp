@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "io/mesh_io.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/stage.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

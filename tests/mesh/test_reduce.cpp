@@ -7,7 +7,7 @@
 #include "mesh_decimate.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;
@@ -117,6 +117,7 @@ TEST(Reduce, BoundaryVerticesStay) {
 }
 
 TEST(Reduce, RealModelsStayClosedAndManifold) {
+    CM_SKIP_WITHOUT(test::shared_dir() / "data/models");
     for (const char* name : {"bunny00.off", "fandisk.off", "bob_tri.obj"}) {
         SCOPED_TRACE(name);
         Mesh m = read_mesh(test::shared_dir() / "data/models" / name);
@@ -160,6 +161,7 @@ TEST(QuadricDecimate, CubeCollapsesToFlatFacesExactly) {
 }
 
 TEST(QuadricDecimate, RealModelsStayClosedAndManifold) {
+    CM_SKIP_WITHOUT(test::shared_dir() / "data/models");
     for (const char* name : {"armadillo.off", "fertility.off"}) {
         SCOPED_TRACE(name);
         Mesh m = read_mesh(test::shared_dir() / "data/models" / name);

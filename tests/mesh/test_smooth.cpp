@@ -6,7 +6,7 @@
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
 #include "mesh_smooth.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

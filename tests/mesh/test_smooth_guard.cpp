@@ -13,7 +13,7 @@
 #include "mesh_smooth.h"
 #include "core/volume.h"
 #include "marching_cubes.h"
-#include "mesh_shapes.h"
+#include "support/shapes.h"
 
 using namespace cm;
 using openvdb::Coord;

@@ -7,6 +7,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/volume.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

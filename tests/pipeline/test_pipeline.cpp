@@ -8,6 +8,7 @@
 #include "io/mesh_io.h"
 #include "fixtures/testkit_stages.h"
 #include "pipeline/pipeline.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

@@ -6,6 +6,7 @@
 #include "core/mesh.h"
 #include "fixtures/testkit_stages.h"
 #include "pipeline/pipeline.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

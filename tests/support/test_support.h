@@ -1,10 +1,9 @@
-// Helpers shared by the tests: temporary folders, running the command, shapes.
+// Helpers shared by the tests: temporary folders, running the command, files. Shapes
+// built in code are in support/shapes.h.
 #pragma once
 #include <filesystem>
 #include <string>
 
-#include "core/mesh.h"
-#include "core/views.h"
 
 namespace cm::test {
 
@@ -30,17 +29,14 @@ CommandResult run_cli(const std::string& args, const std::filesystem::path& cwd 
 void write_text(const std::filesystem::path& file, const std::string& text);
 std::string read_text(const std::filesystem::path& file);
 
-std::filesystem::path shared_dir();     ///< ../shared beside the checkout
-std::filesystem::path source_dir();
+std::filesystem::path shared_dir();     ///< ../shared beside the checkout, or $CONCEPTMESH_SHARED_DIR
 
-/// Closed, outward triangle meshes built in code.
-Mesh make_box(Vec3f lo, Vec3f hi);
-Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4);   ///< icosphere
-/// Appends `part`'s vertices and triangles to `into` (turned inside out when `flip`).
-void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
-/// Two boxes that overlap: closed and 2-manifold, but their faces cross.
-Mesh make_crossing_boxes();
-/// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
-Mesh make_lopsided();
+/// Skips the calling test with a message naming what is missing when `needed` (under
+/// ../shared) does not exist: a clone without ../shared beside it passes its own tests.
+#define CM_SKIP_WITHOUT(needed)                                                                      \
+    if (!std::filesystem::exists(needed))                                                            \
+    GTEST_SKIP() << "needs " << std::filesystem::path(needed).string()                               \
+                 << " (the shared data beside the checkout), which is missing"
+std::filesystem::path source_dir();
 
 } // namespace cm::test

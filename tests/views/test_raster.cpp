@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "render/raster.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;

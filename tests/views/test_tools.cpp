@@ -13,6 +13,7 @@
 #include "load.h"
 #include "io/manifest.h"
 #include "preview_sheet.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

@@ -10,6 +10,7 @@
 #include "core/stage.h"
 #include "load.h"
 #include "io/manifest.h"
+#include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
 

@@ -62,6 +62,262 @@ struct ThinHit {
     float t0, t1;
 };
 
+// Blocks that can hold a crossing: every occupancy leaf and its -x, -y, -z neighbours (an
+// outside point there may have an inside neighbour in the leaf). Tiles never touch the
+// outside (volume.h), so no other block can hold one.
+// A neighbour block that is not a leaf itself is constant; it needs a leaf only when it is
+// outside and the leaf's face towards it has inside voxels. Sorted, each once.
+std::vector<Coord> crossing_blocks(const openvdb::BoolTree& occ) {
+    std::vector<Coord> blocks;
+    OccAccessor acc(occ);
+    for (auto it = occ.cbeginLeaf(); it; ++it) {
+        const Coord o = it->origin();
+        blocks.push_back(o);
+        const auto& m = it->getValueMask();
+        Word face[3] = {m.getWord<Word>(0), 0, 0};
+        for (int x = 0; x < 8; ++x) {
+            face[1] |= m.getWord<Word>(x) & 0xffULL;
+            face[2] |= m.getWord<Word>(x) & 0x0101010101010101ULL;
+        }
+        for (int a = 0; a < 3; ++a) {
+            Coord n = o;
+            n[a] -= kDim;
+            if (!face[a] || acc.probeConstLeaf(n) || acc.isValueOn(n)) continue;
+            blocks.push_back(n);
+        }
+    }
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    return blocks;
+}
+
+// Grid spacing in pixels of the finest view, at the centre of the hull.
+double cell_pixels(const openvdb::BoolTree& occ, const Lattice& lat, const VisualHull& hull) {
+    openvdb::CoordBBox bb;
+    occ.evalActiveVoxelBoundingBox(bb);
+    const Vec3d centre = (lat.at(bb.min()) + lat.at(bb.max())) * 0.5;
+    double finest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < hull.size(); ++i) finest = std::min(finest, hull.field(i).pixel_size_at(centre));
+    return lat.h / finest;
+}
+
+// The crossing of each edge whose ends differ in occupancy, found in the views.
+class CrossingFinder {
+public:
+    CrossingFinder(const VisualHull& hull, const Lattice& lat) : hull_(hull), lat_(lat) {
+        // A view along axis a sees an a-edge as one point: when one end is inside every view,
+        // so is the whole edge in that view, and it can be left out of the edge's test.
+        for (std::size_t i = 0; i < hull.size() && i < 64; ++i)
+            if (const int k = hull.field(i).drop_axis(); k >= 0) along_[k] |= VisualHull::ViewMask(1) << i;
+    }
+
+    // The crossings of the edges starting in the block at o, into `leaf` (made at the first
+    // crossing); counts the crossings and those the views could not place.
+    void block(const OccAccessor& acc, const Coord& o, VecLeaf*& leaf, std::size_t& cross, std::size_t& unresolved) const {
+        double flips[256];
+        std::array<BlockBits, 3> diff;
+        const BlockBits w = block_bits(acc, o);
+        edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
+                   block_bits(acc, o.offsetBy(0, 0, kDim)), diff);
+        // Views that see the whole block (with its edges) inside need no test.
+        VisualHull::ViewMask mask = VisualHull::kAllViews;
+        hull_.classify(lat_.at(o), lat_.at(o.offsetBy(kDim)), mask);
+        for (int a = 0; a < 3; ++a)
+            for (int x = 0; x < 8; ++x) {
+                Word bits = diff[a][x];
+                while (bits) {
+                    const int b = __builtin_ctzll(bits);
+                    bits &= bits - 1;
+                    const Coord p = o.offsetBy(x, b >> 3, b & 7);
+                    Coord q = p;
+                    q[a] += 1;
+                    const bool p_in = (w[x] >> b) & 1u;
+                    bool start = false;
+                    const int nf = hull_.transitions(lat_.at(p), lat_.at(q), start, flips, 256, mask & ~along_[a]);
+                    double t;
+                    if (p_in) {
+                        // Where the inside end's solid stops: the first flip to outside.
+                        if (start && nf > 0) t = flips[0];
+                        else t = start ? 1.0 : 0.0, ++unresolved;
+                    } else {
+                        // Where the solid that reaches q starts: the last flip to inside.
+                        const bool end_in = start != (nf % 2 == 1);
+                        if (end_in && nf > 0) t = flips[nf - 1];
+                        else t = end_in ? 0.0 : 1.0, ++unresolved;
+                    }
+                    if (!leaf) leaf = new VecLeaf(o, kUnset, false);
+                    const openvdb::Index off = VecLeaf::coordToOffset(p);
+                    openvdb::Vec3f v = leaf->isValueOn(off) ? leaf->getValue(off) : kUnset;
+                    v[a] = float(std::clamp(t, 0.0, 1.0));
+                    leaf->setValueOn(off, v);
+                    ++cross;
+                }
+            }
+    }
+
+private:
+    const VisualHull& hull_;
+    const Lattice& lat_;
+    VisualHull::ViewMask along_[3] = {0, 0, 0};
+};
+
+// The crossings of every block, in parallel; progress runs to blocks.size() / total_work.
+std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const CrossingFinder& finder,
+                                       const std::vector<Coord>& blocks, double total_work,
+                                       const std::function<void(double)>& progress, std::size_t& n_cross_out,
+                                       std::size_t& n_unresolved_out) {
+    // Leaves are made (in parallel) only for blocks that get a crossing, then linked in.
+    std::vector<VecLeaf*> made(blocks.size(), nullptr);
+    struct LeafGuard {
+        std::vector<VecLeaf*>& v;
+        ~LeafGuard() {
+            for (VecLeaf* l : v) delete l;
+        }
+    } guard{made};
+
+    std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
+    const std::size_t chunk = std::max<std::size_t>(256, blocks.size() / 50);
+    for (std::size_t c0 = 0; c0 < blocks.size(); c0 += chunk) {
+        const std::size_t c1 = std::min(blocks.size(), c0 + chunk);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+            OccAccessor acc(occ);
+            std::size_t cross = 0, unresolved = 0;
+            for (std::size_t li = r.begin(); li < r.end(); ++li) finder.block(acc, blocks[li], made[li], cross, unresolved);
+            n_cross += cross;
+            n_unresolved += unresolved;
+        });
+        if (progress) progress(double(c1) / total_work);
+    }
+    auto ctree = std::make_shared<VecTree>(kUnset);
+    for (VecLeaf*& l : made)
+        if (l) ctree->addLeaf(l), l = nullptr;
+    n_cross_out = n_cross;
+    n_unresolved_out = n_unresolved;
+    return ctree;
+}
+
+// The lattice points whose edges the thin-part search covers: those of the clip box (one
+// more on each side); without a clip box, the occupied region grown by a leaf.
+openvdb::CoordBBox thin_region(const openvdb::BoolGrid& occupancy, const Lattice& lat, const Vec3d& clip_lo,
+                               const Vec3d& clip_hi) {
+    openvdb::CoordBBox region;
+    occupancy.tree().evalActiveVoxelBoundingBox(region);
+    region.expand(kDim);
+    if (occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_min") &&
+        occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
+        Coord lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = int(std::floor((clip_lo[a] - lat.origin[a]) / lat.h)) - 1;
+            hi[a] = int(std::ceil((clip_hi[a] - lat.origin[a]) / lat.h)) + 1;
+        }
+        region = openvdb::CoordBBox(lo, hi);
+    }
+    return region;
+}
+
+// Thin parts: edges whose two ends are outside but which pass through the hull. Blocks are
+// decided hierarchically on the box their edges sweep ([o, o + n] in index space); only
+// blocks the silhouettes cannot decide are tested edge by edge.
+class ThinSearch {
+public:
+    ThinSearch(const VisualHull& hull, const Lattice& lat) : hull_(hull), lat_(lat) {}
+
+    // The thin edges starting in the n^3 points at o, tested in the views of `mask`.
+    void search(const OccAccessor& acc, const Coord& o, int n, VisualHull::ViewMask mask, double* flips,
+                std::vector<ThinHit>& out) const {
+        const auto c = hull_.classify(lat_.at(o), lat_.at(o.offsetBy(n)), mask);
+        if (c != VisualHull::Class::Mixed) return;   // all outside, or all inside (no outside ends)
+        if (n > 4) {
+            const int hn = n / 2;
+            for (int k = 0; k < 8; ++k)
+                search(acc, o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask, flips, out);
+            return;
+        }
+        for (int x = 0; x < n; ++x)
+            for (int y = 0; y < n; ++y)
+                for (int z = 0; z < n; ++z) {
+                    const Coord p = o.offsetBy(x, y, z);
+                    if (acc.isValueOn(p)) continue;
+                    for (int a = 0; a < 3; ++a) {
+                        Coord q = p;
+                        q[a] += 1;
+                        if (acc.isValueOn(q)) continue;
+                        bool start = false;
+                        const int nf = hull_.transitions(lat_.at(p), lat_.at(q), start, flips, 256, mask);
+                        if (nf < 2) continue;
+                        // Inside intervals between the two outside ends; keep the longest.
+                        double best0 = 0, best1 = 0;
+                        bool cur = start;
+                        double pos = 0;
+                        for (int k = 0; k < nf; ++k) {
+                            if (cur && flips[k] - pos > best1 - best0) best0 = pos, best1 = flips[k];
+                            cur = !cur;
+                            pos = flips[k];
+                        }
+                        if (best1 - best0 > 1e-6 && best0 > 0 && best1 < 1)
+                            out.push_back({p, a, float(best0), float(best1)});
+                    }
+                }
+    }
+
+private:
+    const VisualHull& hull_;
+    const Lattice& lat_;
+};
+
+// The thin edges of `region`, in parallel over 64^3 tops; progress runs from
+// nblocks / total_work to 2 nblocks / total_work.
+std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const ThinSearch& search, const openvdb::CoordBBox& region,
+                               std::size_t nblocks, double total_work, const std::function<void(double)>& progress) {
+    constexpr int kTop = 64;
+    std::vector<Coord> tops;
+    auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
+    for (int x = align(region.min().x()); x <= region.max().x(); x += kTop)
+        for (int y = align(region.min().y()); y <= region.max().y(); y += kTop)
+            for (int z = align(region.min().z()); z <= region.max().z(); z += kTop) tops.emplace_back(x, y, z);
+    tbb::enumerable_thread_specific<std::vector<ThinHit>> hits;
+    const std::size_t tchunk = std::max<std::size_t>(1, tops.size() / 50);
+    for (std::size_t c0 = 0; c0 < tops.size(); c0 += tchunk) {
+        const std::size_t c1 = std::min(tops.size(), c0 + tchunk);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            OccAccessor acc(occ);
+            auto& mine = hits.local();
+            double flips[256];
+            for (std::size_t i = r.begin(); i < r.end(); ++i)
+                search.search(acc, tops[i], kTop, VisualHull::kAllViews, flips, mine);
+        });
+        if (progress) progress((double(nblocks) + double(nblocks) * double(c1) / tops.size()) / total_work);
+    }
+    std::vector<ThinHit> all;
+    for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
+    return all;
+}
+
+// The thin edges as the grids "thin_enter" and "thin_leave" of `out` (replacing any it had):
+// per lattice point and axis, where its edge's inside interval starts and ends.
+void add_thin_grids(Volume& out, const std::vector<ThinHit>& all, const openvdb::math::Transform& xform) {
+    auto enter = openvdb::Vec3fGrid::create(kUnset), leave = openvdb::Vec3fGrid::create(kUnset);
+    auto ea = enter->getAccessor();
+    auto la = leave->getAccessor();
+    for (const ThinHit& t : all) {
+        openvdb::Vec3f e = ea.isValueOn(t.p) ? ea.getValue(t.p) : kUnset;
+        openvdb::Vec3f l = la.isValueOn(t.p) ? la.getValue(t.p) : kUnset;
+        e[t.axis] = t.t0;
+        l[t.axis] = t.t1;
+        ea.setValueOn(t.p, e);
+        la.setValueOn(t.p, l);
+    }
+    for (auto& g : {enter, leave}) g->setTransform(xform.copy());
+    enter->setName("thin_enter");
+    leave->setName("thin_leave");
+    // Replace any previous thin grids.
+    std::erase_if(out.extra, [](const openvdb::GridBase::Ptr& g) {
+        return g && (g->getName() == "thin_enter" || g->getName() == "thin_leave");
+    });
+    out.extra.push_back(enter);
+    out.extra.push_back(leave);
+}
+
 } // namespace
 
 std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> views, const RefineOptions& opt,
@@ -90,119 +346,15 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     const VisualHull hull(*views, clip_lo, clip_hi);
     const openvdb::BoolTree& occ = in.occupancy->tree();
 
-    // Topology of the crossings: every occupancy leaf and its -x, -y, -z neighbours (an
-    // outside point there may have an inside neighbour in the leaf). Tiles never touch
-    // the outside (volume.h), so no other block can hold a crossing.
-    // A neighbour block that is not a leaf itself is constant; it needs a leaf only when
-    // it is outside and the leaf's face towards it has inside voxels.
-    std::vector<Coord> blocks;
-    {
-        OccAccessor acc(occ);
-        for (auto it = occ.cbeginLeaf(); it; ++it) {
-            const Coord o = it->origin();
-            blocks.push_back(o);
-            const auto& m = it->getValueMask();
-            Word face[3] = {m.getWord<Word>(0), 0, 0};
-            for (int x = 0; x < 8; ++x) {
-                face[1] |= m.getWord<Word>(x) & 0xffULL;
-                face[2] |= m.getWord<Word>(x) & 0x0101010101010101ULL;
-            }
-            for (int a = 0; a < 3; ++a) {
-                Coord n = o;
-                n[a] -= kDim;
-                if (!face[a] || acc.probeConstLeaf(n) || acc.isValueOn(n)) continue;
-                blocks.push_back(n);
-            }
-        }
-        std::sort(blocks.begin(), blocks.end());
-        blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
-    }
-    // Leaves are made (in parallel) only for blocks that get a crossing, then linked in.
-    std::vector<VecLeaf*> made(blocks.size(), nullptr);
-    struct LeafGuard {
-        std::vector<VecLeaf*>& v;
-        ~LeafGuard() {
-            for (VecLeaf* l : v) delete l;
-        }
-    } guard{made};
-
-    // A view along axis a sees an a-edge as one point: when one end is inside every view,
-    // so is the whole edge in that view, and it can be left out of the edge's test.
-    VisualHull::ViewMask along[3] = {0, 0, 0};
-    for (std::size_t i = 0; i < hull.size() && i < 64; ++i)
-        if (const int k = hull.field(i).drop_axis(); k >= 0) along[k] |= VisualHull::ViewMask(1) << i;
-
-    std::atomic<std::size_t> n_cross{0}, n_unresolved{0};
-    // Grid spacing in pixels of the finest view, at the centre of the hull.
-    double cell_px = 0;
-    {
-        openvdb::CoordBBox bb;
-        occ.evalActiveVoxelBoundingBox(bb);
-        const Vec3d centre = (lat.at(bb.min()) + lat.at(bb.max())) * 0.5;
-        double finest = std::numeric_limits<double>::infinity();
-        for (std::size_t i = 0; i < hull.size(); ++i) finest = std::min(finest, hull.field(i).pixel_size_at(centre));
-        cell_px = lat.h / finest;
-    }
+    // Topology of the crossings.
+    const std::vector<Coord> blocks = crossing_blocks(occ);
+    const CrossingFinder finder(hull, lat);
+    const double cell_px = cell_pixels(occ, lat, hull);
     const bool do_thin = opt.thin == RefineOptions::Thin::On ||
                          (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
     const double total_work = double(blocks.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
-    const std::size_t chunk = std::max<std::size_t>(256, blocks.size() / 50);
-    for (std::size_t c0 = 0; c0 < blocks.size(); c0 += chunk) {
-        const std::size_t c1 = std::min(blocks.size(), c0 + chunk);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
-            OccAccessor acc(occ);
-            std::size_t cross = 0, unresolved = 0;
-            double flips[256];
-            std::array<BlockBits, 3> diff;
-            for (std::size_t li = r.begin(); li < r.end(); ++li) {
-                const Coord o = blocks[li];
-                VecLeaf* leaf = nullptr;
-                const BlockBits w = block_bits(acc, o);
-                edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
-                           block_bits(acc, o.offsetBy(0, 0, kDim)), diff);
-                // Views that see the whole block (with its edges) inside need no test.
-                VisualHull::ViewMask mask = VisualHull::kAllViews;
-                hull.classify(lat.at(o), lat.at(o.offsetBy(kDim)), mask);
-                for (int a = 0; a < 3; ++a)
-                    for (int x = 0; x < 8; ++x) {
-                        Word bits = diff[a][x];
-                        while (bits) {
-                            const int b = __builtin_ctzll(bits);
-                            bits &= bits - 1;
-                            const Coord p = o.offsetBy(x, b >> 3, b & 7);
-                            Coord q = p;
-                            q[a] += 1;
-                            const bool p_in = (w[x] >> b) & 1u;
-                            bool start = false;
-                            const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask & ~along[a]);
-                            double t;
-                            if (p_in) {
-                                // Where the inside end's solid stops: the first flip to outside.
-                                if (start && nf > 0) t = flips[0];
-                                else t = start ? 1.0 : 0.0, ++unresolved;
-                            } else {
-                                // Where the solid that reaches q starts: the last flip to inside.
-                                const bool end_in = start != (nf % 2 == 1);
-                                if (end_in && nf > 0) t = flips[nf - 1];
-                                else t = end_in ? 0.0 : 1.0, ++unresolved;
-                            }
-                            if (!leaf) leaf = made[li] = new VecLeaf(o, kUnset, false);
-                            const openvdb::Index off = VecLeaf::coordToOffset(p);
-                            openvdb::Vec3f v = leaf->isValueOn(off) ? leaf->getValue(off) : kUnset;
-                            v[a] = float(std::clamp(t, 0.0, 1.0));
-                            leaf->setValueOn(off, v);
-                            ++cross;
-                        }
-                    }
-            }
-            n_cross += cross;
-            n_unresolved += unresolved;
-        });
-        if (progress) progress(double(c1) / total_work);
-    }
-    auto ctree = std::make_shared<VecTree>(kUnset);
-    for (VecLeaf*& l : made)
-        if (l) ctree->addLeaf(l), l = nullptr;
+    std::size_t n_cross = 0, n_unresolved = 0;
+    auto ctree = crossing_tree(occ, finder, blocks, total_work, progress, n_cross, n_unresolved);
 
     auto out = std::make_shared<Volume>();
     out->occupancy = in.occupancy;
@@ -215,100 +367,9 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
 
     std::size_t n_thin = 0;
     if (do_thin) {
-        // Thin parts: edges whose two ends are outside but which pass through the hull.
-        // Blocks are decided hierarchically on the box their edges sweep ([o, o + n] in
-        // index space); only blocks the silhouettes cannot decide are tested edge by edge.
-        // The lattice points of the clip box (one more on each side); without a clip box,
-        // the occupied region grown by a leaf.
-        openvdb::CoordBBox region;
-        occ.evalActiveVoxelBoundingBox(region);
-        region.expand(kDim);
-        if (in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_min") &&
-            in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
-            Coord lo, hi;
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = int(std::floor((clip_lo[a] - lat.origin[a]) / lat.h)) - 1;
-                hi[a] = int(std::ceil((clip_hi[a] - lat.origin[a]) / lat.h)) + 1;
-            }
-            region = openvdb::CoordBBox(lo, hi);
-        }
-        constexpr int kTop = 64;
-        std::vector<Coord> tops;
-        auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
-        for (int x = align(region.min().x()); x <= region.max().x(); x += kTop)
-            for (int y = align(region.min().y()); y <= region.max().y(); y += kTop)
-                for (int z = align(region.min().z()); z <= region.max().z(); z += kTop) tops.emplace_back(x, y, z);
-        tbb::enumerable_thread_specific<std::vector<ThinHit>> hits;
-        const std::size_t tchunk = std::max<std::size_t>(1, tops.size() / 50);
-        for (std::size_t c0 = 0; c0 < tops.size(); c0 += tchunk) {
-            const std::size_t c1 = std::min(tops.size(), c0 + tchunk);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-                OccAccessor acc(occ);
-                auto& mine = hits.local();
-                double flips[256];
-                std::function<void(const Coord&, int, VisualHull::ViewMask)> rec = [&](const Coord& o, int n,
-                                                                                        VisualHull::ViewMask mask) {
-                    const auto c = hull.classify(lat.at(o), lat.at(o.offsetBy(n)), mask);
-                    if (c != VisualHull::Class::Mixed) return;   // all outside, or all inside (no outside ends)
-                    if (n > 4) {
-                        const int hn = n / 2;
-                        for (int k = 0; k < 8; ++k) rec(o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask);
-                        return;
-                    }
-                    for (int x = 0; x < n; ++x)
-                        for (int y = 0; y < n; ++y)
-                            for (int z = 0; z < n; ++z) {
-                                const Coord p = o.offsetBy(x, y, z);
-                                if (acc.isValueOn(p)) continue;
-                                for (int a = 0; a < 3; ++a) {
-                                    Coord q = p;
-                                    q[a] += 1;
-                                    if (acc.isValueOn(q)) continue;
-                                    bool start = false;
-                                    const int nf = hull.transitions(lat.at(p), lat.at(q), start, flips, 256, mask);
-                                    if (nf < 2) continue;
-                                    // Inside intervals between the two outside ends; keep the longest.
-                                    double best0 = 0, best1 = 0;
-                                    bool cur = start;
-                                    double pos = 0;
-                                    for (int k = 0; k < nf; ++k) {
-                                        if (cur && flips[k] - pos > best1 - best0) best0 = pos, best1 = flips[k];
-                                        cur = !cur;
-                                        pos = flips[k];
-                                    }
-                                    if (best1 - best0 > 1e-6 && best0 > 0 && best1 < 1)
-                                        mine.push_back({p, a, float(best0), float(best1)});
-                                }
-                            }
-                };
-                for (std::size_t i = r.begin(); i < r.end(); ++i) rec(tops[i], kTop, VisualHull::kAllViews);
-            });
-            if (progress) progress((double(blocks.size()) + double(blocks.size()) * double(c1) / tops.size()) / total_work);
-        }
-        std::vector<ThinHit> all;
-        for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
-        if (!all.empty()) {
-            auto enter = openvdb::Vec3fGrid::create(kUnset), leave = openvdb::Vec3fGrid::create(kUnset);
-            auto ea = enter->getAccessor();
-            auto la = leave->getAccessor();
-            for (const ThinHit& t : all) {
-                openvdb::Vec3f e = ea.isValueOn(t.p) ? ea.getValue(t.p) : kUnset;
-                openvdb::Vec3f l = la.isValueOn(t.p) ? la.getValue(t.p) : kUnset;
-                e[t.axis] = t.t0;
-                l[t.axis] = t.t1;
-                ea.setValueOn(t.p, e);
-                la.setValueOn(t.p, l);
-            }
-            for (auto& g : {enter, leave}) g->setTransform(in.occupancy->transform().copy());
-            enter->setName("thin_enter");
-            leave->setName("thin_leave");
-            // Replace any previous thin grids.
-            std::erase_if(out->extra, [](const openvdb::GridBase::Ptr& g) {
-                return g && (g->getName() == "thin_enter" || g->getName() == "thin_leave");
-            });
-            out->extra.push_back(enter);
-            out->extra.push_back(leave);
-        }
+        const openvdb::CoordBBox region = thin_region(*in.occupancy, lat, clip_lo, clip_hi);
+        const std::vector<ThinHit> all = find_thin(occ, ThinSearch(hull, lat), region, blocks.size(), total_work, progress);
+        if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
         n_thin = all.size();
     }
     if (progress) progress(1.0);

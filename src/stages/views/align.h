@@ -1,5 +1,5 @@
 // Alignment of orthographic views through their shared axes (see
-// ../conventions/views.md): front/right share Y, front/top share X, right/top share Z.
+// ../shared/conventions/views.md): front/right share Y, front/top share X, right/top share Z.
 #pragma once
 #include <array>
 #include <optional>

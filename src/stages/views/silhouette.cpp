@@ -178,6 +178,217 @@ void background_from_border(const Image& img, const std::string& option, Backgro
     noise = median(kept);
 }
 
+// The object in a drawing as what is not its background: per pixel the colour distance to
+// the background field, the background itself (what the border reaches, and the holes),
+// and the coverage read from those.
+class BackgroundCut {
+public:
+    BackgroundCut(const Image& img, const BackgroundModel& model, double t)
+        : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
+        for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x) {
+                const std::size_t i = std::size_t(y) * w_ + x;
+                bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
+                const float* p = &img_.pixels[i * 4];
+                d_[i] = dist({p[0], p[1], p[2]}, bgc_[i]);
+            }
+    }
+
+    // Background: background-coloured pixels 4-connected to the border (so a line drawn
+    // with 8-connected pixels closes a region).
+    void flood_from_border() {
+        const int w = w_, h = h_;
+        std::vector<int> stack;
+        auto seed = [&](int p) {
+            if (!bg_[std::size_t(p)] && d_[std::size_t(p)] < t_) {
+                bg_[std::size_t(p)] = 1;
+                stack.push_back(p);
+            }
+        };
+        for (int x = 0; x < w; ++x) { seed(x); seed((h - 1) * w + x); }
+        for (int y = 0; y < h; ++y) { seed(y * w); seed(y * w + w - 1); }
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            const int x = p % w, y = p / w;
+            if (x > 0) seed(p - 1);
+            if (x + 1 < w) seed(p + 1);
+            if (y > 0) seed(p - w);
+            if (y + 1 < h) seed(p + w);
+        }
+    }
+
+    // Background-coloured regions the object encloses: holes through a filled drawing, or
+    // the blank inside of a line drawing. A drawing whose ink covers less than its enclosed
+    // blank regions is a line drawing. The holes (by `mode`, see SilhouetteOptions::holes)
+    // become background.
+    void open_holes(const std::string& mode, SilhouetteResult& res) {
+        std::vector<char> enclosed(n_, 0);
+        std::size_t ink = 0;
+        for (std::size_t i = 0; i < n_; ++i) {
+            enclosed[i] = !bg_[i] && d_[i] < t_;
+            ink += !bg_[i] && d_[i] >= t_;
+        }
+        std::vector<int> lab;
+        std::vector<std::size_t> sizes;
+        const int nreg = label(enclosed, w_, h_, false, lab, sizes);
+        // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
+        // `keep` keeps every enclosed region.
+        const std::size_t min_hole = mode == "keep" ? 1 : 9;
+        std::size_t blank = 0;
+        for (auto s : sizes) blank += s >= min_hole ? s : 0;
+        const bool holes = mode == "keep" || (mode == "auto" && ink > blank);
+        std::vector<char> is_hole(std::size_t(nreg), 0);
+        for (int r = 0; r < nreg; ++r) {
+            is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
+            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
+        }
+        for (std::size_t i = 0; i < n_; ++i)
+            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
+    }
+
+    // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
+    // background and the nearest interior object colour, which keeps anti-aliasing.
+    void coverage(std::vector<float>& cov) const {
+        const std::vector<char> edge = boundary();
+        for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x) {
+                const std::size_t i = std::size_t(y) * w_ + x;
+                cov[i] = edge[i] ? boundary_coverage(x, y, edge) : (bg_[i] ? 0.0f : 1.0f);
+            }
+    }
+
+private:
+    // The pixels with a neighbour (8-connected) on the other side of the background's edge.
+    std::vector<char> boundary() const {
+        const int w = w_, h = h_;
+        std::vector<char> edge(n_, 0);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                for (int dy = -1; dy <= 1 && !edge[i]; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                        if (bg_[std::size_t(yy) * w + xx] != bg_[i]) { edge[i] = 1; break; }
+                    }
+            }
+        return edge;
+    }
+
+    // The coverage of boundary pixel (x, y).
+    float boundary_coverage(int x, int y, const std::vector<char>& edge) const {
+        const int w = w_, h = h_;
+        const std::size_t n = n_;
+        const std::size_t i = std::size_t(y) * w + x;
+        // Object colour: the nearest interior object pixel within 2 px, else the most
+        // distinct object pixel there.
+        std::size_t best = n, strongest = n;
+        int best_r2 = 1 << 30;
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const std::size_t j = std::size_t(yy) * w + xx;
+                if (bg_[j]) continue;
+                if (strongest == n || d_[j] > d_[strongest]) strongest = j;
+                const int r2 = dx * dx + dy * dy;
+                if (!edge[j] && (r2 < best_r2 || (r2 == best_r2 && d_[j] > d_[best]))) {
+                    best = j;
+                    best_r2 = r2;
+                }
+            }
+        const std::size_t o = best != n ? best : strongest;
+        const bool object = !bg_[i];
+        if (o == n) return object ? 1.0f : 0.0f;
+        const float* p = &img_.pixels[i * 4];
+        const float* q = &img_.pixels[o * 4];
+        const Rgb& b = bgc_[i];
+        double num = 0, den = 0;
+        for (int k = 0; k < 3; ++k) {
+            num += (p[k] - b[k]) * (q[k] - b[k]);
+            den += (q[k] - b[k]) * (q[k] - b[k]);
+        }
+        const double alpha = den > 0 ? std::clamp(num / den, 0.0, 1.0) : (object ? 1.0 : 0.0);
+        if (std::sqrt(den / 3.0) >= 2.0 * t_) return float(alpha);   // clear contrast: the mix decides
+        return float(object ? std::max(alpha, 0.5) : std::min(alpha, 0.49));
+    }
+
+    const Image& img_;
+    const int w_, h_;
+    const std::size_t n_;
+    const double t_;
+    std::vector<Rgb> bgc_;   ///< the background colour the model gives each pixel
+    std::vector<double> d_;  ///< each pixel's colour distance to it
+    std::vector<char> bg_;   ///< background pixels
+};
+
+// The coverage of a drawing without meaningful alpha, from its background colour.
+void coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res) {
+    res.method = "background";
+    BackgroundModel model;
+    double noise = 0;
+    background_from_border(img, opt.background, model, noise);
+    res.noise = noise;
+    const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
+    res.threshold = t;
+    BackgroundCut cut(img, model, t);
+    cut.flood_from_border();
+    cut.open_holes(opt.holes, res);
+    cut.coverage(res.coverage);
+}
+
+// Fractional coverage goes with the component it borders: clears it where no 8-neighbour
+// belongs to a kept component.
+void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::vector<char>& keep,
+                        std::vector<float>& cov) {
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (cov[i] >= 0.5f || cov[i] == 0.0f) continue;
+            bool near_kept = false;
+            for (int dy = -1; dy <= 1 && !near_kept; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const int l = lab[std::size_t(yy) * w + xx];
+                    if (l >= 0 && keep[std::size_t(l)]) { near_kept = true; break; }
+                }
+            if (!near_kept) cov[i] = 0.0f;
+        }
+}
+
+// Components: drop specks and separate marks a user would not keep (by `mode`, see
+// SilhouetteOptions::keep).
+void keep_components(int w, int h, const std::string& mode, SilhouetteResult& res) {
+    const std::size_t n = std::size_t(w) * h;
+    std::vector<char> mask(n);
+    for (std::size_t i = 0; i < n; ++i) mask[i] = res.coverage[i] >= 0.5f;
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int nc = label(mask, w, h, true, lab, sizes);
+    if (nc == 0 || mode == "all") {
+        res.components_kept = nc;
+        return;
+    }
+    const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
+    std::vector<char> keep(std::size_t(nc), 0);
+    bool largest_taken = false;
+    for (int c = 0; c < nc; ++c) {
+        if (mode == "largest") {
+            keep[std::size_t(c)] = sizes[std::size_t(c)] == largest && !largest_taken;
+            largest_taken |= keep[std::size_t(c)] != 0;
+        } else {
+            keep[std::size_t(c)] = double(sizes[std::size_t(c)]) >= 0.05 * double(largest);
+        }
+        (keep[std::size_t(c)] ? res.components_kept : res.components_dropped)++;
+    }
+    if (res.components_dropped == 0) return;
+    for (std::size_t i = 0; i < n; ++i)
+        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) res.coverage[i] = 0.0f;
+    clear_stray_fringe(w, h, lab, keep, res.coverage);
+}
+
 } // namespace
 
 SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, const SilhouetteOptions& opt) {
@@ -205,167 +416,9 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         res.method = "alpha";
         for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.pixels[i * 4 + 3], 0.0f, 1.0f);
     } else {
-        res.method = "background";
-        BackgroundModel model;
-        double noise = 0;
-        background_from_border(img, opt.background, model, noise);
-        res.noise = noise;
-        const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
-        res.threshold = t;
-
-        std::vector<Rgb> bgc(n);
-        std::vector<double> d(n);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::size_t i = std::size_t(y) * w + x;
-                bgc[i] = model.at((x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1);
-                const float* p = &img.pixels[i * 4];
-                d[i] = dist({p[0], p[1], p[2]}, bgc[i]);
-            }
-        // Background: background-coloured pixels 4-connected to the border (so a line drawn
-        // with 8-connected pixels closes a region).
-        std::vector<char> bg(n, 0);
-        std::vector<int> stack;
-        auto seed = [&](int p) {
-            if (!bg[std::size_t(p)] && d[std::size_t(p)] < t) {
-                bg[std::size_t(p)] = 1;
-                stack.push_back(p);
-            }
-        };
-        for (int x = 0; x < w; ++x) { seed(x); seed((h - 1) * w + x); }
-        for (int y = 0; y < h; ++y) { seed(y * w); seed(y * w + w - 1); }
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            const int x = p % w, y = p / w;
-            if (x > 0) seed(p - 1);
-            if (x + 1 < w) seed(p + 1);
-            if (y > 0) seed(p - w);
-            if (y + 1 < h) seed(p + w);
-        }
-        // Background-coloured regions the object encloses: holes through a filled drawing, or
-        // the blank inside of a line drawing. A drawing whose ink covers less than its enclosed
-        // blank regions is a line drawing.
-        std::vector<char> enclosed(n, 0);
-        std::size_t ink = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            enclosed[i] = !bg[i] && d[i] < t;
-            ink += !bg[i] && d[i] >= t;
-        }
-        std::vector<int> lab;
-        std::vector<std::size_t> sizes;
-        const int nreg = label(enclosed, w, h, false, lab, sizes);
-        // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
-        // `keep` keeps every enclosed region.
-        const std::size_t min_hole = opt.holes == "keep" ? 1 : 9;
-        std::size_t blank = 0;
-        for (auto s : sizes) blank += s >= min_hole ? s : 0;
-        const bool holes = opt.holes == "keep" || (opt.holes == "auto" && ink > blank);
-        std::vector<char> is_hole(std::size_t(nreg), 0);
-        for (int r = 0; r < nreg; ++r) {
-            is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
-            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
-        }
-        for (std::size_t i = 0; i < n; ++i)
-            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg[i] = 1;
-
-        // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
-        // background and the nearest interior object colour, which keeps anti-aliasing.
-        std::vector<char> edge(n, 0);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::size_t i = std::size_t(y) * w + x;
-                for (int dy = -1; dy <= 1 && !edge[i]; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        if (bg[std::size_t(yy) * w + xx] != bg[i]) { edge[i] = 1; break; }
-                    }
-            }
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const std::size_t i = std::size_t(y) * w + x;
-                if (!edge[i]) {
-                    res.coverage[i] = bg[i] ? 0.0f : 1.0f;
-                    continue;
-                }
-                // Object colour: the nearest interior object pixel within 2 px, else the most
-                // distinct object pixel there.
-                std::size_t best = n, strongest = n;
-                int best_r2 = 1 << 30;
-                for (int dy = -2; dy <= 2; ++dy)
-                    for (int dx = -2; dx <= 2; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        const std::size_t j = std::size_t(yy) * w + xx;
-                        if (bg[j]) continue;
-                        if (strongest == n || d[j] > d[strongest]) strongest = j;
-                        const int r2 = dx * dx + dy * dy;
-                        if (!edge[j] && (r2 < best_r2 || (r2 == best_r2 && d[j] > d[best]))) {
-                            best = j;
-                            best_r2 = r2;
-                        }
-                    }
-                const std::size_t o = best != n ? best : strongest;
-                const bool object = !bg[i];
-                if (o == n) {
-                    res.coverage[i] = object ? 1.0f : 0.0f;
-                    continue;
-                }
-                const float* p = &img.pixels[i * 4];
-                const float* q = &img.pixels[o * 4];
-                const Rgb& b = bgc[i];
-                double num = 0, den = 0;
-                for (int k = 0; k < 3; ++k) {
-                    num += (p[k] - b[k]) * (q[k] - b[k]);
-                    den += (q[k] - b[k]) * (q[k] - b[k]);
-                }
-                const double alpha = den > 0 ? std::clamp(num / den, 0.0, 1.0) : (object ? 1.0 : 0.0);
-                if (std::sqrt(den / 3.0) >= 2.0 * t) res.coverage[i] = float(alpha);   // clear contrast: the mix decides
-                else res.coverage[i] = float(object ? std::max(alpha, 0.5) : std::min(alpha, 0.49));
-            }
+        coverage_from_background(img, opt, res);
     }
-
-    // Components: drop specks and separate marks a user would not keep.
-    std::vector<char> mask(n);
-    for (std::size_t i = 0; i < n; ++i) mask[i] = res.coverage[i] >= 0.5f;
-    std::vector<int> lab;
-    std::vector<std::size_t> sizes;
-    const int nc = label(mask, w, h, true, lab, sizes);
-    if (nc == 0 || opt.keep == "all") {
-        res.components_kept = nc;
-        return res;
-    }
-    const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
-    std::vector<char> keep(std::size_t(nc), 0);
-    bool largest_taken = false;
-    for (int c = 0; c < nc; ++c) {
-        if (opt.keep == "largest") {
-            keep[std::size_t(c)] = sizes[std::size_t(c)] == largest && !largest_taken;
-            largest_taken |= keep[std::size_t(c)] != 0;
-        } else {
-            keep[std::size_t(c)] = double(sizes[std::size_t(c)]) >= 0.05 * double(largest);
-        }
-        (keep[std::size_t(c)] ? res.components_kept : res.components_dropped)++;
-    }
-    if (res.components_dropped == 0) return res;
-    for (std::size_t i = 0; i < n; ++i)
-        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) res.coverage[i] = 0.0f;
-    // Fractional coverage goes with the component it borders.
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            if (res.coverage[i] >= 0.5f || res.coverage[i] == 0.0f) continue;
-            bool near_kept = false;
-            for (int dy = -1; dy <= 1 && !near_kept; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const int l = lab[std::size_t(yy) * w + xx];
-                    if (l >= 0 && keep[std::size_t(l)]) { near_kept = true; break; }
-                }
-            if (!near_kept) res.coverage[i] = 0.0f;
-        }
+    keep_components(w, h, opt.keep, res);
     return res;
 }
 

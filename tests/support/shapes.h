@@ -1,15 +1,48 @@
-// Analytic test shapes for the visual hull stages: views whose silhouettes are drawn
-// in code from the shape's exact outline, and figures computed from a volume.
+// The one shape library of the tests and benchmarks: meshes, views drawn in code from
+// exact outlines, and figures measured on volumes.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "core/mesh.h"
 #include "core/views.h"
 #include "core/volume.h"
 
 namespace cm::test {
+
+// ---- Meshes ------------------------------------------------------------------------
+
+/// Closed, outward triangle meshes built in code.
+Mesh make_box(Vec3f lo, Vec3f hi);
+Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4);   ///< icosphere
+/// Appends `part`'s vertices and triangles to `into` (turned inside out when `flip`).
+void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
+/// Two boxes that overlap: closed and 2-manifold, but their faces cross.
+Mesh make_crossing_boxes();
+/// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
+Mesh make_lopsided();
+
+/// Closed outward cube [lo, hi]^3 whose six faces are n x n grids of quads (two
+/// triangles each), sharing vertices along the edges: 12 n^2 triangles.
+Mesh make_grid_box(float lo, float hi, int n);
+
+/// Moves every vertex along its direction from `centre` by a uniform random amount in
+/// [-amplitude, amplitude] (fixed seed).
+void add_radial_noise(Mesh& m, Vec3f centre, float amplitude, std::uint32_t seed = 1);
+
+/// Front, right and top orthographic views (width x width px, framed so the box
+/// [lo, hi]^3 spans 80 % of the image) of the axis-aligned box, with anti-aliased
+/// coverage (4 x 4 samples per pixel).
+Views make_box_views(float lo, float hi, int width);
+
+/// Splits every triangle into four, `levels` times (positions at edge midpoints).
+Mesh subdivide(const Mesh& m, int levels);
+
+// ---- Views drawn from exact outlines, and volumes --------------------------------
 
 /// A 2D outline in a view's image plane: signed distance (world units, positive inside)
 /// of the plane point q = a r + b u (r, u the view's image axes, q . d = 0).

@@ -1,0 +1,30 @@
+// conceptmesh schema DIR: the JSON Schemas of pipeline files and of every stage's parameters.
+#include <iostream>
+
+#include "cli/commands.h"
+#include "cli/tool_common.h"
+#include "io/file_commit.h"
+
+namespace fs = std::filesystem;
+
+namespace cm::cli {
+
+void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action) {
+    auto* cmd = app.add_subcommand("schema", "Write the JSON Schemas (pipeline and one per stage) into DIR");
+    auto dir = std::make_shared<std::string>();
+    cmd->add_option("dir", *dir, "Output folder (creates DIR/pipeline.schema.json and DIR/stages/)")->required();
+    cmd->add_flag("-q,--quiet", g.quiet, "Print nothing but errors");
+    set_action(cmd, action, [&g, dir] {
+        print_plugin_diagnostics(g);
+        const Registry& reg = Registry::global();
+        fs::create_directories(fs::path(*dir) / "stages");
+        write_file_atomic(fs::path(*dir) / "pipeline.schema.json", pipeline_schema_json(reg));
+        for (const auto& n : reg.names())
+            write_file_atomic(fs::path(*dir) / "stages" / (n + ".schema.json"),
+                              stage_schema_json(reg.create(n)->info()));
+        if (!g.quiet) std::cerr << "conceptmesh: wrote " << reg.names().size() + 1 << " schemas into " << *dir << "\n";
+        return 0;
+    });
+}
+
+} // namespace cm::cli

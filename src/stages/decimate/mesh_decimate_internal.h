@@ -1,0 +1,188 @@
+// Internals of the polygon reduction (mesh_decimate.h), shared by its files: the
+// collapse engine (Collapser, mesh_decimate_collapse.cpp), the vertex queue (VertexHeap,
+// run_queue) and the quadric ordering (mesh_decimate_quadric.cpp).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "mesh_decimate.h"
+
+namespace cm::decimate {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+inline Vec3d cross_of(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return cross(b - a, c - a); }
+
+// The collapse engine: triangles, per-vertex face lists (start/count into one
+// growing array of face ids; a vertex's list is rewritten at the end when it
+// changes), per-face unit normals, and the validity checks.
+class Collapser {
+public:
+    /// `frozen` (optional, per vertex): vertices that must stay, on top of the locked ones.
+    Collapser(Mesh& m, const std::vector<char>* frozen);
+
+    std::size_t alive_faces() const { return alive_faces_; }
+    std::size_t locked() const { return locked_; }
+    bool usable(std::uint32_t v) const { return !vdead_[v] && !lock_[v]; }
+    const Vec3f& point(std::uint32_t v) const { return P_[v]; }
+    /// Unit normal of face f, from the positions (not stored: the positions are read
+    /// anyway, and one array less keeps the random accesses of the queue in cache).
+    Vec3f normal(std::uint32_t f) const { return face_normal(f); }
+    const std::array<std::uint32_t, 3>& tri(std::uint32_t f) const { return T_[f]; }
+
+    template <typename F>
+    void for_faces(std::uint32_t v, F&& f) const {
+        const std::uint32_t b = vstart_[v], e = b + vcount_[v];
+        for (std::uint32_t i = b; i < e; ++i)
+            if (T_[refs_[i]][0] != kNone) f(refs_[i]);
+    }
+
+    /// Neighbours of a usable vertex: its fan is closed and consistently oriented, so each
+    /// neighbour follows v in exactly one of its faces.
+    void ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+        out.clear();
+        for_faces(v, [&](std::uint32_t f) {
+            const auto& t = T_[f];
+            out.push_back(t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]));
+        });
+    }
+
+    /// Topology of collapsing v into its neighbour w (`rv` is ring(v)): the edge has two
+    /// faces, the link condition holds, and no tetrahedron-like pocket folds shut.
+    bool topology_ok(std::uint32_t v, std::uint32_t w, const std::vector<std::uint32_t>& rv);
+
+    /// Geometry of collapsing v into w: no changed face may lose its area, turn by more
+    /// than acos(cos_limit) or become thinner than max_aspect (unless it was already).
+    /// On success `min_cos` is the smallest cosine between a changed face's old and new normal.
+    bool geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos) const;
+
+    /// Collapses v into w (checked before). Returns nothing; w's face list is rewritten.
+    void collapse(std::uint32_t v, std::uint32_t w);
+
+    /// Drops dead faces and unused vertices from the mesh.
+    void finish();
+
+private:
+    /// True when v's faces form one consistently oriented closed fan (see the constructor).
+    bool closed_fan(std::uint32_t v) const;
+
+    Vec3f face_normal(std::uint32_t f) const {
+        const auto& t = T_[f];
+        return Vec3f(normalize(cross_of(Vec3d(P_[t[0]]), Vec3d(P_[t[1]]), Vec3d(P_[t[2]]))));
+    }
+
+    void build_lists();
+
+    Mesh& mesh_;
+    std::vector<Vec3f>& P_;
+    std::vector<std::array<std::uint32_t, 3>>& T_;
+    std::vector<char> vdead_, lock_;
+    std::vector<std::uint32_t> vstart_, vcount_, refs_;
+    std::vector<std::uint32_t> rw_;
+    std::size_t alive_faces_ = 0, initial_refs_ = 0, locked_ = 0;
+};
+
+// A 4-ary min-heap of vertices keyed by float, with one entry per vertex, so a
+// re-scored vertex moves in place instead of leaving stale copies behind. Keys sit
+// in the heap array beside the vertex so the four children share a cache line.
+class VertexHeap {
+public:
+    explicit VertexHeap(std::size_t nv) : pos_(nv, kNone) {}
+    bool empty() const { return heap_.empty(); }
+    bool contains(std::uint32_t v) const { return pos_[v] != kNone; }
+    std::uint32_t top() const { return heap_[0].v; }
+    float top_key() const { return heap_[0].key; }
+    /// Bulk load (before any other call), then heapify.
+    void build(const std::vector<std::uint32_t>& vs, const std::vector<float>& keys);
+    void set(std::uint32_t v, float k);
+    void erase(std::uint32_t v);
+    void pop() { erase(heap_[0].v); }
+
+private:
+    struct Node {
+        float key;
+        std::uint32_t v;
+    };
+    void place(std::size_t i, const Node& n) { heap_[i] = n; pos_[n.v] = std::uint32_t(i); }
+    void up(std::size_t i);
+    void down(std::size_t i);
+
+    std::vector<Node> heap_;
+    std::vector<std::uint32_t> pos_;
+};
+
+// Runs the queue: `score(v, ring, key)` says whether v is a candidate and its key;
+// `choose(v, ring, w, key)` picks the target of v's collapse (false: none now, the
+// vertex waits until a neighbour changes), and may raise the key (then the vertex
+// is queued again instead). `after(v, w, key)` follows each collapse.
+template <typename Score, typename Choose, typename After>
+std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key,
+                      const std::function<void(double)>& progress, Score&& score, Choose&& choose, After&& after) {
+    std::vector<float> keys(nv);
+    std::vector<char> cand(nv, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const auto& r) {
+        std::vector<std::uint32_t> ring;
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            float k;
+            if (c.usable(std::uint32_t(v)) && score(std::uint32_t(v), ring, k)) { keys[v] = k; cand[v] = 1; }
+        }
+    });
+    std::vector<std::uint32_t> init;
+    init.reserve(nv);
+    for (std::size_t v = 0; v < nv; ++v)
+        if (cand[v]) init.push_back(std::uint32_t(v));
+    VertexHeap heap(nv);
+    heap.build(init, keys);
+
+    const std::size_t start_faces = c.alive_faces();
+    const std::size_t span = start_faces > target_faces ? start_faces - target_faces : 1;
+    std::size_t collapses = 0, next_report = 0;
+    std::vector<std::uint32_t> rv, scratch;
+    // Lazy re-scoring: a collapse marks the vertices around it dirty; a dirty vertex
+    // is re-scored when it reaches the top, and goes back in the queue if its key moved.
+    // Vertices outside the queue (not candidates, or waiting) are scored at once.
+    std::vector<char> dirty(nv, 0);
+    while (!heap.empty() && c.alive_faces() > target_faces) {
+        const std::uint32_t v = heap.top();
+        const float key0 = heap.top_key();
+        if (key0 > stop_key) break;
+        if (dirty[v]) {
+            dirty[v] = 0;
+            float k;
+            if (c.usable(v) && score(v, scratch, k)) heap.set(v, k); else heap.erase(v);
+            continue;
+        }
+        heap.pop();
+        c.ring(v, rv);
+        std::uint32_t w;
+        float key = key0;
+        if (!choose(v, rv, w, key)) continue;
+        if (key > key0) { heap.set(v, key); continue; }
+        c.collapse(v, w);
+        ++collapses;
+        after(v, w, key);
+        // The faces around every vertex of v's old ring (w included) changed.
+        for (auto x : rv) {
+            if (heap.contains(x)) { dirty[x] = 1; continue; }
+            float k;
+            if (c.usable(x) && score(x, scratch, k)) heap.set(x, k);
+        }
+        if (progress && collapses >= next_report) {
+            progress(double(start_faces - c.alive_faces()) / double(span));
+            next_report = collapses + 4096;
+        }
+    }
+    return collapses;
+}
+
+/// One quadric decimation run (see quadric_decimate); `frozen` as for Collapser.
+DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen);
+
+} // namespace cm::decimate
