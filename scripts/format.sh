@@ -6,6 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 FORMAT="${CLANG_FORMAT:-clang-format}"
 command -v "$FORMAT" >/dev/null || { echo "format.sh: $FORMAT is not installed (apt-get install clang-format)" >&2; exit 2; }
+git rev-parse --is-inside-work-tree >/dev/null 2>&1 || { echo "format.sh: not a git checkout; nothing to list" >&2; exit 2; }
 mapfile -t files < <(git ls-files '*.cpp' '*.h')
 if [ "${1:-}" = "--check" ]; then
   bad=0

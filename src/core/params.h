@@ -1,11 +1,15 @@
 // Declared stage parameters: one declaration drives YAML parsing, --set,
 // `conceptmesh stages --describe`, and the generated JSON Schema.
 #pragma once
+#include <concepts>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -94,5 +98,128 @@ std::string fill_defaults(const std::vector<ParamSpec>& specs, ParamSet& ps);
 /// JSON Schema (draft-07) fragment for one parameter.
 nlohmann::json param_schema(const ParamSpec& spec);
 nlohmann::json param_to_json(const ParamValue& v);
+
+// ---- Binding declared parameters to a stage's members ----------------------------
+// Declaring a stage's parameters and binding each to the member that holds its value,
+// in one place. A stage's declare() adds each parameter once:
+//
+//     b.add(opt_.max_angle_deg, ParamSpec::Float("max_angle_deg", 15.0, 0.1, 89.0, "deg", "..."));
+//
+// info() collects the declarations from it; configure() sets every bound member from
+// the checked value, typed, before the stage's check() and run() see it.
+
+/// A bound value and whether the user gave it (rather than it being the declared default),
+/// for stages whose behaviour depends on which of two parameters was written.
+template <typename T>
+struct Param {
+    T value{};
+    bool given = false;
+    operator const T&() const { return value; }
+};
+
+namespace param_binding {
+
+template <typename T>
+struct Member {   // the member's own value type, and how it is wrapped
+    using type = T;
+    static constexpr bool optional = false;
+    static constexpr bool tracks_given = false;
+};
+template <typename T>
+struct Member<std::optional<T>> : Member<T> {
+    static constexpr bool optional = true;
+};
+template <typename T>
+struct Member<Param<T>> : Member<T> {
+    static constexpr bool tracks_given = true;
+};
+
+/// Whether a member of type T can hold values of the declared type.
+template <typename T>
+constexpr bool holds(ParamType t) {
+    if constexpr (std::is_same_v<T, bool>) return t == ParamType::Bool;
+    else if constexpr (std::is_integral_v<T>) return t == ParamType::Int;
+    else if constexpr (std::is_floating_point_v<T>) return t == ParamType::Float;
+    else if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, std::filesystem::path>)
+        return t == ParamType::String || t == ParamType::Path || t == ParamType::Enum;
+    else static_assert(sizeof(T) == 0, "a parameter binds to bool, an integer, float/double, std::string or a path");
+}
+
+/// The value converted to the member's type (the declared type matches: holds()).
+template <typename T>
+T convert(const ParamValue& v) {
+    if constexpr (std::is_same_v<T, bool>) return std::get<bool>(v);
+    else if constexpr (std::is_integral_v<T>) return static_cast<T>(std::get<std::int64_t>(v));
+    else if constexpr (std::is_floating_point_v<T>)
+        return static_cast<T>(std::holds_alternative<std::int64_t>(v) ? double(std::get<std::int64_t>(v))
+                                                                      : std::get<double>(v));
+    else return T(std::get<std::string>(v));
+}
+
+template <typename M>
+void store(M& member, const ParamValue* v, bool given) {
+    using Traits = Member<M>;
+    using T = typename Traits::type;
+    if constexpr (Traits::optional) {
+        if (v) member = convert<T>(*v);
+        else member.reset();
+    } else if constexpr (Traits::tracks_given) {
+        member.value = convert<T>(*v);
+        member.given = given;
+    } else {
+        member = convert<T>(*v);
+    }
+}
+
+} // namespace param_binding
+
+/// Collects a stage's parameter declarations and, for configure(), where each value goes.
+class ParamBinder {
+public:
+    /// Declares `spec` and binds it to `member`: bool for Bool; any integer type for Int;
+    /// float or double for Float; std::string or std::filesystem::path for String, Path and
+    /// Enum. A parameter declared optional() (no default, may stay unset) binds to a
+    /// std::optional<...>, reset when unset; Param<...> also records whether it was given.
+    /// A member of the wrong type for the declaration is a std::logic_error (a stage bug).
+    template <typename M>
+    void add(M& member, ParamSpec spec) {
+        using Traits = param_binding::Member<M>;
+        require(param_binding::holds<typename Traits::type>(spec.type), spec, "its type");
+        require(spec.is_optional == Traits::optional, spec,
+                spec.is_optional ? "a std::optional (it may be unset)" : "a plain value (it is always set)");
+        add_binding(std::move(spec), [&member](const ParamValue* v, bool given) {
+            param_binding::store(member, v, given);
+        });
+    }
+    /// Declares an Enum and binds it to a member of any type (an enumeration, mostly):
+    /// `values[i]` is what `spec.choices[i]` stands for.
+    template <typename E>
+    void add(E& member, ParamSpec spec, std::vector<E> values) {
+        require(spec.type == ParamType::Enum && values.size() == spec.choices.size() && !spec.is_optional, spec,
+                "one enumerator for each of its choices");
+        std::vector<std::string> choices = spec.choices;
+        add_binding(std::move(spec), [&member, choices, values](const ParamValue* v, bool) {
+            const auto& s = std::get<std::string>(*v);
+            for (std::size_t i = 0; i < choices.size(); ++i)
+                if (choices[i] == s) member = values[i];
+        });
+    }
+
+    /// The declarations, in the order they were added.
+    std::vector<ParamSpec> specs() const;
+    /// Sets every bound member from `values`: checked values (check_param()) of every
+    /// declared parameter that is not optional, as configure() has them.
+    void assign(const ParamSet& values) const;
+
+private:
+    using Setter = std::function<void(const ParamValue* value, bool given)>;
+    struct Binding {
+        ParamSpec spec;
+        Setter set;
+    };
+    void add_binding(ParamSpec spec, Setter set);
+    static void require(bool ok, const ParamSpec& spec, const std::string& what);
+    std::vector<Binding> bindings_;
+};
 
 } // namespace cm

@@ -19,7 +19,7 @@
 
 #include "core/data.h"
 #include "core/error.h"
-#include "core/param_binder.h"
+#include "core/params.h"
 #include "core/params.h"
 #include "core/progress.h"
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/param_binder.h"
+#include "core/params.h"
 
 namespace cm {
 
