@@ -7,15 +7,15 @@
 // high-water mark); bench/hull/run_hull_bench.sh runs every case that way.
 #include <benchmark/benchmark.h>
 
+#include <sys/resource.h>
 #include <chrono>
 #include <cstdlib>
 #include <map>
-#include <sys/resource.h>
 
 #include "carve.h"
 #include "io/mesh_io.h"
-#include "render/raster.h"
 #include "refine.h"
+#include "render/raster.h"
 
 using namespace cm;
 
@@ -107,8 +107,12 @@ void BM_Chain(benchmark::State& state, std::string model) {
 void register_all() {
     for (const char* model : {"bunny", "spot"})
         for (int res : {256, 512, 1024, 2048}) {
-            auto* b = benchmark::RegisterBenchmark((std::string("Chain/") + model).c_str(), BM_Chain, std::string(model));
-            b->Arg(res)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(res <= 512 ? 5 : (res == 1024 ? 2 : 1));
+            auto* b =
+                benchmark::RegisterBenchmark((std::string("Chain/") + model).c_str(), BM_Chain, std::string(model));
+            b->Arg(res)
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime()
+                ->Iterations(res <= 512 ? 5 : (res == 1024 ? 2 : 1));
         }
 }
 

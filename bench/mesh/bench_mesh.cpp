@@ -21,9 +21,9 @@
 
 #include "core/mesh.h"
 #include "geometry/mesh_adjacency.h"
-#include "mesh_decimate.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
+#include "mesh_decimate.h"
 #include "mesh_smooth.h"
 #include "support/shapes.h"
 

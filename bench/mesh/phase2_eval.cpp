@@ -15,14 +15,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "geometry/hull_distance.h"
 #include "core/mesh.h"
-#include "mesh_decimate.h"
+#include "geometry/hull_distance.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
+#include "load.h"
+#include "mesh_decimate.h"
 #include "mesh_smooth.h"
 #include "render/raster.h"
-#include "load.h"
 
 using namespace cm;
 using json = nlohmann::json;

@@ -3,10 +3,10 @@
 //   build/release/bin/bench_marching_cubes
 #include <benchmark/benchmark.h>
 
+#include <sys/resource.h>
 #include <cmath>
 #include <map>
 #include <memory>
-#include <sys/resource.h>
 
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/LevelSetUtil.h>
@@ -75,7 +75,13 @@ void BM_MarchingCubesSphere(benchmark::State& state) {
     state.counters["Mfaces_per_s"] =
         benchmark::Counter(double(faces) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_MarchingCubesSphere)->Arg(256)->Arg(512)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MarchingCubesSphere)
+    ->Arg(256)
+    ->Arg(512)
+    ->Arg(1024)
+    ->Arg(2048)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace
 

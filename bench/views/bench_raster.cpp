@@ -13,11 +13,11 @@ namespace {
 cm::Mesh icosphere(int level) {
     cm::Mesh m;
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                   {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                   {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                   {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                   {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                   {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (auto& p : m.positions) p = cm::normalize(p);
     for (int l = 0; l < level; ++l) {
         std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
@@ -60,7 +60,8 @@ void BM_RenderMask(benchmark::State& state) {
     const cm::Camera c = camera();
     for (auto _ : state) benchmark::DoNotOptimize(cm::render_mask(m, c, 1024, 1024));
     state.counters["triangles"] = double(m.triangles.size());
-    state.counters["tri_per_s"] = benchmark::Counter(double(m.triangles.size()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["tri_per_s"] =
+        benchmark::Counter(double(m.triangles.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_RenderDepth(benchmark::State& state) {
@@ -68,7 +69,8 @@ void BM_RenderDepth(benchmark::State& state) {
     const cm::Camera c = camera();
     for (auto _ : state) benchmark::DoNotOptimize(cm::render_depth(m, c, 1024, 1024));
     state.counters["triangles"] = double(m.triangles.size());
-    state.counters["tri_per_s"] = benchmark::Counter(double(m.triangles.size()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["tri_per_s"] =
+        benchmark::Counter(double(m.triangles.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 } // namespace

@@ -20,13 +20,13 @@ void print_plugin_diagnostics(const GlobalOptions& g);
 
 /// Each adds its sub-command to `app`; once the command line is parsed, `action` runs it
 /// and returns the exit code.
-void add_run_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);            // cmd_run.cpp
-void add_validate_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);       // cmd_validate.cpp
-void add_stages_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);         // cmd_stages.cpp
-void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);         // cmd_schema.cpp
-void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);   // cmd_render_views.cpp
-void add_compare_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_compare.cpp
-void add_preview_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_preview.cpp
-void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);          // cmd_check.cpp
+void add_run_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);          // cmd_run.cpp
+void add_validate_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);     // cmd_validate.cpp
+void add_stages_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);       // cmd_stages.cpp
+void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);       // cmd_schema.cpp
+void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action); // cmd_render_views.cpp
+void add_compare_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);      // cmd_compare.cpp
+void add_preview_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);      // cmd_preview.cpp
+void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_check.cpp
 
 } // namespace cm::cli

@@ -1,8 +1,8 @@
 // The conceptmesh command: parses the command line and dispatches to a sub-command.
+#include <unistd.h>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
-#include <unistd.h>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -40,9 +40,10 @@ int main(int argc, char** argv) {
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
 
-    CLI::App app{"conceptmesh: turns concept art (a few drawn views of one object) into a 3D mesh.\n"
-                 "Stages are plugins composed as a YAML graph; see `conceptmesh stages`.",
-                 "conceptmesh"};
+    CLI::App app{
+        "conceptmesh: turns concept art (a few drawn views of one object) into a 3D mesh.\n"
+        "Stages are plugins composed as a YAML graph; see `conceptmesh stages`.",
+        "conceptmesh"};
     app.set_version_flag("--version", std::string("conceptmesh ") + CONCEPTMESH_VERSION_STRING);
     app.require_subcommand(1);
     cm::cli::GlobalOptions g;

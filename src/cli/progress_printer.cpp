@@ -1,13 +1,12 @@
 #include "cli/progress_printer.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
-#include <unistd.h>
 
 namespace cm::cli {
 
-ProgressPrinter::ProgressPrinter(bool quiet, bool verbose)
-    : tty_(::isatty(2) != 0), quiet_(quiet), verbose_(verbose) {}
+ProgressPrinter::ProgressPrinter(bool quiet, bool verbose) : tty_(::isatty(2) != 0), quiet_(quiet), verbose_(verbose) {}
 
 ProgressPrinter::~ProgressPrinter() {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -22,7 +22,12 @@ public:
 private:
     void redraw_locked();
     void clear_locked();
-    struct Bar { std::string stage; double percent = 0; std::string what; int last_printed = -1; };
+    struct Bar {
+        std::string stage;
+        double percent = 0;
+        std::string what;
+        int last_printed = -1;
+    };
     bool tty_, quiet_, verbose_;
     std::mutex mutex_;
     std::vector<std::string> order_;

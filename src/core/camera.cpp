@@ -42,8 +42,8 @@ Camera Camera::perspective(const std::array<double, 12>& P) {
     // Viewing direction: the third row's normal, oriented towards positive depth.
     Vec3d m3{P[8], P[9], P[10]};
     // det of the left 3x3 decides the sign (cameras with det<0 look along -m3).
-    const double det = P[0] * (P[5] * P[10] - P[6] * P[9]) - P[1] * (P[4] * P[10] - P[6] * P[8]) +
-                       P[2] * (P[4] * P[9] - P[5] * P[8]);
+    const double det =
+        P[0] * (P[5] * P[10] - P[6] * P[9]) - P[1] * (P[4] * P[10] - P[6] * P[8]) + P[2] * (P[4] * P[9] - P[5] * P[8]);
     c.d = normalize(det >= 0 ? m3 : -m3);
     return c;
 }
@@ -67,7 +67,7 @@ Vec3d Camera::center() const {
     const double a = P[0], b = P[1], c = P[2], d_ = P[4], e = P[5], f = P[6], g = P[8], h = P[9], i = P[10];
     const double det = a * (e * i - f * h) - b * (d_ * i - f * g) + c * (d_ * h - e * g);
     if (std::abs(det) < 1e-300) throw Error("the camera matrix is singular");
-    const double inv[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+    const double inv[9] = {(e * i - f * h) / det,  (c * h - b * i) / det, (b * f - c * e) / det,
                            (f * g - d_ * i) / det, (a * i - c * g) / det, (c * d_ - a * f) / det,
                            (d_ * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d_) / det};
     const Vec3d p4{P[3], P[7], P[11]};
@@ -85,7 +85,7 @@ void Camera::ray(double x, double y, Vec3d& origin, Vec3d& dir) const {
     // Solve M X = (x, y, 1) for a point on the ray, direction X (up to sign).
     const double a = P[0], b = P[1], c = P[2], d_ = P[4], e = P[5], f = P[6], g = P[8], h = P[9], i = P[10];
     const double det = a * (e * i - f * h) - b * (d_ * i - f * g) + c * (d_ * h - e * g);
-    const double inv[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+    const double inv[9] = {(e * i - f * h) / det,  (c * h - b * i) / det, (b * f - c * e) / det,
                            (f * g - d_ * i) / det, (a * i - c * g) / det, (c * d_ - a * f) / det,
                            (d_ * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d_) / det};
     Vec3d v{inv[0] * x + inv[1] * y + inv[2], inv[3] * x + inv[4] * y + inv[5], inv[6] * x + inv[7] * y + inv[8]};

@@ -16,8 +16,8 @@ struct Camera {
 
     // Orthographic: x = cx + s (p . r), y = cy - s (p . u); d is the view direction.
     Vec3d r{1, 0, 0}, u{0, 1, 0}, d{0, 0, -1};
-    double scale = 1.0;       ///< pixels per world unit
-    double cx = 0.0, cy = 0.0;///< image point of the world origin
+    double scale = 1.0;        ///< pixels per world unit
+    double cx = 0.0, cy = 0.0; ///< image point of the world origin
     double azimuth_deg = 0, elevation_deg = 0;
 
     // Perspective: homogeneous pixel = P * [X Y Z 1].

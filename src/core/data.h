@@ -27,15 +27,15 @@ std::string lower_extension(const std::filesystem::path& path);
 
 /// A stage's findings (e.g. silhouette error), as JSON text merged into the run report.
 struct Report {
-    std::string json;   ///< a JSON object
+    std::string json; ///< a JSON object
 };
 
 enum class DataKind { Views, Volume, Mesh, File, Report };
 const char* to_string(DataKind k);
 
-using Data = std::variant<std::monostate, std::shared_ptr<const Views>, std::shared_ptr<const Volume>,
-                          std::shared_ptr<const Mesh>, std::shared_ptr<const FileOutput>,
-                          std::shared_ptr<const Report>>;
+using Data =
+    std::variant<std::monostate, std::shared_ptr<const Views>, std::shared_ptr<const Volume>,
+                 std::shared_ptr<const Mesh>, std::shared_ptr<const FileOutput>, std::shared_ptr<const Report>>;
 
 /// The kind held by a Data; throws cm::Error for an empty one.
 DataKind kind_of(const Data& d);

@@ -7,16 +7,22 @@
 namespace cm {
 
 void Mesh::bounds(Vec3f& lo, Vec3f& hi) const {
-    if (positions.empty()) { lo = hi = Vec3f{}; return; }
+    if (positions.empty()) {
+        lo = hi = Vec3f{};
+        return;
+    }
     lo = hi = positions[0];
-    for (const auto& p : positions) { lo = vmin(lo, p); hi = vmax(hi, p); }
+    for (const auto& p : positions) {
+        lo = vmin(lo, p);
+        hi = vmax(hi, p);
+    }
 }
 
 void Mesh::compute_normals() {
     std::vector<Vec3d> acc(positions.size());
     for (const auto& t : triangles) {
         const Vec3d a(positions[t[0]]), b(positions[t[1]]), c(positions[t[2]]);
-        const Vec3d n = cross(b - a, c - a);   // length = 2 * area: area weighting
+        const Vec3d n = cross(b - a, c - a); // length = 2 * area: area weighting
         for (int k = 0; k < 3; ++k) acc[t[k]] += n;
     }
     normals.resize(positions.size());
@@ -28,7 +34,10 @@ struct Dsu {
     std::vector<std::uint32_t> p;
     explicit Dsu(std::size_t n) : p(n) { std::iota(p.begin(), p.end(), 0u); }
     std::uint32_t find(std::uint32_t x) {
-        while (p[x] != x) { p[x] = p[p[x]]; x = p[x]; }
+        while (p[x] != x) {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
         return x;
     }
     void unite(std::uint32_t a, std::uint32_t b) { p[find(a)] = find(b); }
@@ -39,12 +48,15 @@ MeshCheck check_mesh(const Mesh& m) {
     MeshCheck r;
     const std::size_t nv = m.positions.size();
     // Directed edges, sorted, to count uses per undirected edge and per direction.
-    std::vector<std::pair<std::uint64_t, bool>> edges;   // key(min,max), forward?
+    std::vector<std::pair<std::uint64_t, bool>> edges; // key(min,max), forward?
     edges.reserve(m.triangles.size() * 3);
     Dsu dsu(nv);
     std::vector<char> used(nv, 0);
     for (const auto& t : m.triangles) {
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++r.degenerate_faces; continue; }
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            ++r.degenerate_faces;
+            continue;
+        }
         const Vec3d a(m.positions[t[0]]), b(m.positions[t[1]]), c(m.positions[t[2]]);
         const Vec3d n = cross(b - a, c - a);
         const double area2 = length(n);
@@ -64,7 +76,10 @@ MeshCheck check_mesh(const Mesh& m) {
     std::size_t ne = 0;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i, fwd = 0;
-        while (j < edges.size() && edges[j].first == edges[i].first) { fwd += edges[j].second; ++j; }
+        while (j < edges.size() && edges[j].first == edges[i].first) {
+            fwd += edges[j].second;
+            ++j;
+        }
         const std::size_t n = j - i;
         ++ne;
         if (n == 1) ++r.boundary_edges;
@@ -92,7 +107,10 @@ MeshCheck check_mesh(const Mesh& m) {
         }
         std::uint32_t root = local.find(0);
         for (std::uint32_t i = 1; i < fs.size(); ++i)
-            if (local.find(i) != root) { ++r.nonmanifold_vertices; break; }
+            if (local.find(i) != root) {
+                ++r.nonmanifold_vertices;
+                break;
+            }
     }
     std::size_t nused = 0;
     for (std::uint32_t v = 0; v < nv; ++v) {

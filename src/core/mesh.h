@@ -15,13 +15,13 @@ namespace cm {
 struct Mesh {
     std::vector<Vec3f> positions;
     std::vector<std::array<std::uint32_t, 3>> triangles;
-    std::vector<Vec3f> normals;                  ///< per vertex; empty or positions.size()
-    std::vector<std::array<float, 2>> uvs;       ///< per vertex; empty or positions.size()
-    std::vector<std::array<float, 4>> colors;    ///< per vertex RGBA; empty or positions.size()
+    std::vector<Vec3f> normals;               ///< per vertex; empty or positions.size()
+    std::vector<std::array<float, 2>> uvs;    ///< per vertex; empty or positions.size()
+    std::vector<std::array<float, 4>> colors; ///< per vertex RGBA; empty or positions.size()
 
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t face_count() const { return triangles.size(); }
-    void bounds(Vec3f& lo, Vec3f& hi) const;     ///< zero box for an empty mesh
+    void bounds(Vec3f& lo, Vec3f& hi) const; ///< zero box for an empty mesh
     /// Area-weighted per-vertex normals from the triangles (outward for an outward mesh).
     void compute_normals();
 };
@@ -34,12 +34,11 @@ struct MeshCheck {
     std::size_t inconsistent_edges = 0;   ///< edges used twice in the same direction
     std::size_t degenerate_faces = 0;     ///< repeated index or zero area
     std::size_t components = 0;
-    double signed_volume = 0;             ///< > 0 for an outward closed mesh
+    double signed_volume = 0; ///< > 0 for an outward closed mesh
     double area = 0;
-    long euler = 0;                       ///< V - E + F
+    long euler = 0; ///< V - E + F
     bool closed_manifold() const {
-        return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
-               inconsistent_edges == 0;
+        return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0 && inconsistent_edges == 0;
     }
 };
 MeshCheck check_mesh(const Mesh& m);

@@ -23,21 +23,39 @@ const char* to_string(ParamType t) {
 }
 
 ParamSpec ParamSpec::Bool(std::string name, bool def, std::string doc) {
-    ParamSpec s; s.name = std::move(name); s.type = ParamType::Bool; s.default_value = def; s.doc = std::move(doc);
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Bool;
+    s.default_value = def;
+    s.doc = std::move(doc);
     return s;
 }
 ParamSpec ParamSpec::Int(std::string name, std::int64_t def, double lo, double hi, std::string unit, std::string doc) {
-    ParamSpec s; s.name = std::move(name); s.type = ParamType::Int; s.default_value = def;
-    s.min = lo; s.max = hi; s.unit = std::move(unit); s.doc = std::move(doc);
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Int;
+    s.default_value = def;
+    s.min = lo;
+    s.max = hi;
+    s.unit = std::move(unit);
+    s.doc = std::move(doc);
     return s;
 }
 ParamSpec ParamSpec::Float(std::string name, double def, double lo, double hi, std::string unit, std::string doc) {
-    ParamSpec s; s.name = std::move(name); s.type = ParamType::Float; s.default_value = def;
-    s.min = lo; s.max = hi; s.unit = std::move(unit); s.doc = std::move(doc);
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Float;
+    s.default_value = def;
+    s.min = lo;
+    s.max = hi;
+    s.unit = std::move(unit);
+    s.doc = std::move(doc);
     return s;
 }
 ParamSpec ParamSpec::String(std::string name, std::optional<std::string> def, std::string doc) {
-    ParamSpec s; s.name = std::move(name); s.type = ParamType::String;
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::String;
     if (def) s.default_value = *def;
     s.doc = std::move(doc);
     return s;
@@ -48,8 +66,12 @@ ParamSpec ParamSpec::Path(std::string name, std::optional<std::string> def, std:
     return s;
 }
 ParamSpec ParamSpec::Enum(std::string name, std::string def, std::vector<std::string> choices, std::string doc) {
-    ParamSpec s; s.name = std::move(name); s.type = ParamType::Enum; s.default_value = std::move(def);
-    s.choices = std::move(choices); s.doc = std::move(doc);
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Enum;
+    s.default_value = std::move(def);
+    s.choices = std::move(choices);
+    s.doc = std::move(doc);
     return s;
 }
 ParamSpec ParamSpec::OutputPath(std::string name, std::vector<std::string> extensions, std::string doc) {
@@ -66,12 +88,14 @@ ParamSpec& ParamSpec::optional() {
 
 std::string format_value(const ParamValue& v) {
     std::ostringstream os;
-    std::visit([&](const auto& x) {
-        using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, bool>) os << (x ? "true" : "false");
-        else if constexpr (std::is_same_v<T, std::string>) os << '"' << x << '"';
-        else os << x;
-    }, v);
+    std::visit(
+        [&](const auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, bool>) os << (x ? "true" : "false");
+            else if constexpr (std::is_same_v<T, std::string>) os << '"' << x << '"';
+            else os << x;
+        },
+        v);
     return os.str();
 }
 
@@ -83,8 +107,14 @@ const ParamValue& lookup(const std::map<std::string, ParamValue>& m, const std::
 }
 
 bool parse_bool(const std::string& t, bool& out) {
-    if (t == "true" || t == "True" || t == "TRUE" || t == "yes" || t == "on" || t == "1") { out = true; return true; }
-    if (t == "false" || t == "False" || t == "FALSE" || t == "no" || t == "off" || t == "0") { out = false; return true; }
+    if (t == "true" || t == "True" || t == "TRUE" || t == "yes" || t == "on" || t == "1") {
+        out = true;
+        return true;
+    }
+    if (t == "false" || t == "False" || t == "FALSE" || t == "no" || t == "off" || t == "0") {
+        out = false;
+        return true;
+    }
     return false;
 }
 } // namespace
@@ -117,9 +147,7 @@ const std::string& ParamSet::get_string(const std::string& name) const {
 }
 
 ParamValue parse_param_text(const ParamSpec& spec, const std::string& text) {
-    auto bad = [&]() -> Error {
-        return Error(spec.name + " must be " + type_phrase(spec) + ", got \"" + text + "\"");
-    };
+    auto bad = [&]() -> Error { return Error(spec.name + " must be " + type_phrase(spec) + ", got \"" + text + "\""); };
     switch (spec.type) {
     case ParamType::Bool: {
         bool b;
@@ -129,21 +157,28 @@ ParamValue parse_param_text(const ParamSpec& spec, const std::string& text) {
     case ParamType::Int: {
         std::size_t pos = 0;
         long long v = 0;
-        try { v = std::stoll(text, &pos); } catch (...) { throw bad(); }
+        try {
+            v = std::stoll(text, &pos);
+        } catch (...) {
+            throw bad();
+        }
         if (pos != text.size()) throw bad();
         return std::int64_t(v);
     }
     case ParamType::Float: {
         std::size_t pos = 0;
         double v = 0;
-        try { v = std::stod(text, &pos); } catch (...) { throw bad(); }
+        try {
+            v = std::stod(text, &pos);
+        } catch (...) {
+            throw bad();
+        }
         if (pos != text.size() || !std::isfinite(v)) throw bad();
         return v;
     }
     case ParamType::String:
     case ParamType::Path:
-    case ParamType::Enum:
-        return text;
+    case ParamType::Enum: return text;
     }
     throw bad();
 }
@@ -154,7 +189,8 @@ ParamValue parse_param_yaml(const ParamSpec& spec, const std::string& text, cons
         throw Error(spec.name + " must be " + type_phrase(spec) + ", got a " + kind);
     }
     // A quoted YAML string is never a number or a boolean.
-    if (kind == "quoted" && (spec.type == ParamType::Int || spec.type == ParamType::Float || spec.type == ParamType::Bool))
+    if (kind == "quoted" &&
+        (spec.type == ParamType::Int || spec.type == ParamType::Float || spec.type == ParamType::Bool))
         throw Error(spec.name + " must be " + type_phrase(spec) + ", got the string \"" + text + "\"");
     return parse_param_text(spec, text);
 }
@@ -252,8 +288,14 @@ nlohmann::json param_schema(const ParamSpec& spec) {
     case ParamType::Int: j["type"] = "integer"; break;
     case ParamType::Float: j["type"] = "number"; break;
     case ParamType::String: j["type"] = "string"; break;
-    case ParamType::Path: j["type"] = "string"; j["format"] = "path"; break;
-    case ParamType::Enum: j["type"] = "string"; j["enum"] = spec.choices; break;
+    case ParamType::Path:
+        j["type"] = "string";
+        j["format"] = "path";
+        break;
+    case ParamType::Enum:
+        j["type"] = "string";
+        j["enum"] = spec.choices;
+        break;
     }
     std::string doc = spec.doc;
     if (!spec.unit.empty()) doc += " [" + spec.unit + "]";

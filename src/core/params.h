@@ -25,30 +25,27 @@ using ParamValue = std::variant<bool, std::int64_t, double, std::string>;
 struct ParamSpec {
     std::string name;
     ParamType type = ParamType::Float;
-    std::optional<ParamValue> default_value;   ///< empty: the parameter is required
-    std::optional<double> min;                 ///< inclusive, numbers only
-    std::optional<double> max;                 ///< inclusive, numbers only
-    std::string unit;                          ///< "voxels", "px", "deg", ... or empty
-    std::string doc;                           ///< one line
-    std::vector<std::string> choices;          ///< Enum only
+    std::optional<ParamValue> default_value; ///< empty: the parameter is required
+    std::optional<double> min;               ///< inclusive, numbers only
+    std::optional<double> max;               ///< inclusive, numbers only
+    std::string unit;                        ///< "voxels", "px", "deg", ... or empty
+    std::string doc;                         ///< one line
+    std::vector<std::string> choices;        ///< Enum only
 
     // Fluent builders so a stage reads like a table.
     static ParamSpec Bool(std::string name, bool def, std::string doc);
-    static ParamSpec Int(std::string name, std::int64_t def, double lo, double hi, std::string unit,
-                         std::string doc);
-    static ParamSpec Float(std::string name, double def, double lo, double hi, std::string unit,
-                           std::string doc);
+    static ParamSpec Int(std::string name, std::int64_t def, double lo, double hi, std::string unit, std::string doc);
+    static ParamSpec Float(std::string name, double def, double lo, double hi, std::string unit, std::string doc);
     static ParamSpec String(std::string name, std::optional<std::string> def, std::string doc);
     static ParamSpec Path(std::string name, std::optional<std::string> def, std::string doc);
-    static ParamSpec Enum(std::string name, std::string def, std::vector<std::string> choices,
-                          std::string doc);
+    static ParamSpec Enum(std::string name, std::string def, std::vector<std::string> choices, std::string doc);
     /// A file the run writes (required, a Path to the schema): configure() refuses it unless
     /// check_output_path() passes, and Context::output_file() makes its missing folders.
     static ParamSpec OutputPath(std::string name, std::vector<std::string> extensions, std::string doc);
-    ParamSpec& optional();   ///< no default, may be left unset
+    ParamSpec& optional(); ///< no default, may be left unset
     bool is_optional = false;
-    bool is_output = false;                    ///< OutputPath
-    std::vector<std::string> extensions;       ///< OutputPath: the accepted ones (".obj"), in lower case
+    bool is_output = false;              ///< OutputPath
+    std::vector<std::string> extensions; ///< OutputPath: the accepted ones (".obj"), in lower case
 };
 
 std::string format_value(const ParamValue& v);
@@ -61,8 +58,8 @@ public:
     bool has(const std::string& name) const { return values_.count(name) != 0; }
     bool get_bool(const std::string& name) const;
     std::int64_t get_int(const std::string& name) const;
-    double get_float(const std::string& name) const;        ///< accepts Int values too
-    const std::string& get_string(const std::string& name) const;  ///< String, Path, Enum
+    double get_float(const std::string& name) const;              ///< accepts Int values too
+    const std::string& get_string(const std::string& name) const; ///< String, Path, Enum
     const std::map<std::string, ParamValue>& values() const { return values_; }
     void set(const std::string& name, ParamValue v) { values_[name] = std::move(v); }
     /// Which values the user wrote (the rest are defaults).
@@ -120,7 +117,7 @@ struct Param {
 namespace param_binding {
 
 template <typename T>
-struct Member {   // the member's own value type, and how it is wrapped
+struct Member { // the member's own value type, and how it is wrapped
     using type = T;
     static constexpr bool optional = false;
     static constexpr bool tracks_given = false;
@@ -187,9 +184,8 @@ public:
         require(param_binding::holds<typename Traits::type>(spec.type), spec, "its type");
         require(spec.is_optional == Traits::optional, spec,
                 spec.is_optional ? "a std::optional (it may be unset)" : "a plain value (it is always set)");
-        add_binding(std::move(spec), [&member](const ParamValue* v, bool given) {
-            param_binding::store(member, v, given);
-        });
+        add_binding(std::move(spec),
+                    [&member](const ParamValue* v, bool given) { param_binding::store(member, v, given); });
     }
     /// Declares an Enum and binds it to a member of any type (an enumeration, mostly):
     /// `values[i]` is what `spec.choices[i]` stands for.

@@ -1,9 +1,9 @@
 #include "core/stage.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <cctype>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 namespace cm {
 

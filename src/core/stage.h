@@ -20,7 +20,6 @@
 #include "core/data.h"
 #include "core/error.h"
 #include "core/params.h"
-#include "core/params.h"
 #include "core/progress.h"
 
 namespace cm {
@@ -34,8 +33,8 @@ struct PortSpec {
 
 /// What a stage says about itself: name, summary, input ports and output kind.
 struct StageSignature {
-    std::string name;       ///< "hull.carve"
-    std::string summary;    ///< one line
+    std::string name;    ///< "hull.carve"
+    std::string summary; ///< one line
     std::vector<PortSpec> inputs;
     DataKind output;
 };
@@ -102,7 +101,7 @@ private:
     Hooks hooks_;
     Interrupter interrupter_;
     std::mutex mutex_;
-    std::map<std::string, std::string> metrics_;   ///< key -> JSON text
+    std::map<std::string, std::string> metrics_; ///< key -> JSON text
     std::vector<std::string> warnings_;
 };
 

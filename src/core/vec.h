@@ -22,28 +22,53 @@ struct Vec3 {
     constexpr Vec3 operator-() const { return {-x, -y, -z}; }
     constexpr Vec3 operator*(T s) const { return {x * s, y * s, z * s}; }
     constexpr Vec3 operator/(T s) const { return {x / s, y / s, z / s}; }
-    constexpr Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-    constexpr Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-    constexpr Vec3& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
+    constexpr Vec3& operator+=(const Vec3& o) {
+        x += o.x;
+        y += o.y;
+        z += o.z;
+        return *this;
+    }
+    constexpr Vec3& operator-=(const Vec3& o) {
+        x -= o.x;
+        y -= o.y;
+        z -= o.z;
+        return *this;
+    }
+    constexpr Vec3& operator*=(T s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
     constexpr bool operator==(const Vec3& o) const = default;
 };
 
 using Vec3d = Vec3<double>;
 using Vec3f = Vec3<float>;
 
-template <typename T> constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <typename T> constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+template <typename T>
+constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <typename T>
+constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <typename T> inline T length(const Vec3<T>& a) { return std::sqrt(dot(a, a)); }
-template <typename T> inline Vec3<T> normalize(const Vec3<T>& a) {
+template <typename T>
+inline T length(const Vec3<T>& a) {
+    return std::sqrt(dot(a, a));
+}
+template <typename T>
+inline Vec3<T> normalize(const Vec3<T>& a) {
     T l = length(a);
     return l > T(0) ? a / l : a;
 }
-template <typename T> constexpr Vec3<T> vmin(const Vec3<T>& a, const Vec3<T>& b) {
+template <typename T>
+constexpr Vec3<T> vmin(const Vec3<T>& a, const Vec3<T>& b) {
     return {a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z};
 }
-template <typename T> constexpr Vec3<T> vmax(const Vec3<T>& a, const Vec3<T>& b) {
+template <typename T>
+constexpr Vec3<T> vmax(const Vec3<T>& a, const Vec3<T>& b) {
     return {a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z};
 }
 

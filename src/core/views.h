@@ -19,18 +19,16 @@ struct Image {
 };
 
 struct View {
-    std::string name;                 ///< "front", "right", or the manifest key
-    std::filesystem::path source;     ///< image file it came from
-    Image image;                      ///< the drawing, RGBA
+    std::string name;             ///< "front", "right", or the manifest key
+    std::filesystem::path source; ///< image file it came from
+    Image image;                  ///< the drawing, RGBA
     /// Silhouette as coverage in [0,1], width*height, row-major, row 0 at the top.
     /// Anti-aliased edges keep fractional coverage for sub-pixel boundaries.
     std::vector<float> coverage;
     int width = 0, height = 0;
     Camera camera;
     float coverage_at(int x, int y) const { return coverage[std::size_t(y) * width + x]; }
-    bool inside(int x, int y) const {
-        return x >= 0 && y >= 0 && x < width && y < height && coverage_at(x, y) >= 0.5f;
-    }
+    bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height && coverage_at(x, y) >= 0.5f; }
 };
 
 struct Views {

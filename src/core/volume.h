@@ -7,8 +7,8 @@
 // the padded box's minimum corner); the inside never touches the edge of the
 // carved box (hull.carve pads it by two cells), so every surface cell is complete.
 #pragma once
-#include <memory>
 #include <openvdb/openvdb.h>
+#include <memory>
 
 #include "core/views.h"
 

@@ -83,8 +83,8 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
     }
     if (n_in == 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
     const auto to_in = squared_edt(inside, w, h);
-    const std::vector<float> to_out = n_in == coverage.size() ? std::vector<float>(coverage.size(), kFar)
-                                                               : squared_edt(outside, w, h);
+    const std::vector<float> to_out =
+        n_in == coverage.size() ? std::vector<float>(coverage.size(), kFar) : squared_edt(outside, w, h);
     SilhouetteSdf s;
     s.width = w;
     s.height = h;
@@ -111,7 +111,8 @@ double SilhouetteSdf::sample(double x, double y) const {
     const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
     const double tx = cx - x0, ty = cy - y0;
     auto at = [&](int i, int j) { return double(sdf[std::size_t(j) * width + i]); };
-    const double v = (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+    const double v =
+        (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
     // Beyond the image: at least as far as the border sample plus the way out.
     return beyond > 0 ? std::max(v, 0.0) + beyond : v;
 }
@@ -128,7 +129,7 @@ double HullDistance::operator()(const Vec3d& p) const {
     for (const auto& e : views_) {
         const Vec2d q = e.camera.project(p);
         const double px = e.sdf.sample(q.x, q.y);
-        double pixel_size;   // world units per pixel at p
+        double pixel_size; // world units per pixel at p
         if (e.camera.orthographic()) {
             pixel_size = 1.0 / e.camera.scale;
         } else {

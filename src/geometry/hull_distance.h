@@ -20,7 +20,7 @@ namespace cm {
 /// Signed distance field of one silhouette, in pixels, positive outside.
 struct SilhouetteSdf {
     int width = 0, height = 0;
-    std::vector<float> sdf;   ///< at pixel centres, row-major, row 0 at the top
+    std::vector<float> sdf; ///< at pixel centres, row-major, row 0 at the top
     /// Bilinear sample at continuous pixel coordinates (x, y) (pixel centres at i + 0.5);
     /// beyond the image the distance grows with the distance to the image border.
     double sample(double x, double y) const;
@@ -31,8 +31,7 @@ struct SilhouetteSdf {
 /// of the binary mask, with pixels of fractional coverage refined to 0.5 - coverage
 /// (the sub-pixel position of a straight border through the pixel).
 /// @throw cm::Error when the mask has no inside pixel.
-SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int width, int height,
-                             const std::string& view_name);
+SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int width, int height, const std::string& view_name);
 
 class HullDistance {
 public:

@@ -10,8 +10,8 @@
 namespace cm {
 
 struct VertexAdjacency {
-    std::vector<std::uint32_t> offsets;      ///< vertex_count + 1 entries
-    std::vector<std::uint32_t> neighbours;   ///< sorted, unique per vertex
+    std::vector<std::uint32_t> offsets;    ///< vertex_count + 1 entries
+    std::vector<std::uint32_t> neighbours; ///< sorted, unique per vertex
 
     std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
     std::uint32_t degree(std::uint32_t v) const { return offsets[v + 1] - offsets[v]; }

@@ -1,8 +1,8 @@
 #include "geometry/mesh_intersect.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -24,7 +24,7 @@ bool segment_crosses(const Vec3d& p, const Vec3d& q, const Vec3d& a, const Vec3d
     const Vec3d h = cross(d, e2);
     const double det = dot(e1, h);
     const double scale = length(d) * length(e1) * length(e2);
-    if (std::fabs(det) <= 1e-12 * scale) return false;   // parallel or coplanar
+    if (std::fabs(det) <= 1e-12 * scale) return false; // parallel or coplanar
     const double inv = 1.0 / det;
     const Vec3d s = p - a;
     const double u = dot(s, h) * inv;
@@ -59,12 +59,16 @@ bool triangles_cross(const std::vector<Vec3f>& p, const std::array<std::uint32_t
     int shared = 0, sa = -1, sb = -1;
     for (int x = 0; x < 3; ++x)
         for (int y = 0; y < 3; ++y)
-            if (ta[x] == tb[y]) { ++shared; sa = x; sb = y; }
+            if (ta[x] == tb[y]) {
+                ++shared;
+                sa = x;
+                sb = y;
+            }
     if (shared >= 2) return false;
     const Vec3d A[3] = {Vec3d(p[ta[0]]), Vec3d(p[ta[1]]), Vec3d(p[ta[2]])};
     const Vec3d B[3] = {Vec3d(p[tb[0]]), Vec3d(p[tb[1]]), Vec3d(p[tb[2]])};
     // Early out: the other triangle's (unshared) corners all strictly on one side of a plane.
-    auto one_side = [](const Vec3d (&T)[3], const Vec3d (&U)[3], int skip) {
+    auto one_side = [](const Vec3d(&T)[3], const Vec3d(&U)[3], int skip) {
         const Vec3d n = cross(T[1] - T[0], T[2] - T[0]);
         bool pos = false, neg = false;
         for (int i = 0; i < 3; ++i) {
@@ -78,11 +82,9 @@ bool triangles_cross(const std::vector<Vec3f>& p, const std::array<std::uint32_t
     if (one_side(A, B, sb) || one_side(B, A, sa)) return false;
     for (int e = 0; e < 3; ++e) {
         // With a shared vertex, only the edges away from it can cross properly.
-        if (!(shared == 1 && (e == sa || (e + 1) % 3 == sa)) &&
-            segment_crosses(A[e], A[(e + 1) % 3], B[0], B[1], B[2]))
+        if (!(shared == 1 && (e == sa || (e + 1) % 3 == sa)) && segment_crosses(A[e], A[(e + 1) % 3], B[0], B[1], B[2]))
             return true;
-        if (!(shared == 1 && (e == sb || (e + 1) % 3 == sb)) &&
-            segment_crosses(B[e], B[(e + 1) % 3], A[0], A[1], A[2]))
+        if (!(shared == 1 && (e == sb || (e + 1) % 3 == sb)) && segment_crosses(B[e], B[(e + 1) % 3], A[0], A[1], A[2]))
             return true;
     }
     return false;
@@ -116,7 +118,8 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
         });
     origin_ = Vec3d(total.box.lo);
     const Vec3d extent = Vec3d(total.box.hi) - origin_;
-    if (!std::isfinite(extent.x + extent.y + extent.z + origin_.x + origin_.y + origin_.z) || !std::isfinite(total.diag))
+    if (!std::isfinite(extent.x + extent.y + extent.z + origin_.x + origin_.y + origin_.z) ||
+        !std::isfinite(total.diag))
         throw Error("the mesh has vertices with infinite or NaN coordinates");
     const double largest = std::max({extent.x, extent.y, extent.z, 1e-30});
     // Cells of about two mean face sizes; grown while large faces would fill too many
@@ -125,7 +128,10 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     UninitVector<std::uint32_t> offsets(nf + 1);
     for (;;) {
         for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
-        if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) { cell_ *= 2; continue; }
+        if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) {
+            cell_ *= 2;
+            continue;
+        }
         const std::uint64_t limit = 16 * std::uint64_t(nf) + 1024;
         offsets[0] = 0;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -187,52 +193,56 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
 std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
     if (runs_.size() < 2) return {};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-        auto& local = found.local();
-        // Everything the pair tests read, gathered once per face of the cell (the faces of a
-        // cell are scattered in memory; the pairs are many more than the faces).
-        struct Item {
-            Box box, now;
-            std::array<std::uint32_t, 3> low, tri;
-            std::uint32_t face;
-        };
-        std::vector<Item> items;
-        for (std::size_t run = r.begin(); run != r.end(); ++run) {
-            const std::size_t b = runs_[run], e = runs_[run + 1];
-            const std::uint64_t here = entries_[b] >> 32;
-            items.clear();
-            for (std::size_t x = b; x < e; ++x) {
-                const auto f = std::uint32_t(entries_[x]);
-                const Box u = box(f);
-                const Range c = cells(u);
-                items.push_back({u, b_ ? face_box(p, triangles_[f]) : u,
-                                 {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])}, triangles_[f], f});
-            }
-            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
-            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
-            for (std::size_t x = 0; x < items.size(); ++x) {
-                const Item& ia = items[x];
-                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
-                    const Item& ib = items[y];
-                    if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
-                        ib.box.lo.z > ia.box.hi.z)
-                        continue;
-                    // Each pair once: in the cell holding the low corner of the boxes' overlap,
-                    // whose cell is the larger of the two boxes' low cells on each axis.
-                    if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
-                            std::max(ia.low[2], ib.low[2])) != here)
-                        continue;
-                    if (b_ && !overlap(ia.now, ib.now)) continue;
-                    int shared = 0;
-                    for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
-                    if (shared >= 2) continue;   // neighbours across an edge never cross
-                    if (triangles_cross(p, ia.tri, ib.tri))
-                        local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            auto& local = found.local();
+            // Everything the pair tests read, gathered once per face of the cell (the faces of a
+            // cell are scattered in memory; the pairs are many more than the faces).
+            struct Item {
+                Box box, now;
+                std::array<std::uint32_t, 3> low, tri;
+                std::uint32_t face;
+            };
+            std::vector<Item> items;
+            for (std::size_t run = r.begin(); run != r.end(); ++run) {
+                const std::size_t b = runs_[run], e = runs_[run + 1];
+                const std::uint64_t here = entries_[b] >> 32;
+                items.clear();
+                for (std::size_t x = b; x < e; ++x) {
+                    const auto f = std::uint32_t(entries_[x]);
+                    const Box u = box(f);
+                    const Range c = cells(u);
+                    items.push_back({u,
+                                     b_ ? face_box(p, triangles_[f]) : u,
+                                     {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
+                                     triangles_[f],
+                                     f});
+                }
+                // Sweep along x over the cell's faces, sorted by the low end of their boxes.
+                std::sort(items.begin(), items.end(),
+                          [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
+                for (std::size_t x = 0; x < items.size(); ++x) {
+                    const Item& ia = items[x];
+                    for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
+                        const Item& ib = items[y];
+                        if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
+                            ib.box.lo.z > ia.box.hi.z)
+                            continue;
+                        // Each pair once: in the cell holding the low corner of the boxes' overlap,
+                        // whose cell is the larger of the two boxes' low cells on each axis.
+                        if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
+                                std::max(ia.low[2], ib.low[2])) != here)
+                            continue;
+                        if (b_ && !overlap(ia.now, ib.now)) continue;
+                        int shared = 0;
+                        for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
+                        if (shared >= 2) continue; // neighbours across an edge never cross
+                        if (triangles_cross(p, ia.tri, ib.tri))
+                            local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
+                    }
                 }
             }
-        }
-    });
+        });
     std::vector<FacePair> pairs;
     for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
     std::sort(pairs.begin(), pairs.end());
@@ -242,29 +252,30 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) co
 std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::uint32_t>& faces,
                                                        const std::vector<Vec3f>& p) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        auto& local = found.local();
-        std::vector<std::uint32_t> near;
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const std::uint32_t fa = faces[i];
-            const Range c = cells(box(fa));
-            near.clear();
-            for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
-                for (auto y = c.lo[1]; y <= c.hi[1]; ++y)
-                    for (auto z = c.lo[2]; z <= c.hi[2]; ++z) {
-                        const std::uint64_t cell = key(x, y, z);
-                        for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
-                             it != entries_.end() && (*it >> 32) == cell; ++it)
-                            if (std::uint32_t(*it) != fa) near.push_back(std::uint32_t(*it));
-                    }
-            std::sort(near.begin(), near.end());
-            near.erase(std::unique(near.begin(), near.end()), near.end());
-            const Box ba = face_box(p, triangles_[fa]);
-            for (std::uint32_t fb : near)
-                if (overlap(ba, face_box(p, triangles_[fb])) && triangles_cross(p, triangles_[fa], triangles_[fb]))
-                    local.push_back({std::min(fa, fb), std::max(fa, fb)});
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+            auto& local = found.local();
+            std::vector<std::uint32_t> near;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const std::uint32_t fa = faces[i];
+                const Range c = cells(box(fa));
+                near.clear();
+                for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
+                    for (auto y = c.lo[1]; y <= c.hi[1]; ++y)
+                        for (auto z = c.lo[2]; z <= c.hi[2]; ++z) {
+                            const std::uint64_t cell = key(x, y, z);
+                            for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
+                                 it != entries_.end() && (*it >> 32) == cell; ++it)
+                                if (std::uint32_t(*it) != fa) near.push_back(std::uint32_t(*it));
+                        }
+                std::sort(near.begin(), near.end());
+                near.erase(std::unique(near.begin(), near.end()), near.end());
+                const Box ba = face_box(p, triangles_[fa]);
+                for (std::uint32_t fb : near)
+                    if (overlap(ba, face_box(p, triangles_[fb])) && triangles_cross(p, triangles_[fa], triangles_[fb]))
+                        local.push_back({std::min(fa, fb), std::max(fa, fb)});
+            }
+        });
     std::vector<FacePair> pairs;
     for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
     std::sort(pairs.begin(), pairs.end());
@@ -293,7 +304,8 @@ std::vector<std::string> OutputCheck::broken() const {
     add(mesh.inconsistent_edges, "inconsistently oriented edges");
     add(mesh.degenerate_faces, "degenerate faces");
     add(crossings.size(), "self-intersecting face pairs");
-    if (mesh.signed_volume <= 0) out.push_back("inward orientation (volume " + std::to_string(mesh.signed_volume) + ")");
+    if (mesh.signed_volume <= 0)
+        out.push_back("inward orientation (volume " + std::to_string(mesh.signed_volume) + ")");
     return out;
 }
 

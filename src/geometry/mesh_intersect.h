@@ -14,7 +14,7 @@
 
 namespace cm {
 
-using FacePair = std::array<std::uint32_t, 2>;   ///< (a, b) with a < b
+using FacePair = std::array<std::uint32_t, 2>; ///< (a, b) with a < b
 
 /// An allocator whose resize() leaves trivial elements uninitialised, for large arrays
 /// that are filled right after (no pass of zeros over hundreds of megabytes).
@@ -68,8 +68,10 @@ private:
         std::array<std::uint64_t, 3> lo{}, hi{};
     };
     Range cells(const Box& b) const;
-    Box box(std::uint32_t face) const;   ///< covering both poses
-    std::uint64_t key(std::uint64_t i, std::uint64_t j, std::uint64_t k) const { return (i * dims_[1] + j) * dims_[2] + k; }
+    Box box(std::uint32_t face) const; ///< covering both poses
+    std::uint64_t key(std::uint64_t i, std::uint64_t j, std::uint64_t k) const {
+        return (i * dims_[1] + j) * dims_[2] + k;
+    }
 
     const std::vector<std::array<std::uint32_t, 3>>& triangles_;
     const std::vector<Vec3f>& a_;
@@ -77,8 +79,8 @@ private:
     Vec3d origin_;
     double cell_ = 1;
     std::array<std::uint64_t, 3> dims_{1, 1, 1};
-    UninitVector<std::uint64_t> entries_;   ///< (cell << 32) | face, sorted
-    std::vector<std::size_t> runs_;   ///< starts of the runs of one cell in entries_, then entries_.size()
+    UninitVector<std::uint64_t> entries_; ///< (cell << 32) | face, sorted
+    std::vector<std::size_t> runs_;       ///< starts of the runs of one cell in entries_, then entries_.size()
 };
 
 /// @brief The pairs of triangles of `mesh` that cross each other, sorted (see

@@ -10,14 +10,23 @@ namespace cm {
 SilhouetteField::SilhouetteField(const View& view)
     : view_(&view), cov_(view.coverage.data()), w_(view.width), h_(view.height) {
     if (w_ <= 0 || h_ <= 0 || view.coverage.size() != std::size_t(w_) * std::size_t(h_))
-        throw Error("view \"" + view.name + "\" has no silhouette (coverage size does not match " +
-                    std::to_string(w_) + "x" + std::to_string(h_) + ")");
+        throw Error("view \"" + view.name + "\" has no silhouette (coverage size does not match " + std::to_string(w_) +
+                    "x" + std::to_string(h_) + ")");
     const Camera& c = view.camera;
     if (c.orthographic()) {
         // x = cx + s (p . r), y = cy - s (p . u)
-        m_ = {c.scale * c.r.x, c.scale * c.r.y, c.scale * c.r.z, c.cx,
-              -c.scale * c.u.x, -c.scale * c.u.y, -c.scale * c.u.z, c.cy,
-              0, 0, 0, 1};
+        m_ = {c.scale * c.r.x,
+              c.scale * c.r.y,
+              c.scale * c.r.z,
+              c.cx,
+              -c.scale * c.u.x,
+              -c.scale * c.u.y,
+              -c.scale * c.u.z,
+              c.cy,
+              0,
+              0,
+              0,
+              1};
         if (!(c.scale > 0)) throw Error("view \"" + view.name + "\" has a non-positive scale");
         for (int a = 0; a < 3; ++a)
             if (m_[a] == 0 && m_[4 + a] == 0) drop_axis_ = a;
@@ -53,14 +62,16 @@ double SilhouetteField::coverage(double x, double y) const {
 
 SilhouetteField::Class SilhouetteField::classify_rect(double x0, double y0, double x1, double y1) const {
     // Pixels whose centres span the rectangle (the bilinear support), clamped to the image.
-    auto lo = [](double v, int n) { return std::clamp(int(std::floor(std::clamp(v - 0.5, -4.0, double(n) + 4.0))), 0, n - 1); };
+    auto lo = [](double v, int n) {
+        return std::clamp(int(std::floor(std::clamp(v - 0.5, -4.0, double(n) + 4.0))), 0, n - 1);
+    };
     auto hi = [](double v, int n) {
         return std::clamp(int(std::floor(std::clamp(v - 0.5, -4.0, double(n) + 4.0))) + 1, 0, n - 1);
     };
     const int i0 = lo(x0, w_), i1 = hi(x1, w_), j0 = lo(y0, h_), j1 = hi(y1, h_);
     const std::size_t stride = std::size_t(w_) + 1;
-    const std::uint32_t n = sat_[(j1 + 1) * stride + i1 + 1] - sat_[j0 * stride + i1 + 1] - sat_[(j1 + 1) * stride + i0] +
-                            sat_[j0 * stride + i0];
+    const std::uint32_t n = sat_[(j1 + 1) * stride + i1 + 1] - sat_[j0 * stride + i1 + 1] -
+                            sat_[(j1 + 1) * stride + i0] + sat_[j0 * stride + i0];
     if (n == 0) return Outside;
     if (n == std::uint32_t(i1 - i0 + 1) * std::uint32_t(j1 - j0 + 1)) return Inside;
     return Mixed;

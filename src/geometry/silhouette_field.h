@@ -83,8 +83,8 @@ private:
     const View* view_;
     const float* cov_;
     int w_, h_;
-    std::array<double, 12> m_{};          ///< 3x4 projection; orthographic third row is (0,0,0,1)
-    std::vector<std::uint32_t> sat_;      ///< (w+1)*(h+1) counts of pixels with coverage >= 0.5
+    std::array<double, 12> m_{};     ///< 3x4 projection; orthographic third row is (0,0,0,1)
+    std::vector<std::uint32_t> sat_; ///< (w+1)*(h+1) counts of pixels with coverage >= 0.5
     int drop_axis_ = -1;
 };
 

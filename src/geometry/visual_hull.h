@@ -27,8 +27,8 @@ public:
     const Vec3d& clip_hi() const { return clip_hi_; }
 
     bool in_clip(const Vec3d& p) const {
-        return p.x >= clip_lo_.x && p.y >= clip_lo_.y && p.z >= clip_lo_.z && p.x <= clip_hi_.x &&
-               p.y <= clip_hi_.y && p.z <= clip_hi_.z;
+        return p.x >= clip_lo_.x && p.y >= clip_lo_.y && p.z >= clip_lo_.z && p.x <= clip_hi_.x && p.y <= clip_hi_.y &&
+               p.z <= clip_hi_.z;
     }
     /// Is the point inside the hull? Only the views in `mask` are tested.
     bool inside(const Vec3d& p, ViewMask mask = kAllViews) const {

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/data.h"   // temporary_path()
+#include "core/data.h" // temporary_path()
 
 namespace cm {
 
@@ -34,7 +34,7 @@ public:
 
 private:
     std::mutex mutex_;
-    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;   ///< tmp -> final
+    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_; ///< tmp -> final
     bool done_ = false;
 };
 

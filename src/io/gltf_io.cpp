@@ -123,7 +123,7 @@ void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::
 
 namespace {
 
-using Mat4 = std::array<double, 16>;   // column-major, as glTF
+using Mat4 = std::array<double, 16>; // column-major, as glTF
 
 Mat4 identity() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
 Mat4 mul(const Mat4& a, const Mat4& b) {
@@ -140,15 +140,35 @@ Mat4 local_matrix(const tinygltf::Node& n) {
         return m;
     }
     Mat4 t = identity(), r = identity(), s = identity();
-    if (n.translation.size() == 3) { t[12] = n.translation[0]; t[13] = n.translation[1]; t[14] = n.translation[2]; }
+    if (n.translation.size() == 3) {
+        t[12] = n.translation[0];
+        t[13] = n.translation[1];
+        t[14] = n.translation[2];
+    }
     if (n.rotation.size() == 4) {
         const double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
-        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
-             2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
-             2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
-             0, 0, 0, 1};
+        r = {1 - 2 * (y * y + z * z),
+             2 * (x * y + z * w),
+             2 * (x * z - y * w),
+             0,
+             2 * (x * y - z * w),
+             1 - 2 * (x * x + z * z),
+             2 * (y * z + x * w),
+             0,
+             2 * (x * z + y * w),
+             2 * (y * z - x * w),
+             1 - 2 * (x * x + y * y),
+             0,
+             0,
+             0,
+             0,
+             1};
     }
-    if (n.scale.size() == 3) { s[0] = n.scale[0]; s[5] = n.scale[1]; s[10] = n.scale[2]; }
+    if (n.scale.size() == 3) {
+        s[0] = n.scale[0];
+        s[5] = n.scale[1];
+        s[10] = n.scale[2];
+    }
     return mul(t, mul(r, s));
 }
 
@@ -171,11 +191,31 @@ std::vector<double> read_accessor(const tinygltf::Model& model, int index, int c
             const unsigned char* p = buf.data.data() + base + i * stride + std::size_t(k * csize);
             double v = 0;
             switch (a.componentType) {
-            case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t u; std::memcpy(&u, p, 2); v = a.normalized ? u / 65535.0 : u; break; }
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+                float f;
+                std::memcpy(&f, p, 4);
+                v = f;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+                std::uint32_t u;
+                std::memcpy(&u, p, 4);
+                v = u;
+                break;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                std::uint16_t u;
+                std::memcpy(&u, p, 2);
+                v = a.normalized ? u / 65535.0 : u;
+                break;
+            }
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = a.normalized ? *p / 255.0 : *p; break;
-            case TINYGLTF_COMPONENT_TYPE_SHORT: { std::int16_t u; std::memcpy(&u, p, 2); v = u; break; }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                std::int16_t u;
+                std::memcpy(&u, p, 2);
+                v = u;
+                break;
+            }
             case TINYGLTF_COMPONENT_TYPE_BYTE: v = double(static_cast<signed char>(*p)); break;
             default: throw Error(what + " has an unsupported component type");
             }
@@ -191,7 +231,7 @@ Mesh read_glb(const fs::path& file) {
     tinygltf::TinyGLTF io;
     std::string err, warn;
     const bool ok = file.extension() == ".gltf" ? io.LoadASCIIFromFile(&model, &err, &warn, file.string())
-                                                 : io.LoadBinaryFromFile(&model, &err, &warn, file.string());
+                                                : io.LoadBinaryFromFile(&model, &err, &warn, file.string());
     if (!ok) throw Error("cannot read mesh \"" + file.string() + "\": " + (err.empty() ? "not a glTF file" : err));
     const std::string where = "cannot read mesh \"" + file.string() + "\": ";
     Mesh m;
@@ -218,9 +258,9 @@ Mesh read_glb(const fs::path& file) {
                     const double x = nn[3 * i], y = nn[3 * i + 1], z = nn[3 * i + 2];
                     // Normals go through the inverse transpose; for rotations and uniform scales
                     // the linear part, renormalised, is the same.
-                    m.normals.push_back(Vec3f(normalize(Vec3d(M[0] * x + M[4] * y + M[8] * z,
-                                                              M[1] * x + M[5] * y + M[9] * z,
-                                                              M[2] * x + M[6] * y + M[10] * z))));
+                    m.normals.push_back(
+                        Vec3f(normalize(Vec3d(M[0] * x + M[4] * y + M[8] * z, M[1] * x + M[5] * y + M[9] * z,
+                                              M[2] * x + M[6] * y + M[10] * z))));
                 }
             } else {
                 all_normals = false;
@@ -234,8 +274,8 @@ Mesh read_glb(const fs::path& file) {
             }
             auto cit = prim.attributes.find("COLOR_0");
             if (cit != prim.attributes.end() && all_colors) {
-                const int comps = tinygltf::GetNumComponentsInType(
-                    std::uint32_t(model.accessors.at(std::size_t(cit->second)).type));
+                const int comps =
+                    tinygltf::GetNumComponentsInType(std::uint32_t(model.accessors.at(std::size_t(cit->second)).type));
                 if (comps != 3 && comps != 4) throw Error(where + "COLOR_0 has an unexpected type");
                 const auto c = read_accessor(model, cit->second, comps, where + "COLOR_0");
                 for (std::size_t i = 0; i < n; ++i)

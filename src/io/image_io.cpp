@@ -31,8 +31,13 @@ Image read_image(const fs::path& file, ImageInfo* info) {
     for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
         const float* s = &raw[i * nc];
         float* d = &img.pixels[i * 4];
-        if (nc >= 3) { d[0] = s[0]; d[1] = s[1]; d[2] = s[2]; }
-        else { d[0] = d[1] = d[2] = s[0]; }
+        if (nc >= 3) {
+            d[0] = s[0];
+            d[1] = s[1];
+            d[2] = s[2];
+        } else {
+            d[0] = d[1] = d[2] = s[0];
+        }
         d[3] = alpha >= 0 ? s[alpha] : 1.0f;
     }
     if (info) {
@@ -48,7 +53,8 @@ void write_image(const Image& img, const fs::path& file) {
     if (!out) throw Error("cannot write image \"" + file.string() + "\": " + OIIO::geterror());
     const bool eight = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
     OIIO::ImageSpec spec(img.width, img.height, img.channels, eight ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (!out->open(file.string(), spec)) throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
+    if (!out->open(file.string(), spec))
+        throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
     if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data()))
         throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
     out->close();

@@ -7,8 +7,8 @@
 namespace cm {
 
 struct ImageInfo {
-    bool has_alpha = false;   ///< the file has an alpha channel
-    int bits = 8;             ///< bits per channel in the file
+    bool has_alpha = false; ///< the file has an alpha channel
+    int bits = 8;           ///< bits per channel in the file
 };
 
 /// Reads any format OpenImageIO reads into float RGBA in [0,1] (grey is

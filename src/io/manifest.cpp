@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 #include <fstream>
+#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -43,8 +43,7 @@ std::array<double, N> numbers(const fs::path& f, const YAML::Node& val, const st
         for (const auto& row : val) {
             if (row.IsSequence())
                 for (const auto& x : row) flat.push_back(number(f, x, entry));
-            else
-                flat.push_back(number(f, row, entry));
+            else flat.push_back(number(f, row, entry));
         }
     if (flat.size() != N) throw Error(what + ", got " + std::to_string(flat.size()) + " numbers");
     std::array<double, N> a{};
@@ -65,8 +64,8 @@ std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& w
         if (end && *end == '\0' && end != tok.c_str()) v.push_back(x);
     }
     if (v.size() != 12)
-        throw Error(where + "matrix_file \"" + mf.string() + "\" must hold 12 numbers (a 3x4 projection, row by row), found " +
-                    std::to_string(v.size()));
+        throw Error(where + "matrix_file \"" + mf.string() +
+                    "\" must hold 12 numbers (a 3x4 projection, row by row), found " + std::to_string(v.size()));
     std::array<double, 12> P{};
     std::copy(v.begin(), v.end(), P.begin());
     return P;
@@ -85,7 +84,8 @@ YAML::Node load_document(const fs::path& file) {
         throw Error("cannot read views manifest \"" + file.string() + "\": " + e.msg);
     }
     if (!doc.IsMap() || !doc["views"] || !doc["views"].IsMap() || doc["views"].size() == 0)
-        throw Error(file.string() + ": a views manifest needs a \"views\" mapping, e.g. views: {front: front.png, right: right.png}");
+        throw Error(file.string() +
+                    ": a views manifest needs a \"views\" mapping, e.g. views: {front: front.png, right: right.png}");
     return doc;
 }
 
@@ -111,7 +111,8 @@ void read_top_level(const fs::path& file, YAML::Node doc, Manifest& m) {
         else if (k == "depth") m.depth = number(file, it->second, "depth");
         else if (k == "bounds") m.bounds = read_bounds(file, it->second);
         else
-            throw Error(at(file, it->first) + ": unknown manifest key \"" + k + "\" (known: views, height, width, depth, bounds)");
+            throw Error(at(file, it->first) + ": unknown manifest key \"" + k +
+                        "\" (known: views, height, width, depth, bounds)");
     }
     for (const char* k : {"height", "width", "depth"}) {
         auto& v = std::string(k) == "height" ? m.height : std::string(k) == "width" ? m.width : m.depth;
@@ -161,8 +162,9 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
         if (!(*v.scale > 0) || !std::isfinite(*v.scale))
             throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
     } else if (k == "origin") {
-        v.origin = numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
-                              "view \"" + v.key + "\": an origin coordinate");
+        v.origin =
+            numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",
+                       "view \"" + v.key + "\": an origin coordinate");
         if (!std::isfinite((*v.origin)[0]) || !std::isfinite((*v.origin)[1]))
             throw Error(where + "origin must be finite");
     } else if (k == "K") cam.K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
@@ -179,7 +181,7 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
 void read_view_mapping(const fs::path& file, const fs::path& base, const YAML::Node& n, ManifestView& v) {
     CameraKeys cam;
     for (auto f = n.begin(); f != n.end(); ++f) {
-        const YAML::Node key = f->first, val = f->second;   // copies: f-> gives a temporary
+        const YAML::Node key = f->first, val = f->second; // copies: f-> gives a temporary
         read_view_key(file, base, key, val, v, cam);
     }
     if (cam.K || cam.R || cam.tvec) {
@@ -198,14 +200,16 @@ void read_view_mapping(const fs::path& file, const fs::path& base, const YAML::N
     if (cam.matrix_sources > 1)
         throw Error(at(file, n) + ": view \"" + v.key + "\": give the camera once: matrix, matrix_file, or K/R/t");
     if (v.matrix && (v.view || v.azimuth || v.elevation))
-        throw Error(at(file, n) + ": view \"" + v.key + "\": a calibrated view (matrix) takes no view or azimuth/elevation");
+        throw Error(at(file, n) + ": view \"" + v.key +
+                    "\": a calibrated view (matrix) takes no view or azimuth/elevation");
     if (v.view && (v.azimuth || v.elevation))
         throw Error(at(file, n) + ": view \"" + v.key + "\": give either view or azimuth/elevation, not both");
     if (v.matrix && (v.scale || v.origin))
         throw Error(at(file, n) + ": view \"" + v.key +
                     "\": scale and origin fix an orthographic camera; a calibrated view (matrix) takes neither");
     if (v.scale.has_value() != v.origin.has_value())
-        throw Error(at(file, n) + ": view \"" + v.key + "\": scale and origin go together (together they fix the "
+        throw Error(at(file, n) + ": view \"" + v.key +
+                    "\": scale and origin go together (together they fix the "
                     "camera): give both or neither");
 }
 
@@ -232,9 +236,11 @@ void complete_view(const fs::path& file, const fs::path& base, const YAML::Node&
             throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
     }
     if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
-        throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep + "\"");
+        throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep +
+                    "\"");
     if (v.holes != "auto" && v.holes != "fill" && v.holes != "keep")
-        throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes + "\"");
+        throw Error(at(file, n) + ": view \"" + v.key + "\": holes must be auto, fill or keep, got \"" + v.holes +
+                    "\"");
 }
 
 // One entry of "views": its key (node `key`) and either an image path or a mapping (n).
@@ -257,14 +263,18 @@ ManifestView read_view(const fs::path& file, const fs::path& base, const YAML::N
 // theirs. Without them drawn views are aligned into a frame of their own, which a box
 // given here could not refer to.
 void check_frame(const fs::path& file, YAML::Node doc, const Manifest& m) {
-    const bool calibrated = std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
+    const bool calibrated =
+        std::any_of(m.views.begin(), m.views.end(), [](const ManifestView& v) { return v.matrix.has_value(); });
     if (m.fixed_cameras())
         for (const char* k : {"height", "width", "depth"})
             if (doc[k])
-                throw Error(at(file, doc[k]) + ": " + k + " cannot go with fixed cameras (scale, origin): they set the units");
+                throw Error(at(file, doc[k]) + ": " + k +
+                            " cannot go with fixed cameras (scale, origin): they set the units");
     if (m.bounds && !calibrated && !m.fixed_cameras())
-        throw Error(at(file, doc["bounds"]) + ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
-                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a real size)");
+        throw Error(at(file, doc["bounds"]) +
+                    ": bounds needs calibrated views (matrix) or fixed cameras (scale, origin); "
+                    "drawn views without them are aligned into a frame of their own (give height, width or depth for a "
+                    "real size)");
 }
 
 } // namespace
@@ -274,9 +284,18 @@ bool Manifest::fixed_cameras() const {
 }
 
 bool parse_background_colour(const std::string& s, std::array<double, 3>& c) {
-    if (s == "white") { c = {1, 1, 1}; return true; }
-    if (s == "black") { c = {0, 0, 0}; return true; }
-    if (s == "grey" || s == "gray") { c = {0.5, 0.5, 0.5}; return true; }
+    if (s == "white") {
+        c = {1, 1, 1};
+        return true;
+    }
+    if (s == "black") {
+        c = {0, 0, 0};
+        return true;
+    }
+    if (s == "grey" || s == "gray") {
+        c = {0.5, 0.5, 0.5};
+        return true;
+    }
     auto hex = [](char ch) { return std::isxdigit(static_cast<unsigned char>(ch)) != 0; };
     if (s.size() == 7 && s[0] == '#' && std::all_of(s.begin() + 1, s.end(), hex)) {
         for (int k = 0; k < 3; ++k) c[k] = double(std::stoi(s.substr(1 + 2 * k, 2), nullptr, 16)) / 255.0;
@@ -308,7 +327,7 @@ Manifest read_manifest(const fs::path& file) {
     const fs::path base = file.parent_path();
     read_top_level(file, doc, m);
     for (auto it = doc["views"].begin(); it != doc["views"].end(); ++it) {
-        const YAML::Node key = it->first, n = it->second;   // copies: it-> gives a temporary
+        const YAML::Node key = it->first, n = it->second; // copies: it-> gives a temporary
         m.views.push_back(read_view(file, base, key, n));
     }
     check_frame(file, doc, m);

@@ -10,20 +10,20 @@
 namespace cm {
 
 struct ManifestView {
-    std::string key;                       ///< manifest key ("front", "sketch_3q", ...)
-    std::filesystem::path image;           ///< resolved against the manifest's folder
-    std::optional<std::string> view;       ///< named view
+    std::string key;                 ///< manifest key ("front", "sketch_3q", ...)
+    std::filesystem::path image;     ///< resolved against the manifest's folder
+    std::optional<std::string> view; ///< named view
     std::optional<double> azimuth, elevation;
-    std::optional<std::array<double, 12>> matrix;   ///< from matrix, matrix_file or K/R/t
+    std::optional<std::array<double, 12>> matrix; ///< from matrix, matrix_file or K/R/t
     /// A fixed orthographic camera: pixels per world unit and the image point of the world
     /// origin (pixel convention of the conventions). Given together or not at all; views
     /// without them are aligned from their silhouettes.
     std::optional<double> scale;
     std::optional<std::array<double, 2>> origin;
-    std::string background = "auto";      ///< auto | alpha | colour (#rrggbb or "r,g,b")
-    std::optional<double> threshold;       ///< background distance threshold in [0,1]
-    std::string keep = "auto";             ///< auto | largest | all ("auto" defers to the stage's keep)
-    std::string holes = "auto";            ///< auto | fill | keep
+    std::string background = "auto"; ///< auto | alpha | colour (#rrggbb or "r,g,b")
+    std::optional<double> threshold; ///< background distance threshold in [0,1]
+    std::string keep = "auto";       ///< auto | largest | all ("auto" defers to the stage's keep)
+    std::string holes = "auto";      ///< auto | fill | keep
     int line = 0;
 };
 
@@ -32,11 +32,11 @@ struct Manifest {
     /// Text written as comment lines ("# ...") at the top of the file; read_manifest() leaves it empty.
     std::string comment;
     std::vector<ManifestView> views;
-    std::optional<double> height, width, depth;   ///< real size of the object in output units
+    std::optional<double> height, width, depth; ///< real size of the object in output units
     /// World box (min xyz, max xyz) that holds the object: for calibrated views, or for drawn
     /// views with fixed cameras (scale, origin), whose world frame the manifest then sets.
     std::optional<std::array<double, 6>> bounds;
-    bool fixed_cameras() const;   ///< true when some view gives scale and origin
+    bool fixed_cameras() const; ///< true when some view gives scale and origin
 };
 
 /// A background colour as a manifest writes it: white, black, grey, "#rrggbb" or "r,g,b"

@@ -84,7 +84,8 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
     for (const auto& p : mesh.positions) om.add_vertex(OMesh::Point(p.x, p.y, p.z));
-    const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size() && lower_extension(file) != ".stl";
+    const bool with_normals =
+        wo.normals && mesh.normals.size() == mesh.positions.size() && lower_extension(file) != ".stl";
     if (with_normals) {
         om.request_vertex_normals();
         for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
@@ -96,13 +97,18 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
     for (const auto& t : mesh.triangles) {
         for (int k = 0; k < 3; ++k) vh[k] = OMesh::VertexHandle(int(t[k]));
         if (!om.add_face(vh).is_valid())
-            throw Error("cannot write mesh \"" + file.string() + "\": the mesh is not 2-manifold (OpenMesh refused a face)");
+            throw Error("cannot write mesh \"" + file.string() +
+                        "\": the mesh is not 2-manifold (OpenMesh refused a face)");
     }
     OpenMesh::IO::Options opt;
     if (with_normals) opt += OpenMesh::IO::Options::VertexNormal;
     const std::string e = lower_extension(file);
     if (wo.binary && (e == ".ply" || e == ".stl")) opt += OpenMesh::IO::Options::Binary;
-    if (e == ".stl") { om.request_face_normals(); om.update_face_normals(); opt += OpenMesh::IO::Options::FaceNormal; }
+    if (e == ".stl") {
+        om.request_face_normals();
+        om.update_face_normals();
+        opt += OpenMesh::IO::Options::FaceNormal;
+    }
     if (!OpenMesh::IO::write_mesh(om, file.string(), opt, 9))
         throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
 }

@@ -13,9 +13,9 @@ namespace cm {
 Mesh read_mesh(const std::filesystem::path& file);
 
 struct MeshWriteOptions {
-    bool binary = true;      ///< PLY and STL: binary when true
-    bool normals = true;     ///< write per-vertex normals where the format can hold them
-    std::string name;        ///< object name where the format holds one (glTF); empty: the file's stem
+    bool binary = true;  ///< PLY and STL: binary when true
+    bool normals = true; ///< write per-vertex normals where the format can hold them
+    std::string name;    ///< object name where the format holds one (glTF); empty: the file's stem
 };
 
 /// Writes by extension: .obj .ply .stl .off .glb. Writes exactly to `file` (callers

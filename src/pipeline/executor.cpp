@@ -7,9 +7,9 @@
 #include <fstream>
 #include <thread>
 
-#include <nlohmann/json.hpp>
 #include <tbb/task_group.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "io/file_commit.h"
 #include "pipeline/pipeline.h"
@@ -58,7 +58,10 @@ public:
         });
     }
     ~MemoryMonitor() {
-        { std::lock_guard<std::mutex> lock(mutex_); stop_ = true; }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
         cv_.notify_all();
         thread_.join();
     }
@@ -106,8 +109,17 @@ std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Re
 class PipelineRun {
 public:
     PipelineRun(const Pipeline& p, std::vector<std::unique_ptr<Stage>> stages, const RunOptions& opt)
-        : p_(p), opt_(opt), index_(p.node_index()), stages_(std::move(stages)), n_(p.nodes.size()),
-          dependents_(n_), pending_(n_), consumers_(n_), outputs_(n_), records_(n_), memory_(n_) {
+        : p_(p),
+          opt_(opt),
+          index_(p.node_index()),
+          stages_(std::move(stages)),
+          n_(p.nodes.size()),
+          dependents_(n_),
+          pending_(n_),
+          consumers_(n_),
+          outputs_(n_),
+          records_(n_),
+          memory_(n_) {
         schedule();
     }
     /// Runs every node; commits the staged files when all succeeded, else discards them
@@ -116,7 +128,9 @@ public:
 
 private:
     void schedule();
-    void launch(std::size_t i) { group_.run([this, i] { execute(i); }); }
+    void launch(std::size_t i) {
+        group_.run([this, i] { execute(i); });
+    }
     void execute(std::size_t i);
     Context context(const PipelineNode& node);
     /// Runs the node's stage; false when it failed (the first failure is kept).
@@ -133,8 +147,8 @@ private:
     std::vector<std::unique_ptr<Stage>> stages_;
     const std::size_t n_;
     std::vector<std::vector<std::size_t>> dependents_;
-    std::vector<std::atomic<int>> pending_;     ///< inputs not done yet
-    std::vector<std::atomic<int>> consumers_;   ///< dependents not done yet
+    std::vector<std::atomic<int>> pending_;   ///< inputs not done yet
+    std::vector<std::atomic<int>> consumers_; ///< dependents not done yet
     std::vector<Data> outputs_;
     std::vector<NodeRecord> records_;
     std::mutex error_mutex_;

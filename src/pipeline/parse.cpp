@@ -5,12 +5,12 @@
 #include <set>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
 #include <nlohmann/json.hpp>
 #include <valijson/adapters/nlohmann_json_adapter.hpp>
 #include <valijson/schema.hpp>
 #include <valijson/schema_parser.hpp>
 #include <valijson/validator.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include "core/error.h"
 #include "pipeline/pipeline.h"
@@ -38,13 +38,20 @@ YAML::Node follow(const YAML::Node& root, const std::vector<std::string>& ctx) {
         const std::string key = c.substr(1, c.size() - 2);
         YAML::Node next(YAML::NodeType::Undefined);
         if (cur.IsSequence()) {
-            try { next.reset(cur[std::stoul(key)]); } catch (...) { break; }
+            try {
+                next.reset(cur[std::stoul(key)]);
+            } catch (...) {
+                break;
+            }
         } else if (cur.IsMap()) {
             for (auto it = cur.begin(); it != cur.end(); ++it)
-                if (it->first.Scalar() == key) { next.reset(it->second); break; }
+                if (it->first.Scalar() == key) {
+                    next.reset(it->second);
+                    break;
+                }
         }
         if (!next.IsDefined()) break;
-        cur.reset(next);   // operator= would assign into the document
+        cur.reset(next); // operator= would assign into the document
     }
     return cur;
 }
@@ -64,7 +71,7 @@ json to_json(const YAML::Node& n) {
         return j;
     }
     case YAML::NodeType::Scalar: {
-        if (n.Tag() == "!") return n.Scalar();   // quoted: always a string
+        if (n.Tag() == "!") return n.Scalar(); // quoted: always a string
         const std::string& s = n.Scalar();
         if (s == "true" || s == "false") return s == "true";
         try {
@@ -73,8 +80,7 @@ json to_json(const YAML::Node& n) {
             if (pos == s.size()) return i;
             double d = std::stod(s, &pos);
             if (pos == s.size()) return d;
-        } catch (...) {
-        }
+        } catch (...) {}
         return s;
     }
     default: return nullptr;
@@ -132,7 +138,7 @@ PipelineNode parse_node(const YAML::Node& n) {
     if (n["params"]) {
         for (auto it = n["params"].begin(); it != n["params"].end(); ++it) {
             RawParam raw;
-            raw.node = it->second;   // a copy: it->second lives in a temporary
+            raw.node = it->second; // a copy: it->second lives in a temporary
             raw.line = line_of(raw.node);
             if (raw.node.IsScalar()) raw.text = raw.node.Scalar();
             node.raw_params[it->first.Scalar()] = raw;
@@ -196,7 +202,8 @@ void Pipeline::apply_override(const std::string& assignment) {
     }
     std::string known;
     for (auto& n : nodes) known += (known.empty() ? "" : ", ") + n.id;
-    throw Error("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known + ")");
+    throw Error("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known +
+                ")");
 }
 
 std::map<std::string, std::size_t> Pipeline::node_index() const {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
 #include <yaml-cpp/yaml.h>
+#include <nlohmann/json_fwd.hpp>
 
 #include "core/params.h"
 #include "core/stage.h"
@@ -23,8 +23,8 @@ namespace cm {
 /// or the text of a --set override (no node, line 0).
 struct RawParam {
     YAML::Node node{YAML::NodeType::Undefined};
-    std::string text;   ///< --set: the value; YAML: the scalar as written, for messages
-    int line = 0;       ///< 1-based line in the pipeline file; 0 for --set
+    std::string text; ///< --set: the value; YAML: the scalar as written, for messages
+    int line = 0;     ///< 1-based line in the pipeline file; 0 for --set
     bool from_set() const { return !node.IsDefined(); }
 };
 
@@ -42,19 +42,19 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
 struct PipelineNode {
     std::string id;
     std::string stage;
-    int line = 0;                                    ///< 1-based line of the node in the file
-    std::map<std::string, std::string> inputs;       ///< port -> node id
+    int line = 0;                              ///< 1-based line of the node in the file
+    std::map<std::string, std::string> inputs; ///< port -> node id
     std::map<std::string, int> input_lines;
-    std::map<std::string, RawParam> raw_params;      ///< as given, by parameter name
-    ParamSet params;                                 ///< filled by validate()
-    StageInfo info;                                  ///< filled by validate()
+    std::map<std::string, RawParam> raw_params; ///< as given, by parameter name
+    ParamSet params;                            ///< filled by validate()
+    StageInfo info;                             ///< filled by validate()
 };
 
 struct Pipeline {
     std::filesystem::path file;
     std::string name, description;
     std::vector<PipelineNode> nodes;
-    std::vector<std::size_t> order;                  ///< topological order, filled by validate()
+    std::vector<std::size_t> order; ///< topological order, filled by validate()
 
     /// Reads and checks the YAML structure against the pipeline schema.
     static Pipeline load(const std::filesystem::path& file);
@@ -76,10 +76,10 @@ struct Pipeline {
 
 struct NodeRecord {
     std::string id, stage;
-    std::map<std::string, std::string> params_json;  ///< name -> JSON text
+    std::map<std::string, std::string> params_json; ///< name -> JSON text
     double seconds = 0;
-    std::size_t peak_rss_bytes = 0;                  ///< process peak RSS while the node ran
-    std::size_t rss_growth_bytes = 0;                ///< that peak minus RSS when it started
+    std::size_t peak_rss_bytes = 0;   ///< process peak RSS while the node ran
+    std::size_t rss_growth_bytes = 0; ///< that peak minus RSS when it started
     std::map<std::string, std::string> metrics_json;
     std::vector<std::string> warnings;
 };
@@ -90,10 +90,10 @@ struct RunOptions {
 };
 
 struct RunResult {
-    std::vector<NodeRecord> nodes;                   ///< in topological order
+    std::vector<NodeRecord> nodes; ///< in topological order
     double seconds = 0;
     std::size_t peak_rss_bytes = 0;
-    std::vector<std::filesystem::path> outputs;      ///< files committed
+    std::vector<std::filesystem::path> outputs; ///< files committed
     std::string to_json(const Pipeline& p) const;
 };
 

@@ -19,7 +19,7 @@ namespace cm {
 struct StageRunOptions {
     ProgressSink* sink = nullptr;
     std::filesystem::path side_output_dir = ".";
-    std::string node = "tool";   ///< the node id messages and progress name
+    std::string node = "tool"; ///< the node id messages and progress name
     /// false: the files the stage writes stay under their temporary names (StageRun::staged)
     /// for the caller to look at and remove; nothing is committed.
     bool commit = true;
@@ -27,9 +27,9 @@ struct StageRunOptions {
 
 struct StageRun {
     Data output;
-    std::map<std::string, std::string> metrics_json;   ///< name -> JSON text
+    std::map<std::string, std::string> metrics_json; ///< name -> JSON text
     std::vector<std::string> warnings;
-    std::vector<std::filesystem::path> outputs;        ///< files committed
+    std::vector<std::filesystem::path> outputs; ///< files committed
     /// Every file the stage wrote: temporary name -> final name, in the order written.
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
 };

@@ -10,8 +10,10 @@ namespace cm {
 ParamValue param_value(const ParamSpec& spec, const RawParam& raw) {
     if (raw.from_set()) return parse_param_text(spec, raw.text);
     const YAML::Node& n = raw.node;
-    const std::string kind = n.IsScalar() ? (n.Tag() == "!" ? "quoted" : "scalar")
-                             : n.IsSequence() ? "list" : n.IsMap() ? "mapping" : "null value";
+    const std::string kind = n.IsScalar()     ? (n.Tag() == "!" ? "quoted" : "scalar")
+                             : n.IsSequence() ? "list"
+                             : n.IsMap()      ? "mapping"
+                                              : "null value";
     return parse_param_yaml(spec, n.IsScalar() ? n.Scalar() : std::string(), kind);
 }
 
@@ -22,9 +24,9 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
         const ParamSpec* spec = find_param(info.params, key);
         const std::string src = raw.from_set() ? " (from --set)" : "";
         if (!spec)
-            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src + " (parameters: " +
-                        param_names(info.params) + ")");
-        if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue;   // null: left unset
+            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src +
+                        " (parameters: " + param_names(info.params) + ")");
+        if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue; // null: left unset
         ParamValue v;
         try {
             v = param_value(*spec, raw);
@@ -48,8 +50,8 @@ void resolve_node(const Pipeline& p, PipelineNode& n, const Registry& registry) 
     if (!registry.find(n.stage)) {
         std::string known;
         for (const auto& s : registry.names()) known += (known.empty() ? "" : ", ") + s;
-        throw Error(p.where(n) + "unknown stage \"" + n.stage + "\" (known stages: " +
-                    (known.empty() ? "none; no plugin was found" : known) + ")");
+        throw Error(p.where(n) + "unknown stage \"" + n.stage +
+                    "\" (known stages: " + (known.empty() ? "none; no plugin was found" : known) + ")");
     }
     std::unique_ptr<Stage> stage;
     try {
@@ -75,8 +77,8 @@ void check_connections(const Pipeline& p, const PipelineNode& n, const NodeIndex
         if (!find_port(n.info, port)) {
             std::string known;
             for (const auto& spec : n.info.inputs) known += (known.empty() ? "" : ", ") + spec.name;
-            throw Error(p.where(n, line) + "unknown input port \"" + port + "\" (ports: " +
-                        (known.empty() ? "none" : known) + ")");
+            throw Error(p.where(n, line) + "unknown input port \"" + port +
+                        "\" (ports: " + (known.empty() ? "none" : known) + ")");
         }
         if (!index.count(src))
             throw Error(p.where(n, line) + "input \"" + port + "\" names unknown node \"" + src + "\"");
@@ -113,7 +115,10 @@ void check_kinds(const Pipeline& p, const NodeIndex& index) {
         seen[cur] = int(path.size());
         path.push_back(cur);
         for (const auto& [port, src] : p.nodes[cur].inputs)
-            if (indeg[index.at(src)] > 0) { cur = index.at(src); break; }
+            if (indeg[index.at(src)] > 0) {
+                cur = index.at(src);
+                break;
+            }
     }
     // path follows inputs backwards; print the cycle in data-flow order.
     std::string cyc;
@@ -128,7 +133,10 @@ std::vector<std::size_t> dependency_order(const Pipeline& p, const NodeIndex& in
     std::vector<int> indeg(n, 0);
     std::vector<std::vector<std::size_t>> out(n);
     for (std::size_t i = 0; i < n; ++i)
-        for (const auto& [port, src] : p.nodes[i].inputs) { out[index.at(src)].push_back(i); ++indeg[i]; }
+        for (const auto& [port, src] : p.nodes[i].inputs) {
+            out[index.at(src)].push_back(i);
+            ++indeg[i];
+        }
     std::vector<std::size_t> order, ready;
     for (std::size_t i = 0; i < n; ++i)
         if (indeg[i] == 0) ready.push_back(i);

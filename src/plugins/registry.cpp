@@ -1,10 +1,10 @@
 #include "plugins/registry.h"
 
+#include <dlfcn.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cstdlib>
-#include <dlfcn.h>
 #include <sstream>
-#include <unistd.h>
 
 #include "plugins/plugin_abi.h"
 
@@ -57,7 +57,7 @@ void Registry::load_directories(const std::vector<fs::path>& dirs) {
         std::vector<fs::path> files;
         for (const auto& e : fs::directory_iterator(dir, ec))
             if (e.is_regular_file() && is_plugin_file(e.path())) files.push_back(e.path());
-        std::sort(files.begin(), files.end());   // deterministic "first wins"
+        std::sort(files.begin(), files.end()); // deterministic "first wins"
         for (const auto& f : files) load_library(f);
     }
 }
@@ -109,7 +109,8 @@ bool Registry::load_library(const fs::path& file) {
     for (std::size_t i = 0; i < d->stage_count; ++i) {
         const ConceptmeshStageFactory& f = d->stages[i];
         if (!f.stage_name || !f.create) {
-            diagnostics_.push_back("plugin \"" + name + "\" declares an incomplete stage factory #" + std::to_string(i));
+            diagnostics_.push_back("plugin \"" + name + "\" declares an incomplete stage factory #" +
+                                   std::to_string(i));
             continue;
         }
         if (auto it = stages_.find(f.stage_name); it != stages_.end()) {
@@ -149,7 +150,8 @@ std::unique_ptr<Stage> Registry::create(const std::string& stage) const {
     if (!e) {
         std::string known;
         for (const auto& [n, _] : stages_) known += (known.empty() ? "" : ", ") + n;
-        throw Error("unknown stage \"" + stage + "\" (known stages: " + (known.empty() ? "none; no plugin was found" : known) + ")");
+        throw Error("unknown stage \"" + stage +
+                    "\" (known stages: " + (known.empty() ? "none; no plugin was found" : known) + ")");
     }
     std::unique_ptr<Stage> s;
     try {
@@ -159,7 +161,9 @@ std::unique_ptr<Stage> Registry::create(const std::string& stage) const {
     } catch (...) {
         throw Error("stage \"" + stage + "\" from \"" + e->library.string() + "\" could not be created");
     }
-    if (!s) throw Error("stage \"" + stage + "\" from \"" + e->library.string() + "\" could not be created: its factory returned nothing");
+    if (!s)
+        throw Error("stage \"" + stage + "\" from \"" + e->library.string() +
+                    "\" could not be created: its factory returned nothing");
     return s;
 }
 

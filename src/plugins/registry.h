@@ -13,7 +13,7 @@ namespace cm {
 
 struct StageEntry {
     std::string name;
-    std::filesystem::path library;     ///< the plugin file it came from
+    std::filesystem::path library; ///< the plugin file it came from
     std::string plugin, plugin_version;
     std::function<std::unique_ptr<Stage>()> create;
 };

@@ -116,7 +116,7 @@ inline double edge(const SV& p, const SV& q, double x, double y) {
 template <typename F>
 void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
     double area = edge(a, b, c.x, c.y);
-    if (!(std::abs(area) > 0)) return;   // degenerate or not finite
+    if (!(std::abs(area) > 0)) return; // degenerate or not finite
     if (area < 0) {
         std::swap(b, c);
         area = -area;

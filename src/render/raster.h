@@ -23,8 +23,8 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
 /// Nearest surface per pixel (pixel centre sampling, as render_mask).
 struct DepthImage {
     int width = 0, height = 0;
-    std::vector<float> depth;            ///< Camera::depth of the nearest surface; +inf where empty
-    std::vector<std::uint32_t> face;     ///< triangle index of the nearest surface; kNoFace where empty
+    std::vector<float> depth;        ///< Camera::depth of the nearest surface; +inf where empty
+    std::vector<std::uint32_t> face; ///< triangle index of the nearest surface; kNoFace where empty
     static constexpr std::uint32_t kNoFace = 0xffffffffu;
     bool covered(int x, int y) const { return face[std::size_t(y) * width + x] != kNoFace; }
 };
@@ -35,16 +35,16 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
 
 struct ViewError {
     std::string view;
-    double input_px = 0;    ///< |S|: input silhouette pixels (coverage >= 0.5)
-    double render_px = 0;   ///< |R|: re-rendered pixels
-    double xor_px = 0;      ///< |S xor R|
-    double iou = 0;         ///< |S and R| / |S or R| (1 when both are empty)
-    double xor_pct = 0;     ///< 100 |S xor R| / |S|
+    double input_px = 0;  ///< |S|: input silhouette pixels (coverage >= 0.5)
+    double render_px = 0; ///< |R|: re-rendered pixels
+    double xor_px = 0;    ///< |S xor R|
+    double iou = 0;       ///< |S and R| / |S or R| (1 when both are empty)
+    double xor_pct = 0;   ///< 100 |S xor R| / |S|
 };
 struct SilhouetteError {
     std::vector<ViewError> views;
-    double xor_pct = 0;     ///< 100 * sum_v |S xor R| / sum_v |S| (the seed paper's error)
-    double mean_iou = 0;    ///< mean of the per-view IoU
+    double xor_pct = 0;  ///< 100 * sum_v |S xor R| / sum_v |S| (the seed paper's error)
+    double mean_iou = 0; ///< mean of the per-view IoU
 };
 
 /// @brief Re-renders the mesh through every view's camera and compares with the view's

@@ -85,7 +85,8 @@ std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
     const double jump = cam.orthographic() ? 6.0 / s.hi.scale : 0.0;
     auto depth_jump = [&](std::size_t i, std::size_t j) {
         const double a = D.depth[i], b = D.depth[j];
-        return cam.orthographic() ? std::abs(a - b) > jump : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
+        return cam.orthographic() ? std::abs(a - b) > jump
+                                  : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
     };
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
@@ -95,8 +96,11 @@ std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
             for (std::size_t j : nb) {
                 if (j == i || s.empty[j] || D.face[j] == D.face[i]) continue;
                 if (dot(s.fnormal[D.face[i]], s.fnormal[D.face[j]]) < cos_crease || depth_jump(i, j)) {
-                    crease[i] = 1;   // the nearer side carries the line
-                    if (D.depth[j] < D.depth[i]) { crease[i] = 0; crease[j] = 1; }
+                    crease[i] = 1; // the nearer side carries the line
+                    if (D.depth[j] < D.depth[i]) {
+                        crease[i] = 0;
+                        crease[j] = 1;
+                    }
                 }
             }
         }
@@ -154,7 +158,7 @@ std::vector<float> shade_samples(const ArtScene& s, const std::vector<float>& to
                                  Vec3d(mesh.normals[f[2]]) * bv;
                 if (length(sn) > 1e-12) n = normalize(sn);
             }
-            if (dot(n, d) > 0) n = -n;   // seen from behind (open or inconsistently wound meshes)
+            if (dot(n, d) > 0) n = -n; // seen from behind (open or inconsistently wound meshes)
             const double diffuse = std::max(0.0, dot(n, light));
             // Two tones with a soft terminator, as a painted study would have.
             const double tone = 0.60 + 0.32 * smoothstep(0.18, 0.38, diffuse) + 0.12 * diffuse;
@@ -183,7 +187,8 @@ Image average_down(const ArtScene& s, const std::vector<float>& hires, int width
                     for (int k = 0; k < 3; ++k) acc[k] += hires[i * 3 + k];
                     covered += !s.empty[i];
                 }
-            const double g = opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
+            const double g =
+                opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
             const double on_paper = 1.0 - 0.7 * double(covered) * inv;
             float* out = &img.pixels[(std::size_t(y) * width + x) * 4];
             for (int k = 0; k < 3; ++k) out[k] = std::clamp(float(acc[k] * inv + g * on_paper), 0.0f, 1.0f);
@@ -195,7 +200,8 @@ Image average_down(const ArtScene& s, const std::vector<float>& hires, int width
 } // namespace
 
 Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt) {
-    if (width <= 0 || height <= 0) throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
+    if (width <= 0 || height <= 0)
+        throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
     // Samples per pixel, kept to about 12 M samples so large images stay within memory.
     int ss = std::max(1, opt.supersample);
     while (ss > 1 && double(width) * height * ss * ss > 12e6) --ss;

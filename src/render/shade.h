@@ -11,17 +11,17 @@
 namespace cm {
 
 struct ArtOptions {
-    std::array<float, 3> paper{0.957f, 0.937f, 0.886f};   ///< background colour
-    std::array<float, 3> fill{0.49f, 0.55f, 0.64f};       ///< lit fill colour
-    std::array<float, 3> ink{0.12f, 0.11f, 0.13f};        ///< line colour
-    float grain = 0.025f;          ///< paper grain amplitude (uniform, +-), 0 for none
-    float vignette = 0.04f;        ///< darkening at the corners, 0 for none
-    float outline_px = 2.0f;       ///< silhouette line width, drawn inside the silhouette
-    float crease_px = 1.2f;        ///< width of crease and inner-contour lines
-    float crease_deg = 40.0f;      ///< dihedral angle that draws a crease line
-    bool lines = true;             ///< false: shaded fill only
-    int supersample = 3;           ///< samples per pixel along x and y (anti-aliasing)
-    unsigned seed = 1;             ///< grain pattern
+    std::array<float, 3> paper{0.957f, 0.937f, 0.886f}; ///< background colour
+    std::array<float, 3> fill{0.49f, 0.55f, 0.64f};     ///< lit fill colour
+    std::array<float, 3> ink{0.12f, 0.11f, 0.13f};      ///< line colour
+    float grain = 0.025f;                               ///< paper grain amplitude (uniform, +-), 0 for none
+    float vignette = 0.04f;                             ///< darkening at the corners, 0 for none
+    float outline_px = 2.0f;                            ///< silhouette line width, drawn inside the silhouette
+    float crease_px = 1.2f;                             ///< width of crease and inner-contour lines
+    float crease_deg = 40.0f;                           ///< dihedral angle that draws a crease line
+    bool lines = true;                                  ///< false: shaded fill only
+    int supersample = 3;                                ///< samples per pixel along x and y (anti-aliasing)
+    unsigned seed = 1;                                  ///< grain pattern
 };
 
 /// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the

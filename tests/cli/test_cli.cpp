@@ -46,7 +46,8 @@ TEST(Cli, VersionAndHelp) {
     EXPECT_NE(r.out.find("conceptmesh " CONCEPTMESH_VERSION_STRING), std::string::npos) << r.out;
     r = test::run_cli("--help");
     EXPECT_EQ(r.exit_code, 0);
-    for (const char* cmd : {"run", "validate", "stages", "schema"}) EXPECT_NE(r.out.find(cmd), std::string::npos) << cmd;
+    for (const char* cmd : {"run", "validate", "stages", "schema"})
+        EXPECT_NE(r.out.find(cmd), std::string::npos) << cmd;
     r = test::run_cli("frobnicate");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(line_count(r.err), 1u) << r.err;
@@ -84,7 +85,9 @@ TEST(Cli, UnknownSetTargetIsAnErrorAndWritesNothing) {
     EXPECT_EQ(line_count(r.err), 1u) << r.err;
     r = cli_with_testkit("run p.yaml --set box.colour=red", dir.path());
     EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.err.find("p.yaml:3: node \"box\" (test.box): unknown parameter \"colour\" (from --set)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("p.yaml:3: node \"box\" (test.box): unknown parameter \"colour\" (from --set)"),
+              std::string::npos)
+        << r.err;
     EXPECT_FALSE(fs::exists(dir / "box.obj"));
 }
 
@@ -135,7 +138,8 @@ TEST(Cli, ValidateReportsOneLineWithFileAndLine) {
     test::write_text(dir / "bad.yaml", "nodes:\n  - id: box\n    stage: test.box\n    params: {size: -1}\n");
     r = cli_with_testkit("validate bad.yaml", dir.path());
     EXPECT_NE(r.exit_code, 0);
-    EXPECT_EQ(r.err, "conceptmesh: error: bad.yaml:4: node \"box\" (test.box): size must be in [0.001, 1000] units, got -1\n");
+    EXPECT_EQ(r.err,
+              "conceptmesh: error: bad.yaml:4: node \"box\" (test.box): size must be in [0.001, 1000] units, got -1\n");
     r = test::run_cli("validate missing.yaml", dir.path());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("cannot open pipeline \"missing.yaml\""), std::string::npos) << r.err;
@@ -172,12 +176,15 @@ TEST(Cli, PlainProgressLinesWhenNotATerminal) {
 
 TEST(Cli, CtrlCStopsPromptlyAndLeavesNoOutput) {
     test::TempDir dir("cli-cancel");
-    test::write_text(dir / "p.yaml", std::string(kBoxPipeline) +
-                                         "  - id: slow\n    stage: test.sleep\n    inputs: {mesh: box}\n    params: {seconds: 120}\n");
+    test::write_text(dir / "p.yaml",
+                     std::string(kBoxPipeline) +
+                         "  - id: slow\n    stage: test.sleep\n    inputs: {mesh: box}\n    params: {seconds: 120}\n");
     // Interrupt once the slow stage is running (not during start-up, before the handler exists),
     // then time how long the process takes to stop.
     const std::string script =
-        "cd '" + dir.path().string() + "' || exit 1; '" CM_EXE "' run p.yaml 2>err.txt & pid=$!; "
+        "cd '" + dir.path().string() +
+        "' || exit 1; '" CM_EXE
+        "' run p.yaml 2>err.txt & pid=$!; "
         "for i in $(seq 1 600); do grep -q 'slow] test.sleep started' err.txt 2>/dev/null && break; sleep 0.1; done; "
         "date +%s%N > t0.txt; kill -INT $pid; wait $pid; code=$?; date +%s%N > t1.txt; echo $code > code.txt";
     ::setenv("CONCEPTMESH_PLUGIN_PATH", (kFixtures / "good").c_str(), 1);
@@ -185,8 +192,9 @@ TEST(Cli, CtrlCStopsPromptlyAndLeavesNoOutput) {
     ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
     ASSERT_EQ(WEXITSTATUS(status), 0);
     EXPECT_EQ(std::stoi(test::read_text(dir / "code.txt")), 130);
-    const double secs = double(std::stoll(test::read_text(dir / "t1.txt")) - std::stoll(test::read_text(dir / "t0.txt"))) * 1e-9;
-    EXPECT_LT(secs, 30.0) << "took " << secs << " s to stop";   // about 0.01 s here; generous for a loaded machine
+    const double secs =
+        double(std::stoll(test::read_text(dir / "t1.txt")) - std::stoll(test::read_text(dir / "t0.txt"))) * 1e-9;
+    EXPECT_LT(secs, 30.0) << "took " << secs << " s to stop"; // about 0.01 s here; generous for a loaded machine
     EXPECT_FALSE(fs::exists(dir / "box.obj"));
     const std::string err = test::read_text(dir / "err.txt");
     EXPECT_NE(err.find("cancelled; no output was written"), std::string::npos) << err;

@@ -14,11 +14,15 @@ void expect_vec(const Vec3d& a, const Vec3d& b) {
 
 // The table of ../conventions/views.md, row by row.
 TEST(Camera, NamedViewsMatchTheConventionsTable) {
-    struct Row { const char* name; Vec3d d, r, u; double az, el; };
+    struct Row {
+        const char* name;
+        Vec3d d, r, u;
+        double az, el;
+    };
     const Row rows[] = {
-        {"front", {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, 0, 0},    {"back", {0, 0, 1}, {-1, 0, 0}, {0, 1, 0}, 180, 0},
-        {"right", {-1, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 0},  {"left", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 270, 0},
-        {"top", {0, -1, 0}, {1, 0, 0}, {0, 0, -1}, 0, 90},    {"bottom", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 0, -90},
+        {"front", {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, 0, 0},   {"back", {0, 0, 1}, {-1, 0, 0}, {0, 1, 0}, 180, 0},
+        {"right", {-1, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 0}, {"left", {1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 270, 0},
+        {"top", {0, -1, 0}, {1, 0, 0}, {0, 0, -1}, 0, 90},   {"bottom", {0, 1, 0}, {1, 0, 0}, {0, 0, 1}, 0, -90},
     };
     for (const auto& row : rows) {
         SCOPED_TRACE(row.name);
@@ -41,8 +45,8 @@ TEST(Camera, OrthographicProjectionFollowsPixelConvention) {
     c.cx = 100;
     c.cy = 50;
     const Vec2d p = c.project({10, 5, 3});
-    EXPECT_DOUBLE_EQ(p.x, 120);   // image right is +X
-    EXPECT_DOUBLE_EQ(p.y, 40);    // image up is +Y, rows grow downwards
+    EXPECT_DOUBLE_EQ(p.x, 120); // image right is +X
+    EXPECT_DOUBLE_EQ(p.y, 40);  // image up is +Y, rows grow downwards
     Vec3d o, d;
     c.ray(p.x, p.y, o, d);
     EXPECT_NEAR(o.x, 10, 1e-12);

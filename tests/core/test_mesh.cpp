@@ -29,7 +29,7 @@ TEST(MeshCheck, DetectsHolesFlipsAndNonManifoldEdges) {
     EXPECT_GT(check_mesh(flipped).inconsistent_edges, 0u);
     Mesh fin = m;
     fin.positions.push_back({5, 5, 5});
-    fin.triangles.push_back({0, 1, 8});   // a third face on edge 0-1
+    fin.triangles.push_back({0, 1, 8}); // a third face on edge 0-1
     EXPECT_GT(check_mesh(fin).nonmanifold_edges, 0u);
     Mesh inside_out = m;
     for (auto& t : inside_out.triangles) std::swap(t[1], t[2]);
@@ -43,7 +43,7 @@ TEST(MeshCheck, DetectsBowtieVertex) {
     const std::uint32_t off = std::uint32_t(a.positions.size());
     for (auto p : b.positions) a.positions.push_back(p);
     for (auto t : b.triangles) {
-        for (auto& i : t) i = (i == 0) ? 7 : i + off;   // b's corner 0 is a's corner 7
+        for (auto& i : t) i = (i == 0) ? 7 : i + off; // b's corner 0 is a's corner 7
         a.triangles.push_back(t);
     }
     EXPECT_EQ(check_mesh(a).nonmanifold_vertices, 1u);

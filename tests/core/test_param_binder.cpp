@@ -78,7 +78,7 @@ TEST(ParamBinder, ConfigureFillsTheMembersTypedWithDefaults) {
     Bound s;
     ParamSet p = with_file();
     p.set("mode", std::string("exact"));
-    p.set("limit", std::int64_t(4));   // an integer where a number is declared
+    p.set("limit", std::int64_t(4)); // an integer where a number is declared
     s.configure(p);
     EXPECT_EQ(s.count.value, 3);
     EXPECT_FALSE(s.count.given);
@@ -88,7 +88,7 @@ TEST(ParamBinder, ConfigureFillsTheMembersTypedWithDefaults) {
     EXPECT_EQ(s.file, std::filesystem::path("a.txt"));
     EXPECT_EQ(s.mode, Bound::Mode::Exact);
     EXPECT_EQ(s.checks, 1);
-    EXPECT_EQ(s.params().get_int("count"), 3);   // stored with the defaults
+    EXPECT_EQ(s.params().get_int("count"), 3); // stored with the defaults
 
     // Configured again: what the user gave is marked, an optional left out is reset.
     ParamSet q = with_file();
@@ -117,7 +117,7 @@ TEST(ParamBinder, ConfigureRefusesWhatTheDeclarationForbids) {
     p.set("mode", std::string("exact"));
     p.set("scale", 1.0);
     EXPECT_EQ(error_of(s, p), "exact needs a scale up to 0.9");
-    EXPECT_EQ(s.checks, 1);   // check() runs once the members are set, not before
+    EXPECT_EQ(s.checks, 1); // check() runs once the members are set, not before
 }
 
 TEST(ParamBinder, AMemberOfTheWrongKindIsAStageBug) {

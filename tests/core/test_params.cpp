@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <unistd.h>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -53,7 +53,8 @@ TEST(Params, OutputPathChecksTheExtensionAndTheFolders) {
     std::filesystem::create_directories(dir);
     { std::ofstream(dir / "file") << "x"; }
     EXPECT_EQ(check_output_path(one, dir / "new" / "deeper" / "a.png"), "");
-    EXPECT_EQ(check_output_path(one, dir / "file" / "a.png"),
-              "sheet \"" + (dir / "file" / "a.png").string() + "\": \"" + (dir / "file").string() + "\" is not a folder");
+    EXPECT_EQ(
+        check_output_path(one, dir / "file" / "a.png"),
+        "sheet \"" + (dir / "file" / "a.png").string() + "\": \"" + (dir / "file").string() + "\" is not a folder");
     std::filesystem::remove_all(dir);
 }

@@ -54,7 +54,7 @@ TEST(ExtractPipeline, SpotHullIsClosedAndMatchesItsViews) {
         EXPECT_TRUE(c.closed_manifold());
         EXPECT_EQ(c.degenerate_faces, 0u);
         EXPECT_EQ(c.components, 1u);
-        EXPECT_EQ(c.euler, 2);   // Spot is genus 0
+        EXPECT_EQ(c.euler, 2); // Spot is genus 0
         EXPECT_GT(c.signed_volume, 0.0);
         // The stage's own check agrees, in the run report.
         const json rep = json::parse(test::read_text(dir / "run.json"));

@@ -4,9 +4,9 @@
 // outward and free of degenerate faces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
 #include <functional>
 #include <memory>
 #include <random>
@@ -50,7 +50,7 @@ Volume volume_from_sdf(const Sdf& sdf, const openvdb::CoordBBox& box, double h, 
                     Coord q = p;
                     q[a] += dir;
                     if (acc.isValueOn(q)) continue;
-                    const Coord s = dir > 0 ? p : q;   // edge start
+                    const Coord s = dir > 0 ? p : q; // edge start
                     Coord e = s;
                     e[a] += 1;
                     const Vec3d ws = world(s), we = world(e);
@@ -153,8 +153,11 @@ TEST(MarchingCubes, SphereVerticesLieOnTheSphere) {
 }
 
 TEST(MarchingCubes, MidpointsWithoutCrossings) {
-    const Volume v = volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 6.2); },
-                                     openvdb::CoordBBox(Coord(-10), Coord(10)), 1.0, {0, 0, 0}, false);
+    const Volume v = volume_from_sdf(
+        [](const Vec3d& p) {
+            return sphere_sdf(p, {0, 0, 0}, 6.2);
+        },
+        openvdb::CoordBBox(Coord(-10), Coord(10)), 1.0, {0, 0, 0}, false);
     ASSERT_FALSE(v.crossings);
     const Mesh m = marching_cubes(v);
     expect_good(m, "binary sphere");
@@ -168,8 +171,11 @@ TEST(MarchingCubes, MidpointsWithoutCrossings) {
         EXPECT_EQ(halves, 1);
     }
     // The refined sphere's vertices are on the sphere; the binary ones up to half a cell off.
-    const Volume vr = volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 6.2); },
-                                      openvdb::CoordBBox(Coord(-10), Coord(10)), 1.0, {0, 0, 0}, true);
+    const Volume vr = volume_from_sdf(
+        [](const Vec3d& p) {
+            return sphere_sdf(p, {0, 0, 0}, 6.2);
+        },
+        openvdb::CoordBBox(Coord(-10), Coord(10)), 1.0, {0, 0, 0}, true);
     auto mean_error = [](const Mesh& mesh) {
         double e = 0;
         for (const auto& p : mesh.positions) e += std::abs(length(Vec3d(p)) - 6.2);
@@ -261,7 +267,7 @@ TEST(MarchingCubes, RandomOccupancyStaysManifold) {
         auto acc = v.occupancy->getAccessor();
         std::uniform_real_distribution<double> u(0, 1);
         const int n = 13 + trial % 5;
-        const Coord shift(trial * 3 - 30, 5 - trial, 8 * (trial % 3) - 4);   // across block and sign boundaries
+        const Coord shift(trial * 3 - 30, 5 - trial, 8 * (trial % 3) - 4); // across block and sign boundaries
         for (int x = 0; x < n; ++x)
             for (int y = 0; y < n; ++y)
                 for (int z = 0; z < n; ++z)
@@ -335,7 +341,9 @@ TEST(MarchingCubes, SurfaceBulgeBetweenGridPointsRaisesNoSpike) {
     // An x-edge just outside a box face whose ends are outside but whose middle grazes a
     // bump of the surface: next to the solid, alone, so it is not promoted.
     const Volume body = volume_from_sdf(
-        [](const Vec3d& p) { return std::max({std::abs(p.x) - 4.5, std::abs(p.y) - 4.5, std::abs(p.z) - 4.5}); },
+        [](const Vec3d& p) {
+            return std::max({std::abs(p.x) - 4.5, std::abs(p.y) - 4.5, std::abs(p.z) - 4.5});
+        },
         openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0});
     Volume v = body;
     auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
@@ -356,8 +364,11 @@ TEST(MarchingCubes, SurfaceBulgeBetweenGridPointsRaisesNoSpike) {
 
 TEST(MarchingCubes, ThinRodNextToABody) {
     // A body with exact crossings, plus a rod thinner than a cell along z attached to it.
-    const Volume body = volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 5.0); },
-                                        openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0});
+    const Volume body = volume_from_sdf(
+        [](const Vec3d& p) {
+            return sphere_sdf(p, {0, 0, 0}, 5.0);
+        },
+        openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0});
     Volume v = body;
     auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
     auto leave = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
@@ -396,12 +407,15 @@ TEST(MarchingCubes, EmptyAndBadVolumes) {
 }
 
 TEST(ExtractMarchingCubesStage, ReportsCountsAndRefusesAnEmptyVolume) {
-    test::StageHarness stage("extract.marching_cubes");   // every parameter at its default
+    test::StageHarness stage("extract.marching_cubes"); // every parameter at its default
     const StageInfo info = stage.info();
     EXPECT_EQ(info.name, "extract.marching_cubes");
 
-    auto vol = std::make_shared<Volume>(volume_from_sdf([](const Vec3d& p) { return sphere_sdf(p, {0, 0, 0}, 5.3); },
-                                                        openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0}));
+    auto vol = std::make_shared<Volume>(volume_from_sdf(
+        [](const Vec3d& p) {
+            return sphere_sdf(p, {0, 0, 0}, 5.3);
+        },
+        openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0}));
     stage.input("volume", vol);
     const auto mesh = stage.run<Mesh>();
     ASSERT_TRUE(mesh);

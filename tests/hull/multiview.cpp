@@ -24,7 +24,7 @@ void write_tum_bunny_manifest(const fs::path& dir, const fs::path& manifest) {
         std::ifstream in(calib);
         if (!in) throw Error("cannot read \"" + calib.string() + "\"");
         std::string word;
-        in >> word;   // CONTOUR
+        in >> word; // CONTOUR
         std::array<double, 12> P{};
         for (double& v : P)
             if (!(in >> v)) throw Error("\"" + calib.string() + "\": expected a 3x4 matrix after CONTOUR");
@@ -59,7 +59,8 @@ void write_dino_manifest(const fs::path& dir, const fs::path& manifest) {
         for (double& x : K) in >> x;
         for (double& x : R) in >> x;
         for (double& x : t) in >> x;
-        if (!in) throw Error("\"" + (dir / "dinoSR_par.txt").string() + "\": short line for view " + std::to_string(v + 1));
+        if (!in)
+            throw Error("\"" + (dir / "dinoSR_par.txt").string() + "\": short line for view " + std::to_string(v + 1));
         if (!good.empty() && !good.count(file)) continue;
         // P = K [R | t]
         std::array<double, 12> P{};

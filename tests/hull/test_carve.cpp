@@ -44,7 +44,7 @@ void expect_points_match(const Volume& v, Inside inside, double margin, std::siz
             for (int k = box.min().z(); k <= box.max().z(); ++k) {
                 const auto w = xf.indexToWorld(openvdb::Coord(i, j, k));
                 const int truth = inside(Vec3d{w.x(), w.y(), w.z()}, margin);
-                if (truth == 0) continue;   // too close to the boundary to call
+                if (truth == 0) continue; // too close to the boundary to call
                 ++checked;
                 ASSERT_EQ(acc.isValueOn(openvdb::Coord(i, j, k)), truth > 0) << "at " << i << "," << j << "," << k;
             }
@@ -65,7 +65,7 @@ TEST(HullCarve, SphereFromThreeAxisViewsIsTheTricylinder) {
         const double h = vol->voxel_size();
         EXPECT_NEAR(h, 2.0 * r / res, 1e-12);
         // Counting grid points: the error is a layer of about half a cell over the surface.
-        const double area = 3 * 8 * (2 - std::sqrt(2.0)) * r * r;   // tricylinder surface 24 (2 - sqrt 2) r^2
+        const double area = 3 * 8 * (2 - std::sqrt(2.0)) * r * r; // tricylinder surface 24 (2 - sqrt 2) r^2
         EXPECT_NEAR(counted_volume(*vol), exact, 0.5 * area * h) << "resolution " << res;
         std::size_t checked = 0;
         expect_points_match(
@@ -83,7 +83,7 @@ TEST(HullCarve, BoxIsExact) {
     const Vec3d lo{-1.0, -0.5, -0.25}, hi{1.0, 0.75, 0.5};
     auto views = box_views(lo, hi, 300, 120.0);
     CarveOptions opt;
-    opt.resolution = 40;   // h = 0.05: the faces fall between grid points
+    opt.resolution = 40; // h = 0.05: the faces fall between grid points
     auto vol = carve(views, opt);
     std::size_t checked = 0;
     expect_points_match(
@@ -113,7 +113,7 @@ TEST(HullCarve, VisibleConcavityOfAnLShapeIsCarved) {
     opt.resolution = 64;
     auto vol = carve(views, opt);
     const double h = vol->voxel_size();
-    EXPECT_NEAR(counted_volume(*vol), 3.0, 0.5 * 14.0 * h);   // area of the L prism: 14
+    EXPECT_NEAR(counted_volume(*vol), 3.0, 0.5 * 14.0 * h); // area of the L prism: 14
     auto acc = vol->occupancy->getConstAccessor();
     const auto inside = [&](double x, double y, double z) {
         const auto ijk = vol->transform().worldToIndexNodeCentered(openvdb::Vec3d(x, y, z));
@@ -121,22 +121,22 @@ TEST(HullCarve, VisibleConcavityOfAnLShapeIsCarved) {
     };
     EXPECT_TRUE(inside(-0.5, 0.5, 0.0));
     EXPECT_TRUE(inside(0.5, -0.5, 0.0));
-    EXPECT_FALSE(inside(0.5, 0.5, 0.0));   // the notch
+    EXPECT_FALSE(inside(0.5, 0.5, 0.0)); // the notch
 }
 
 // A cube with one octant removed: every axis view still shows a full square, so the
 // hull fills the notch (a visual hull cannot see a concavity no view shows).
 TEST(HullCarve, HiddenConcavityIsFilled) {
     const Vec3d lo{-1, -1, -1}, hi{1, 1, 1};
-    auto views = box_views(lo, hi, 300, 120.0);   // the notched cube's three silhouettes are squares
+    auto views = box_views(lo, hi, 300, 120.0); // the notched cube's three silhouettes are squares
     CarveOptions opt;
     opt.resolution = 32;
     auto vol = carve(views, opt);
     auto acc = vol->occupancy->getConstAccessor();
     const auto ijk = vol->transform().worldToIndexNodeCentered(openvdb::Vec3d(0.5, 0.5, 0.5));
-    EXPECT_TRUE(acc.isValueOn(ijk));   // inside the removed octant
+    EXPECT_TRUE(acc.isValueOn(ijk)); // inside the removed octant
     const double h = vol->voxel_size();
-    EXPECT_NEAR(counted_volume(*vol), 8.0, 0.5 * 24.0 * h);   // the cube, not the 7 of the object
+    EXPECT_NEAR(counted_volume(*vol), 8.0, 0.5 * 24.0 * h); // the cube, not the 7 of the object
 }
 
 // Interior as tiles, leaves only at the surface: leaf voxels grow like N^2, not N^3.
@@ -166,11 +166,11 @@ TEST(HullCarve, LeavesGrowWithTheSurface) {
                                      (b.min().z() + b.max().z()) / 2);
             for (int a = 0; a < 3; ++a)
                 for (int e : {b.min()[a], b.max()[a]}) {
-                    openvdb::Coord c = mid;   // face centres
+                    openvdb::Coord c = mid; // face centres
                     c[a] = e;
                     in_tiles_at_surface += !tree.isValueOn(c);
                 }
-            for (int k = 0; k < 8; ++k)   // corners
+            for (int k = 0; k < 8; ++k) // corners
                 in_tiles_at_surface += !tree.isValueOn(openvdb::Coord((k & 1) ? b.max().x() : b.min().x(),
                                                                       (k & 2) ? b.max().y() : b.min().y(),
                                                                       (k & 4) ? b.max().z() : b.min().z()));
@@ -191,11 +191,12 @@ TEST(HullCarve, PerspectiveViewsOfASphere) {
     int k = 0;
     for (const Vec3d& e : eyes) {
         const Vec3d up = std::abs(e.y) > 5 ? Vec3d{0, 0, -1} : Vec3d{0, 1, 0};
-        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300, f, c, r));
+        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300,
+                                             f, c, r));
     }
     auto views = std::make_shared<Views>();
     views->views = std::move(vs);
-    views->calibrated = true;   // no bounds: the box is estimated from the cameras
+    views->calibrated = true; // no bounds: the box is estimated from the cameras
     CarveOptions opt;
     opt.resolution = 64;
     CarveStats st;
@@ -204,7 +205,7 @@ TEST(HullCarve, PerspectiveViewsOfASphere) {
     for (int a = 0; a < 3; ++a) {
         EXPECT_LT(st.box_min[a], c[a] - r);
         EXPECT_GT(st.box_max[a], c[a] + r);
-        EXPECT_LT(st.box_max[a] - st.box_min[a], 4 * r);   // not the whole camera rig
+        EXPECT_LT(st.box_max[a] - st.box_min[a], 4 * r); // not the whole camera rig
     }
     // The hull holds the sphere and is bounded by the cones.
     std::size_t checked = 0;
@@ -226,7 +227,7 @@ TEST(HullCarve, PerspectiveViewsOfASphere) {
 
 // resolution and voxel_ratio are two ways to say one thing: they give the same grid.
 TEST(HullCarve, ResolutionParametersAgree) {
-    const double scale = 150.0;   // px per unit; the box is 2 units: 300 px
+    const double scale = 150.0; // px per unit; the box is 2 units: 300 px
     auto views = sphere_views(1.0, 320, scale);
     for (double ratio : {4.0, 8.0, 2.5}) {
         CarveOptions a;
@@ -250,7 +251,7 @@ TEST(HullCarve, StageLetsVoxelRatioDecide) {
     st.params("{resolution: 128, voxel_ratio: 4}");
     st.input("views", sphere_views(1.0, 320, 150.0));
     st.run<Volume>();
-    EXPECT_EQ(std::stod(st.metrics().at("resolution")), 75.0);   // 300 px / 4
+    EXPECT_EQ(std::stod(st.metrics().at("resolution")), 75.0); // 300 px / 4
     ASSERT_EQ(st.warnings().size(), 1u);
     EXPECT_NE(st.warnings()[0].find("voxel_ratio"), std::string::npos) << st.warnings()[0];
 }
@@ -292,8 +293,9 @@ TEST(HullCarve, CancelStopsTheCarve) {
     CarveOptions opt;
     opt.resolution = 128;
     int calls = 0;
-    EXPECT_THROW(carve(views, opt, [&](double) {
-                     if (++calls == 2) throw Cancelled();
-                 }),
+    EXPECT_THROW(carve(views, opt,
+                       [&](double) {
+                           if (++calls == 2) throw Cancelled();
+                       }),
                  Cancelled);
 }

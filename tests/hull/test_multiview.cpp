@@ -5,11 +5,11 @@
 #include <cstdio>
 
 #include "carve.h"
-#include "render/raster.h"
 #include "core/stage.h"
 #include "marching_cubes.h"
 #include "multiview.h"
 #include "refine.h"
+#include "render/raster.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"

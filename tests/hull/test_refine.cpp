@@ -5,8 +5,8 @@
 
 #include "carve.h"
 #include "geometry/silhouette_field.h"
-#include "support/shapes.h"
 #include "refine.h"
+#include "support/shapes.h"
 
 using namespace cm;
 using namespace cm::test;
@@ -54,7 +54,7 @@ TEST(HullRefine, SphereCrossingsAreSubPixelExact) {
     std::size_t n = 0;
     double worst = 0;
     for_each_crossing(*ref, [&](const Vec3d& p, bool pin, bool qin) {
-        ASSERT_NE(pin, qin);   // only where occupancy differs
+        ASSERT_NE(pin, qin); // only where occupancy differs
         const double d = std::max({std::hypot(p.y, p.z), std::hypot(p.x, p.z), std::hypot(p.x, p.y)});
         worst = std::max(worst, std::abs(d - r) * scale);
         ++n;
@@ -132,7 +132,8 @@ TEST(HullRefine, BoxCrossingsAndVolumeAreExact) {
     const double exact = (hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
     // Along x the crossings make the rows exact; y and z still count grid points.
     const double h = vol->voxel_size();
-    EXPECT_NEAR(crossing_volume(*ref), exact, 0.5 * h * 2 * ((hi.x - lo.x) * (hi.y - lo.y) + (hi.x - lo.x) * (hi.z - lo.z)));
+    EXPECT_NEAR(crossing_volume(*ref), exact,
+                0.5 * h * 2 * ((hi.x - lo.x) * (hi.y - lo.y) + (hi.x - lo.x) * (hi.z - lo.z)));
 }
 
 TEST(HullRefine, PerspectiveCrossingsLieOnTheCones) {
@@ -143,7 +144,8 @@ TEST(HullRefine, PerspectiveCrossingsLieOnTheCones) {
     int k = 0;
     for (const Vec3d& e : eyes) {
         const Vec3d up = std::abs(e.y) > 5 ? Vec3d{0, 0, -1} : Vec3d{0, 1, 0};
-        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300, f, c, r));
+        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300,
+                                             f, c, r));
     }
     auto views = make_views(std::move(vs), c - Vec3d{1.5, 1.5, 1.5}, c + Vec3d{1.5, 1.5, 1.5});
     views->calibrated = true;
@@ -182,7 +184,7 @@ TEST(HullRefine, ThinPartsBetweenGridPointsAreKept) {
     vs.push_back(ortho_view("top", 480, scale, box_outline(body0, body1, {0, -1, 0})));
     auto views = make_views(std::move(vs), {-1, -1, -1}, {1, 0.8, 1});
     CarveOptions opt;
-    opt.resolution = 20;   // h = 0.1 = 20 px; the fin is 0.03 = 6 px thick
+    opt.resolution = 20; // h = 0.1 = 20 px; the fin is 0.03 = 6 px thick
     auto vol = carve(views, opt);
     RefineStats st;
     auto ref = refine(*vol, nullptr, {}, {}, &st);
@@ -204,8 +206,8 @@ TEST(HullRefine, ThinPartsBetweenGridPointsAreKept) {
         const auto w = ge->transform().indexToWorld(it.getCoord());
         EXPECT_NEAR(w.z(), 0.0, 1e-9);
         ++n;
-        if (std::abs(w.y() - 0.8) < 1e-6) continue;   // on the fin's edge: how much of it is inside is moot
-        EXPECT_NEAR(v[2], 0.2, 0.05 / 20) << w;   // within 0.05 px (a cell is 20 px)
+        if (std::abs(w.y() - 0.8) < 1e-6) continue; // on the fin's edge: how much of it is inside is moot
+        EXPECT_NEAR(v[2], 0.2, 0.05 / 20) << w;     // within 0.05 px (a cell is 20 px)
         EXPECT_NEAR(la.getValue(it.getCoord())[2], 0.5, 0.05 / 20) << w;
     }
     EXPECT_GE(n, 21u * 7u);

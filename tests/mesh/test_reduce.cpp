@@ -4,9 +4,9 @@
 #include <map>
 
 #include "core/mesh.h"
-#include "mesh_decimate.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
+#include "mesh_decimate.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
 
@@ -30,7 +30,7 @@ std::map<int, double> cube_edge_coverage(const Mesh& m) {
     for (const auto& t : m.triangles)
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-            if (a > b) continue;   // each undirected edge once (closed mesh: both directions exist)
+            if (a > b) continue; // each undirected edge once (closed mesh: both directions exist)
             const Vec3f p = m.positions[a], q = m.positions[b];
             for (int axis = 0; axis < 3; ++axis) {
                 const int u = (axis + 1) % 3, v = (axis + 2) % 3;

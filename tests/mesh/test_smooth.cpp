@@ -91,11 +91,11 @@ TEST(HullDistance, SignedDistanceOfABoxFromItsViews) {
     const HullDistance h(views);
     const double px = h.finest_pixel();
     EXPECT_NEAR(px, 2.0 / 160.0, 1e-12);
-    EXPECT_NEAR(h({1.0, 0.3, -0.2}), 0.0, 0.1 * px);             // on a face
-    EXPECT_NEAR(h({1.0 + 10 * px, 0.0, 0.0}), 10 * px, 0.1 * px); // outside, along x
-    EXPECT_NEAR(h({1.0 - 10 * px, 0.0, 0.0}), -10 * px, 0.1 * px);// inside, nearest face x
-    EXPECT_NEAR(h({0.0, 0.0, 0.0}), -1.0, 2 * px);                // centre
-    EXPECT_GT(h({5.0, 0.0, 0.0}), 3.0);                           // far outside the images
+    EXPECT_NEAR(h({1.0, 0.3, -0.2}), 0.0, 0.1 * px);               // on a face
+    EXPECT_NEAR(h({1.0 + 10 * px, 0.0, 0.0}), 10 * px, 0.1 * px);  // outside, along x
+    EXPECT_NEAR(h({1.0 - 10 * px, 0.0, 0.0}), -10 * px, 0.1 * px); // inside, nearest face x
+    EXPECT_NEAR(h({0.0, 0.0, 0.0}), -1.0, 2 * px);                 // centre
+    EXPECT_GT(h({5.0, 0.0, 0.0}), 3.0);                            // far outside the images
 }
 
 TEST(HullDistance, EmptySilhouetteIsAnErrorNamingTheView) {

@@ -9,10 +9,10 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
-#include "geometry/mesh_intersect.h"
-#include "mesh_smooth.h"
 #include "core/volume.h"
+#include "geometry/mesh_intersect.h"
 #include "marching_cubes.h"
+#include "mesh_smooth.h"
 #include "support/shapes.h"
 
 using namespace cm;

@@ -69,9 +69,9 @@ TEST(VolumeWrite, OccupancyBecomesALevelSetThatReadsBack) {
     ASSERT_TRUE(occ);
     EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
     EXPECT_NEAR(grid->voxelSize()[0], 0.1, 1e-12);
-    EXPECT_LT(sample(*grid, 0, 0, 0), 0.0);                   // inside
-    EXPECT_GT(sample(*grid, 2, 0, 0), 0.0);                   // outside
-    EXPECT_NEAR(sample(*grid, 1.05, 0.2, -0.3), 0.0, 0.06);  // on the face
+    EXPECT_LT(sample(*grid, 0, 0, 0), 0.0);                 // inside
+    EXPECT_GT(sample(*grid, 2, 0, 0), 0.0);                 // outside
+    EXPECT_NEAR(sample(*grid, 1.05, 0.2, -0.3), 0.0, 0.06); // on the face
     EXPECT_NEAR(sample(*grid, 0.85, 0.0, 0.0), -0.2, 0.06);
 }
 

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/mesh_io.h"
 #include "fixtures/testkit_stages.h"
+#include "io/mesh_io.h"
 #include "pipeline/pipeline.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
@@ -36,11 +36,12 @@ std::string rejection(const std::string& yaml, const std::vector<std::string>& s
 
 TEST(Pipeline, ValidGraphRunsAndWritesItsOutput) {
     test::TempDir dir("pipeline-valid");
-    const std::string yaml = "pipeline: t\nnodes:\n"
-                             "  - id: box\n    stage: test.box\n    params: { size: 2.5 }\n"
-                             "  - id: slow\n    stage: test.sleep\n    inputs: { mesh: box }\n    params: { seconds: 0.05 }\n"
-                             "  - id: write\n    stage: mesh.write\n    inputs: { mesh: slow }\n    params: { path: " +
-                             (dir / "box.ply").string() + " }\n";
+    const std::string yaml =
+        "pipeline: t\nnodes:\n"
+        "  - id: box\n    stage: test.box\n    params: { size: 2.5 }\n"
+        "  - id: slow\n    stage: test.sleep\n    inputs: { mesh: box }\n    params: { seconds: 0.05 }\n"
+        "  - id: write\n    stage: mesh.write\n    inputs: { mesh: slow }\n    params: { path: " +
+        (dir / "box.ply").string() + " }\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     p.validate(registry());
     ASSERT_EQ(p.order.size(), 3u);
@@ -67,10 +68,14 @@ TEST(Pipeline, ValidGraphRunsAndWritesItsOutput) {
 
 TEST(Pipeline, IndependentBranchesBothRun) {
     test::TempDir dir("pipeline-branches");
-    const std::string yaml = "nodes:\n"
-                             "  - {id: box, stage: test.box}\n"
-                             "  - {id: a, stage: mesh.write, inputs: {mesh: box}, params: {path: " + (dir / "a.obj").string() + "}}\n"
-                             "  - {id: b, stage: mesh.write, inputs: {mesh: box}, params: {path: " + (dir / "b.stl").string() + "}}\n";
+    const std::string yaml =
+        "nodes:\n"
+        "  - {id: box, stage: test.box}\n"
+        "  - {id: a, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+        (dir / "a.obj").string() +
+        "}}\n"
+        "  - {id: b, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+        (dir / "b.stl").string() + "}}\n";
     // Repeated: every node must run exactly once however the tasks interleave
     // (a node launched twice finds its input already released).
     for (int k = 0; k < 20; ++k) {
@@ -83,11 +88,14 @@ TEST(Pipeline, IndependentBranchesBothRun) {
 
 TEST(Pipeline, AFailedRunLeavesNoOutputFile) {
     test::TempDir dir("pipeline-fail");
-    const std::string yaml = "nodes:\n"
-                             "  - {id: box, stage: test.box}\n"
-                             "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " + (dir / "out.obj").string() + "}}\n"
-                             "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 0.2}}\n"
-                             "  - {id: boom, stage: test.fail, inputs: {mesh: slow}}\n";
+    const std::string yaml =
+        "nodes:\n"
+        "  - {id: box, stage: test.box}\n"
+        "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+        (dir / "out.obj").string() +
+        "}}\n"
+        "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 0.2}}\n"
+        "  - {id: boom, stage: test.fail, inputs: {mesh: slow}}\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     try {
         run_pipeline(p, registry(), {});
@@ -100,10 +108,13 @@ TEST(Pipeline, AFailedRunLeavesNoOutputFile) {
 
 TEST(Pipeline, CancelStopsTheRunAndLeavesNoOutput) {
     test::TempDir dir("pipeline-cancel");
-    const std::string yaml = "nodes:\n"
-                             "  - {id: box, stage: test.box}\n"
-                             "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " + (dir / "out.obj").string() + "}}\n"
-                             "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 60}}\n";
+    const std::string yaml =
+        "nodes:\n"
+        "  - {id: box, stage: test.box}\n"
+        "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+        (dir / "out.obj").string() +
+        "}}\n"
+        "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 60}}\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     std::thread canceller([] {
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -153,19 +164,23 @@ TEST(Pipeline, RejectsMissingInput) {
                "p.yaml:4: node \"slow\" (test.sleep): missing input \"mesh\"");
     EXPECT_HAS(rejection("nodes:\n  - id: slow\n    stage: test.sleep\n    inputs:\n      mesh: nothere\n"),
                "p.yaml:5: node \"slow\" (test.sleep): input \"mesh\" names unknown node \"nothere\"");
-    EXPECT_HAS(rejection("nodes:\n  - id: box\n    stage: test.box\n  - id: slow\n    stage: test.sleep\n    inputs:\n      mesh: box\n      extra: box\n"),
+    EXPECT_HAS(rejection("nodes:\n  - id: box\n    stage: test.box\n  - id: slow\n    stage: test.sleep\n    inputs:\n "
+                         "     mesh: box\n      extra: box\n"),
                "p.yaml:8: node \"slow\" (test.sleep): unknown input port \"extra\" (ports: mesh)");
 }
 
 TEST(Pipeline, RejectsPortKindMismatch) {
-    EXPECT_HAS(rejection("nodes:\n  - id: box\n    stage: test.box\n  - id: nv\n    stage: test.needs_views\n    inputs:\n      views: box\n"),
-               "p.yaml:7: node \"nv\" (test.needs_views): input \"views\" needs views but node \"box\" (test.box) gives mesh");
+    EXPECT_HAS(
+        rejection("nodes:\n  - id: box\n    stage: test.box\n  - id: nv\n    stage: test.needs_views\n    inputs:\n    "
+                  "  views: box\n"),
+        "p.yaml:7: node \"nv\" (test.needs_views): input \"views\" needs views but node \"box\" (test.box) gives mesh");
 }
 
 TEST(Pipeline, RejectsCycle) {
-    const auto m = rejection("nodes:\n  - id: box\n    stage: test.box\n"
-                             "  - id: a\n    stage: test.sleep\n    inputs: {mesh: b}\n"
-                             "  - id: b\n    stage: test.sleep\n    inputs: {mesh: a}\n");
+    const auto m = rejection(
+        "nodes:\n  - id: box\n    stage: test.box\n"
+        "  - id: a\n    stage: test.sleep\n    inputs: {mesh: b}\n"
+        "  - id: b\n    stage: test.sleep\n    inputs: {mesh: a}\n");
     EXPECT_HAS(m, "p.yaml:");
     EXPECT_HAS(m, "(test.sleep): the graph has a cycle: ");
     EXPECT_TRUE(m.find("a -> b -> a") != std::string::npos || m.find("b -> a -> b") != std::string::npos) << m;
@@ -201,18 +216,21 @@ TEST(Pipeline, OverridesAreCheckedLikeTheFile) {
     p.validate(registry());
     EXPECT_DOUBLE_EQ(p.nodes[0].params.get_float("size"), 7.5);
     EXPECT_TRUE(p.nodes[0].params.explicitly_set("size"));
-    EXPECT_EQ(p.nodes[0].params.get_int("copies"), 1);   // default filled in
+    EXPECT_EQ(p.nodes[0].params.get_int("copies"), 1); // default filled in
 }
 
 TEST(Pipeline, RequiredParameterMustBeGiven) {
-    EXPECT_HAS(rejection("nodes:\n  - {id: box, stage: test.box}\n  - {id: w, stage: mesh.write, inputs: {mesh: box}}\n"),
-               "p.yaml:3: node \"w\" (mesh.write): parameter \"path\" is required");
+    EXPECT_HAS(
+        rejection("nodes:\n  - {id: box, stage: test.box}\n  - {id: w, stage: mesh.write, inputs: {mesh: box}}\n"),
+        "p.yaml:3: node \"w\" (mesh.write): parameter \"path\" is required");
 }
 
 TEST(Pipeline, StagePrepareRejectsBeforeAnythingRuns) {
     test::TempDir dir("pipeline-prepare");
-    const std::string yaml = "nodes:\n  - {id: box, stage: test.box}\n"
-                             "  - {id: w, stage: mesh.write, inputs: {mesh: box}, params: {path: " + (dir / "x.xyz").string() + "}}\n";
+    const std::string yaml =
+        "nodes:\n  - {id: box, stage: test.box}\n"
+        "  - {id: w, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+        (dir / "x.xyz").string() + "}}\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     try {
         run_pipeline(p, registry(), {});

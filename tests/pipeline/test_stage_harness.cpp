@@ -54,8 +54,9 @@ TEST(StageHarness, QuotedNumberIsTheWrongType) {
 TEST(StageHarness, OutOfRangeValue) {
     const std::string m = harness_message("mesh.reduce", "{max_angle_deg: 95}");
     EXPECT_EQ(m, "max_angle_deg must be in [0.1, 89] deg, got 95");
-    EXPECT_EQ(m, pipeline_message("  - {id: box, stage: test.box}\n"
-                                  "  - {id: r, stage: mesh.reduce, inputs: {mesh: box}, params: {max_angle_deg: 95}}\n"));
+    EXPECT_EQ(m,
+              pipeline_message("  - {id: box, stage: test.box}\n"
+                               "  - {id: r, stage: mesh.reduce, inputs: {mesh: box}, params: {max_angle_deg: 95}}\n"));
 }
 
 TEST(StageHarness, MissingRequiredParameter) {
@@ -102,7 +103,7 @@ TEST(StageHarness, RunsAStageAndKeepsItsFiguresAndFiles) {
     write.param("path", dir / "sub" / "box.obj").input("mesh", mesh);
     write.run<FileOutput>();
     ASSERT_EQ(write.outputs().size(), 1u);
-    EXPECT_EQ(write.outputs()[0], dir / "sub" / "box.obj");   // the missing folder was made
+    EXPECT_EQ(write.outputs()[0], dir / "sub" / "box.obj"); // the missing folder was made
     EXPECT_TRUE(std::filesystem::exists(dir / "sub" / "box.obj"));
     EXPECT_TRUE(write.warnings().empty());
 }

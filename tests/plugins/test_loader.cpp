@@ -107,8 +107,8 @@ TEST(Loader, EntryPointThatThrows) {
 
 TEST(Loader, HostKeepsWorkingAfterEveryFailure) {
     Registry r;
-    r.load_directories({kRoot / "no_entry", kRoot / "wrong_abi", kRoot / "wrong_vdb", kRoot / "unresolved", kRoot / "garbage",
-                        kRoot / "throwing_entry", kRoot / "good"});
+    r.load_directories({kRoot / "no_entry", kRoot / "wrong_abi", kRoot / "wrong_vdb", kRoot / "unresolved",
+                        kRoot / "garbage", kRoot / "throwing_entry", kRoot / "good"});
     EXPECT_EQ(r.diagnostics().size(), 6u);
     ASSERT_NE(r.find("test.box"), nullptr);
     EXPECT_NO_THROW(r.create("test.box"));

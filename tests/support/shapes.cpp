@@ -15,8 +15,8 @@ Mesh make_box(Vec3f lo, Vec3f hi) {
     for (int i = 0; i < 8; ++i)
         m.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
     // Two outward triangles per face.
-    const std::array<std::array<std::uint32_t, 4>, 6> quads = {{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                                                {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+    const std::array<std::array<std::uint32_t, 4>, 6> quads = {
+        {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
     for (const auto& q : quads) {
         m.triangles.push_back({q[0], q[1], q[2]});
         m.triangles.push_back({q[0], q[2], q[3]});
@@ -27,12 +27,12 @@ Mesh make_box(Vec3f lo, Vec3f hi) {
 Mesh make_sphere(Vec3f c, float r, int subdivisions) {
     Mesh m;
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    std::vector<Vec3f> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
-                                                   {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                                   {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
-                                                   {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    std::vector<Vec3f> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                                   {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                                   {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                                   {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
     for (auto& v : p) v = normalize(v);
     for (int s = 0; s < subdivisions; ++s) {
         std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
@@ -45,7 +45,8 @@ Mesh make_sphere(Vec3f c, float r, int subdivisions) {
         };
         std::vector<std::array<std::uint32_t, 3>> nf;
         for (const auto& tri : f) {
-            const std::uint32_t a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), cc = midpoint(tri[2], tri[0]);
+            const std::uint32_t a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]),
+                                cc = midpoint(tri[2], tri[0]);
             nf.push_back({tri[0], a, cc});
             nf.push_back({tri[1], b, a});
             nf.push_back({tri[2], cc, b});
@@ -90,7 +91,7 @@ Mesh make_grid_box(float lo, float hi, int n) {
         return it->second;
     };
     for (int a = 0; a < 3; ++a) {
-        const int ua = (a + 1) % 3, va = (a + 2) % 3;   // e_u x e_v = e_a
+        const int ua = (a + 1) % 3, va = (a + 2) % 3; // e_u x e_v = e_a
         for (int side = 0; side < 2; ++side)
             for (int i = 0; i < n; ++i)
                 for (int j = 0; j < n; ++j) {
@@ -223,7 +224,7 @@ Outline box_outline(Vec3d lo, Vec3d hi, Vec3d d) {
     return [lo, hi, d](const Vec3d& q) {
         double sd = 1e300;
         for (int k = 0; k < 3; ++k) {
-            if (std::abs(d[k]) > 0.5) continue;   // the viewing axis
+            if (std::abs(d[k]) > 0.5) continue; // the viewing axis
             sd = std::min({sd, q[k] - lo[k], hi[k] - q[k]});
         }
         return sd;
@@ -235,9 +236,9 @@ Outline union_outline(Outline a, Outline b) {
 }
 
 std::array<double, 12> look_at(Vec3d eye, Vec3d target, Vec3d up, double f, double cx, double cy) {
-    const Vec3d z = normalize(target - eye);          // camera forward
-    const Vec3d x = normalize(cross(z, up));          // image right
-    const Vec3d y = cross(z, x);                      // image down
+    const Vec3d z = normalize(target - eye); // camera forward
+    const Vec3d x = normalize(cross(z, up)); // image right
+    const Vec3d y = cross(z, x);             // image down
     // P = K [R | -R eye], rows of R: x, y, z.
     const double t[3] = {-dot(x, eye), -dot(y, eye), -dot(z, eye)};
     const Vec3d R[3] = {x, y, z};
@@ -253,8 +254,8 @@ std::array<double, 12> look_at(Vec3d eye, Vec3d target, Vec3d up, double f, doub
     return P;
 }
 
-View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f,
-                             Vec3d c, double r) {
+View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f, Vec3d c,
+                             double r) {
     View v;
     v.name = name;
     v.camera = Camera::perspective(P);

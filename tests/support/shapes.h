@@ -18,7 +18,7 @@ namespace cm::test {
 
 /// Closed, outward triangle meshes built in code.
 Mesh make_box(Vec3f lo, Vec3f hi);
-Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4);   ///< icosphere
+Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4); ///< icosphere
 /// Appends `part`'s vertices and triangles to `into` (turned inside out when `flip`).
 void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
 /// Two boxes that overlap: closed and 2-manifold, but their faces cross.
@@ -61,16 +61,16 @@ View ortho_view(const std::string& name, int size, double scale, const Outline& 
 std::shared_ptr<Views> make_views(std::vector<View> views, Vec3d lo, Vec3d hi);
 
 /// Outlines of 3D shapes seen along a view's axis.
-Outline sphere_outline(double radius);                    ///< a sphere at the origin
-Outline box_outline(Vec3d lo, Vec3d hi, Vec3d view_d);    ///< an axis-aligned box seen along view_d
+Outline sphere_outline(double radius);                 ///< a sphere at the origin
+Outline box_outline(Vec3d lo, Vec3d hi, Vec3d view_d); ///< an axis-aligned box seen along view_d
 Outline union_outline(Outline a, Outline b);
 
 /// Perspective camera at `eye` looking at `target` with focal length `f` px and principal
 /// point (cx, cy); image up is close to `up`.
 std::array<double, 12> look_at(Vec3d eye, Vec3d target, Vec3d up, double f, double cx, double cy);
 /// Perspective view of a sphere (centre c, radius r) through the 3x4 matrix.
-View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f,
-                             Vec3d c, double r);
+View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f, Vec3d c,
+                             double r);
 
 /// Grid points inside x voxel volume.
 double counted_volume(const Volume& v);

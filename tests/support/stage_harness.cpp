@@ -8,7 +8,8 @@ namespace cm::test {
 
 StageHarness::StageHarness(std::string stage) : StageHarness(std::move(stage), Registry::global()) {}
 
-StageHarness::StageHarness(std::string stage, const Registry& registry) : stage_(std::move(stage)), registry_(registry) {
+StageHarness::StageHarness(std::string stage, const Registry& registry)
+    : stage_(std::move(stage)), registry_(registry) {
     opt_.node = "test";
 }
 

@@ -80,10 +80,10 @@ public:
     std::string error();
 
     /// Of the last run that succeeded:
-    const std::map<std::string, std::string>& metrics() const { return last_.metrics_json; }   ///< name -> JSON
-    double metric(const std::string& name) const;   ///< a number among metrics()
+    const std::map<std::string, std::string>& metrics() const { return last_.metrics_json; } ///< name -> JSON
+    double metric(const std::string& name) const; ///< a number among metrics()
     const std::vector<std::string>& warnings() const { return last_.warnings; }
-    const std::vector<std::filesystem::path>& outputs() const { return last_.outputs; }   ///< files committed
+    const std::vector<std::filesystem::path>& outputs() const { return last_.outputs; } ///< files committed
     /// Temporary name -> final name of every file written (kept by keep_staged()).
     const std::vector<std::pair<std::filesystem::path, std::filesystem::path>>& staged() const { return last_.staged; }
 

@@ -1,5 +1,7 @@
 #include "support/test_support.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -10,8 +12,6 @@
 #include <map>
 #include <random>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -19,7 +19,8 @@ namespace cm::test {
 
 TempDir::TempDir(const std::string& name) {
     static std::mt19937_64 rng(std::random_device{}());
-    path_ = fs::path(CM_BINARY_DIR) / "test-tmp" / (name + "-" + std::to_string(::getpid()) + "-" + std::to_string(rng() % 1000000));
+    path_ = fs::path(CM_BINARY_DIR) / "test-tmp" /
+            (name + "-" + std::to_string(::getpid()) + "-" + std::to_string(rng() % 1000000));
     fs::remove_all(path_);
     fs::create_directories(path_);
 }
@@ -31,9 +32,10 @@ TempDir::~TempDir() {
 
 CommandResult run_cli(const std::string& args, const fs::path& cwd) {
     static std::atomic<int> counter{0};
-    const fs::path base = fs::temp_directory_path() / ("cm-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    const std::string cmd = "cd '" + cwd.string() + "' && '" + std::string(CM_EXE) + "' " + args + " >'" + base.string() +
-                            ".out' 2>'" + base.string() + ".err' </dev/null";
+    const fs::path base =
+        fs::temp_directory_path() / ("cm-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    const std::string cmd = "cd '" + cwd.string() + "' && '" + std::string(CM_EXE) + "' " + args + " >'" +
+                            base.string() + ".out' 2>'" + base.string() + ".err' </dev/null";
     const int status = std::system(cmd.c_str());
     CommandResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

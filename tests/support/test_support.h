@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <string>
 
-
 namespace cm::test {
 
 /// A fresh empty folder under the build tree, removed when the object dies.
@@ -29,13 +28,13 @@ CommandResult run_cli(const std::string& args, const std::filesystem::path& cwd 
 void write_text(const std::filesystem::path& file, const std::string& text);
 std::string read_text(const std::filesystem::path& file);
 
-std::filesystem::path shared_dir();     ///< ../shared beside the checkout, or $CONCEPTMESH_SHARED_DIR
+std::filesystem::path shared_dir(); ///< ../shared beside the checkout, or $CONCEPTMESH_SHARED_DIR
 
 /// Skips the calling test with a message naming what is missing when `needed` (under
 /// ../shared) does not exist: a clone without ../shared beside it passes its own tests.
-#define CM_SKIP_WITHOUT(needed)                                                                      \
-    if (!std::filesystem::exists(needed))                                                            \
-    GTEST_SKIP() << "needs " << std::filesystem::path(needed).string()                               \
+#define CM_SKIP_WITHOUT(needed)                                        \
+    if (!std::filesystem::exists(needed))                              \
+    GTEST_SKIP() << "needs " << std::filesystem::path(needed).string() \
                  << " (the shared data beside the checkout), which is missing"
 std::filesystem::path source_dir();
 

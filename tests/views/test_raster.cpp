@@ -50,7 +50,7 @@ TEST(Raster, SharedEdgesThroughPixelCentresLeaveNoGap) {
     // edge test must still fill every pixel of the face.
     const Mesh box = test::make_box({10.5f, -40.5f, -5}, {50.5f, -20.5f, 5});
     const auto m = render_mask(box, unit_front(), 64, 64);
-    EXPECT_EQ(count(m), 41u * 21u);   // centres on the boundary count as inside
+    EXPECT_EQ(count(m), 41u * 21u); // centres on the boundary count as inside
 }
 
 TEST(Raster, SphereAreaMatchesTheDisc) {
@@ -79,7 +79,8 @@ TEST(Raster, FramedCameraFollowsTheConventions) {
 TEST(Raster, RenderedBoxAndSphereCompareToThemselvesWithZeroError) {
     for (int shape = 0; shape < 2; ++shape) {
         SCOPED_TRACE(shape == 0 ? "box" : "sphere");
-        const Mesh m = shape == 0 ? test::make_box({-1, 0, -0.5f}, {1, 3, 0.5f}) : test::make_sphere({0.3f, 1, 0}, 1.2f, 4);
+        const Mesh m =
+            shape == 0 ? test::make_box({-1, 0, -0.5f}, {1, 3, 0.5f}) : test::make_sphere({0.3f, 1, 0}, 1.2f, 4);
         Vec3f lo, hi;
         m.bounds(lo, hi);
         Views views;
@@ -116,8 +117,8 @@ TEST(Raster, KnownOffsetGivesTheKnownError) {
 }
 
 TEST(Raster, ErrorSumsOverViewsBeforeDividing) {
-    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});      // 800 px from the front
-    const Mesh small = test::make_box({10, -30, -5}, {50, -20, 5});    // 400 px
+    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});   // 800 px from the front
+    const Mesh small = test::make_box({10, -30, -5}, {50, -20, 5}); // 400 px
     Views views;
     views.views.push_back(view_from_mask("a", unit_front(), render_mask(box, unit_front(), 64, 64), 64, 64));
     views.views.push_back(view_from_mask("b", unit_front(), render_mask(small, unit_front(), 64, 64), 64, 64));

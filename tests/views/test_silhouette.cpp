@@ -33,7 +33,8 @@ Image draw(int w, int h, const Shape& shape, std::array<float, 4> inside, std::a
                 for (int sx = 0; sx < 4; ++sx) hits += shape(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
             const float a = hits / 16.0f;
             for (int k = 0; k < 4; ++k)
-                img.pixels[(std::size_t(y) * w + x) * 4 + k] = a * inside[std::size_t(k)] + (1 - a) * outside[std::size_t(k)];
+                img.pixels[(std::size_t(y) * w + x) * 4 + k] =
+                    a * inside[std::size_t(k)] + (1 - a) * outside[std::size_t(k)];
         }
     return img;
 }
@@ -150,7 +151,8 @@ TEST(Silhouette, SeparateTextLikeMarkIsDropped) {
     paint(img, [](double x, double y) { return std::abs(std::hypot(x - 185, y - 178) - 4) < 1.2; }, {0.1f, 0.1f, 0.1f});
     paint(img, [](double x, double y) { return x > 196 && x < 198 && y > 172 && y < 185; }, {0.1f, 0.1f, 0.1f});
     // An arrow pointing at the object from the top left, not touching it.
-    paint(img, [](double x, double y) { return std::abs((x - 8) - (y - 8)) < 1.2 && x > 8 && x < 40; }, {0.1f, 0.1f, 0.1f});
+    paint(img, [](double x, double y) { return std::abs((x - 8) - (y - 8)) < 1.2 && x > 8 && x < 40; },
+          {0.1f, 0.1f, 0.1f});
     const SilhouetteResult s = extract(img);
     EXPECT_GE(s.components_dropped, 3);
     EXPECT_EQ(s.components_kept, 1);

@@ -6,13 +6,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/image_io.h"
-#include "io/mesh_io.h"
-#include "render/raster.h"
 #include "core/stage.h"
-#include "load.h"
+#include "io/image_io.h"
 #include "io/manifest.h"
+#include "io/mesh_io.h"
+#include "load.h"
 #include "preview_sheet.h"
+#include "render/raster.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
@@ -38,12 +38,14 @@ TEST(Tools, RenderViewsThenCompareRoundTrips) {
     write_mesh(lopsided(), dir / "obj.obj");
     // The model's own frame: up +Z, facing -Y (as man.off); the views are in the conventions' frame.
     Mesh turned = lopsided();
-    for (auto& p : turned.positions) p = {p.x, -p.z, p.y};   // conventions -> model: Y up becomes Z up, +Z front becomes -Y
+    for (auto& p : turned.positions)
+        p = {p.x, -p.z, p.y}; // conventions -> model: Y up becomes Z up, +Z front becomes -Y
     write_mesh(turned, dir / "turned.obj");
     for (const char* style : {"mask", "art"}) {
         SCOPED_TRACE(style);
-        auto r = test::run_cli(std::string("render-views obj.obj -o ") + style + " --size 200 --views front,right,top --style " + style,
-                               dir.path());
+        auto r = test::run_cli(
+            std::string("render-views obj.obj -o ") + style + " --size 200 --views front,right,top --style " + style,
+            dir.path());
         ASSERT_EQ(r.exit_code, 0) << r.err;
         for (const char* f : {"front.png", "right.png", "top.png", "views.yaml"})
             EXPECT_TRUE(std::filesystem::exists(dir / style / f)) << f;
@@ -86,7 +88,8 @@ TEST(Tools, RenderedViewsCarryExactCamerasAndBounds) {
     Vec3f lo, hi;
     m.bounds(lo, hi);
     const Vec3d pivot{0.5 * (double(lo.x) + double(hi.x)), double(lo.y), 0.5 * (double(lo.z) + double(hi.z))};
-    auto r = test::run_cli("render-views obj.obj -o v --size 256 --style mask --views front,right,top,az30el20", dir.path());
+    auto r =
+        test::run_cli("render-views obj.obj -o v --size 256 --style mask --views front,right,top,az30el20", dir.path());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string yaml = test::read_text(dir / "v" / "views.yaml");
     EXPECT_NE(yaml.find("# The cameras are exact"), std::string::npos) << yaml;
@@ -108,7 +111,8 @@ TEST(Tools, RenderedViewsCarryExactCamerasAndBounds) {
         ASSERT_TRUE(mv.scale && mv.origin);
         EXPECT_NEAR(*mv.scale, 0.9 * 256 / e, 1e-9);
         // The box's centre, (0, height / 2, 0) in the world, lands on the image centre.
-        const Camera dir_cam = mv.view ? *Camera::named(*mv.view) : Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
+        const Camera dir_cam =
+            mv.view ? *Camera::named(*mv.view) : Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
         const Vec3d mid{0, 0.5 * (double(hi.y) - double(lo.y)), 0};
         EXPECT_NEAR((*mv.origin)[0] + *mv.scale * dot(mid, dir_cam.r), 128.0, 1e-9);
         EXPECT_NEAR((*mv.origin)[1] - *mv.scale * dot(mid, dir_cam.u), 128.0, 1e-9);
@@ -151,7 +155,8 @@ TEST(Tools, RenderViewsAzimuthElevationAndTable) {
     auto r = test::run_cli("render-views obj.obj -o v --size 128 --style mask --views front,az45el30", dir.path());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string yaml = test::read_text(dir / "v" / "views.yaml");
-    EXPECT_NE(yaml.find("az45el30: {image: az45el30.png, azimuth: 45, elevation: 30, scale: "), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("az45el30: {image: az45el30.png, azimuth: 45, elevation: 30, scale: "), std::string::npos)
+        << yaml;
     r = test::run_cli("compare obj.obj v/views.yaml --fit bbox", dir.path());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("az45el30"), std::string::npos) << r.out;
@@ -187,7 +192,7 @@ TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
     // Input: a box's silhouette; mesh: the box moved right. The overlay has both colours.
     const Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
     Mesh moved = box;
-    for (auto& p : moved.positions) p.x += 0.1f;   // 5.4 px at 54 px per unit
+    for (auto& p : moved.positions) p.x += 0.1f; // 5.4 px at 54 px per unit
     Views views;
     View v;
     v.name = "front";
@@ -200,7 +205,7 @@ TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
     opt.panel = 120;
     SilhouetteError err;
     const Image sheet = make_preview_sheet(moved, views, opt, err);
-    EXPECT_NEAR(err.xor_pct, 100.0 * 10 / 108, 0.01);   // 5 columns each side of 108
+    EXPECT_NEAR(err.xor_pct, 100.0 * 10 / 108, 0.01); // 5 columns each side of 108
     std::size_t input_only = 0, mesh_only = 0;
     for (std::size_t i = 0; i < sheet.pixels.size(); i += 3) {
         auto is = [&](const float* c) {
@@ -261,7 +266,7 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     h.param("path", dir / "sheet.png").params("{panel: 64}");
     h.input("mesh", box);
     h.input("views", views);
-    h.keep_staged();   // as the host has it before the run commits
+    h.keep_staged(); // as the host has it before the run commits
     auto files = h.run<FileOutput>();
     ASSERT_EQ(h.staged().size(), 1u);
     const auto& [staged, final_path] = h.staged()[0];

@@ -5,11 +5,11 @@
 
 #include "align.h"
 #include "core/error.h"
-#include "io/image_io.h"
-#include "render/raster.h"
 #include "core/stage.h"
-#include "load.h"
+#include "io/image_io.h"
 #include "io/manifest.h"
+#include "load.h"
+#include "render/raster.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
@@ -60,11 +60,13 @@ TEST(ViewsLoad, EveryNamedViewRendersAsItsAzimuthElevationForm) {
     const struct {
         const char* name;
         double az, el;
-    } rows[] = {{"front", 0, 0}, {"right", 90, 0}, {"back", 180, 0}, {"left", 270, 0}, {"top", 0, 90}, {"bottom", 0, -90}};
+    } rows[] = {{"front", 0, 0},  {"right", 90, 0}, {"back", 180, 0},
+                {"left", 270, 0}, {"top", 0, 90},   {"bottom", 0, -90}};
     for (const auto& r : rows) {
         SCOPED_TRACE(r.name);
         const Camera a = framed_camera(*Camera::named(r.name), {-1, 0, -0.3}, {0.6, 2, 0.8}, 97, 80);
-        const Camera b = framed_camera(Camera::from_azimuth_elevation(r.az, r.el), {-1, 0, -0.3}, {0.6, 2, 0.8}, 97, 80);
+        const Camera b =
+            framed_camera(Camera::from_azimuth_elevation(r.az, r.el), {-1, 0, -0.3}, {0.6, 2, 0.8}, 97, 80);
         EXPECT_EQ(render_mask(m, a, 97, 80), render_mask(m, b, 97, 80));
     }
 }
@@ -95,7 +97,8 @@ TEST(ViewsLoad, AlignmentRecoversKnownScalesAndOffsets) {
         SCOPED_TRACE(views.views[std::size_t(i)].name);
         double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
         for (int c = 0; c < 8; ++c) {
-            const Vec3d p{c & 1 ? views.bounds_max.x : views.bounds_min.x, c & 2 ? views.bounds_max.y : views.bounds_min.y,
+            const Vec3d p{c & 1 ? views.bounds_max.x : views.bounds_min.x,
+                          c & 2 ? views.bounds_max.y : views.bounds_min.y,
                           c & 4 ? views.bounds_max.z : views.bounds_min.z};
             const Vec2d q = views.views[std::size_t(i)].camera.project(p);
             x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
@@ -128,9 +131,9 @@ TEST(ViewsLoad, DisagreeingViewsWarnNamingViewsAndAxis) {
     Views views;
     // front fixes width and height, top (same scale through the width) fixes the depth, so the
     // right view's scale follows from the depth and its height is 10 % off.
-    views.views.push_back(rect_view("front", 100, 100, 10, 20, 50, 80));   // 40 x 60
-    views.views.push_back(rect_view("top", 100, 100, 10, 10, 50, 40));     // 40 x 30
-    views.views.push_back(rect_view("right", 100, 100, 30, 20, 60, 86));   // 30 x 66
+    views.views.push_back(rect_view("front", 100, 100, 10, 20, 50, 80)); // 40 x 60
+    views.views.push_back(rect_view("top", 100, 100, 10, 10, 50, 40));   // 40 x 30
+    views.views.push_back(rect_view("right", 100, 100, 30, 20, 60, 86)); // 30 x 66
     std::vector<std::string> warnings;
     align_views(views, {}, warnings);
     ASSERT_EQ(warnings.size(), 1u);
@@ -145,12 +148,13 @@ TEST(ViewsLoad, ManifestShortAndLongFormsAndCameras) {
     write_rect(dir / "r.png", 80, 80, 25, 10, 55, 70);
     write_rect(dir / "q.png", 80, 80, 15, 10, 65, 70);
     test::write_text(dir / "calib.txt", "CONTOUR\n1 0 0 40\n0 -1 0 40\n0 0 0 1\n");
-    test::write_text(dir / "views.yaml",
-                     "height: 2.0\n"
-                     "views:\n"
-                     "  front: f.png\n"
-                     "  side: {image: r.png, view: right, background: white, threshold: 0.3, keep: largest, holes: keep}\n"
-                     "  three_quarter: {image: q.png, azimuth: 45, elevation: 30}\n");
+    test::write_text(
+        dir / "views.yaml",
+        "height: 2.0\n"
+        "views:\n"
+        "  front: f.png\n"
+        "  side: {image: r.png, view: right, background: white, threshold: 0.3, keep: largest, holes: keep}\n"
+        "  three_quarter: {image: q.png, azimuth: 45, elevation: 30}\n");
     LoadViewsReport report;
     const Views v = load_views(dir / "views.yaml", {}, report);
     ASSERT_EQ(v.views.size(), 3u);
@@ -167,7 +171,8 @@ TEST(ViewsLoad, ManifestShortAndLongFormsAndCameras) {
                      "views:\n"
                      "  a: {image: f.png, matrix: [[1, 0, 0, 40], [0, -1, 0, 40], [0, 0, 0, 1]]}\n"
                      "  b: {image: f.png, matrix_file: calib.txt}\n"
-                     "  c: {image: f.png, K: [[2, 0, 40], [0, 2, 40], [0, 0, 1]], R: [[1, 0, 0], [0, -1, 0], [0, 0, -1]], t: [0, 0, 10]}\n");
+                     "  c: {image: f.png, K: [[2, 0, 40], [0, 2, 40], [0, 0, 1]], R: [[1, 0, 0], [0, -1, 0], [0, 0, "
+                     "-1]], t: [0, 0, 10]}\n");
     const Views c = load_views(dir / "calib.yaml", {}, report);
     EXPECT_TRUE(c.calibrated);
     EXPECT_TRUE(c.has_bounds);
@@ -259,7 +264,7 @@ TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
         View v;
         v.name = name;
         v.width = v.height = 240;
-        v.camera = dir;   // direction only, as views.load sets it
+        v.camera = dir; // direction only, as views.load sets it
         const auto mask = render_mask(m, cam, 240, 240);
         v.coverage.assign(mask.begin(), mask.end());
         views.views.push_back(v);
@@ -271,7 +276,8 @@ TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
     Mesh fitted = m;
     for (auto& p : fitted.positions)
         for (int k = 0; k < 3; ++k)
-            p[k] = float(views.bounds_min[k] + (p[k] - lo[k]) / (hi[k] - lo[k]) * (views.bounds_max[k] - views.bounds_min[k]));
+            p[k] = float(views.bounds_min[k] +
+                         (p[k] - lo[k]) / (hi[k] - lo[k]) * (views.bounds_max[k] - views.bounds_min[k]));
     const SilhouetteError e = silhouette_error(fitted, views);
     ASSERT_EQ(e.views.size(), 4u);
     for (const auto& v : e.views) EXPECT_LT(v.xor_pct, 1.5) << v.view;
@@ -287,7 +293,7 @@ TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
     for (double size : {200.0, 201.3, 202.7}) {
         SCOPED_TRACE(size);
         Views views;
-        const double scale = size / 2.6;   // px per unit
+        const double scale = size / 2.6; // px per unit
         for (const char* name : {"front", "right", "top"}) {
             Camera cam = *Camera::named(name);
             cam.scale = scale;
@@ -300,12 +306,14 @@ TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
             v.camera = *Camera::named(name);
             v.coverage.assign(300 * 300, 0.0f);
             for (int y = 0; y < 1200; ++y)
-                for (int x = 0; x < 1200; ++x) v.coverage[std::size_t(y / 4) * 300 + x / 4] += fine[std::size_t(y) * 1200 + x] / 16.0f;
+                for (int x = 0; x < 1200; ++x)
+                    v.coverage[std::size_t(y / 4) * 300 + x / 4] += fine[std::size_t(y) * 1200 + x] / 16.0f;
             views.views.push_back(v);
         }
         std::vector<std::string> warnings;
         align_views(views, {}, warnings);
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(views.bounds_max[k] - views.bounds_min[k], scale * (hi[k] - lo[k]), 0.25) << k;
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(views.bounds_max[k] - views.bounds_min[k], scale * (hi[k] - lo[k]), 0.25) << k;
     }
 }
 
@@ -326,7 +334,7 @@ TEST(ViewsLoad, StageSavesSilhouettesBesideTheReport) {
     const Image sil = read_image(staged[1].first);
     EXPECT_EQ(sil.width, 60);
     EXPECT_EQ(sil.height, 50);
-    EXPECT_GT(sil.at(25, 20, 0), 0.99f);   // inside the right view's rectangle: white
+    EXPECT_GT(sil.at(25, 20, 0), 0.99f); // inside the right view's rectangle: white
     EXPECT_LT(sil.at(5, 5, 0), 0.01f);
     EXPECT_TRUE(h.metrics().count("views"));
 }
@@ -449,7 +457,7 @@ TEST(ViewsLoad, FreeViewsAlignToTheFixedOnes) {
         views.views.push_back(known_view(kFront, true));
         views.views.push_back(known_view(kTop, true));
         View right = known_view(kRight, false);
-        right.coverage.assign(right.coverage.size(), 0.0f);   // 30 units deep but 66 high
+        right.coverage.assign(right.coverage.size(), 0.0f); // 30 units deep but 66 high
         for (int y = 0; y < 132; ++y)
             for (int x = 20; x < 80; ++x) right.coverage[std::size_t(y) * 100 + x] = 1.0f;
         views.views.push_back(right);
@@ -459,8 +467,10 @@ TEST(ViewsLoad, FreeViewsAlignToTheFixedOnes) {
         align_views(views, opt, warnings);
         // Its scale is the best fit to both axes, so both are off by about 5 %.
         ASSERT_EQ(warnings.size(), 2u);
-        EXPECT_NE(warnings[0].find("views \"top\" and \"right\" disagree on the depth (Z)"), std::string::npos) << warnings[0];
-        EXPECT_NE(warnings[1].find("views \"front\" and \"right\" disagree on the height (Y)"), std::string::npos) << warnings[1];
+        EXPECT_NE(warnings[0].find("views \"top\" and \"right\" disagree on the depth (Z)"), std::string::npos)
+            << warnings[0];
+        EXPECT_NE(warnings[1].find("views \"front\" and \"right\" disagree on the height (Y)"), std::string::npos)
+            << warnings[1];
     }
 }
 
@@ -488,7 +498,7 @@ TEST(ViewsLoad, ManifestFixesCamerasAndBounds) {
     EXPECT_FALSE(v.calibrated);
     expect_camera(v.views[0].camera, kFront, 0.0);
     expect_camera(v.views[1].camera, kRight, 0.0);
-    expect_camera(v.views[2].camera, kTopLarge, 1e-6);   // the extraction's float coverage
+    expect_camera(v.views[2].camera, kTopLarge, 1e-6); // the extraction's float coverage
     ASSERT_TRUE(v.has_bounds);
     EXPECT_EQ(v.bounds_min.x, -20);
     EXPECT_EQ(v.bounds_max.y, 60);
@@ -509,15 +519,20 @@ TEST(ViewsLoad, FixedCameraErrorsNameTheFileLineAndView) {
     };
     expect_has(msg("views:\n  front: {image: f.png, scale: -2, origin: [1, 2]}\n"),
                {"m.yaml:2", "view \"front\"", "scale must be a positive number"});
-    expect_has(msg("views:\n  front: {image: f.png, scale: 0, origin: [1, 2]}\n"), {"m.yaml:2", "view \"front\"", "positive"});
+    expect_has(msg("views:\n  front: {image: f.png, scale: 0, origin: [1, 2]}\n"),
+               {"m.yaml:2", "view \"front\"", "positive"});
     expect_has(msg("views:\n  front: {image: f.png, scale: big, origin: [1, 2]}\n"),
                {"m.yaml:2", "view \"front\"", "scale must be a number", "big"});
     expect_has(msg("views:\n  front: f.png\n  right:\n    image: f.png\n    scale: 2\n    origin: [1, 2, 3]\n"),
                {"m.yaml:6", "view \"right\"", "origin must be 2 numbers", "got 3"});
-    expect_has(msg("views:\n  front: {image: f.png, scale: 2, origin: [1, x]}\n"), {"m.yaml:2", "view \"front\"", "\"x\""});
-    expect_has(msg("views:\n  front: {image: f.png, scale: 2}\n"), {"m.yaml:2", "view \"front\"", "scale and origin go together"});
-    expect_has(msg("views:\n  front: {image: f.png, origin: [1, 2]}\n"), {"view \"front\"", "scale and origin go together"});
-    expect_has(msg("views:\n  a: {image: f.png, matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]], scale: 2, origin: [1, 2]}\n"),
+    expect_has(msg("views:\n  front: {image: f.png, scale: 2, origin: [1, x]}\n"),
+               {"m.yaml:2", "view \"front\"", "\"x\""});
+    expect_has(msg("views:\n  front: {image: f.png, scale: 2}\n"),
+               {"m.yaml:2", "view \"front\"", "scale and origin go together"});
+    expect_has(msg("views:\n  front: {image: f.png, origin: [1, 2]}\n"),
+               {"view \"front\"", "scale and origin go together"});
+    expect_has(msg("views:\n  a: {image: f.png, matrix: [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]], scale: 2, origin: "
+                   "[1, 2]}\n"),
                {"m.yaml:2", "view \"a\"", "calibrated view (matrix) takes neither"});
     expect_has(msg("height: 1.8\nviews:\n  front: {image: f.png, scale: 2, origin: [1, 2]}\n"),
                {"m.yaml:1", "height cannot go with fixed cameras"});
@@ -547,7 +562,7 @@ TEST(ViewsLoad, FreeObliqueViewIsPlacedAgainstFixedAxisViews) {
         v.coverage.assign(mask.begin(), mask.end());
         views.views.push_back(v);
     }
-    views.views[3].camera = Camera::from_azimuth_elevation(45, 30);   // direction only
+    views.views[3].camera = Camera::from_azimuth_elevation(45, 30); // direction only
     AlignOptions opt;
     opt.fixed = {true, true, true, false};
     std::vector<std::string> warnings;

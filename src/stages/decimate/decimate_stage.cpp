@@ -5,8 +5,8 @@
 
 #include "core/error.h"
 #include "core/mesh.h"
-#include "mesh_decimate.h"
 #include "core/stage.h"
+#include "mesh_decimate.h"
 
 namespace cm {
 

@@ -38,7 +38,10 @@ DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vecto
         const Vec3f p = c.point(v);
         bool many = false;
         c.for_faces(v, [&](std::uint32_t f) {
-            if (n == kMax) { many = true; return; }
+            if (n == kMax) {
+                many = true;
+                return;
+            }
             normals[n++] = c.normal(f);
             const auto& t = c.tri(f);
             const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
@@ -55,7 +58,10 @@ DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vecto
     };
     // The target: among the neighbours whose collapse passes the geometric guards, the one
     // that turns the faces least (then the nearest); topology is checked in that order.
-    struct Option { double cos, len; std::uint32_t w; };
+    struct Option {
+        double cos, len;
+        std::uint32_t w;
+    };
     std::vector<Option> options;
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
         options.clear();
@@ -70,7 +76,10 @@ DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vecto
             return a.len < b.len;
         });
         for (const auto& o : options)
-            if (c.topology_ok(v, o.w, rv)) { w = o.w; return true; }
+            if (c.topology_ok(v, o.w, rv)) {
+                w = o.w;
+                return true;
+            }
         return false;
     };
     st.collapses = run_queue(c, mesh.positions.size(), opt.target_faces, HUGE_VALF, opt.progress, score, choose,
@@ -143,8 +152,9 @@ DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
 }
 
 DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt) {
-    return without_crossings(input, out, opt.no_crossings,
-                             [&](Mesh& m, const std::vector<char>* frozen) { return decimate::quadric_once(m, opt, frozen); });
+    return without_crossings(input, out, opt.no_crossings, [&](Mesh& m, const std::vector<char>* frozen) {
+        return decimate::quadric_once(m, opt, frozen);
+    });
 }
 
 DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {

@@ -20,26 +20,26 @@ struct ReduceOptions {
     /// faces is under this (the paper: 5 to 40 degrees); a collapse may not turn a
     /// face by more than this either.
     double max_angle_deg = 15.0;
-    std::size_t target_faces = 0;    ///< stop at or below this many faces; 0: until no vertex can go
-    double max_aspect_ratio = 0.0;   ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
-    bool no_crossings = true;        ///< see DecimateStats::restarts
-    std::function<void(double)> progress;   ///< fraction done; may throw to cancel
+    std::size_t target_faces = 0;  ///< stop at or below this many faces; 0: until no vertex can go
+    double max_aspect_ratio = 0.0; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
+    bool no_crossings = true;      ///< see DecimateStats::restarts
+    std::function<void(double)> progress; ///< fraction done; may throw to cancel
 };
 
 struct QuadricOptions {
-    std::size_t target_faces = 0;            ///< stop at or below this many faces; 0: no face target
-    double max_error = 0.0;                  ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
-    double max_normal_deviation_deg = 45.0;  ///< refuse collapses turning a face more than this
-    double max_aspect_ratio = 20.0;          ///< refuse collapses making a face thinner than this; 0: off
-    bool no_crossings = true;                ///< see DecimateStats::restarts
+    std::size_t target_faces = 0; ///< stop at or below this many faces; 0: no face target
+    double max_error = 0.0;       ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
+    double max_normal_deviation_deg = 45.0; ///< refuse collapses turning a face more than this
+    double max_aspect_ratio = 20.0;         ///< refuse collapses making a face thinner than this; 0: off
+    bool no_crossings = true;               ///< see DecimateStats::restarts
     std::function<void(double)> progress;
 };
 
 struct DecimateStats {
     std::size_t faces_before = 0, faces_after = 0;
     std::size_t collapses = 0;
-    std::size_t locked_vertices = 0;   ///< on a boundary or non-manifold edge, kept as they are
-    double max_error = 0;              ///< quadric: largest sqrt(quadric error) of a collapse made
+    std::size_t locked_vertices = 0; ///< on a boundary or non-manifold edge, kept as they are
+    double max_error = 0;            ///< quadric: largest sqrt(quadric error) of a collapse made
     /// With `no_crossings`: the result is checked for faces crossing each other; where
     /// some do, the reduction runs again from the input with the input vertices in those
     /// faces' boxes kept (frozen), until none is left. Restarts made, vertices frozen,

@@ -16,7 +16,7 @@ namespace {
 /// sqrt(3) L_max^2 / (4 A): 1 for an equilateral triangle, large for slivers.
 double aspect_ratio(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
     const double l = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
-    const double area2 = length(cross_of(a, b, c));   // twice the area
+    const double area2 = length(cross_of(a, b, c)); // twice the area
     return area2 > 0 ? std::sqrt(3.0) * l / (2.0 * area2) : HUGE_VAL;
 }
 
@@ -65,7 +65,8 @@ bool Collapser::topology_ok(std::uint32_t v, std::uint32_t w, const std::vector<
     return true;
 }
 
-bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos) const {
+bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect,
+                            double& min_cos) const {
     min_cos = 1.0;
     const Vec3d pw(P_[w]);
     bool ok = true;
@@ -78,11 +79,17 @@ bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, 
         const Vec3d n = cross_of(q[0], q[1], q[2]);
         const double len = length(n);
         const double scale = std::max({dot(q[1] - q[0], q[1] - q[0]), dot(q[2] - q[0], q[2] - q[0])});
-        if (!(len > 1e-12 * scale)) { ok = false; return; }
+        if (!(len > 1e-12 * scale)) {
+            ok = false;
+            return;
+        }
         const Vec3d n_old = cross_of(Vec3d(P_[t[0]]), Vec3d(P_[t[1]]), Vec3d(P_[t[2]]));
         const double c = dot(n, n_old) / (len * length(n_old));
         min_cos = std::min(min_cos, c);
-        if (c < cos_limit) { ok = false; return; }
+        if (c < cos_limit) {
+            ok = false;
+            return;
+        }
         if (max_aspect > 0) {
             const double an = aspect_ratio(q[0], q[1], q[2]);
             if (an > max_aspect) {
@@ -99,7 +106,7 @@ void Collapser::collapse(std::uint32_t v, std::uint32_t w) {
     for_faces(w, [&](std::uint32_t f) {
         auto& t = T_[f];
         if (t[0] == v || t[1] == v || t[2] == v) {
-            t[0] = kNone;   // dead
+            t[0] = kNone; // dead
             --alive_faces_;
         } else {
             refs_.push_back(f);
@@ -133,7 +140,10 @@ void Collapser::finish() {
     for (std::size_t f = 0; f < T_.size(); ++f)
         if (T_[f][0] != kNone) tris.push_back({order[T_[f][0]], order[T_[f][1]], order[T_[f][2]]});
     auto compact = [&](auto& vec) {
-        if (vec.size() != nv) { vec.clear(); return; }
+        if (vec.size() != nv) {
+            vec.clear();
+            return;
+        }
         std::size_t o = 0;
         for (std::size_t v = 0; v < nv; ++v)
             if (order[v] != kNone) vec[o++] = vec[v];
@@ -156,7 +166,10 @@ bool Collapser::closed_fan(std::uint32_t v) const {
     for_faces(v, [&](std::uint32_t f) {
         const auto& t = T_[f];
         const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        if (n == kMax || t[(k + 1) % 3] == v || t[(k + 2) % 3] == v) { ok = false; return; }
+        if (n == kMax || t[(k + 1) % 3] == v || t[(k + 2) % 3] == v) {
+            ok = false;
+            return;
+        }
         nxt[n] = t[(k + 1) % 3];
         prv[n] = t[(k + 2) % 3];
         ++n;
@@ -165,7 +178,10 @@ bool Collapser::closed_fan(std::uint32_t v) const {
     // Each neighbour once as "next" and once as "previous", and one cycle through all.
     for (int i = 0; i < n; ++i) {
         int as_next = 0, as_prev = 0;
-        for (int j = 0; j < n; ++j) { as_next += nxt[j] == nxt[i]; as_prev += prv[j] == nxt[i]; }
+        for (int j = 0; j < n; ++j) {
+            as_next += nxt[j] == nxt[i];
+            as_prev += prv[j] == nxt[i];
+        }
         if (as_next != 1 || as_prev != 1) return false;
     }
     int steps = 0, i = 0;
@@ -187,7 +203,10 @@ void Collapser::build_lists() {
         if (T_[f][0] != kNone)
             for (int k = 0; k < 3; ++k) ++vcount_[T_[f][k]];
     std::uint32_t acc = 0;
-    for (std::size_t v = 0; v < nv; ++v) { vstart_[v] = acc; acc += vcount_[v]; }
+    for (std::size_t v = 0; v < nv; ++v) {
+        vstart_[v] = acc;
+        acc += vcount_[v];
+    }
     refs_.assign(acc, 0);
     std::vector<std::uint32_t> fill(vstart_);
     for (std::size_t f = 0; f < T_.size(); ++f)
@@ -218,7 +237,8 @@ void VertexHeap::set(std::uint32_t v, float k) {
     const std::uint32_t i = pos_[v];
     const float old = heap_[i].key;
     heap_[i].key = k;
-    if (k < old) up(i); else down(i);
+    if (k < old) up(i);
+    else down(i);
 }
 
 void VertexHeap::erase(std::uint32_t v) {

@@ -110,7 +110,10 @@ private:
         float key;
         std::uint32_t v;
     };
-    void place(std::size_t i, const Node& n) { heap_[i] = n; pos_[n.v] = std::uint32_t(i); }
+    void place(std::size_t i, const Node& n) {
+        heap_[i] = n;
+        pos_[n.v] = std::uint32_t(i);
+    }
     void up(std::size_t i);
     void down(std::size_t i);
 
@@ -131,7 +134,10 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
         std::vector<std::uint32_t> ring;
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
             float k;
-            if (c.usable(std::uint32_t(v)) && score(std::uint32_t(v), ring, k)) { keys[v] = k; cand[v] = 1; }
+            if (c.usable(std::uint32_t(v)) && score(std::uint32_t(v), ring, k)) {
+                keys[v] = k;
+                cand[v] = 1;
+            }
         }
     });
     std::vector<std::uint32_t> init;
@@ -156,7 +162,8 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
         if (dirty[v]) {
             dirty[v] = 0;
             float k;
-            if (c.usable(v) && score(v, scratch, k)) heap.set(v, k); else heap.erase(v);
+            if (c.usable(v) && score(v, scratch, k)) heap.set(v, k);
+            else heap.erase(v);
             continue;
         }
         heap.pop();
@@ -164,13 +171,19 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
         std::uint32_t w;
         float key = key0;
         if (!choose(v, rv, w, key)) continue;
-        if (key > key0) { heap.set(v, key); continue; }
+        if (key > key0) {
+            heap.set(v, key);
+            continue;
+        }
         c.collapse(v, w);
         ++collapses;
         after(v, w, key);
         // The faces around every vertex of v's old ring (w included) changed.
         for (auto x : rv) {
-            if (heap.contains(x)) { dirty[x] = 1; continue; }
+            if (heap.contains(x)) {
+                dirty[x] = 1;
+                continue;
+            }
             float k;
             if (c.usable(x) && score(x, scratch, k)) heap.set(x, k);
         }

@@ -3,10 +3,10 @@
 // manifold-keeping collapse engine as mesh.reduce (docs/mesh.md says why).
 #include <memory>
 
-#include "decimate_stage.h"
 #include "core/mesh.h"
-#include "mesh_decimate.h"
 #include "core/stage.h"
+#include "decimate_stage.h"
+#include "mesh_decimate.h"
 
 namespace cm {
 namespace {

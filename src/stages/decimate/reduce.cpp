@@ -3,10 +3,10 @@
 // other; the least important go first, I(V) = arccos(<N_a, N_b>) * sum_j |V_j - V|.
 #include <memory>
 
-#include "decimate_stage.h"
 #include "core/mesh.h"
-#include "mesh_decimate.h"
 #include "core/stage.h"
+#include "decimate_stage.h"
+#include "mesh_decimate.h"
 
 namespace cm {
 namespace {
@@ -19,8 +19,9 @@ public:
     StageSignature signature() const override {
         return {"mesh.reduce",
                 "The paper's importance-based polygon reduction: flat regions lose triangles, sharp borders stay",
-                {{"mesh", DataKind::Mesh, "the mesh to reduce (closed 2-manifold parts are reduced; "
-                                          "vertices on boundaries or non-manifold edges stay)"}},
+                {{"mesh", DataKind::Mesh,
+                  "the mesh to reduce (closed 2-manifold parts are reduced; "
+                  "vertices on boundaries or non-manifold edges stay)"}},
                 DataKind::Mesh};
     }
     void declare(ParamBinder& b) override {

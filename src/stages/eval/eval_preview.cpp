@@ -2,10 +2,10 @@
 // beside the run's other outputs.
 #include <filesystem>
 
-#include "io/image_io.h"
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/views.h"
+#include "io/image_io.h"
 #include "preview_sheet.h"
 
 namespace fs = std::filesystem;
@@ -20,8 +20,10 @@ class EvalPreview : public Stage {
 public:
     StageSignature signature() const override {
         return {"eval.preview",
-                "Contact sheet: per view the input drawing, the mesh drawn from that view, and an overlay of the silhouettes",
-                {{"mesh", DataKind::Mesh, "the mesh to show"}, {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
+                "Contact sheet: per view the input drawing, the mesh drawn from that view, and an overlay of the "
+                "silhouettes",
+                {{"mesh", DataKind::Mesh, "the mesh to show"},
+                 {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
                 DataKind::File};
     }
     void declare(ParamBinder& b) override {

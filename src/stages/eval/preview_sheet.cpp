@@ -117,7 +117,7 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
     if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
     error = silhouette_error(mesh, views);
     const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
-    const int line = 7 * scale + 2 * gap;          // a row of text
+    const int line = 7 * scale + 2 * gap; // a row of text
     const int nviews = int(views.views.size());
     const int width = 3 * P + 4 * gap;
     const int height = 2 * line + nviews * (line + P + gap) + line + gap;
@@ -128,7 +128,8 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
     const int max_chars = (width - 2 * gap) / (6 * scale);
     if (int(title.size()) > max_chars) title = "..." + title.substr(title.size() - std::size_t(max_chars - 3));
     sheet.text(gap, gap, title, scale, ink);
-    sheet.text(gap, line, "all views: xor " + fixed(error.xor_pct, 3) + "%  mean iou " + fixed(error.mean_iou, 4), scale, ink);
+    sheet.text(gap, line, "all views: xor " + fixed(error.xor_pct, 3) + "%  mean iou " + fixed(error.mean_iou, 4),
+               scale, ink);
 
     ArtOptions art;
     art.paper = {1.0f, 1.0f, 1.0f};
@@ -138,15 +139,18 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         const View& view = views.views[std::size_t(v)];
         const ViewError& e = error.views[std::size_t(v)];
         const int y0 = 2 * line + v * (line + P + gap);
-        sheet.text(gap, y0 + gap, view.name + ":  xor " + fixed(e.xor_pct, 3) + "%  iou " + fixed(e.iou, 4), scale, ink);
+        sheet.text(gap, y0 + gap, view.name + ":  xor " + fixed(e.xor_pct, 3) + "%  iou " + fixed(e.iou, 4), scale,
+                   ink);
         const int py = y0 + line;
         // 1. the input drawing
         if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P);
         // 2. the mesh drawn from the view's camera
         // (drawn at about twice the panel's size: enough for the sheet, far cheaper than full size)
         const double f = std::min(1.0, 2.0 * P / std::max(view.width, view.height));
-        const int sw = std::max(1, int(std::lround(view.width * f))), sh = std::max(1, int(std::lround(view.height * f)));
-        sheet.paste(render_art(mesh, resized_camera(view.camera, double(sw) / view.width), sw, sh, art), 2 * gap + P, py, P, P);
+        const int sw = std::max(1, int(std::lround(view.width * f))),
+                  sh = std::max(1, int(std::lround(view.height * f)));
+        sheet.paste(render_art(mesh, resized_camera(view.camera, double(sw) / view.width), sw, sh, art), 2 * gap + P,
+                    py, P, P);
         // 3. overlay: both grey, input only and mesh only in their colours
         const std::vector<std::uint8_t> r = render_mask(mesh, view.camera, view.width, view.height);
         Image ov;

@@ -4,14 +4,14 @@
 #include <string>
 
 #include "core/mesh.h"
-#include "render/raster.h"
 #include "core/views.h"
+#include "render/raster.h"
 
 namespace cm {
 
 struct PreviewOptions {
-    int panel = 320;      ///< each panel fits in panel x panel pixels
-    std::string title;    ///< printed at the top (e.g. the mesh file)
+    int panel = 320;   ///< each panel fits in panel x panel pixels
+    std::string title; ///< printed at the top (e.g. the mesh file)
 };
 
 /// Overlay colours: pixels only in the input silhouette (the mesh misses them) and pixels

@@ -3,9 +3,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mesh.h"
-#include "render/raster.h"
 #include "core/stage.h"
 #include "core/views.h"
+#include "render/raster.h"
 
 namespace cm {
 namespace {
@@ -16,8 +16,10 @@ class EvalSilhouetteError : public Stage {
 public:
     StageSignature signature() const override {
         return {"eval.silhouette_error",
-                "Silhouette error of the mesh against the input views: xor_pct (100 |S xor R| / |S|) and IoU, per view and overall",
-                {{"mesh", DataKind::Mesh, "the mesh to check"}, {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
+                "Silhouette error of the mesh against the input views: xor_pct (100 |S xor R| / |S|) and IoU, per view "
+                "and overall",
+                {{"mesh", DataKind::Mesh, "the mesh to check"},
+                 {"views", DataKind::Views, "the input views (cameras and silhouettes)"}},
                 DataKind::Report};
     }
     void declare(ParamBinder& b) override {
@@ -36,8 +38,12 @@ public:
         j["mean_iou"] = e.mean_iou;
         j["views"] = nlohmann::json::array();
         for (const auto& v : e.views) {
-            j["views"].push_back({{"view", v.view}, {"xor_pct", v.xor_pct}, {"iou", v.iou}, {"input_px", v.input_px},
-                                  {"render_px", v.render_px}, {"xor_px", v.xor_px}});
+            j["views"].push_back({{"view", v.view},
+                                  {"xor_pct", v.xor_pct},
+                                  {"iou", v.iou},
+                                  {"input_px", v.input_px},
+                                  {"render_px", v.render_px},
+                                  {"xor_px", v.xor_px}});
             ctx.metric("xor_pct." + v.view, v.xor_pct);
             ctx.metric("iou." + v.view, v.iou);
         }

@@ -71,8 +71,9 @@ public:
         ctx.metric("refined", vol->crossings && opt.use_crossings ? "yes" : "no");
         if (st.missing_crossings) {
             ctx.metric("missing_crossings", double(st.missing_crossings));
-            ctx.warn(std::to_string(st.missing_crossings) +
-                     " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
+            ctx.warn(
+                std::to_string(st.missing_crossings) +
+                " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
         }
         if (check_ == Check::On || (check_ == Check::Auto && mesh->face_count() <= kAutoCheckFaces)) {
             const MeshCheck c = check_mesh(*mesh);

@@ -27,18 +27,19 @@
 namespace cm {
 namespace {
 
-using openvdb::Coord;
 using mc::Block;
 using mc::FlipGrid;
 using mc::for_blocks;
 using mc::kNone;
 using mc::mixed_row;
 using mc::popcount64;
+using openvdb::Coord;
 
 /// True when both transforms put the grid points at the same places.
 bool same_lattice(const openvdb::math::Transform& a, const openvdb::math::Transform& b) {
     const double tol = 1e-9 * std::max(1.0, a.voxelSize()[0]);
-    for (const openvdb::Vec3d p : {openvdb::Vec3d(0, 0, 0), openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(0, 0, 1)})
+    for (const openvdb::Vec3d p :
+         {openvdb::Vec3d(0, 0, 0), openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(0, 0, 1)})
         if ((a.indexToWorld(p) - b.indexToWorld(p)).length() > tol) return false;
     return true;
 }
@@ -54,7 +55,7 @@ bool same_lattice(const openvdb::math::Transform& a, const openvdb::math::Transf
 /// promoted only when they link a thin part found away from the solid back to it (26-connected
 /// to a promoted point), so a finger thinner than a cell stays attached to its hand.
 FlipGrid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, const openvdb::Vec3fGrid& leave,
-                            std::size_t& count) {
+                           std::size_t& count) {
     auto flips = FlipGrid::create(openvdb::Vec3f(0.0f));
     flips->setTransform(vol.occupancy->transform().copy());
     auto facc = flips->getAccessor();
@@ -67,7 +68,7 @@ FlipGrid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, c
             if (offset[a] != 0.0f) o[a] = offset[a];
         facc.setValueOn(q, o);
     };
-    std::map<Coord, openvdb::Vec3f> near;   // candidate point -> offset, for edges next to the solid
+    std::map<Coord, openvdb::Vec3f> near; // candidate point -> offset, for edges next to the solid
     std::vector<Coord> frontier;
     for (auto it = enter.cbeginValueOn(); it; ++it) {
         if (!it.isVoxelValue()) continue;
@@ -84,7 +85,7 @@ FlipGrid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, c
                 offset[a] = t0[a];
             }
             bool v = false;
-            if (oacc.probeValue(q, v) && v) continue;   // inside already (not expected)
+            if (oacc.probeValue(q, v) && v) continue; // inside already (not expected)
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             bool near_solid = false;
             for (int i = 0; i < 18 && !near_solid; ++i) {
@@ -162,9 +163,15 @@ std::size_t number_vertices(std::vector<Block>& blocks) {
 class VertexPlacer {
 public:
     VertexPlacer(const Sources& src, const openvdb::math::Transform& xform, const MarchingCubesOptions& opt)
-        : src_(src), xform_(xform), lo_t_(float(opt.min_edge_fraction)), hi_t_(1.0f - lo_t_), linear_(xform.isLinear()),
-          w0_(xform.indexToWorld(openvdb::Vec3d(0, 0, 0))), wx_(xform.indexToWorld(openvdb::Vec3d(1, 0, 0)) - w0_),
-          wy_(xform.indexToWorld(openvdb::Vec3d(0, 1, 0)) - w0_), wz_(xform.indexToWorld(openvdb::Vec3d(0, 0, 1)) - w0_) {}
+        : src_(src),
+          xform_(xform),
+          lo_t_(float(opt.min_edge_fraction)),
+          hi_t_(1.0f - lo_t_),
+          linear_(xform.isLinear()),
+          w0_(xform.indexToWorld(openvdb::Vec3d(0, 0, 0))),
+          wx_(xform.indexToWorld(openvdb::Vec3d(1, 0, 0)) - w0_),
+          wy_(xform.indexToWorld(openvdb::Vec3d(0, 1, 0)) - w0_),
+          wz_(xform.indexToWorld(openvdb::Vec3d(0, 0, 1)) - w0_) {}
 
     /// Writes the vertices of `b` into positions[b.vbase...]; returns how many of its edges
     /// had no valid crossing.
@@ -242,7 +249,9 @@ private:
 class Triangulator {
 public:
     Triangulator(std::vector<Block>& blocks, Mesh& mesh, const MarchingCubesOptions& opt)
-        : blocks_(blocks), mesh_(mesh), table_(mc::Table::get()),
+        : blocks_(blocks),
+          mesh_(mesh),
+          table_(mc::Table::get()),
           geometric_(opt.ambiguity == MarchingCubesOptions::Ambiguity::Geometric),
           join_(opt.ambiguity == MarchingCubesOptions::Ambiguity::Join) {}
 
@@ -300,7 +309,9 @@ private:
         const std::uint32_t nbi = b.nb[(px >> 3) | ((py >> 3) << 1) | ((pz >> 3) << 2)];
         if (nbi == kNone) throw Error("marching cubes: a crossed edge has no owning block (internal error)");
         const Block& o = blocks_[nbi];
-        px &= 7; py &= 7; pz &= 7;
+        px &= 7;
+        py &= 7;
+        pz &= 7;
         const int bit = 8 * py + pz;
         return o.vbase + o.pre[d.axis][px] +
                std::uint32_t(popcount64(o.cross[d.axis][px] & ((std::uint64_t(1) << bit) - 1)));
@@ -333,9 +344,7 @@ private:
     /// centroid vertex, if it has one, at `extra`.
     void write_loop(const mc::Loop& loop, const std::uint32_t* id, std::uint32_t& tri, std::uint32_t& extra) {
         const int n = loop.size;
-        auto put = [&](std::uint32_t i0, std::uint32_t i1, std::uint32_t i2) {
-            mesh_.triangles[tri++] = {i0, i1, i2};
-        };
+        auto put = [&](std::uint32_t i0, std::uint32_t i1, std::uint32_t i2) { mesh_.triangles[tri++] = {i0, i1, i2}; };
         if (loop.mode == mc::Loop::Centroid) {
             Vec3d c{};
             for (int k = 0; k < n; ++k) c += Vec3d(mesh_.positions[id[k]]);
@@ -376,11 +385,14 @@ private:
                     const Vec3d& A = P[k];
                     const Vec3d& B = P[(k + i) % n];
                     const Vec3d& C = P[(k + i + 1) % n];
-                    const double q = dot(cross(B - A, C - A), N) /
-                                     (dot(B - A, B - A) + dot(C - B, C - B) + dot(A - C, A - C));
+                    const double q =
+                        dot(cross(B - A, C - A), N) / (dot(B - A, B - A) + dot(C - B, C - B) + dot(A - C, A - C));
                     worst = std::min(worst, q);
                 }
-                if (worst > best) { best = worst; apex = k; }
+                if (worst > best) {
+                    best = worst;
+                    apex = k;
+                }
             }
         }
         return apex;

@@ -27,13 +27,13 @@ struct MarchingCubesOptions {
 };
 
 struct MarchingCubesStats {
-    std::size_t blocks = 0;             ///< 8^3 blocks of cells with surface
-    std::size_t surface_cells = 0;      ///< cells with mixed corners
-    std::size_t ambiguous_faces = 0;    ///< face evaluations with a diagonal pattern (each face seen twice)
-    std::size_t joined_faces = 0;       ///< of those, resolved by joining the inside
-    std::size_t centroid_vertices = 0;  ///< extra vertices for loops with no valid diagonal triangulation
-    std::size_t missing_crossings = 0;  ///< crossed edges without a valid crossing value (midpoint used)
-    std::size_t thin_points = 0;        ///< grid points made inside to keep thin parts
+    std::size_t blocks = 0;            ///< 8^3 blocks of cells with surface
+    std::size_t surface_cells = 0;     ///< cells with mixed corners
+    std::size_t ambiguous_faces = 0;   ///< face evaluations with a diagonal pattern (each face seen twice)
+    std::size_t joined_faces = 0;      ///< of those, resolved by joining the inside
+    std::size_t centroid_vertices = 0; ///< extra vertices for loops with no valid diagonal triangulation
+    std::size_t missing_crossings = 0; ///< crossed edges without a valid crossing value (midpoint used)
+    std::size_t thin_points = 0;       ///< grid points made inside to keep thin parts
 };
 
 /// @brief Extracts the boundary of `vol.occupancy` as a closed, 2-manifold, outward

@@ -13,7 +13,7 @@ namespace cm::mc {
 namespace {
 
 using openvdb::Coord;
-constexpr std::int64_t kBias = std::int64_t(1) << 20;   // block coordinates are stored in 21 bits
+constexpr std::int64_t kBias = std::int64_t(1) << 20; // block coordinates are stored in 21 bits
 
 std::uint64_t block_key(const Coord& o) {
     return (std::uint64_t((o.x() >> 3) + kBias) << 42) | (std::uint64_t((o.y() >> 3) + kBias) << 21) |
@@ -33,7 +33,7 @@ public:
     /// Inside bits of the 8 leaf-sized regions at origin + 8 (dx, dy, dz), as leaf words:
     /// word x of region d holds bit 8y+z.
     void load(const Coord& origin, std::uint64_t words[8][8]) const {
-        auto acc = occ_.getConstUnsafeAccessor();   // per call, so no registration with the tree
+        auto acc = occ_.getConstUnsafeAccessor(); // per call, so no registration with the tree
         for (int d = 0; d < 8; ++d) {
             const Coord o = origin.offsetBy(8 * (d & 1), 8 * ((d >> 1) & 1), 8 * ((d >> 2) & 1));
             if (const auto* leaf = acc.probeConstLeaf(o)) {
@@ -126,7 +126,8 @@ void add_tile_shells(const openvdb::BoolGrid& occ, std::vector<std::uint64_t>& k
 std::vector<std::uint64_t> candidate_keys(const openvdb::BoolGrid& occ, const FlipGrid* flips) {
     std::vector<std::uint64_t> keys;
     auto add_around = [&](const Coord& o) {
-        for (int d = 0; d < 8; ++d) keys.push_back(block_key(o.offsetBy(-8 * (d & 1), -8 * ((d >> 1) & 1), -8 * ((d >> 2) & 1))));
+        for (int d = 0; d < 8; ++d)
+            keys.push_back(block_key(o.offsetBy(-8 * (d & 1), -8 * ((d >> 1) & 1), -8 * ((d >> 2) & 1))));
     };
     for (auto it = occ.tree().cbeginLeaf(); it; ++it) add_around(it->origin());
     if (flips)
@@ -178,8 +179,7 @@ std::size_t fill_block(Block& b, std::size_t i, const std::vector<std::uint64_t>
         }
     b.nverts = n;
     for (int d = 0; d < 8; ++d) {
-        const std::uint64_t k =
-            block_key(b.origin.offsetBy(8 * (d & 1), 8 * ((d >> 1) & 1), 8 * ((d >> 2) & 1)));
+        const std::uint64_t k = block_key(b.origin.offsetBy(8 * (d & 1), 8 * ((d >> 1) & 1), 8 * ((d >> 2) & 1)));
         const auto it = std::lower_bound(keys.begin(), keys.end(), k);
         b.nb[d] = (it != keys.end() && *it == k) ? std::uint32_t(it - keys.begin()) : kNone;
     }

@@ -22,10 +22,10 @@ constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 struct Block {
     openvdb::Coord origin;
-    std::uint16_t rows[9][9];        ///< bit z of rows[x][y]: corner (x, y, z) is inside
-    std::uint64_t cross[3][8];       ///< bit 8y+z of cross[a][x]: edge (x,y,z) -> +a is crossed
-    std::uint16_t pre[3][8];         ///< vertices of this block before cross[a][x]
-    std::uint32_t nb[8];             ///< the blocks at origin + 8 (dx, dy, dz), index dx | dy<<1 | dz<<2
+    std::uint16_t rows[9][9];  ///< bit z of rows[x][y]: corner (x, y, z) is inside
+    std::uint64_t cross[3][8]; ///< bit 8y+z of cross[a][x]: edge (x,y,z) -> +a is crossed
+    std::uint16_t pre[3][8];   ///< vertices of this block before cross[a][x]
+    std::uint32_t nb[8];       ///< the blocks at origin + 8 (dx, dy, dz), index dx | dy<<1 | dz<<2
     std::uint32_t vbase = 0, nverts = 0;
     std::uint32_t tbase = 0, ntris = 0;
     std::uint32_t xbase = 0, nextra = 0;
@@ -52,9 +52,10 @@ void for_blocks(std::size_t n, double p0, double p1, const MarchingCubesOptions&
     const std::size_t chunk = 4096;
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t end = std::min(n, start + chunk);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(start, end, 16), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(start, end, 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+                          });
         if (opt.progress) opt.progress(p0 + (p1 - p0) * double(end) / double(n));
     }
 }

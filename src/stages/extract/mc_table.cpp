@@ -7,7 +7,7 @@
 namespace cm::mc {
 namespace {
 
-int other_axis(int a, int which) {   // the two axes other than a, in increasing order
+int other_axis(int a, int which) { // the two axes other than a, in increasing order
     const int o[3][2] = {{1, 2}, {0, 2}, {0, 1}};
     return o[a][which];
 }
@@ -33,11 +33,15 @@ std::array<std::array<std::uint8_t, 4>, 6> make_face_edges() {
         const int n = f / 2, s = f % 2, u = other_axis(n, 0), v = other_axis(n, 1);
         int off[3] = {0, 0, 0};
         off[n] = s;
-        off[v] = 0; fe[std::size_t(f)][0] = edge_id(u, off);   // Eu0
-        off[v] = 1; fe[std::size_t(f)][1] = edge_id(u, off);   // Eu1
         off[v] = 0;
-        off[u] = 0; fe[std::size_t(f)][2] = edge_id(v, off);   // Ev0
-        off[u] = 1; fe[std::size_t(f)][3] = edge_id(v, off);   // Ev1
+        fe[std::size_t(f)][0] = edge_id(u, off); // Eu0
+        off[v] = 1;
+        fe[std::size_t(f)][1] = edge_id(u, off); // Eu1
+        off[v] = 0;
+        off[u] = 0;
+        fe[std::size_t(f)][2] = edge_id(v, off); // Ev0
+        off[u] = 1;
+        fe[std::size_t(f)][3] = edge_id(v, off); // Ev1
     }
     return fe;
 }
@@ -79,7 +83,8 @@ int face_corner(int f, int iu, int iv) {
 }
 
 /// Any triangulation of the loop whose diagonals join edges on no common face.
-bool search_triangulation(const std::vector<int>& idx, const Loop& loop, std::vector<std::array<std::uint8_t, 3>>& out) {
+bool search_triangulation(const std::vector<int>& idx, const Loop& loop,
+                          std::vector<std::array<std::uint8_t, 3>>& out) {
     const std::size_t n = idx.size();
     if (n < 3) return true;
     const int a = idx.front(), b = idx.back();
@@ -146,7 +151,7 @@ Table::Table() : cases_(256 * 64) {
             const bool c10 = inside(config, face_corner(f, 1, 0)), c01 = inside(config, face_corner(f, 0, 1));
             if (c00 == c11 && c10 == c01 && c00 != c10) {
                 amb = std::uint8_t(amb | (1 << f));
-                if (!c00) sep = std::uint8_t(sep | (1 << f));   // inside on (1,0),(0,1): pairing B separates
+                if (!c00) sep = std::uint8_t(sep | (1 << f)); // inside on (1,0),(0,1): pairing B separates
             }
         }
         ambiguous_[config] = amb;
@@ -172,8 +177,10 @@ Table::Table() : cases_(256 * 64) {
                     nseg = 1;
                 } else if (cr.size() == 4) {
                     const bool pair_b = (bits >> f) & 1;
-                    segs[0][0] = fe[0]; segs[0][1] = pair_b ? fe[3] : fe[2];
-                    segs[1][0] = fe[1]; segs[1][1] = pair_b ? fe[2] : fe[3];
+                    segs[0][0] = fe[0];
+                    segs[0][1] = pair_b ? fe[3] : fe[2];
+                    segs[1][0] = fe[1];
+                    segs[1][1] = pair_b ? fe[2] : fe[3];
                     nseg = 2;
                 } else if (!cr.empty()) {
                     throw std::logic_error("marching cubes table: odd crossings on a face");

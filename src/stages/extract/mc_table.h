@@ -24,22 +24,22 @@
 namespace cm::mc {
 
 struct EdgeDef {
-    std::uint8_t axis;     ///< 0 x, 1 y, 2 z
-    std::uint8_t corner;   ///< start corner; the edge runs to corner | (1 << axis)
+    std::uint8_t axis;   ///< 0 x, 1 y, 2 z
+    std::uint8_t corner; ///< start corner; the edge runs to corner | (1 << axis)
 };
 
 /// One closed loop of crossed edges: a disc of surface inside the cell.
 struct Loop {
     enum Mode : std::uint8_t {
-        Fan,       ///< a fan from one of the vertices in `fan_apexes` (chosen at run time)
-        Fixed,     ///< the triangles in `tris` (loop-local indices)
-        Centroid,  ///< a fan around one extra vertex at the loop's centroid
+        Fan,      ///< a fan from one of the vertices in `fan_apexes` (chosen at run time)
+        Fixed,    ///< the triangles in `tris` (loop-local indices)
+        Centroid, ///< a fan around one extra vertex at the loop's centroid
     };
-    std::uint8_t size = 0;              ///< vertices (= crossed edges), 3..12
+    std::uint8_t size = 0; ///< vertices (= crossed edges), 3..12
     Mode mode = Fan;
-    std::uint16_t fan_apexes = 0;       ///< bit k: a fan from vertex k uses only interior diagonals
-    std::uint8_t tri_count = 0;         ///< Fixed only
-    std::array<std::uint8_t, 12> edges{};           ///< in order; the loop's orientation is outward
+    std::uint16_t fan_apexes = 0;         ///< bit k: a fan from vertex k uses only interior diagonals
+    std::uint8_t tri_count = 0;           ///< Fixed only
+    std::array<std::uint8_t, 12> edges{}; ///< in order; the loop's orientation is outward
     std::array<std::array<std::uint8_t, 3>, 10> tris{};
 };
 
@@ -73,7 +73,7 @@ private:
     Table();
     std::array<std::uint8_t, 256> ambiguous_{};
     std::array<std::uint8_t, 256> separating_{};
-    std::vector<Case> cases_;     ///< 256 * 64, indexed by config | face_bits << 8
+    std::vector<Case> cases_; ///< 256 * 64, indexed by config | face_bits << 8
     std::vector<Loop> loops_;
 };
 

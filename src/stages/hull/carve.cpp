@@ -15,14 +15,14 @@ namespace cm {
 namespace {
 
 using BoolTree = openvdb::BoolTree;
-using Int2 = BoolTree::RootNodeType::ChildNodeType;   // 4096^3
-using Int1 = Int2::ChildNodeType;                     // 128^3
-using LeafT = Int1::ChildNodeType;                    // 8^3
+using Int2 = BoolTree::RootNodeType::ChildNodeType; // 4096^3
+using Int1 = Int2::ChildNodeType;                   // 128^3
+using LeafT = Int1::ChildNodeType;                  // 8^3
 using Coord = openvdb::Coord;
 using Mask = VisualHull::ViewMask;
 
-constexpr int kBlock = int(Int1::DIM);   // 128
-constexpr int kLeaf = int(LeafT::DIM);   // 8
+constexpr int kBlock = int(Int1::DIM); // 128
+constexpr int kLeaf = int(LeafT::DIM); // 8
 
 // Grid point (i, j, k) sits at origin + h (i, j, k).
 struct Lattice {
@@ -87,7 +87,7 @@ private:
         using Word = std::uint64_t;
         Word bits[8];
         {
-            std::uint32_t ok[3] = {0, 0, 0};   // per axis: indices inside the clip box
+            std::uint32_t ok[3] = {0, 0, 0}; // per axis: indices inside the clip box
             for (int a = 0; a < 3; ++a)
                 for (int i = 0; i < kLeaf; ++i) {
                     Coord c = o;
@@ -112,7 +112,7 @@ private:
                 continue;
             }
             const int a1 = k == 0 ? 1 : 0, a2 = k == 2 ? 1 : 2;
-            Word table = 0;   // bit 8 i + j: point with offsets (i, j) along (a1, a2)
+            Word table = 0; // bit 8 i + j: point with offsets (i, j) along (a1, a2)
             for (int i1 = 0; i1 < 8; ++i1)
                 for (int i2 = 0; i2 < 8; ++i2) {
                     Coord c = o;
@@ -123,12 +123,12 @@ private:
             for (int x = 0; x < 8; ++x) {
                 Word m;
                 if (k == 0) {
-                    m = table;   // (y, z)
+                    m = table; // (y, z)
                 } else if (k == 1) {
-                    const Word zs = (table >> (8 * x)) & 0xffu;   // (x, z)
+                    const Word zs = (table >> (8 * x)) & 0xffu; // (x, z)
                     m = zs * 0x0101010101010101ULL;
                 } else {
-                    const Word ys = (table >> (8 * x)) & 0xffu;   // (x, y)
+                    const Word ys = (table >> (8 * x)) & 0xffu; // (x, y)
                     m = 0;
                     for (int y = 0; y < 8; ++y)
                         if (ys >> y & 1u) m |= Word(0xff) << (8 * y);
@@ -160,9 +160,7 @@ private:
     Coord node_origin_;
 };
 
-double longest_side(const Vec3d& lo, const Vec3d& hi) {
-    return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-}
+double longest_side(const Vec3d& lo, const Vec3d& hi) { return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}); }
 
 // Conservative bounding box of the hull inside [lo, hi]: the union of the cells of a
 // `depth`-level octree that are not seen all outside by some view.
@@ -222,7 +220,8 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
     } else {
         for (const auto& v : views.views) {
             if (!v.camera.orthographic())
-                throw Error("cannot estimate the object's box for a mix of orthographic and perspective views; give bounds");
+                throw Error(
+                    "cannot estimate the object's box for a mix of orthographic and perspective views; give bounds");
             const double s = v.camera.scale;
             const double dx = std::max(std::abs(v.camera.cx), std::abs(v.width - v.camera.cx));
             const double dy = std::max(std::abs(v.camera.cy), std::abs(v.height - v.camera.cy));
@@ -239,7 +238,8 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
             throw Error("the views' silhouettes have no common inside: the visual hull is empty (check the cameras)");
         const Vec3d cell = (bhi - blo) / 64.0;
         if (pass == 0 && stats)
-            stats->box_touched = a.x <= blo.x || a.y <= blo.y || a.z <= blo.z || b.x >= bhi.x || b.y >= bhi.y || b.z >= bhi.z;
+            stats->box_touched =
+                a.x <= blo.x || a.y <= blo.y || a.z <= blo.z || b.x >= bhi.x || b.y >= bhi.y || b.z >= bhi.z;
         blo = vmax(blo, a - cell), bhi = vmin(bhi, b + cell);
     }
     lo = blo, hi = bhi;
@@ -303,7 +303,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
         } else if (r.node) {
             Int2* parent = tree->root().probeNode<Int2>(blocks[i]);
             if (!parent) {
-                tree->addTile(2, blocks[i], false, false);   // makes the branch down to level 2
+                tree->addTile(2, blocks[i], false, false); // makes the branch down to level 2
                 parent = tree->root().probeNode<Int2>(blocks[i]);
             }
             if (!parent || !parent->addChild(r.node.get())) throw Error("internal error: cannot place a grid node");
@@ -319,8 +319,10 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     xform->postTranslate(openvdb::Vec3d(lat.origin.x, lat.origin.y, lat.origin.z));
     grid->setTransform(xform);
     grid->setName("occupancy");
-    grid->insertMeta("hull_clip_min", openvdb::Vec3DMetadata(openvdb::Vec3d(lo.x - half.x, lo.y - half.y, lo.z - half.z)));
-    grid->insertMeta("hull_clip_max", openvdb::Vec3DMetadata(openvdb::Vec3d(hi.x + half.x, hi.y + half.y, hi.z + half.z)));
+    grid->insertMeta("hull_clip_min",
+                     openvdb::Vec3DMetadata(openvdb::Vec3d(lo.x - half.x, lo.y - half.y, lo.z - half.z)));
+    grid->insertMeta("hull_clip_max",
+                     openvdb::Vec3DMetadata(openvdb::Vec3d(hi.x + half.x, hi.y + half.y, hi.z + half.z)));
     grid->insertMeta("resolution", openvdb::Int32Metadata(res));
 
     auto vol = std::make_shared<Volume>();

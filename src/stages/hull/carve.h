@@ -8,17 +8,17 @@
 namespace cm {
 
 struct CarveOptions {
-    int resolution = 256;          ///< cells along the longest side of the box
-    double voxel_ratio = 0;        ///< > 0: image pixels per voxel (decides the resolution)
-    int pad = 2;                   ///< empty cells around the box
+    int resolution = 256;   ///< cells along the longest side of the box
+    double voxel_ratio = 0; ///< > 0: image pixels per voxel (decides the resolution)
+    int pad = 2;            ///< empty cells around the box
 };
 
 struct CarveStats {
     int resolution = 0;
     double voxel_size = 0;
-    Vec3d box_min, box_max;        ///< the region carved (before padding)
-    bool box_estimated = false;    ///< no bounds were given: found by a coarse carve
-    bool box_touched = false;      ///< the estimated hull reaches the edge of the estimate
+    Vec3d box_min, box_max;     ///< the region carved (before padding)
+    bool box_estimated = false; ///< no bounds were given: found by a coarse carve
+    bool box_touched = false;   ///< the estimated hull reaches the edge of the estimate
 };
 
 /// Resolution (cells along the longest side of [lo, hi]) that `voxel_ratio` pixels of

@@ -11,10 +11,11 @@ class HullCarve : public Stage {
 
 public:
     StageSignature signature() const override {
-        return {"hull.carve",
-                "Carve the visual hull of the views' silhouettes into a sparse grid (tiles inside, leaves at the surface)",
-                {{"views", DataKind::Views, "the views whose silhouettes are carved"}},
-                DataKind::Volume};
+        return {
+            "hull.carve",
+            "Carve the visual hull of the views' silhouettes into a sparse grid (tiles inside, leaves at the surface)",
+            {{"views", DataKind::Views, "the views whose silhouettes are carved"}},
+            DataKind::Volume};
     }
     void declare(ParamBinder& b) override {
         b.add(resolution_, ParamSpec::Int("resolution", 256, 8, 16384, "cells",
@@ -31,7 +32,8 @@ public:
         opt.resolution = resolution_;
         if (voxel_ratio_) opt.voxel_ratio = *voxel_ratio_;
         CarveStats st;
-        auto vol = carve(views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
+        auto vol = carve(
+            views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
         // voxel_ratio decides when given, so `--set hull.voxel_ratio=4` works on a pipeline
         // file that names a resolution; say so when the two differ.
         if (opt.voxel_ratio > 0 && resolution_.given && st.resolution != opt.resolution)
@@ -43,8 +45,9 @@ public:
                      std::to_string(st.box_max.x) + ", " + std::to_string(st.box_max.y) + ", " +
                      std::to_string(st.box_max.z) + "]");
             if (st.box_touched)
-                ctx.warn("the hull reaches the edge of the region the cameras were searched in; give bounds in the "
-                         "manifest to be sure nothing is cut");
+                ctx.warn(
+                    "the hull reaches the edge of the region the cameras were searched in; give bounds in the "
+                    "manifest to be sure nothing is cut");
         }
         const auto& tree = vol->occupancy->tree();
         ctx.metric("resolution", double(st.resolution));

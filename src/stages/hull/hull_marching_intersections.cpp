@@ -31,7 +31,8 @@ public:
         auto vol = in.get<Volume>("volume");
         std::shared_ptr<const Views> views = in.has("views") ? in.get<Views>("views") : vol->views;
         RefineStats st;
-        auto out = refine(*vol, views, opt_, [&](double f) { ctx.progress(f, "crossings"); }, &st);
+        auto out = refine(
+            *vol, views, opt_, [&](double f) { ctx.progress(f, "crossings"); }, &st);
         ctx.metric("crossings", double(st.crossings));
         ctx.metric("thin_crossings", double(st.thin_crossings));
         ctx.metric("cell_px", st.cell_px);

@@ -46,8 +46,8 @@ struct Lattice {
 // Per axis, the bits of the block where the edge p -> p + e_a joins differing occupancy.
 void edge_diffs(const BlockBits& w, const BlockBits& nx, const BlockBits& ny, const BlockBits& nz,
                 std::array<BlockBits, 3>& d) {
-    constexpr Word kZ7 = 0x7f7f7f7f7f7f7f7fULL;   // bits with z != 7
-    constexpr Word kZ0 = 0x0101010101010101ULL;   // bits with z == 0
+    constexpr Word kZ7 = 0x7f7f7f7f7f7f7f7fULL; // bits with z != 7
+    constexpr Word kZ0 = 0x0101010101010101ULL; // bits with z == 0
     for (int x = 0; x < 8; ++x) {
         const Word wx = w[x];
         d[0][x] = wx ^ (x < 7 ? w[x + 1] : nx[0]);
@@ -113,7 +113,8 @@ public:
 
     // The crossings of the edges starting in the block at o, into `leaf` (made at the first
     // crossing); counts the crossings and those the views could not place.
-    void block(const OccAccessor& acc, const Coord& o, VecLeaf*& leaf, std::size_t& cross, std::size_t& unresolved) const {
+    void block(const OccAccessor& acc, const Coord& o, VecLeaf*& leaf, std::size_t& cross,
+               std::size_t& unresolved) const {
         double flips[256];
         std::array<BlockBits, 3> diff;
         const BlockBits w = block_bits(acc, o);
@@ -182,7 +183,8 @@ std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const Cross
         tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
             OccAccessor acc(occ);
             std::size_t cross = 0, unresolved = 0;
-            for (std::size_t li = r.begin(); li < r.end(); ++li) finder.block(acc, blocks[li], made[li], cross, unresolved);
+            for (std::size_t li = r.begin(); li < r.end(); ++li)
+                finder.block(acc, blocks[li], made[li], cross, unresolved);
             n_cross += cross;
             n_unresolved += unresolved;
         });
@@ -226,7 +228,7 @@ public:
     void search(const OccAccessor& acc, const Coord& o, int n, VisualHull::ViewMask mask, double* flips,
                 std::vector<ThinHit>& out) const {
         const auto c = hull_.classify(lat_.at(o), lat_.at(o.offsetBy(n)), mask);
-        if (c != VisualHull::Class::Mixed) return;   // all outside, or all inside (no outside ends)
+        if (c != VisualHull::Class::Mixed) return; // all outside, or all inside (no outside ends)
         if (n > 4) {
             const int hn = n / 2;
             for (int k = 0; k < 8; ++k)
@@ -350,8 +352,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     const std::vector<Coord> blocks = crossing_blocks(occ);
     const CrossingFinder finder(hull, lat);
     const double cell_px = cell_pixels(occ, lat, hull);
-    const bool do_thin = opt.thin == RefineOptions::Thin::On ||
-                         (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
+    const bool do_thin =
+        opt.thin == RefineOptions::Thin::On || (opt.thin == RefineOptions::Thin::Auto && cell_px > opt.thin_auto_px);
     const double total_work = double(blocks.size()) * (do_thin ? 2.0 : 1.0) + 1.0;
     std::size_t n_cross = 0, n_unresolved = 0;
     auto ctree = crossing_tree(occ, finder, blocks, total_work, progress, n_cross, n_unresolved);
@@ -368,7 +370,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     std::size_t n_thin = 0;
     if (do_thin) {
         const openvdb::CoordBBox region = thin_region(*in.occupancy, lat, clip_lo, clip_hi);
-        const std::vector<ThinHit> all = find_thin(occ, ThinSearch(hull, lat), region, blocks.size(), total_work, progress);
+        const std::vector<ThinHit> all =
+            find_thin(occ, ThinSearch(hull, lat), region, blocks.size(), total_work, progress);
         if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
         n_thin = all.size();
     }

@@ -18,10 +18,10 @@ struct RefineOptions {
 };
 
 struct RefineStats {
-    std::size_t crossings = 0;        ///< edges with differing ends
-    std::size_t thin_crossings = 0;   ///< outside-outside edges that pass through the hull
-    std::size_t unresolved = 0;       ///< crossings the silhouettes could not place (set at the changing end)
-    double cell_px = 0;               ///< grid spacing in pixels of the finest view (at the hull's centre)
+    std::size_t crossings = 0;      ///< edges with differing ends
+    std::size_t thin_crossings = 0; ///< outside-outside edges that pass through the hull
+    std::size_t unresolved = 0;     ///< crossings the silhouettes could not place (set at the changing end)
+    double cell_px = 0;             ///< grid spacing in pixels of the finest view (at the hull's centre)
     bool thin_searched = false;
 };
 

@@ -31,20 +31,33 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
             const std::uint32_t b = adj.offsets[v], e = adj.offsets[v + 1];
             const Vec3f p = src[v];
-            if (b == e) { dst[v] = p; continue; }
+            if (b == e) {
+                dst[v] = p;
+                continue;
+            }
             Vec3f sum{0, 0, 0};
             for (std::uint32_t i = b; i < e; ++i) sum += src[adj.neighbours[i]];
             const Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
-            if (!hull) { dst[v] = p + step; continue; }
+            if (!hull) {
+                dst[v] = p + step;
+                continue;
+            }
             const Vec3d p0(p), s(step);
             const double h1 = (*hull)(p0 + s);
-            if (std::fabs(h1) <= tol) { dst[v] = p + step; continue; }
+            if (std::fabs(h1) <= tol) {
+                dst[v] = p + step;
+                continue;
+            }
             const double bound = std::max(tol, std::fabs((*hull)(p0)));
-            if (std::fabs(h1) <= bound) { dst[v] = p + step; continue; }
+            if (std::fabs(h1) <= bound) {
+                dst[v] = p + step;
+                continue;
+            }
             double lo = 0, hi = 1;
             for (int k = 0; k < kBisections; ++k) {
                 const double mid = 0.5 * (lo + hi);
-                if (std::fabs((*hull)(p0 + s * mid)) <= bound) lo = mid; else hi = mid;
+                if (std::fabs((*hull)(p0 + s * mid)) <= bound) lo = mid;
+                else hi = mid;
             }
             dst[v] = p + step * float(lo);
             ++local;
@@ -78,12 +91,15 @@ void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vec
 // The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
 // input positions until no face crosses another, turns over or collapses.
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
-    const std::vector<Vec3f> smoothed = p;   // the index covers every blend of input and this
+    const std::vector<Vec3f> smoothed = p; // the index covers every blend of input and this
     const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
     std::vector<std::uint32_t> bad;
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
         bad.clear();
-        for (const auto& pr : pairs) { bad.push_back(pr[0]); bad.push_back(pr[1]); }
+        for (const auto& pr : pairs) {
+            bad.push_back(pr[0]);
+            bad.push_back(pr[1]);
+        }
         find_bad_shapes(in, p, only, bad);
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
@@ -91,9 +107,9 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     };
     collect(index.all(p), nullptr);
     st.bad_faces = bad.size();
-    if (bad.empty()) return;   // the common case: nothing more to build
+    if (bad.empty()) return; // the common case: nothing more to build
 
-    std::vector<float> weight(p.size(), 1.0f);   // position = input + weight * (smoothed - input)
+    std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
     // Faces around each vertex, to re-check only what moved.
     std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
     for (const auto& t : in.triangles)
@@ -105,7 +121,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         for (std::size_t f = 0; f < in.triangles.size(); ++f)
             for (auto v : in.triangles[f]) vertex_faces[fill[v]++] = std::uint32_t(f);
     }
-    std::vector<std::uint32_t> check, moved;   // faces to re-check, vertices moved this round
+    std::vector<std::uint32_t> check, moved; // faces to re-check, vertices moved this round
     std::vector<char> marked(p.size(), 0);
     while (!bad.empty()) {
         moved.clear();
@@ -117,12 +133,16 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
                 weight[v] = weight[v] > 0.3f ? weight[v] * 0.5f : 0.0f;
                 p[v] = in.positions[v] + (smoothed[v] - in.positions[v]) * weight[v];
             }
-        if (moved.empty()) { st.unresolved = bad.size(); break; }   // the input's own faces
+        if (moved.empty()) {
+            st.unresolved = bad.size();
+            break;
+        } // the input's own faces
         st.pulled_back += moved.size();
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
-            check.insert(check.end(), vertex_faces.begin() + face_offsets[v], vertex_faces.begin() + face_offsets[v + 1]);
+            check.insert(check.end(), vertex_faces.begin() + face_offsets[v],
+                         vertex_faces.begin() + face_offsets[v + 1]);
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());

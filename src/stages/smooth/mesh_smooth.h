@@ -15,10 +15,10 @@ class HullDistance;
 struct SmoothOptions {
     enum class Method { Laplacian, Taubin };
     Method method = Method::Laplacian;
-    int iterations = 10;            ///< Taubin: one iteration is one lambda step and one mu step
-    double factor = 1.0;            ///< Laplacian step: V' = V + factor * (mean of neighbours - V)
-    double lambda = 0.63;           ///< Taubin shrinking step (> 0)
-    double mu = -0.67;              ///< Taubin inflating step (< -lambda)
+    int iterations = 10;  ///< Taubin: one iteration is one lambda step and one mu step
+    double factor = 1.0;  ///< Laplacian step: V' = V + factor * (mean of neighbours - V)
+    double lambda = 0.63; ///< Taubin shrinking step (> 0)
+    double mu = -0.67;    ///< Taubin inflating step (< -lambda)
     /// When set, each vertex stays within `tolerance` (world units) of the hull: a step
     /// that would leave the band is shortened by bisection along its direction.
     const HullDistance* hull = nullptr;
@@ -33,12 +33,12 @@ struct SmoothOptions {
 };
 
 struct SmoothStats {
-    std::size_t clamped_steps = 0;   ///< vertex steps shortened by the hull constraint
-    double max_hull_distance = 0;    ///< largest |hull distance| of a vertex at the end (constrained runs)
-    std::size_t bad_faces = 0;       ///< guard: faces crossing, turned over or collapsed after smoothing
-    std::size_t pulled_back = 0;     ///< guard: vertices moved back towards their input positions
-    std::size_t guard_rounds = 0;    ///< guard: checks run (the first covers every face)
-    std::size_t unresolved = 0;      ///< guard: bad faces left (only when the input had them)
+    std::size_t clamped_steps = 0; ///< vertex steps shortened by the hull constraint
+    double max_hull_distance = 0;  ///< largest |hull distance| of a vertex at the end (constrained runs)
+    std::size_t bad_faces = 0;     ///< guard: faces crossing, turned over or collapsed after smoothing
+    std::size_t pulled_back = 0;   ///< guard: vertices moved back towards their input positions
+    std::size_t guard_rounds = 0;  ///< guard: checks run (the first covers every face)
+    std::size_t unresolved = 0;    ///< guard: bad faces left (only when the input had them)
 };
 
 /// @brief Smooths `mesh` in place (positions; normals are recomputed when present).

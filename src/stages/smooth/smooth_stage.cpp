@@ -2,9 +2,9 @@
 
 #include <memory>
 
-#include "geometry/hull_distance.h"
 #include "core/mesh.h"
 #include "core/views.h"
+#include "geometry/hull_distance.h"
 
 namespace cm {
 

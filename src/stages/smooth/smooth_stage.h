@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh_smooth.h"
 #include "core/stage.h"
+#include "mesh_smooth.h"
 
 namespace cm {
 

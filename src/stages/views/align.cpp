@@ -44,7 +44,8 @@ Extent silhouette_extent(const View& v) {
     };
     Extent e;
     if (!range(col, e.x0, e.x1) || !range(row, e.y0, e.y1))
-        throw Error("view \"" + v.name + "\" (" + v.source.string() + ") has an empty silhouette: no object was found in it");
+        throw Error("view \"" + v.name + "\" (" + v.source.string() +
+                    ") has an empty silhouette: no object was found in it");
     return e;
 }
 
@@ -91,21 +92,26 @@ void place_oblique_views(Views& views, const std::vector<bool>& fixed) {
                     bool inside = true;
                     for (const View* a : axis) {
                         const Vec2d pa = a->camera.project(p);
-                        if (!a->inside(int(std::floor(pa.x)), int(std::floor(pa.y)))) { inside = false; break; }
+                        if (!a->inside(int(std::floor(pa.x)), int(std::floor(pa.y)))) {
+                            inside = false;
+                            break;
+                        }
                     }
                     if (inside) q.push_back({c.scale * dot(p, c.r), -c.scale * dot(p, c.u)});
                 }
         if (q.empty()) continue;
         // The hull's projection (origin at 0): each cell's footprint as its bounding rectangle.
-        const double ax = 0.5 * c.scale * (std::abs(c.r.x) * cell.x + std::abs(c.r.y) * cell.y + std::abs(c.r.z) * cell.z);
-        const double ay = 0.5 * c.scale * (std::abs(c.u.x) * cell.x + std::abs(c.u.y) * cell.y + std::abs(c.u.z) * cell.z);
+        const double ax =
+            0.5 * c.scale * (std::abs(c.r.x) * cell.x + std::abs(c.r.y) * cell.y + std::abs(c.r.z) * cell.z);
+        const double ay =
+            0.5 * c.scale * (std::abs(c.u.x) * cell.x + std::abs(c.u.y) * cell.y + std::abs(c.u.z) * cell.z);
         double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
         for (const Vec2d& p : q) {
             x0 = std::min(x0, p.x - ax), x1 = std::max(x1, p.x + ax);
             y0 = std::min(y0, p.y - ay), y1 = std::max(y1, p.y + ay);
         }
         const int W = int(std::ceil(x1 - x0)) + 2, H = int(std::ceil(y1 - y0)) + 2;
-        if (double(W) * H > 64e6) continue;   // absurd scale; keep the first guess
+        if (double(W) * H > 64e6) continue; // absurd scale; keep the first guess
         std::vector<char> mask(std::size_t(W) * H, 0);
         for (const Vec2d& p : q) {
             const int i0 = int(std::ceil(p.x - ax - x0 - 0.5)), i1 = int(std::floor(p.x + ax - x0 - 0.5));
@@ -146,7 +152,8 @@ void place_oblique_views(Views& views, const std::vector<bool>& fixed) {
         double mx = 0, my = 0, mn = 0;
         for (int dy = -R; dy <= R; ++dy)
             for (int dx = -R; dx <= R; ++dx)
-                if (outside[std::size_t(dy + R) * (2 * R + 1) + std::size_t(dx + R)] <= best + slack) mx += dx, my += dy, ++mn;
+                if (outside[std::size_t(dy + R) * (2 * R + 1) + std::size_t(dx + R)] <= best + slack)
+                    mx += dx, my += dy, ++mn;
         c.cx = tx + mx / mn;
         c.cy = ty + my / mn;
     }
@@ -190,8 +197,11 @@ void align_from_silhouettes(Views& views, const AlignOptions& opt, const std::ve
             auto record = [&](int a, double pix) {
                 if (a < 0) return;
                 const double world = pix / scale[i];
-                if (size[a] < 0) { size[a] = world; measured_by[a] = views.views[i].name; changed = true; }
-                else if (std::abs(world - size[a]) > opt.tolerance * size[a]) {
+                if (size[a] < 0) {
+                    size[a] = world;
+                    measured_by[a] = views.views[i].name;
+                    changed = true;
+                } else if (std::abs(world - size[a]) > opt.tolerance * size[a]) {
                     std::ostringstream os;
                     os.precision(3);
                     os << "views \"" << measured_by[a] << "\" and \"" << views.views[i].name << "\" disagree on the "
@@ -205,7 +215,7 @@ void align_from_silhouettes(Views& views, const AlignOptions& opt, const std::ve
         }
     }
     for (std::size_t i = 0; i < n; ++i)
-        if (scale[i] < 0) scale[i] = 1.0;   // shares no axis (e.g. an oblique view): same scale as the first
+        if (scale[i] < 0) scale[i] = 1.0; // shares no axis (e.g. an oblique view): same scale as the first
     // Each axis is usually measured by two views: use all measurements. Alternate between the
     // sizes (mean over the views measuring an axis) and the scales of all views but the first
     // (geometric mean over their axes), in the log domain a least-squares fit.
@@ -415,13 +425,16 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
     std::vector<Extent> ext(n);
     for (std::size_t i = 0; i < n; ++i) ext[i] = silhouette_extent(views.views[i]);
     std::vector<bool> fixed(n, false);
-    for (std::size_t i = 0; i < n && i < opt.fixed.size(); ++i) fixed[i] = opt.fixed[i] && views.views[i].camera.orthographic();
+    for (std::size_t i = 0; i < n && i < opt.fixed.size(); ++i)
+        fixed[i] = opt.fixed[i] && views.views[i].camera.orthographic();
     if (std::find(fixed.begin(), fixed.end(), true) == fixed.end()) {
         if (opt.bounds) throw Error("a box (bounds) for drawn views needs fixed cameras (scale and origin)");
         align_from_silhouettes(views, opt, ext, warnings);
     } else {
         if (opt.height || opt.width || opt.depth)
-            throw Error("a real size (height, width or depth) cannot go with fixed cameras (scale, origin): they set the units");
+            throw Error(
+                "a real size (height, width or depth) cannot go with fixed cameras (scale, origin): they set the "
+                "units");
         align_to_fixed_cameras(views, opt, ext, fixed, warnings);
     }
     place_oblique_views(views, fixed);

@@ -11,8 +11,8 @@
 namespace cm {
 
 struct AlignOptions {
-    std::optional<double> height, width, depth;   ///< real size; else 1 unit = 1 px of the first view
-    double tolerance = 0.02;                      ///< relative disagreement that raises a warning
+    std::optional<double> height, width, depth; ///< real size; else 1 unit = 1 px of the first view
+    double tolerance = 0.02;                    ///< relative disagreement that raises a warning
     /// Per view: its camera's scale and origin are fixed (given by the manifest) and kept as
     /// they are. Missing entries are false.
     std::vector<bool> fixed;

@@ -26,8 +26,9 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
         throw Error(man.file.string() + ": mixes calibrated (matrix) and drawn views; use one kind per manifest");
     views.calibrated = perspective != 0;
     if (views.calibrated && (man.height || man.width || man.depth))
-        throw Error(man.file.string() + ": a real size (height, width, depth) applies to drawn views; calibrated views keep "
-                                        "the calibration's units");
+        throw Error(man.file.string() +
+                    ": a real size (height, width, depth) applies to drawn views; calibrated views keep "
+                    "the calibration's units");
 
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
     tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
@@ -79,7 +80,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
         std::size_t inside = 0;
         for (float c : v.coverage) inside += c >= 0.5f;
         if (inside == 0)
-            throw Error("view \"" + v.name + "\" (" + v.source.string() + ") has an empty silhouette: no object was found in it");
+            throw Error("view \"" + v.name + "\" (" + v.source.string() +
+                        ") has an empty silhouette: no object was found in it");
     }
     if (views.calibrated) {
         if (man.bounds) {

@@ -11,13 +11,13 @@
 namespace cm {
 
 struct LoadViewsOptions {
-    std::string keep = "auto";       ///< default for views whose manifest entry says keep: auto
-    double align_tolerance = 0.02;   ///< relative disagreement on a shared axis that raises a warning
+    std::string keep = "auto";     ///< default for views whose manifest entry says keep: auto
+    double align_tolerance = 0.02; ///< relative disagreement on a shared axis that raises a warning
 };
 
 struct LoadViewsReport {
-    std::vector<std::string> warnings;   ///< views disagreeing on an axis
-    std::vector<std::string> notes;      ///< dropped marks, filled regions
+    std::vector<std::string> warnings; ///< views disagreeing on an axis
+    std::vector<std::string> notes;    ///< dropped marks, filled regions
 };
 
 /// @brief Reads the manifest and its images, extracts the silhouettes, sets up the cameras

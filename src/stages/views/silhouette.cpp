@@ -91,7 +91,8 @@ double median(std::vector<double> v) {
 }
 
 // Connected components of `mask` (4- or 8-connected); labels -1 outside the mask.
-int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab, std::vector<std::size_t>& sizes) {
+int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab,
+          std::vector<std::size_t>& sizes) {
     lab.assign(mask.size(), -1);
     sizes.clear();
     std::vector<int> stack;
@@ -205,8 +206,14 @@ public:
                 stack.push_back(p);
             }
         };
-        for (int x = 0; x < w; ++x) { seed(x); seed((h - 1) * w + x); }
-        for (int y = 0; y < h; ++y) { seed(y * w); seed(y * w + w - 1); }
+        for (int x = 0; x < w; ++x) {
+            seed(x);
+            seed((h - 1) * w + x);
+        }
+        for (int y = 0; y < h; ++y) {
+            seed(y * w);
+            seed(y * w + w - 1);
+        }
         while (!stack.empty()) {
             const int p = stack.back();
             stack.pop_back();
@@ -270,7 +277,10 @@ private:
                     for (int dx = -1; dx <= 1; ++dx) {
                         const int xx = x + dx, yy = y + dy;
                         if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        if (bg_[std::size_t(yy) * w + xx] != bg_[i]) { edge[i] = 1; break; }
+                        if (bg_[std::size_t(yy) * w + xx] != bg_[i]) {
+                            edge[i] = 1;
+                            break;
+                        }
                     }
             }
         return edge;
@@ -310,7 +320,7 @@ private:
             den += (q[k] - b[k]) * (q[k] - b[k]);
         }
         const double alpha = den > 0 ? std::clamp(num / den, 0.0, 1.0) : (object ? 1.0 : 0.0);
-        if (std::sqrt(den / 3.0) >= 2.0 * t_) return float(alpha);   // clear contrast: the mix decides
+        if (std::sqrt(den / 3.0) >= 2.0 * t_) return float(alpha); // clear contrast: the mix decides
         return float(object ? std::max(alpha, 0.5) : std::min(alpha, 0.49));
     }
 
@@ -318,9 +328,9 @@ private:
     const int w_, h_;
     const std::size_t n_;
     const double t_;
-    std::vector<Rgb> bgc_;   ///< the background colour the model gives each pixel
-    std::vector<double> d_;  ///< each pixel's colour distance to it
-    std::vector<char> bg_;   ///< background pixels
+    std::vector<Rgb> bgc_;  ///< the background colour the model gives each pixel
+    std::vector<double> d_; ///< each pixel's colour distance to it
+    std::vector<char> bg_;  ///< background pixels
 };
 
 // The coverage of a drawing without meaningful alpha, from its background colour.
@@ -352,7 +362,10 @@ void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::ve
                     const int xx = x + dx, yy = y + dy;
                     if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
                     const int l = lab[std::size_t(yy) * w + xx];
-                    if (l >= 0 && keep[std::size_t(l)]) { near_kept = true; break; }
+                    if (l >= 0 && keep[std::size_t(l)]) {
+                        near_kept = true;
+                        break;
+                    }
                 }
             if (!near_kept) cov[i] = 0.0f;
         }

@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
-#include "io/image_io.h"
 #include "core/views.h"
+#include "io/image_io.h"
 
 namespace cm {
 
@@ -22,12 +22,12 @@ struct SilhouetteOptions {
 };
 
 struct SilhouetteResult {
-    std::vector<float> coverage;   ///< width*height, row 0 at the top
-    std::string method;            ///< "alpha" or "background"
-    double threshold = 0;          ///< the colour distance used (background method)
-    double noise = 0;              ///< spread of the border around the background model
+    std::vector<float> coverage; ///< width*height, row 0 at the top
+    std::string method;          ///< "alpha" or "background"
+    double threshold = 0;        ///< the colour distance used (background method)
+    double noise = 0;            ///< spread of the border around the background model
     int components_kept = 0, components_dropped = 0;
-    int holes_kept = 0, regions_filled = 0;   ///< enclosed background-like regions
+    int holes_kept = 0, regions_filled = 0; ///< enclosed background-like regions
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.

@@ -2,9 +2,9 @@
 // silhouette, sets up the cameras and aligns hand-drawn views.
 #include <filesystem>
 
-#include "io/image_io.h"
 #include "core/stage.h"
 #include "core/views.h"
+#include "io/image_io.h"
 #include "load.h"
 
 namespace fs = std::filesystem;
@@ -19,7 +19,9 @@ class ViewsLoad : public Stage {
 
 public:
     StageSignature signature() const override {
-        return {"views.load", "Read the views manifest and its drawings: silhouettes, cameras, alignment", {},
+        return {"views.load",
+                "Read the views manifest and its drawings: silhouettes, cameras, alignment",
+                {},
                 DataKind::Views};
     }
     void declare(ParamBinder& b) override {
@@ -61,7 +63,8 @@ public:
         }
         if (views->has_bounds) {
             const Vec3d e = views->bounds_max - views->bounds_min;
-            ctx.metric_json("bounds_size", "[" + std::to_string(e.x) + "," + std::to_string(e.y) + "," + std::to_string(e.z) + "]");
+            ctx.metric_json("bounds_size",
+                            "[" + std::to_string(e.x) + "," + std::to_string(e.y) + "," + std::to_string(e.z) + "]");
         }
         return std::shared_ptr<const Views>(views);
     }

@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/stage.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
-#include "core/stage.h"
 
 namespace cm {
 namespace {
@@ -53,7 +53,7 @@ public:
         auto mesh = in.get<Mesh>("mesh");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; nothing to write");
         MeshWriteOptions opt = opt_;
-        opt.name = path_.stem().string();   // not the temporary file's name
+        opt.name = path_.stem().string(); // not the temporary file's name
         Mesh with_normals;
         const Mesh* m = mesh.get();
         if (opt.normals && mesh->normals.size() != mesh->positions.size()) {

@@ -38,7 +38,8 @@ public:
                 {{"volume", DataKind::Volume, "the hull (its occupancy and transform)"},
                  {"mesh", DataKind::Mesh,
                   "optional surface of the hull (e.g. the Marching Cubes mesh): the level set follows it "
-                  "with sub-voxel accuracy instead of the voxel faces", true}},
+                  "with sub-voxel accuracy instead of the voxel faces",
+                  true}},
                 DataKind::File};
     }
     void declare(ParamBinder& b) override {
@@ -81,8 +82,8 @@ public:
             ctx.metric("source", "mesh");
         } else {
             ctx.progress(0.1, "occupancy to level set");
-            sdf = openvdb::tools::topologyToLevelSet(*vol->occupancy, half_width, 0, 0,
-                                                     smoothing_steps_, &ctx.interrupter());
+            sdf = openvdb::tools::topologyToLevelSet(*vol->occupancy, half_width, 0, 0, smoothing_steps_,
+                                                     &ctx.interrupter());
             ctx.metric("source", "occupancy");
         }
         ctx.check_cancel();
