@@ -30,27 +30,27 @@ ParamSpec ParamSpec::Bool(std::string name, bool def, std::string doc) {
     s.doc = std::move(doc);
     return s;
 }
-ParamSpec ParamSpec::Int(std::string name, std::int64_t def, double lo, double hi, std::string unit, std::string doc) {
+namespace {
+// Int and Float: a number with a range and a unit.
+ParamSpec number(std::string name, ParamType type, ParamValue def, double lo, double hi, std::string unit,
+                 std::string doc) {
     ParamSpec s;
     s.name = std::move(name);
-    s.type = ParamType::Int;
-    s.default_value = def;
+    s.type = type;
+    s.default_value = std::move(def);
     s.min = lo;
     s.max = hi;
     s.unit = std::move(unit);
     s.doc = std::move(doc);
     return s;
 }
+} // namespace
+
+ParamSpec ParamSpec::Int(std::string name, std::int64_t def, double lo, double hi, std::string unit, std::string doc) {
+    return number(std::move(name), ParamType::Int, def, lo, hi, std::move(unit), std::move(doc));
+}
 ParamSpec ParamSpec::Float(std::string name, double def, double lo, double hi, std::string unit, std::string doc) {
-    ParamSpec s;
-    s.name = std::move(name);
-    s.type = ParamType::Float;
-    s.default_value = def;
-    s.min = lo;
-    s.max = hi;
-    s.unit = std::move(unit);
-    s.doc = std::move(doc);
-    return s;
+    return number(std::move(name), ParamType::Float, def, lo, hi, std::move(unit), std::move(doc));
 }
 ParamSpec ParamSpec::String(std::string name, std::optional<std::string> def, std::string doc) {
     ParamSpec s;
