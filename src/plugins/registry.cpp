@@ -64,7 +64,12 @@ void Registry::load_directories(const std::vector<fs::path>& dirs) {
 
 bool Registry::load_library(const fs::path& file) {
     const std::string name = file.string();
-    void* h = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
+    // RTLD_NODELETE: a plugin is never unmapped, not even when the last registry holding
+    // it goes. Its stages run TBB tasks whose code (the parallel_for templates) lives in
+    // the plugin; a worker thread can still be returning through that code after the
+    // caller has seen the work finish, and unmapping it then crashes the process on its
+    // way out (seen as an exit-time SIGSEGV of short commands such as compare).
+    void* h = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     if (!h) {
         const char* why = ::dlerror();
         diagnostics_.push_back("plugin \"" + name + "\" could not be loaded: " + (why ? why : "unknown reason"));
