@@ -88,21 +88,22 @@ std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
         return cam.orthographic() ? std::abs(a - b) > jump
                                   : std::abs(a - b) > 0.01 * std::max(std::abs(a), std::abs(b));
     };
+    auto is_crease = [&](std::size_t i, std::size_t j) {
+        return !s.empty[j] && D.face[j] != D.face[i] &&
+               (dot(s.fnormal[D.face[i]], s.fnormal[D.face[j]]) < cos_crease || depth_jump(i, j));
+    };
+    // Each sample looks at its four neighbours and marks only itself, so rows can run in
+    // parallel without two threads writing one sample. Of a crease pair the nearer side
+    // carries the line; at equal depth the left (upper) one.
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
             const std::size_t i = std::size_t(y) * W + x;
             if (s.empty[i]) continue;
-            const std::size_t nb[2] = {x + 1 < W ? i + 1 : i, y + 1 < H ? i + W : i};
-            for (std::size_t j : nb) {
-                if (j == i || s.empty[j] || D.face[j] == D.face[i]) continue;
-                if (dot(s.fnormal[D.face[i]], s.fnormal[D.face[j]]) < cos_crease || depth_jump(i, j)) {
-                    crease[i] = 1; // the nearer side carries the line
-                    if (D.depth[j] < D.depth[i]) {
-                        crease[i] = 0;
-                        crease[j] = 1;
-                    }
-                }
-            }
+            const bool right = x + 1 < W && is_crease(i, i + 1) && !(D.depth[i + 1] < D.depth[i]);
+            const bool down = y + 1 < H && is_crease(i, i + W) && !(D.depth[i + W] < D.depth[i]);
+            const bool left = x > 0 && is_crease(i, i - 1) && D.depth[i] < D.depth[i - 1];
+            const bool up = y > 0 && is_crease(i, i - W) && D.depth[i] < D.depth[i - W];
+            crease[i] = char(right || down || left || up);
         }
     });
     return crease;

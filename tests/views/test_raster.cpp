@@ -2,8 +2,11 @@
 
 #include <numeric>
 
+#include <tbb/global_control.h>
+
 #include "core/error.h"
 #include "render/raster.h"
+#include "render/shade.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
 
@@ -164,6 +167,30 @@ TEST(Raster, DepthImageCoversTheMaskAndKeepsTheNearestFace) {
     const auto& tri = s.triangles[d.face[std::size_t(50) * 120 + 60]];
     EXPECT_GT(s.positions[tri[0]].z, 0.9f);
     EXPECT_TRUE(std::isinf(d.depth[0]));
+}
+
+TEST(Raster, ArtStyleIsTheSameOnOneThreadAndOnMany) {
+    // Lines (creases, inner contours) are found in parallel rows; the picture must not
+    // depend on how the rows were shared out.
+    const Mesh m = test::make_lopsided();
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    for (const Camera& direction : {*Camera::named("front"), *Camera::named("right"), *Camera::named("top"),
+                                    Camera::from_azimuth_elevation(30, 20)}) {
+        SCOPED_TRACE(direction.azimuth_deg);
+        const Camera c = framed_camera(direction, Vec3d(lo), Vec3d(hi), 400, 400);
+        const Image many = render_art(m, c, 400, 400);
+        Image one;
+        {
+            tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+            one = render_art(m, c, 400, 400);
+        }
+        ASSERT_EQ(one.pixels.size(), many.pixels.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < one.pixels.size(); ++i) differ += one.pixels[i] != many.pixels[i];
+        EXPECT_EQ(differ, 0u);
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(render_art(m, c, 400, 400).pixels, many.pixels) << "run " << k;
+    }
 }
 
 TEST(Raster, RejectsBadImageSizes) {
