@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Formats every C++ file git tracks with clang-format (.clang-format at the root).
+# Formats every C++ file of the checkout (tracked, or new and not ignored) with clang-format (.clang-format at the root).
 #   scripts/format.sh          rewrite the files in place
 #   scripts/format.sh --check  change nothing; list the files that are not formatted, exit 1 if any
 set -euo pipefail
@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 FORMAT="${CLANG_FORMAT:-clang-format}"
 command -v "$FORMAT" >/dev/null || { echo "format.sh: $FORMAT is not installed (apt-get install clang-format)" >&2; exit 2; }
 git rev-parse --is-inside-work-tree >/dev/null 2>&1 || { echo "format.sh: not a git checkout; nothing to list" >&2; exit 2; }
-mapfile -t files < <(git ls-files '*.cpp' '*.h')
+mapfile -t files < <(git ls-files --cached --others --exclude-standard '*.cpp' '*.h' | while read -r f; do [ -f "$f" ] && echo "$f"; done)
 if [ "${1:-}" = "--check" ]; then
   bad=0
   for f in "${files[@]}"; do

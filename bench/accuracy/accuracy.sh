@@ -11,17 +11,10 @@
 # Work files go to ${TMPDIR:-/tmp}/cm-accuracy.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-build/release}
 style=${2:-mask}
 resolutions=${3:-256 128}
-case $build in /*) ;; *) build=$root/$build ;; esac
-cm=$build/bin/conceptmesh
-models=$root/../shared/data/models
-work=${TMPDIR:-/tmp}/cm-accuracy
-mkdir -p "$work"
-
-# name, file, --up, --front of each model: bench/models.txt
-list=$(grep -v '^#' "$root/bench/models.txt" | tr -s ' ')
+. "$root/bench/common.sh"
+bench_setup "${1:-build/release}" cm-accuracy
 
 header="| model |"
 rule="|---|"

@@ -11,17 +11,10 @@
 # already there are not run again.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-build/release}
 style=${2:-mask}
 angle=${3:-20}
-case $build in /*) ;; *) build=$root/$build ;; esac
-cm=$build/bin/conceptmesh
-models=$root/../shared/data/models
-work=${TMPDIR:-/tmp}/cm-phase2
-mkdir -p "$work"
-
-# name, file, --up, --front of each model: bench/models.txt
-list=$(grep -v '^#' "$root/bench/models.txt" | tr -s ' ')
+. "$root/bench/common.sh"
+bench_setup "${1:-build/release}" cm-phase2
 
 echo "$list" | while read -r name file up front; do
     if [ "${RESUME:-0}" = 1 ] && [ -s "$work/$name-eval.json" ] && [ -s "$work/$name-pipeline.json" ]; then

@@ -201,6 +201,14 @@ public:
         });
     }
 
+    /// Declares the Enum `name` with the choices "auto" (the default), "on" and "off", and
+    /// binds it to an enumeration with the enumerators Auto, On and Off.
+    template <typename E>
+    void add_auto_on_off(E& member, std::string name, std::string doc) {
+        add(member, ParamSpec::Enum(std::move(name), "auto", {"auto", "on", "off"}, std::move(doc)),
+            {E::Auto, E::On, E::Off});
+    }
+
     /// The declarations, in the order they were added.
     std::vector<ParamSpec> specs() const;
     /// Sets every bound member from `values`: checked values (check_param()) of every

@@ -26,6 +26,16 @@ namespace {
 
 using Sdf = std::function<double(const Vec3d&)>;
 
+/// Empty thin_enter / thin_leave grids: where a part thinner than a cell enters and
+/// leaves the edges from each grid point (-1: no crossing on that axis).
+std::pair<openvdb::Vec3fGrid::Ptr, openvdb::Vec3fGrid::Ptr> thin_grids() {
+    auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
+    auto leave = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
+    enter->setName("thin_enter");
+    leave->setName("thin_leave");
+    return {enter, leave};
+}
+
 /// A volume on the lattice origin + h * ijk over `box`: inside where sdf < 0, crossings
 /// found by bisection on each edge with differing ends (from the start point, as the
 /// contract says), solid interior pruned into tiles.
@@ -310,10 +320,7 @@ TEST(MarchingCubes, ThinSheetBetweenGridPointsSurvives) {
     // is outside, only the x-edges through it know (thin_enter/thin_leave).
     Volume v;
     v.occupancy = openvdb::BoolGrid::create(false);
-    auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    auto leave = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    enter->setName("thin_enter");
-    leave->setName("thin_leave");
+    auto [enter, leave] = thin_grids();
     for (int y = 5; y <= 15; ++y)
         for (int z = 5; z <= 15; ++z) {
             enter->tree().setValueOn(Coord(10, y, z), openvdb::Vec3f(0.3f, -1.0f, -1.0f));
@@ -346,10 +353,7 @@ TEST(MarchingCubes, SurfaceBulgeBetweenGridPointsRaisesNoSpike) {
         },
         openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0});
     Volume v = body;
-    auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    auto leave = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    enter->setName("thin_enter");
-    leave->setName("thin_leave");
+    auto [enter, leave] = thin_grids();
     enter->tree().setValueOn(Coord(0, 5, 0), openvdb::Vec3f(0.4f, -1.0f, -1.0f));
     leave->tree().setValueOn(Coord(0, 5, 0), openvdb::Vec3f(0.6f, -1.0f, -1.0f));
     v.extra = {enter, leave};
@@ -370,10 +374,7 @@ TEST(MarchingCubes, ThinRodNextToABody) {
         },
         openvdb::CoordBBox(Coord(-8), Coord(8)), 1.0, {0, 0, 0});
     Volume v = body;
-    auto enter = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    auto leave = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-    enter->setName("thin_enter");
-    leave->setName("thin_leave");
+    auto [enter, leave] = thin_grids();
     // The rod runs along +x at y = 0.3..0.6 (between y = 0 and 1), z = 0: y-edges at (x, 0, 0).
     for (int x = 5; x <= 12; ++x) {
         enter->tree().setValueOn(Coord(x, 0, 0), openvdb::Vec3f(-1.0f, 0.3f, -1.0f));

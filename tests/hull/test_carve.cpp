@@ -186,14 +186,7 @@ TEST(HullCarve, LeavesGrowWithTheSurface) {
 TEST(HullCarve, PerspectiveViewsOfASphere) {
     const Vec3d c{0.2, -0.1, 0.3};
     const double r = 1.0, f = 500;
-    std::vector<View> vs;
-    const Vec3d eyes[] = {{0, 0, 6}, {6, 0.5, 0}, {0, 6, 0.5}, {-4, 3, -3}};
-    int k = 0;
-    for (const Vec3d& e : eyes) {
-        const Vec3d up = std::abs(e.y) > 5 ? Vec3d{0, 0, -1} : Vec3d{0, 1, 0};
-        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300,
-                                             f, c, r));
-    }
+    std::vector<View> vs = perspective_sphere_ring(c, r, f);
     auto views = std::make_shared<Views>();
     views->views = std::move(vs);
     views->calibrated = true; // no bounds: the box is estimated from the cameras

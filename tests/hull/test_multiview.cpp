@@ -6,6 +6,7 @@
 
 #include "carve.h"
 #include "core/stage.h"
+#include "hull_steps.h"
 #include "marching_cubes.h"
 #include "multiview.h"
 #include "refine.h"
@@ -26,29 +27,31 @@ std::shared_ptr<const Views> load(const fs::path& manifest) {
     return st.run<Views>();
 }
 
+fs::path photo_set(const char* name) { return shared_dir() / "data" / "multiview" / name; }
+
+// Writes the set's manifest into a temporary folder and loads it.
+std::shared_ptr<const Views> load_photo_set(const fs::path& data, void (*write)(const fs::path&, const fs::path&)) {
+    TempDir tmp(data.filename().string());
+    write(data, tmp / "views.yaml");
+    return load(tmp / "views.yaml");
+}
+
 } // namespace
 
 TEST(HullMultiview, TumBunnyReprojectsOntoEverySilhouette) {
-    const fs::path data = shared_dir() / "data" / "multiview" / "tum_bunny";
-    if (!fs::exists(data)) GTEST_SKIP() << "no " << data;
-    TempDir tmp("tum_bunny");
-    write_tum_bunny_manifest(data, tmp / "views.yaml");
-    auto views = load(tmp / "views.yaml");
+    const fs::path data = photo_set("tum_bunny");
+    CM_SKIP_WITHOUT(data);
+    const auto views = load_photo_set(data, write_tum_bunny_manifest);
     ASSERT_EQ(views->views.size(), 18u);
     ASSERT_TRUE(views->calibrated);
-    CarveOptions opt;
-    opt.resolution = 160;
-    auto vol = carve(views, opt);
-    RefineStats rs;
-    auto ref = refine(*vol, nullptr, {}, {}, &rs);
-    EXPECT_EQ(rs.unresolved, 0u);
-    const Mesh mesh = marching_cubes(*ref);
+    const int resolution = 160;
+    const Mesh mesh = marching_cubes(*carve_and_refine(views, resolution));
     const MeshCheck mc = check_mesh(mesh);
     EXPECT_TRUE(mc.closed_manifold());
     EXPECT_GT(mc.signed_volume, 0);
     const SilhouetteError err = silhouette_error(mesh, *views);
-    std::printf("TUM bunny, resolution %d, %zu faces: xor_pct %.3f %%, mean IoU %.4f\n", opt.resolution,
-                mesh.face_count(), err.xor_pct, err.mean_iou);
+    std::printf("TUM bunny, resolution %d, %zu faces: xor_pct %.3f %%, mean IoU %.4f\n", resolution, mesh.face_count(),
+                err.xor_pct, err.mean_iou);
     for (const auto& v : err.views) {
         std::printf("  view %s: xor %.0f px of %.0f (%.3f %%), IoU %.4f\n", v.view.c_str(), v.xor_px, v.input_px,
                     v.xor_pct, v.iou);
@@ -62,11 +65,9 @@ TEST(HullMultiview, TumBunnyReprojectsOntoEverySilhouette) {
 }
 
 TEST(HullMultiview, DinoManifestLoadsAndCarves) {
-    const fs::path data = shared_dir() / "data" / "multiview" / "middlebury_dinoSparseRing";
-    if (!fs::exists(data)) GTEST_SKIP() << "no " << data;
-    TempDir tmp("dino");
-    write_dino_manifest(data, tmp / "views.yaml");
-    auto views = load(tmp / "views.yaml");
+    const fs::path data = photo_set("middlebury_dinoSparseRing");
+    CM_SKIP_WITHOUT(data);
+    const auto views = load_photo_set(data, write_dino_manifest);
     ASSERT_EQ(views->views.size(), 15u);
     CarveOptions opt;
     opt.resolution = 96;

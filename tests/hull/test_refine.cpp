@@ -5,6 +5,7 @@
 
 #include "carve.h"
 #include "geometry/silhouette_field.h"
+#include "hull_steps.h"
 #include "refine.h"
 #include "support/shapes.h"
 
@@ -139,22 +140,10 @@ TEST(HullRefine, BoxCrossingsAndVolumeAreExact) {
 TEST(HullRefine, PerspectiveCrossingsLieOnTheCones) {
     const Vec3d c{0.2, -0.1, 0.3};
     const double r = 1.0, f = 500;
-    std::vector<View> vs;
-    const Vec3d eyes[] = {{0, 0, 6}, {6, 0.5, 0}, {0, 6, 0.5}, {-4, 3, -3}};
-    int k = 0;
-    for (const Vec3d& e : eyes) {
-        const Vec3d up = std::abs(e.y) > 5 ? Vec3d{0, 0, -1} : Vec3d{0, 1, 0};
-        vs.push_back(perspective_sphere_view("cam" + std::to_string(k++), look_at(e + c, c, up, f, 200, 150), 400, 300,
-                                             f, c, r));
-    }
+    std::vector<View> vs = perspective_sphere_ring(c, r, f);
     auto views = make_views(std::move(vs), c - Vec3d{1.5, 1.5, 1.5}, c + Vec3d{1.5, 1.5, 1.5});
     views->calibrated = true;
-    CarveOptions opt;
-    opt.resolution = 48;
-    auto vol = carve(views, opt);
-    RefineStats st;
-    auto ref = refine(*vol, nullptr, {}, {}, &st);
-    EXPECT_EQ(st.unresolved, 0u);
+    const auto ref = carve_and_refine(views, 48);
     double worst = 0;
     std::size_t n = 0;
     for_each_crossing(*ref, [&](const Vec3d& p, bool, bool) {

@@ -18,6 +18,15 @@ namespace {
 
 const Registry& registry() { return testkit::registry_with_plugins(); }
 
+// A pipeline that makes a box (node "box") and writes it to `path` (node "write"); more
+// nodes may follow.
+std::string box_written_to(const fs::path& path) {
+    return "nodes:\n"
+           "  - {id: box, stage: test.box}\n"
+           "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
+           path.string() + "}}\n";
+}
+
 // Parses and validates; returns the error message ("" when valid).
 std::string rejection(const std::string& yaml, const std::vector<std::string>& sets = {}) {
     try {
@@ -88,14 +97,9 @@ TEST(Pipeline, IndependentBranchesBothRun) {
 
 TEST(Pipeline, AFailedRunLeavesNoOutputFile) {
     test::TempDir dir("pipeline-fail");
-    const std::string yaml =
-        "nodes:\n"
-        "  - {id: box, stage: test.box}\n"
-        "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
-        (dir / "out.obj").string() +
-        "}}\n"
-        "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 0.2}}\n"
-        "  - {id: boom, stage: test.fail, inputs: {mesh: slow}}\n";
+    const std::string yaml = box_written_to(dir / "out.obj") +
+                             "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 0.2}}\n"
+                             "  - {id: boom, stage: test.fail, inputs: {mesh: slow}}\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     try {
         run_pipeline(p, registry(), {});
@@ -108,13 +112,8 @@ TEST(Pipeline, AFailedRunLeavesNoOutputFile) {
 
 TEST(Pipeline, CancelStopsTheRunAndLeavesNoOutput) {
     test::TempDir dir("pipeline-cancel");
-    const std::string yaml =
-        "nodes:\n"
-        "  - {id: box, stage: test.box}\n"
-        "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: " +
-        (dir / "out.obj").string() +
-        "}}\n"
-        "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 60}}\n";
+    const std::string yaml = box_written_to(dir / "out.obj") +
+                             "  - {id: slow, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 60}}\n";
     Pipeline p = Pipeline::parse(yaml, "p.yaml");
     std::thread canceller([] {
         std::this_thread::sleep_for(std::chrono::milliseconds(200));

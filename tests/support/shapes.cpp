@@ -276,6 +276,17 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
     return v;
 }
 
+std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f) {
+    std::vector<View> vs;
+    const Vec3d eyes[] = {{0, 0, 6}, {6, 0.5, 0}, {0, 6, 0.5}, {-4, 3, -3}};
+    for (const Vec3d& e : eyes) {
+        const Vec3d up = std::abs(e.y) > 5 ? Vec3d{0, 0, -1} : Vec3d{0, 1, 0};
+        vs.push_back(perspective_sphere_view("cam" + std::to_string(vs.size()), look_at(e + c, c, up, f, 200, 150), 400,
+                                             300, f, c, r));
+    }
+    return vs;
+}
+
 double counted_volume(const Volume& v) {
     const double h = v.voxel_size();
     return double(v.occupancy->tree().activeVoxelCount()) * h * h * h;

@@ -72,6 +72,10 @@ std::array<double, 12> look_at(Vec3d eye, Vec3d target, Vec3d up, double f, doub
 View perspective_sphere_view(const std::string& name, const std::array<double, 12>& P, int w, int h, double f, Vec3d c,
                              double r);
 
+/// Four perspective views (400 x 300, focal length f px) of a sphere (centre c, radius r)
+/// from eyes about 6 units away on different sides: front, right, above and behind-left.
+std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f);
+
 /// Grid points inside x voxel volume.
 double counted_volume(const Volume& v);
 /// Volume along x rows with the exact crossings at both ends of every run (O(h^2)).

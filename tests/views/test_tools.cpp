@@ -25,6 +25,17 @@ namespace {
 // A lopsided object (box on a sphere) so that a wrong axis or a mirror would show.
 Mesh lopsided() { return test::make_lopsided(); }
 
+// The silhouette of `mesh` (inside the box -1..1) drawn from the front, size x size px.
+View front_view_of(const Mesh& mesh, int size) {
+    View v;
+    v.name = "front";
+    v.width = v.height = size;
+    v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, size, size);
+    const auto m = render_mask(mesh, v.camera, size, size);
+    v.coverage.assign(m.begin(), m.end());
+    return v;
+}
+
 json compare_json(const std::string& args, const std::filesystem::path& cwd) {
     const auto r = test::run_cli("compare " + args + " --json", cwd);
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -194,12 +205,7 @@ TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
     Mesh moved = box;
     for (auto& p : moved.positions) p.x += 0.1f; // 5.4 px at 54 px per unit
     Views views;
-    View v;
-    v.name = "front";
-    v.width = v.height = 120;
-    v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, 120, 120);
-    const auto m = render_mask(box, v.camera, 120, 120);
-    v.coverage.assign(m.begin(), m.end());
+    const View v = front_view_of(box, 120);
     views.views.push_back(v);
     PreviewOptions opt;
     opt.panel = 120;
@@ -255,13 +261,7 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     test::TempDir dir("eval_preview");
     const Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
     auto views = std::make_shared<Views>();
-    View v;
-    v.name = "front";
-    v.width = v.height = 64;
-    v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, 64, 64);
-    const auto m = render_mask(box, v.camera, 64, 64);
-    v.coverage.assign(m.begin(), m.end());
-    views->views.push_back(v);
+    views->views.push_back(front_view_of(box, 64));
     test::StageHarness h("eval.preview");
     h.param("path", dir / "sheet.png").params("{panel: 64}");
     h.input("mesh", box);

@@ -42,12 +42,9 @@ public:
               ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
                                "crossings nearer than this to a grid point are moved out to it, so no two "
                                "vertices coincide"));
-        b.add(check_,
-              ParamSpec::Enum("check", "auto", {"auto", "on", "off"},
-                              "check the mesh (closed, manifold, outward, no degenerate faces) and report the "
-                              "counts; auto: up to 5 million faces (the check costs more time and memory than the "
-                              "extraction)"),
-              {Check::Auto, Check::On, Check::Off});
+        b.add_auto_on_off(check_, "check",
+                          "check the mesh (closed, manifold, outward, no degenerate faces) and report the counts; "
+                          "auto: up to 5 million faces (the check costs more time and memory than the extraction)");
     }
 
     Data run(const Inputs& in, Context& ctx) override {

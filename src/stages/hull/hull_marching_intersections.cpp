@@ -18,13 +18,11 @@ public:
                   true}},
                 DataKind::Volume};
     }
+
     void declare(ParamBinder& b) override {
-        using Thin = RefineOptions::Thin;
-        b.add(opt_.thin,
-              ParamSpec::Enum("thin", "auto", {"auto", "on", "off"},
-                              "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
-                              "auto: when a cell spans more than a pixel of the finest view"),
-              {Thin::Auto, Thin::On, Thin::Off});
+        b.add_auto_on_off(opt_.thin, "thin",
+                          "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
+                          "auto: when a cell spans more than a pixel of the finest view");
     }
 
     Data run(const Inputs& in, Context& ctx) override {
