@@ -56,37 +56,6 @@ YAML::Node follow(const YAML::Node& root, const std::vector<std::string>& ctx) {
     return cur;
 }
 
-// YAML -> JSON for the validator (valijson's yaml-cpp adapter does not compile
-// with every constraint). Plain scalars become numbers or booleans when they read as one.
-json to_json(const YAML::Node& n) {
-    switch (n.Type()) {
-    case YAML::NodeType::Map: {
-        json j = json::object();
-        for (auto it = n.begin(); it != n.end(); ++it) j[it->first.Scalar()] = to_json(it->second);
-        return j;
-    }
-    case YAML::NodeType::Sequence: {
-        json j = json::array();
-        for (const auto& x : n) j.push_back(to_json(x));
-        return j;
-    }
-    case YAML::NodeType::Scalar: {
-        if (n.Tag() == "!") return n.Scalar(); // quoted: always a string
-        const std::string& s = n.Scalar();
-        if (s == "true" || s == "false") return s == "true";
-        try {
-            std::size_t pos = 0;
-            long long i = std::stoll(s, &pos);
-            if (pos == s.size()) return i;
-            double d = std::stod(s, &pos);
-            if (pos == s.size()) return d;
-        } catch (...) {}
-        return s;
-    }
-    default: return nullptr;
-    }
-}
-
 void validate_structure(const YAML::Node& doc, const fs::path& file) {
     static const json schema_doc = pipeline_structure_schema({});
     static const std::unique_ptr<valijson::Schema> schema = [] {
@@ -98,7 +67,7 @@ void validate_structure(const YAML::Node& doc, const fs::path& file) {
     }();
     valijson::Validator validator;
     valijson::ValidationResults results;
-    const json as_json = to_json(doc);
+    const json as_json = yaml_to_json(doc);
     valijson::adapters::NlohmannJsonAdapter target(as_json);
     if (validator.validate(*schema, target, &results)) return;
     // Report the most specific error.
@@ -148,6 +117,35 @@ PipelineNode parse_node(const YAML::Node& n) {
 }
 
 } // namespace
+
+json yaml_to_json(const YAML::Node& n) {
+    switch (n.Type()) {
+    case YAML::NodeType::Map: {
+        json j = json::object();
+        for (auto it = n.begin(); it != n.end(); ++it) j[it->first.Scalar()] = yaml_to_json(it->second);
+        return j;
+    }
+    case YAML::NodeType::Sequence: {
+        json j = json::array();
+        for (const auto& x : n) j.push_back(yaml_to_json(x));
+        return j;
+    }
+    case YAML::NodeType::Scalar: {
+        if (n.Tag() == "!") return n.Scalar(); // quoted: always a string
+        const std::string& s = n.Scalar();
+        if (s == "true" || s == "false") return s == "true";
+        try {
+            std::size_t pos = 0;
+            long long i = std::stoll(s, &pos);
+            if (pos == s.size()) return i;
+            double d = std::stod(s, &pos);
+            if (pos == s.size()) return d;
+        } catch (...) {}
+        return s;
+    }
+    default: return nullptr;
+    }
+}
 
 Pipeline Pipeline::load(const fs::path& file) {
     std::ifstream in(file);

@@ -108,4 +108,9 @@ std::string stage_schema_json(const StageInfo& info);
 nlohmann::json pipeline_structure_schema(const std::vector<std::string>& stage_names);
 std::string pipeline_schema_json(const Registry& registry);
 
+/// A YAML document as JSON, for validating it against a JSON Schema (valijson's yaml-cpp
+/// adapter does not compile with every constraint): plain scalars become numbers or
+/// booleans when they read as one; quoted scalars stay strings.
+nlohmann::json yaml_to_json(const YAML::Node& n);
+
 } // namespace cm
