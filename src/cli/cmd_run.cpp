@@ -6,7 +6,6 @@
 #include "cli/progress_printer.h"
 #include "cli/tool_common.h"
 #include "core/error.h"
-#include "io/file_commit.h"
 
 namespace fs = std::filesystem;
 
@@ -26,13 +25,15 @@ int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
         const fs::path dir = fs::absolute(o.report).parent_path();
         if (!fs::is_directory(dir))
             throw Error("--report \"" + o.report + "\": the folder \"" + dir.string() + "\" does not exist");
+        if (fs::is_directory(o.report))
+            throw Error("--report \"" + o.report + "\" is a folder; name the JSON file to write");
     }
     ProgressPrinter printer(g.quiet, g.verbose);
     RunOptions opt;
     opt.sink = &printer;
     opt.side_output_dir = o.report.empty() ? fs::path(".") : fs::absolute(o.report).parent_path();
+    opt.report = o.report;
     RunResult r = run_pipeline(p, Registry::global(), opt);
-    if (!o.report.empty()) write_file_atomic(o.report, r.to_json(p));
     if (!g.quiet) {
         for (const auto& out : r.outputs) std::cerr << "conceptmesh: wrote " << out.string() << "\n";
         std::cerr << "conceptmesh: finished in " << std::fixed << std::setprecision(2) << r.seconds

@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "io/file_commit.h"
 #include "plugins/registry.h"
 
 namespace cm::cli {
@@ -23,10 +24,18 @@ void print_plugin_diagnostics(const GlobalOptions& g) {
 
 namespace {
 
-extern "C" void on_sigint(int) {
+// The signal that asked to stop: the exit status is 128 + its number (130 for Ctrl-C,
+// 143 for SIGTERM), as shells report it.
+volatile std::sig_atomic_t g_signal = SIGINT;
+
+extern "C" void on_sigint(int sig) {
+    g_signal = sig;
     // First Ctrl-C: ask every stage to stop at its next check (within a chunk of work);
     // a second one ends the process at once.
-    if (cm::cancel_requested().exchange(true)) _exit(130);
+    if (cm::cancel_requested().exchange(true)) {
+        cm::remove_uncommitted_files_now(); // no unwinding past this point: no file may stay
+        _exit(128 + sig);
+    }
     static const char msg[] = "\nconceptmesh: stopping (Ctrl-C again to abort at once)\n";
     [[maybe_unused]] auto n = ::write(2, msg, sizeof(msg) - 1);
 }
@@ -72,7 +81,7 @@ int main(int argc, char** argv) {
         return action ? action() : 2;
     } catch (const cm::Cancelled&) {
         cm::cli::print_error("cancelled; no output was written");
-        return 130;
+        return 128 + int(g_signal);
     } catch (const std::exception& e) {
         cm::cli::print_error(e.what());
         return 1;

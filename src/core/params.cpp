@@ -259,6 +259,7 @@ std::string check_output_path(const ParamSpec& spec, const std::filesystem::path
             list += (i == 0 ? "" : i + 1 == spec.extensions.size() ? " or " : ", ") + spec.extensions[i];
         return what + " has an unknown extension (use " + list + ")";
     }
+    if (fs::is_directory(path)) return what + " is a folder; name the file to write";
     // A missing folder is created when the run writes; refuse only what cannot become one.
     for (auto dir = fs::absolute(path).parent_path(); !dir.empty(); dir = dir.parent_path()) {
         if (fs::is_directory(dir)) break;

@@ -98,9 +98,10 @@ std::string lower_extension(const std::filesystem::path& path) {
 }
 
 std::filesystem::path Context::output_file(const std::filesystem::path& final_path) {
-    std::filesystem::create_directories(std::filesystem::absolute(final_path).parent_path());
     const auto tmp = temporary_path(final_path);
+    // The host's hook makes the missing folders (and takes them back if the run fails).
     if (hooks_.stage_file) hooks_.stage_file(tmp, final_path);
+    else std::filesystem::create_directories(std::filesystem::absolute(final_path).parent_path());
     return tmp;
 }
 

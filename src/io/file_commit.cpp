@@ -1,5 +1,7 @@
 #include "io/file_commit.h"
 
+#include <unistd.h>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -10,6 +12,41 @@ namespace fs = std::filesystem;
 
 namespace cm {
 
+namespace {
+
+// Every uncommitted temporary file and made folder of the process, where a signal handler
+// can read them without locking: fixed slots of C strings, each "f<path>" (a file) or
+// "d<path>" (a folder). A slot's string is never freed (a handler may be reading it); a
+// run stages a handful of files, so this stays small.
+constexpr std::size_t kPendingSlots = 4096;
+std::atomic<const char*> g_pending[kPendingSlots];
+
+void note_pending(const fs::path& p, bool folder) {
+    const std::string tagged = (folder ? "d" : "f") + p.string();
+    const char* copy = ::strdup(tagged.c_str());
+    if (!copy) return;
+    for (auto& slot : g_pending) {
+        const char* expected = nullptr;
+        if (slot.compare_exchange_strong(expected, copy)) return;
+    }
+}
+
+void forget_pending(const fs::path& p) {
+    for (auto& slot : g_pending) {
+        const char* s = slot.load();
+        if (s && p == s + 1 && slot.compare_exchange_strong(s, nullptr)) return;
+    }
+}
+
+} // namespace
+
+void remove_uncommitted_files_now() noexcept {
+    for (auto& slot : g_pending)
+        if (const char* s = slot.load(); s && s[0] == 'f') ::unlink(s + 1);
+    for (std::size_t i = kPendingSlots; i-- > 0;) // folders last, innermost (latest) first
+        if (const char* s = g_pending[i].load(); s && s[0] == 'd') ::rmdir(s + 1);
+}
+
 FileCommit::~FileCommit() {
     if (!done_) discard();
 }
@@ -17,6 +54,22 @@ FileCommit::~FileCommit() {
 void FileCommit::add(const fs::path& tmp, const fs::path& final_path) {
     std::lock_guard<std::mutex> lock(mutex_);
     staged_.emplace_back(tmp, final_path);
+    note_pending(tmp, false);
+    // The missing folders on the way, outermost first, so a failed run can take them back.
+    std::vector<fs::path> missing;
+    std::error_code ec;
+    for (fs::path d = fs::absolute(final_path, ec).parent_path(); !d.empty() && !fs::exists(d, ec);
+         d = d.parent_path()) {
+        missing.push_back(d);
+        if (d == d.root_path()) break;
+    }
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+        if (!fs::create_directory(*it, ec) && ec)
+            throw Error("cannot make the folder \"" + it->string() + "\" for \"" + final_path.string() +
+                        "\": " + ec.message());
+        made_dirs_.push_back(*it);
+        note_pending(*it, true);
+    }
 }
 
 fs::path FileCommit::stage(const fs::path& final_path) {
@@ -25,31 +78,71 @@ fs::path FileCommit::stage(const fs::path& final_path) {
     return tmp;
 }
 
-std::vector<fs::path> FileCommit::commit() {
+std::vector<fs::path> FileCommit::finals() const {
     std::lock_guard<std::mutex> lock(mutex_);
     std::vector<fs::path> out;
-    for (std::size_t i = 0; i < staged_.size(); ++i) {
-        const auto& [tmp, fin] = staged_[i];
-        std::error_code ec;
-        fs::rename(tmp, fin, ec);
-        if (ec) {
-            for (std::size_t j = i; j < staged_.size(); ++j) fs::remove(staged_[j].first, ec);
-            done_ = true;
-            throw Error("could not move the finished file to \"" + fin.string() + "\": " + ec.message());
+    for (const auto& s : staged_) out.push_back(s.second);
+    return out;
+}
+
+std::vector<fs::path> FileCommit::commit() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::error_code ec;
+    for (const auto& [tmp, fin] : staged_)
+        if (fs::is_directory(fin, ec)) {
+            const std::string message = "cannot write \"" + fin.string() + "\": it is a folder";
+            discard_locked(); // clears staged_, which fin refers into
+            throw Error(message);
         }
-        out.push_back(fin);
+    // Each file that is replaced is first moved aside, so a failure can put it back.
+    std::vector<std::pair<fs::path, fs::path>> moved; // final -> the file it replaced ("" if none)
+    for (const auto& [tmp, fin] : staged_) {
+        fs::path aside;
+        if (fs::exists(fin, ec)) {
+            aside = temporary_path(fin);
+            fs::rename(fin, aside, ec);
+        }
+        if (!ec) fs::rename(tmp, fin, ec);
+        if (ec) {
+            const std::string why = ec.message(); // before the clean-up changes it
+            if (!aside.empty() && !fs::exists(fin)) fs::rename(aside, fin, ec);
+            for (auto it = moved.rbegin(); it != moved.rend(); ++it) {
+                fs::remove(it->first, ec);
+                if (!it->second.empty()) fs::rename(it->second, it->first, ec);
+            }
+            const std::string message = "could not move the finished file to \"" + fin.string() + "\": " + why;
+            discard_locked(); // clears staged_, which fin refers into
+            throw Error(message);
+        }
+        moved.emplace_back(fin, aside);
     }
+    for (const auto& m : moved)
+        if (!m.second.empty()) fs::remove(m.second, ec);
+    for (const auto& [tmp, fin] : staged_) forget_pending(tmp);
+    for (const auto& d : made_dirs_) forget_pending(d);
     done_ = true;
+    std::vector<fs::path> out;
+    for (const auto& m : moved) out.push_back(m.first);
     return out;
 }
 
 void FileCommit::discard() {
     std::lock_guard<std::mutex> lock(mutex_);
+    discard_locked();
+}
+
+void FileCommit::discard_locked() {
+    std::error_code ec;
     for (const auto& [tmp, fin] : staged_) {
-        std::error_code ec;
         fs::remove(tmp, ec);
+        forget_pending(tmp);
     }
+    for (const auto& d : made_dirs_) forget_pending(d);
+    // Innermost first; a folder something else has put files into stays.
+    for (auto it = made_dirs_.rbegin(); it != made_dirs_.rend(); ++it)
+        if (fs::is_empty(*it, ec)) fs::remove(*it, ec);
     staged_.clear();
+    made_dirs_.clear();
     done_ = true;
 }
 

@@ -257,10 +257,22 @@ void PipelineRun::release(std::size_t i) {
 
 RunResult PipelineRun::commit() {
     RunResult result;
-    result.outputs = files_.commit();
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     result.peak_rss_bytes = peak_rss();
     for (std::size_t i : p_.order) result.nodes.push_back(records_[i]);
+    if (!opt_.report.empty()) {
+        // The report lists the outputs it is committed with, and goes in with them.
+        result.outputs = files_.finals();
+        const fs::path tmp = files_.stage(opt_.report);
+        std::ofstream out(tmp, std::ios::binary);
+        out << result.to_json(p_);
+        if (!out.flush()) {
+            files_.discard();
+            throw Error("cannot write the run report \"" + opt_.report.string() + "\"");
+        }
+    }
+    result.outputs = files_.commit();
+    if (!opt_.report.empty()) result.outputs.pop_back(); // the report itself is not an output
     return result;
 }
 

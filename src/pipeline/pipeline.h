@@ -87,6 +87,9 @@ struct NodeRecord {
 struct RunOptions {
     ProgressSink* sink = nullptr;
     std::filesystem::path side_output_dir = ".";
+    /// When set, the run report (RunResult::to_json) is written here, committed with the
+    /// run's other outputs: all of them appear, or none.
+    std::filesystem::path report;
 };
 
 struct RunResult {
