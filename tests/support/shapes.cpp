@@ -304,4 +304,32 @@ double crossing_volume(const Volume& v) {
     return (double(v.occupancy->tree().activeVoxelCount()) + corr) * h * h * h;
 }
 
+Image compose_sheet(const std::vector<Image>& drawings, std::array<float, 3> paper, int gap, int strip) {
+    Image s;
+    s.channels = 3;
+    int tallest = 0;
+    s.width = gap;
+    for (const Image& d : drawings) {
+        s.width += d.width + gap;
+        tallest = std::max(tallest, d.height);
+    }
+    s.height = gap + tallest + strip + gap;
+    s.pixels.resize(std::size_t(s.width) * s.height * 3);
+    for (std::size_t i = 0; i < s.pixels.size(); ++i) s.pixels[i] = paper[i % 3];
+    const int block = std::max(2, strip / 4), step = block + std::max(2, block / 2);
+    int x0 = gap;
+    for (const Image& d : drawings) {
+        for (int y = 0; y < d.height; ++y)
+            for (int x = 0; x < d.width; ++x)
+                for (int k = 0; k < 3; ++k) s.at(x0 + x, gap + y, k) = d.at(x, y, std::min(k, d.channels - 1));
+        const int lx = x0 + d.width / 2 - (5 * step) / 2, ly = gap + tallest + strip / 3;
+        for (int b = 0; b < 5; ++b)
+            for (int y = ly; y < ly + block; ++y)
+                for (int x = lx + b * step; x < lx + b * step + block; ++x)
+                    for (int k = 0; k < 3; ++k) s.at(x, y, k) = 0.15f;
+        x0 += d.width + gap;
+    }
+    return s;
+}
+
 } // namespace cm::test
