@@ -55,8 +55,7 @@ int main(int argc, char** argv) {
         std::vector<cm::Image> drawings;
         for (int i = 2; i < argc; ++i) drawings.push_back(cm::read_image(argv[i]));
         const int gap = std::max(8, drawings.front().width / 16);
-        // The paper of render-views' art style.
-        cm::write_image(cm::test::compose_sheet(drawings, {0.957f, 0.937f, 0.886f}, gap, gap), argv[1]);
+        cm::write_image(cm::test::compose_sheet(drawings, gap, gap), argv[1]);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sheet_compose: %s\n", e.what());
         return 1;

@@ -79,10 +79,11 @@ std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f);
 // ---- Turnaround sheets --------------------------------------------------------------
 
 /// A turnaround sheet from separate drawings (RGB or RGBA, read as read_image() gives
-/// them): side by side on paper of colour `paper`, `gap` pixels apart and top-aligned, over
-/// a strip `strip` pixels high that holds under each drawing a text-like label (a row of
-/// five small dark blocks, `strip` / 4 high).
-Image compose_sheet(const std::vector<Image>& drawings, std::array<float, 3> paper, int gap, int strip);
+/// them): side by side, `gap` pixels apart and top-aligned, over a strip `strip` pixels high
+/// that holds under each drawing a text-like label (a row of five small dark blocks,
+/// `strip` / 4 high). The gaps and the strip continue the nearest drawing's edge pixels, so
+/// the paper is one sheet (no step in tone where two drawings meet).
+Image compose_sheet(const std::vector<Image>& drawings, int gap, int strip);
 
 /// Grid points inside x voxel volume.
 double counted_volume(const Volume& v);

@@ -44,7 +44,7 @@ TEST(SheetBar, ReconstructionFromOneSheetMatchesSeparateDrawings) {
     std::vector<Image> drawings;
     for (const char* v : {"front", "right", "top"})
         drawings.push_back(read_image(dir / "views" / (std::string(v) + ".png")));
-    write_image(test::compose_sheet(drawings, {0.957f, 0.937f, 0.886f}, 16, 16), dir / "sheet.png");
+    write_image(test::compose_sheet(drawings, 16, 16), dir / "sheet.png");
     test::write_text(dir / "sheet.yaml", "sheet: {image: sheet.png, views: [front, right, top]}\n");
     // The separate drawings aligned from their silhouettes, as the sheet's panels are.
     test::write_text(dir / "free.yaml",
