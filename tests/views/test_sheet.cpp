@@ -215,3 +215,39 @@ TEST(Sheet, MixesWithViewsDrawnOnTheirOwnAndSavesEachSilhouette) {
     // Front (its own file) and the sheet's views agree on the shared axes: no warning.
     EXPECT_TRUE(h.warnings().empty()) << h.warnings().front();
 }
+
+TEST(Sheet, OptionsOfTheSheetApplyToEveryPanel) {
+    test::TempDir dir("sheet_options");
+    // An L on a 100 px canvas with a 4 px dot in its empty corner: inside the panel's crop,
+    // far smaller than the drawing, so keep decides whether it is part of the silhouette.
+    Drawing l{100, std::vector<std::uint8_t>(100 * 100, 0)};
+    auto fill = [&](int x0, int y0, int x1, int y1) {
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) l.mask[std::size_t(y) * 100 + x] = 1;
+    };
+    fill(10, 50, 90, 90);
+    fill(10, 10, 30, 90);
+    fill(80, 14, 84, 18);
+    const Sheet s = compose(230, 140, {l, l}, {{std::array<int, 2>{5, 5}}, {120, 5}});
+    write_image(s.image, dir / "sheet.png");
+    for (const char* keep : {"auto", "all"}) {
+        SCOPED_TRACE(keep);
+        test::write_text(dir / "views.yaml",
+                         std::string("sheet: {image: sheet.png, views: [front, right], keep: ") + keep + "}\n");
+        const SheetViews sv = split_sheets(read_manifest(dir / "views.yaml"));
+        LoadViewsReport report;
+        const Views views = load_views(dir / "views.yaml", {}, report);
+        ASSERT_EQ(views.views.size(), 2u);
+        for (std::size_t k = 0; k < 2; ++k) {
+            const SheetPanel& p = sv.panels[k];
+            const int dx = 5 + int(k) * 115 + 82 - p.x0, dy = 5 + 16 - p.y0; // the dot's centre in the crop
+            EXPECT_EQ(views.views[k].inside(dx, dy), std::string(keep) == "all") << k;
+            EXPECT_TRUE(views.views[k].inside(dx - 60, dy + 50)) << k; // the L itself
+        }
+    }
+    // An unreadable sheet names the manifest line and the sheet.
+    test::write_text(dir / "views.yaml", "height: 1\nsheet: {image: missing.png, views: [front, right]}\n");
+    LoadViewsReport report;
+    const std::string e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    EXPECT_NE(e.find("views.yaml:2: sheet \"missing.png\": "), std::string::npos) << e;
+}
