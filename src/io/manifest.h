@@ -52,8 +52,9 @@ struct Manifest {
     /// World box (min xyz, max xyz) that holds the object: for calibrated views, or for drawn
     /// views with fixed cameras (scale, origin), whose world frame the manifest then sets.
     std::optional<std::array<double, 6>> bounds;
-    bool fixed_cameras() const;        ///< true when some view gives scale and origin
-    std::vector<ManifestSheet> sheets; ///< turnaround sheets; their views are in `views`
+    bool fixed_cameras() const; ///< true when some view gives scale and origin
+    /// Turnaround sheets; their views are entries of `views`.
+    std::vector<ManifestSheet> sheets;
 };
 
 /// A background colour as a manifest writes it: white, black, grey, "#rrggbb" or "r,g,b"
