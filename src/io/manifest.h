@@ -27,6 +27,22 @@ struct ManifestView {
     int line = 0;
 };
 
+// Turnaround sheets.
+struct Manifest;
+/// A turnaround sheet (`sheet:` in the manifest): one drawing holding several views side by
+/// side, separated by blank paper. Each of its views is an entry of Manifest::views whose
+/// image is the sheet and whose background, threshold, keep and holes are the sheet's;
+/// `views` lists them in reading order (left to right, then top to bottom), which is the
+/// order of the panels views.load finds in the drawing.
+struct ManifestSheet {
+    std::filesystem::path image;    ///< resolved against the manifest's folder
+    std::vector<std::size_t> views; ///< indices into Manifest::views, in reading order
+    int line = 0;                   ///< the line of the sheet's entry
+};
+/// The sheet whose panel view `index` of `m.views` is, and the panel's place in its reading
+/// order; nullptr for a view drawn on its own.
+const ManifestSheet* sheet_of(const Manifest& m, std::size_t index, std::size_t* panel = nullptr);
+
 struct Manifest {
     std::filesystem::path file;
     /// Text written as comment lines ("# ...") at the top of the file; read_manifest() leaves it empty.
@@ -37,6 +53,8 @@ struct Manifest {
     /// views with fixed cameras (scale, origin), whose world frame the manifest then sets.
     std::optional<std::array<double, 6>> bounds;
     bool fixed_cameras() const; ///< true when some view gives scale and origin
+    /// Turnaround sheets; their views are entries of `views`.
+    std::vector<ManifestSheet> sheets;
 };
 
 /// A background colour as a manifest writes it: white, black, grey, "#rrggbb" or "r,g,b"

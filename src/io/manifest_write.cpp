@@ -95,6 +95,77 @@ std::string view_line(const ManifestView& v, const fs::path& folder) {
     return line + "}\n";
 }
 
+// Turnaround sheets.
+
+// A panel's entry in its sheet's views: its name, or {name, view | azimuth/elevation}.
+std::string sheet_entry_text(const ManifestView& v) {
+    const std::string what = "view \"" + v.key + "\": ";
+    std::string f;
+    if (v.view && *v.view != v.key) f += ", view: " + scalar_text(*v.view);
+    if (v.azimuth) f += ", azimuth: " + number_text(*v.azimuth, what + "azimuth");
+    if (v.elevation) f += ", elevation: " + number_text(*v.elevation, what + "elevation");
+    return f.empty() ? scalar_text(v.key) : "{name: " + scalar_text(v.key) + f + "}";
+}
+
+// One sheet as a flow mapping; its panels share its image and options and take no camera.
+std::string sheet_text(const Manifest& m, const ManifestSheet& sh, const fs::path& folder) {
+    if (sh.views.empty()) throw Error("cannot write views manifest: a sheet has no views");
+    const ManifestView& first = m.views.at(sh.views.front());
+    std::string views;
+    for (std::size_t i : sh.views) {
+        const ManifestView& v = m.views.at(i);
+        if (v.matrix || v.scale || v.origin)
+            throw Error("cannot write views manifest: view \"" + v.key +
+                        "\" of a sheet has a fixed camera; a sheet's views are aligned from their silhouettes");
+        if (v.image != first.image || v.background != first.background || v.threshold != first.threshold ||
+            v.keep != first.keep || v.holes != first.holes)
+            throw Error("cannot write views manifest: view \"" + v.key + "\" differs from view \"" + first.key +
+                        "\" of its sheet in its image or options (background, threshold, keep, holes)");
+        views += (views.empty() ? "" : ", ") + sheet_entry_text(v);
+    }
+    std::string s = "{image: " + image_text(sh.image, folder) + ", views: [" + views + "]";
+    const std::string what = "sheet of view \"" + first.key + "\": ";
+    if (first.background != "auto") s += ", background: " + scalar_text(first.background);
+    if (first.threshold) s += ", threshold: " + number_text(*first.threshold, what + "threshold");
+    if (first.keep != "auto") s += ", keep: " + scalar_text(first.keep);
+    if (first.holes != "auto") s += ", holes: " + scalar_text(first.holes);
+    return s + "}";
+}
+
+// The "views" and "sheet" blocks, in the order that reads back as m.views: the views drawn
+// on their own and the sheets' views (sheet after sheet) each in one run.
+std::string views_and_sheets_text(const Manifest& m, const fs::path& folder) {
+    std::vector<char> on_sheet(m.views.size(), 0);
+    std::vector<std::size_t> own, sheets;
+    for (const auto& sh : m.sheets)
+        for (std::size_t i : sh.views) {
+            if (i >= m.views.size() || on_sheet[i])
+                throw Error("cannot write views manifest: a sheet names a view that is not one of its own");
+            on_sheet[i] = 1;
+            sheets.push_back(i);
+        }
+    for (std::size_t i = 0; i < m.views.size(); ++i)
+        if (!on_sheet[i]) own.push_back(i);
+    const bool sheets_first = !sheets.empty() && on_sheet[0];
+    std::vector<std::size_t> order = sheets_first ? sheets : own;
+    order.insert(order.end(), (sheets_first ? own : sheets).begin(), (sheets_first ? own : sheets).end());
+    for (std::size_t i = 0; i < order.size(); ++i)
+        if (order[i] != i)
+            throw Error(
+                "cannot write views manifest: the views of sheets and the views drawn on their own "
+                "interleave (view \"" +
+                m.views[i].key + "\"); a manifest lists each kind in one run");
+    std::string viewsblock, sheetblock;
+    if (!own.empty()) viewsblock = "views:\n";
+    for (std::size_t i : own) viewsblock += view_line(m.views[i], folder);
+    if (m.sheets.size() == 1) sheetblock = "sheet: " + sheet_text(m, m.sheets[0], folder) + "\n";
+    else if (!m.sheets.empty()) {
+        sheetblock = "sheet:\n";
+        for (const auto& sh : m.sheets) sheetblock += "  - " + sheet_text(m, sh, folder) + "\n";
+    }
+    return sheets_first ? sheetblock + viewsblock : viewsblock + sheetblock;
+}
+
 std::string manifest_text(const Manifest& m, const fs::path& folder) {
     std::ostringstream os;
     if (!m.comment.empty()) {
@@ -105,8 +176,7 @@ std::string manifest_text(const Manifest& m, const fs::path& folder) {
     if (m.width) os << "width: " << number_text(*m.width, "width") << "\n";
     if (m.depth) os << "depth: " << number_text(*m.depth, "depth") << "\n";
     if (m.bounds) os << "bounds: " << list_text(*m.bounds, "bounds") << "\n";
-    os << "views:\n";
-    for (const auto& v : m.views) os << view_line(v, folder);
+    os << views_and_sheets_text(m, folder);
     return os.str();
 }
 

@@ -304,4 +304,40 @@ double crossing_volume(const Volume& v) {
     return (double(v.occupancy->tree().activeVoxelCount()) + corr) * h * h * h;
 }
 
+Image compose_sheet(const std::vector<Image>& drawings, int gap, int strip) {
+    Image s;
+    s.channels = 3;
+    int tallest = 0;
+    s.width = gap;
+    std::vector<int> left; // each drawing's first column on the sheet
+    for (const Image& d : drawings) {
+        left.push_back(s.width);
+        s.width += d.width + gap;
+        tallest = std::max(tallest, d.height);
+    }
+    s.height = gap + tallest + strip + gap;
+    s.pixels.resize(std::size_t(s.width) * s.height * 3);
+    // Every pixel from the nearest drawing, its coordinates clamped into it: the drawings
+    // where they are, their edges continued across the gaps and the strip.
+    for (int x = 0; x < s.width; ++x) {
+        std::size_t k = 0;
+        while (k + 1 < drawings.size() && x >= (left[k] + drawings[k].width + left[k + 1]) / 2) ++k;
+        const Image& d = drawings[k];
+        const int dx = std::clamp(x - left[k], 0, d.width - 1);
+        for (int y = 0; y < s.height; ++y) {
+            const int dy = std::clamp(y - gap, 0, d.height - 1);
+            for (int c = 0; c < 3; ++c) s.at(x, y, c) = d.at(dx, dy, std::min(c, d.channels - 1));
+        }
+    }
+    const int block = std::max(2, strip / 4), step = block + std::max(2, block / 2);
+    for (std::size_t k = 0; k < drawings.size(); ++k) {
+        const int lx = left[k] + drawings[k].width / 2 - (5 * step) / 2, ly = gap + tallest + strip / 3;
+        for (int b = 0; b < 5; ++b)
+            for (int y = ly; y < ly + block; ++y)
+                for (int x = lx + b * step; x < lx + b * step + block; ++x)
+                    for (int c = 0; c < 3; ++c) s.at(x, y, c) = 0.15f;
+    }
+    return s;
+}
+
 } // namespace cm::test

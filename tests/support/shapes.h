@@ -76,6 +76,15 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
 /// from eyes about 6 units away on different sides: front, right, above and behind-left.
 std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f);
 
+// ---- Turnaround sheets --------------------------------------------------------------
+
+/// A turnaround sheet from separate drawings (RGB or RGBA, read as read_image() gives
+/// them): side by side, `gap` pixels apart and top-aligned, over a strip `strip` pixels high
+/// that holds under each drawing a text-like label (a row of five small dark blocks,
+/// `strip` / 4 high). The gaps and the strip continue the nearest drawing's edge pixels, so
+/// the paper is one sheet (no step in tone where two drawings meet).
+Image compose_sheet(const std::vector<Image>& drawings, int gap, int strip);
+
 /// Grid points inside x voxel volume.
 double counted_volume(const Volume& v);
 /// Volume along x rows with the exact crossings at both ends of every run (O(h^2)).

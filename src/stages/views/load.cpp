@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
+#include "sheet.h"
 #include "silhouette.h"
 
 namespace fs = std::filesystem;
@@ -30,6 +31,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
                     ": a real size (height, width, depth) applies to drawn views; calibrated views keep "
                     "the calibration's units");
 
+    SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
+    report.notes.insert(report.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
     tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
         const ManifestView& mv = man.views[i];
@@ -37,8 +40,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
         try {
             v.name = mv.key;
             v.source = mv.image;
-            ImageInfo info;
-            v.image = read_image(mv.image, &info);
+            ImageInfo info = sheets.infos[i];
+            v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info);
             v.width = v.image.width;
             v.height = v.image.height;
             SilhouetteOptions so;
