@@ -103,6 +103,12 @@ const char* const kGood[] = {
     "  front: {image: front.png, scale: 542.1, origin: [512, 972.8]}\n"
     "  right: {image: right.png, scale: 542.1, origin: [512, 972.8]}\n"
     "  top: top.png\n",
+    "sheet: {image: sheet.png, views: [front, right, {name: q, azimuth: 45, elevation: 30}, {name: s, view: top}]}\n",
+    "sheet:\n"
+    "  - {image: a.png, views: [front, right], background: white, threshold: 0.2, keep: all, holes: fill}\n"
+    "  - {image: b.png, views: [top]}\n"
+    "views:\n"
+    "  back: back.png\n",
     "bounds: [-1, -1, -1, 1, 1, 1]\n"
     "views:\n"
     "  a: {image: front.png, matrix: [[100, 0, 32, 0], [0, 100, 32, 0], [0, 0, 1, 5]]}\n"
@@ -157,6 +163,11 @@ TEST(ManifestSchema, NamesExactlyTheKeysTheReaderKnows) {
     EXPECT_EQ(known_keys(top), property_names(schema_doc())) << top;
     const std::string view = reader_complaint(dir, "views:\n  front: {image: front.png, zz_unknown: 1}\n");
     EXPECT_EQ(known_keys(view), property_names(schema_doc().at("definitions").at("view"))) << view;
+    const std::string sheet = reader_complaint(dir, "sheet: {image: s.png, views: [front], zz_unknown: 1}\n");
+    EXPECT_EQ(known_keys(sheet), property_names(schema_doc().at("definitions").at("sheet"))) << sheet;
+    const std::string entry = reader_complaint(dir, "sheet: {image: s.png, views: [{name: q, zz_unknown: 1}]}\n");
+    EXPECT_EQ(known_keys(entry), property_names(schema_doc().at("definitions").at("sheet_entry").at("oneOf").at(1)))
+        << entry;
 }
 
 TEST(ManifestSchema, WhatWriteManifestWritesMatches) {
