@@ -102,6 +102,8 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
 }
 
 double SilhouetteSdf::sample(double x, double y) const {
+    // A point that projects nowhere (a coordinate overflowed) is outside every silhouette.
+    if (!std::isfinite(x) || !std::isfinite(y)) return std::numeric_limits<double>::infinity();
     // Pixel-centre lattice coordinates.
     double fx = x - 0.5, fy = y - 0.5;
     const double cx = std::clamp(fx, 0.0, double(width - 1));

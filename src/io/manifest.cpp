@@ -91,6 +91,9 @@ YAML::Node load_document(const fs::path& file) {
     return doc;
 }
 
+// The world a mesh in single precision can still carry: pixels per unit and coordinates.
+constexpr double kMinScale = 1e-9, kMaxScale = 1e9, kMaxCoordinate = 1e12;
+
 std::array<double, 6> read_bounds(const fs::path& file, const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 6)
         throw Error(at(file, n) + ": bounds must be a list of 6 numbers: [xmin, ymin, zmin, xmax, ymax, zmax]");
@@ -100,6 +103,11 @@ std::array<double, 6> read_bounds(const fs::path& file, const YAML::Node& n) {
         if (!std::isfinite(b[k]) || !std::isfinite(b[k + 3]) || b[k] > b[k + 3])
             throw Error(at(file, n) + ": bounds: " + "xyz"[k] + "min must not exceed " + "xyz"[k] +
                         "max ([xmin, ymin, zmin, xmax, ymax, zmax])");
+    for (double x : b)
+        if (std::abs(x) > kMaxCoordinate)
+            throw Error(at(file, n) +
+                        ": bounds: coordinates beyond 1e12 in size are refused (a mesh, in single precision, "
+                        "cannot hold them); give the box in units nearer the object's size");
     return b;
 }
 
@@ -163,6 +171,10 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
         v.scale = number(file, val, "view \"" + v.key + "\": scale");
         if (!(*v.scale > 0) || !std::isfinite(*v.scale))
             throw Error(where + "scale must be a positive number of pixels per world unit, got " + val.Scalar());
+        if (*v.scale < kMinScale || *v.scale > kMaxScale)
+            throw Error(where + "scale " + val.Scalar() +
+                        " is outside [1e-9, 1e9] pixels per world unit: a mesh (single precision) cannot hold "
+                        "that world; choose units nearer the drawing's size");
     } else if (k == "origin") {
         v.origin =
             numbers<2>(file, val, where + "origin must be 2 numbers [cx, cy] (the image point of the world origin)",

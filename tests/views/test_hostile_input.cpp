@@ -1,0 +1,81 @@
+// Hostile input that once crashed or misled a run: each case gives one clear line, a
+// non-zero exit and no output.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "geometry/hull_distance.h"
+#include "io/manifest.h"
+#include "support/test_support.h"
+
+using namespace cm;
+namespace fs = std::filesystem;
+
+namespace {
+
+#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
+std::string manifest_error(const test::TempDir& dir, const std::string& yaml) {
+    test::write_text(dir / "views.yaml", yaml);
+    try {
+        read_manifest(dir / "views.yaml");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// The bundled example's drawings under the manifest `yaml`, through the paper pipeline
+// (hull-constrained smoothing) at a small resolution.
+test::CommandResult paper_run_on(const test::TempDir& dir, const std::string& yaml) {
+    for (const char* f : {"front.png", "right.png", "top.png"})
+        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f);
+    test::write_text(dir / "views.yaml", yaml);
+    std::string pipeline = test::read_text(test::source_dir() / "pipelines" / "paper.yaml");
+    const std::string from = "examples/spot/views.yaml";
+    pipeline.replace(pipeline.find(from), from.size(), "views.yaml");
+    test::write_text(dir / "p.yaml", pipeline);
+    return test::run_cli("run p.yaml -q --set hull.resolution=48", dir.path());
+}
+
+} // namespace
+
+TEST(HostileInput, ASilhouetteSampledAtNaNIsOutsideNotACrash) {
+    const SilhouetteSdf sdf = silhouette_sdf(std::vector<float>(16 * 16, 1.0f), 16, 16, "v");
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(sdf.sample(nan, 3), inf);
+    EXPECT_EQ(sdf.sample(3, -inf), inf);
+    EXPECT_LT(sdf.sample(8, 8), 0); // inside, as before
+}
+
+TEST(HostileInput, AScaleNoMeshCanHoldIsRefusedWithTheView) {
+    test::TempDir dir("hostile_scale");
+    const std::string e =
+        manifest_error(dir, "views:\n  front: {image: f.png, scale: 1e-300, origin: [256, 256]}\n  top: t.png\n");
+    EXPECT_HAS(e, "views.yaml:2: view \"front\": scale 1e-300 is outside [1e-9, 1e9] pixels per world unit");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: {image: f.png, scale: 1e12, origin: [0, 0]}\n"), "outside");
+}
+
+TEST(HostileInput, HugeBoundsAreRefused) {
+    test::TempDir dir("hostile_bounds");
+    EXPECT_HAS(manifest_error(dir, "bounds: [-1e300, -1, -1, 1e300, 1, 1]\nviews:\n  front: f.png\n"),
+               "views.yaml:1: bounds: coordinates beyond 1e12");
+}
+
+TEST(HostileInput, ExtremeCamerasEndTheRunWithOneLineAndNoOutput) {
+    // Once a segfault in the hull-constrained smoothing.
+    test::TempDir dir("hostile_run");
+    const auto r = paper_run_on(dir,
+                                "views:\n"
+                                "  front: {image: front.png, scale: 1e-300, origin: [256, 256]}\n"
+                                "  right: {image: right.png, scale: 1e-300, origin: [256, 256]}\n"
+                                "  top: top.png\n");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err, "node \"views\" (views.load)");
+    EXPECT_HAS(r.err, "scale 1e-300");
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
