@@ -10,6 +10,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "io/yaml_checks.h"
 
 namespace fs = std::filesystem;
 
@@ -75,6 +76,8 @@ std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& w
 YAML::Node load_document(const fs::path& file) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error("cannot read views manifest \"" + file.string() + "\": no such file");
+    if (fs::is_directory(file, ec))
+        throw Error("cannot read views manifest \"" + file.string() + "\": it is a folder; name the YAML file");
     YAML::Node doc;
     try {
         doc = YAML::LoadFile(file.string());
@@ -83,6 +86,7 @@ YAML::Node load_document(const fs::path& file) {
     } catch (const YAML::Exception& e) {
         throw Error("cannot read views manifest \"" + file.string() + "\": " + e.msg);
     }
+    check_yaml_document(doc, file);
     const bool views_ok = doc.IsMap() && doc["views"] && doc["views"].IsMap() && doc["views"].size() != 0;
     if (!doc.IsMap() || (!doc["sheet"] && !views_ok) || (doc["views"] && !views_ok))
         throw Error(file.string() +

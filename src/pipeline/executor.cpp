@@ -88,22 +88,6 @@ private:
     std::thread thread_;
 };
 
-/// Creates and configures every node's stage before anything runs, so a bad combination
-/// of parameters fails fast.
-std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Registry& registry) {
-    std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
-    for (std::size_t i : p.order) {
-        const auto& node = p.nodes[i];
-        try {
-            stages[i] = registry.create(node.stage);
-            stages[i]->configure(node.params);
-        } catch (const std::exception& e) {
-            throw Error(p.where(node) + e.what());
-        }
-    }
-    return stages;
-}
-
 /// One run of a validated pipeline: each node is launched on the task group once all its
 /// inputs are done, and an output is released once its last consumer has run.
 class PipelineRun {

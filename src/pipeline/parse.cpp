@@ -13,6 +13,7 @@
 #include <valijson/validator.hpp>
 
 #include "core/error.h"
+#include "io/yaml_checks.h"
 #include "pipeline/pipeline.h"
 
 namespace fs = std::filesystem;
@@ -148,6 +149,8 @@ json yaml_to_json(const YAML::Node& n) {
 }
 
 Pipeline Pipeline::load(const fs::path& file) {
+    std::error_code ec;
+    if (fs::is_directory(file, ec)) throw Error("cannot open pipeline \"" + file.string() + "\": it is a folder");
     std::ifstream in(file);
     if (!in) throw Error("cannot open pipeline \"" + file.string() + "\": " + std::strerror(errno));
     std::stringstream ss;
@@ -163,6 +166,7 @@ Pipeline Pipeline::parse(const std::string& text, const fs::path& file) {
         throw Error(file_line(file, e.mark.line + 1) + ": malformed YAML: " + e.msg);
     }
     if (!doc.IsMap()) throw Error(file.string() + ": a pipeline must be a YAML mapping with a \"nodes\" list");
+    check_yaml_document(doc, file);
     validate_structure(doc, file);
 
     Pipeline p;

@@ -100,6 +100,11 @@ struct RunResult {
     std::string to_json(const Pipeline& p) const;
 };
 
+/// Creates and configures every node's stage of a validated pipeline (each stage's own
+/// checks run here), so a bad combination of parameters fails before anything runs.
+/// Throws cm::Error prefixed with the node.
+std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Registry& registry);
+
 /// Runs a validated pipeline. On failure throws cm::Error (prefixed with the
 /// node) and leaves no output file behind; on success renames every staged file.
 RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt);

@@ -1,9 +1,13 @@
 // Checking a parsed pipeline against the registry, in steps: each node's stage and
 // parameters, its connections, the kinds along every edge, and the dependency order.
+#include <filesystem>
+
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.h"
 #include "pipeline/pipeline.h"
+
+namespace fs = std::filesystem;
 
 namespace cm {
 
@@ -151,7 +155,39 @@ std::vector<std::size_t> dependency_order(const Pipeline& p, const NodeIndex& in
     return order;
 }
 
+/// Two nodes that would write one file: the second would silently replace the first.
+void check_output_clashes(const Pipeline& p) {
+    std::map<fs::path, const PipelineNode*> writers;
+    for (const auto& n : p.nodes)
+        for (const auto& spec : n.info.params) {
+            if (spec.type != ParamType::Path || spec.extensions.empty() || !n.params.has(spec.name)) continue;
+            const fs::path path = n.params.get_string(spec.name);
+            std::error_code ec;
+            fs::path key = fs::weakly_canonical(fs::absolute(path), ec);
+            if (ec) key = fs::absolute(path).lexically_normal();
+            const auto [it, fresh] = writers.emplace(key, &n);
+            if (!fresh)
+                throw Error(p.where(n, n.raw_params.count(spec.name) ? n.raw_params.at(spec.name).line : 0) +
+                            spec.name + " \"" + path.string() + "\" is also written by node \"" + it->second->id +
+                            "\" (line " + std::to_string(it->second->line) + "); give each output its own file");
+        }
+}
+
 } // namespace
+
+std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Registry& registry) {
+    std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
+    for (std::size_t i : p.order) {
+        const auto& node = p.nodes[i];
+        try {
+            stages[i] = registry.create(node.stage);
+            stages[i]->configure(node.params);
+        } catch (const std::exception& e) {
+            throw Error(p.where(node) + e.what());
+        }
+    }
+    return stages;
+}
 
 void Pipeline::validate(const Registry& registry) {
     const NodeIndex index = node_index();
@@ -161,6 +197,8 @@ void Pipeline::validate(const Registry& registry) {
     }
     check_kinds(*this, index);
     order = dependency_order(*this, index);
+    check_output_clashes(*this);
+    configure_stages(*this, registry); // the stages' own checks (a missing manifest, ...)
 }
 
 } // namespace cm

@@ -79,3 +79,74 @@ TEST(HostileInput, ExtremeCamerasEndTheRunWithOneLineAndNoOutput) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
+
+namespace {
+
+// A pipeline of real stages up to a mesh, then `tail` (more nodes), in `dir`.
+void write_pipeline(const test::TempDir& dir, const std::string& tail) {
+    test::write_text(dir / "p.yaml",
+                     "nodes:\n"
+                     "  - {id: views, stage: views.load, params: {manifest: " +
+                         (test::source_dir() / "examples" / "spot" / "views.yaml").string() +
+                         "}}\n"
+                         "  - {id: hull, stage: hull.carve, inputs: {views: views}}\n"
+                         "  - {id: surface, stage: extract.marching_cubes, inputs: {volume: hull}}\n" +
+                         tail);
+}
+
+} // namespace
+
+TEST(HostileInput, AKeyGivenTwiceIsRefusedInManifestsAndPipelines) {
+    test::TempDir dir("hostile_duplicates");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: a.png\n  front: b.png\n"),
+               "views.yaml:3: \"front\" is given twice in one mapping (first on line 2)");
+    EXPECT_HAS(manifest_error(dir, "height: 1\nheight: 2\nviews:\n  front: a.png\n"), "views.yaml:2: \"height\"");
+    write_pipeline(dir,
+                   "  - {id: w, stage: mesh.write, inputs: {mesh: surface}, params: {path: a.obj, path: b.obj}}\n");
+    const auto r = test::run_cli("validate p.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_HAS(r.err, "p.yaml:5: \"path\" is given twice in one mapping (first on line 5)");
+}
+
+TEST(HostileInput, AnAliasBombIsRefusedBeforeItGrows) {
+    test::TempDir dir("hostile_aliases");
+    // Nine levels of ten aliases each: a billion values from a few hundred bytes.
+    std::string yaml = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+    for (int i = 1; i <= 9; ++i) {
+        const std::string prev = "*a" + std::to_string(i - 1);
+        yaml += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+        for (int k = 0; k < 10; ++k) yaml += (k ? ", " : "") + prev;
+        yaml += "]\n";
+    }
+    EXPECT_HAS(manifest_error(dir, yaml + "views:\n  front: a.png\n"), "once its aliases (*name) are expanded");
+    test::write_text(dir / "p.yaml", yaml + "nodes: []\n");
+    const auto r = test::run_cli("validate p.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_HAS(r.err, "once its aliases (*name) are expanded");
+}
+
+TEST(HostileInput, TwoNodesWritingOneFileAreRefused) {
+    test::TempDir dir("hostile_two_writers");
+    write_pipeline(dir,
+                   "  - {id: a, stage: mesh.write, inputs: {mesh: surface}, params: {path: out/m.obj}}\n"
+                   "  - {id: b, stage: mesh.write, inputs: {mesh: surface}, params: {path: ./out/../out/m.obj}}\n");
+    const auto r = test::run_cli("validate p.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_HAS(r.err, "p.yaml:6: node \"b\" (mesh.write): path \"./out/../out/m.obj\" is also written by node \"a\"");
+}
+
+TEST(HostileInput, ValidateRunsTheStagesOwnChecks) {
+    test::TempDir dir("hostile_validate");
+    test::write_text(dir / "p.yaml", "nodes:\n  - {id: views, stage: views.load, params: {manifest: nowhere.yaml}}\n");
+    auto r = test::run_cli("validate p.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_HAS(r.err, "p.yaml:2: node \"views\" (views.load): manifest \"nowhere.yaml\" does not exist");
+    // A manifest that is a folder: one line naming it, not a stream error.
+    fs::create_directory(dir / "folder.yaml");
+    try {
+        read_manifest(dir / "folder.yaml");
+        ADD_FAILURE() << "a folder was read as a manifest";
+    } catch (const Error& e) {
+        EXPECT_HAS(e.what(), "folder.yaml\": it is a folder");
+    }
+}
