@@ -150,3 +150,28 @@ TEST(HostileInput, ValidateRunsTheStagesOwnChecks) {
         EXPECT_HAS(e.what(), "folder.yaml\": it is a folder");
     }
 }
+
+TEST(HostileInput, ViewNamesCannotWriteOutsideTheReportFolder) {
+    test::TempDir dir("hostile_names");
+    for (const char* f : {"front.png", "right.png", "top.png"})
+        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f);
+    fs::create_directories(dir / "a" / "b");
+    test::write_text(dir / "a" / "b" / "views.yaml",
+                     "views:\n"
+                     "  ../../escaped: {image: ../../front.png, view: front}\n"
+                     "  /tmp/cm-escaped-abs: {image: ../../right.png, view: right}\n"
+                     "  ..: {image: ../../top.png, view: top}\n");
+    test::write_text(dir / "p.yaml",
+                     "nodes:\n  - {id: views, stage: views.load, params: {manifest: a/b/views.yaml, "
+                     "save_silhouettes: true}}\n");
+    fs::create_directories(dir / "a" / "b" / "rep");
+    const auto r = test::run_cli("run p.yaml -q --report a/b/rep/run.json", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "a" / "escaped.silhouette.png")); // rep/../../escaped
+    EXPECT_FALSE(fs::exists("/tmp/cm-escaped-abs.silhouette.png"));
+    std::vector<std::string> saved;
+    for (const auto& e : fs::directory_iterator(dir / "a" / "b" / "rep")) saved.push_back(e.path().filename().string());
+    std::sort(saved.begin(), saved.end());
+    EXPECT_EQ(saved, (std::vector<std::string>{".._.._escaped.silhouette.png", "_tmp_cm-escaped-abs.silhouette.png",
+                                               "run.json", "view...silhouette.png"}));
+}

@@ -1,5 +1,6 @@
 // views.load: reads the views manifest and its drawings, extracts each
 // silhouette, sets up the cameras and aligns hand-drawn views.
+#include <cctype>
 #include <filesystem>
 
 #include "core/stage.h"
@@ -11,6 +12,15 @@ namespace fs = std::filesystem;
 
 namespace cm {
 namespace {
+
+// A view's name as a file name in the report folder: a name holding a path ("../../x",
+// "/tmp/x") must not write outside that folder, so only letters, digits and "-_." stay.
+std::string file_stem_for(const std::string& name) {
+    std::string s;
+    for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+    if (s.find_first_not_of('.') == std::string::npos) s = "view" + s; // "", ".", ".."
+    return s;
+}
 
 class ViewsLoad : public Stage {
     fs::path manifest_;
@@ -51,7 +61,7 @@ public:
 
         if (save_silhouettes_) {
             for (const auto& v : views->views) {
-                const fs::path out = ctx.side_output_dir() / (v.name + ".silhouette.png");
+                const fs::path out = ctx.side_output_dir() / (file_stem_for(v.name) + ".silhouette.png");
                 write_image(silhouette_image(v), ctx.output_file(out));
             }
         }
