@@ -23,11 +23,15 @@ std::string at(const fs::path& f, const YAML::Node& n) {
 }
 
 double number(const fs::path& f, const YAML::Node& n, const std::string& what) {
+    double x = 0;
     try {
-        return n.as<double>();
+        x = n.as<double>();
     } catch (const YAML::Exception&) {
         throw Error(at(f, n) + ": " + what + " must be a number, got \"" + (n.IsScalar() ? n.Scalar() : "?") + "\"");
     }
+    // .nan and .inf read as numbers but mean nothing here.
+    if (!std::isfinite(x)) throw Error(at(f, n) + ": " + what + " must be a finite number, got " + n.Scalar());
+    return x;
 }
 
 std::string scalar(const fs::path& f, const YAML::Node& n, const std::string& view, const std::string& key) {
@@ -252,6 +256,8 @@ void complete_view(const fs::path& file, const fs::path& base, const YAML::Node&
         v.elevation = v.elevation.value_or(0.0);
         if (*v.elevation < -90 || *v.elevation > 90)
             throw Error(at(file, n) + ": view \"" + v.key + "\": elevation must be in [-90, 90] degrees");
+        if (*v.azimuth < -360 || *v.azimuth > 360)
+            throw Error(at(file, n) + ": view \"" + v.key + "\": azimuth must be in [-360, 360] degrees");
     }
     if (v.keep != "auto" && v.keep != "largest" && v.keep != "all")
         throw Error(at(file, n) + ": view \"" + v.key + "\": keep must be auto, largest or all, got \"" + v.keep +

@@ -175,3 +175,13 @@ TEST(HostileInput, ViewNamesCannotWriteOutsideTheReportFolder) {
     EXPECT_EQ(saved, (std::vector<std::string>{".._.._escaped.silhouette.png", "_tmp_cm-escaped-abs.silhouette.png",
                                                "run.json", "view...silhouette.png"}));
 }
+
+TEST(HostileInput, NumbersThatMeanNothingAreRefused) {
+    test::TempDir dir("hostile_numbers");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: {image: a.png, threshold: .nan}\n"),
+               "views.yaml:2: threshold must be a finite number, got .nan");
+    EXPECT_HAS(manifest_error(dir, "height: .inf\nviews:\n  front: a.png\n"),
+               "views.yaml:1: height must be a finite number, got .inf");
+    EXPECT_HAS(manifest_error(dir, "views:\n  q: {image: a.png, azimuth: 1e308}\n"),
+               "view \"q\": azimuth must be in [-360, 360] degrees");
+}
