@@ -21,6 +21,13 @@ Image read_image(const fs::path& file, ImageInfo* info) {
     std::vector<float> raw(std::size_t(spec.width) * spec.height * nc);
     if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data()))
         throw Error("cannot read image \"" + file.string() + "\": " + in->geterror());
+    // A reader may fill what it could not decode (a truncated JPEG comes back grey at the
+    // bottom) and still say it succeeded; the error it recorded says so.
+    if (in->has_error()) {
+        std::string why = in->geterror();
+        if (const auto at = why.find(" (\""); at != std::string::npos) why.erase(at); // the path, said already
+        throw Error("cannot read image \"" + file.string() + "\": " + why + " (is the file complete?)");
+    }
     in->close();
     Image img;
     img.width = spec.width;

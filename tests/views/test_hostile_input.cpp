@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "geometry/hull_distance.h"
+#include "io/image_io.h"
 #include "io/manifest.h"
 #include "support/test_support.h"
 
@@ -184,4 +185,22 @@ TEST(HostileInput, NumbersThatMeanNothingAreRefused) {
                "views.yaml:1: height must be a finite number, got .inf");
     EXPECT_HAS(manifest_error(dir, "views:\n  q: {image: a.png, azimuth: 1e308}\n"),
                "view \"q\": azimuth must be in [-360, 360] degrees");
+}
+
+TEST(HostileInput, ATruncatedImageIsAnErrorNotAGreyDrawing) {
+    test::TempDir dir("hostile_truncated");
+    const Image front = read_image(test::source_dir() / "examples" / "spot" / "front.png");
+    for (const char* name : {"front.jpg", "front.png"}) {
+        SCOPED_TRACE(name);
+        write_image(front, dir / name);
+        ASSERT_NO_THROW(read_image(dir / name)); // whole, it reads
+        const std::string bytes = test::read_text(dir / name);
+        test::write_text(dir / name, bytes.substr(0, bytes.size() / 2));
+        try {
+            read_image(dir / name);
+            ADD_FAILURE() << "half a file was read as an image";
+        } catch (const Error& e) {
+            EXPECT_HAS(e.what(), std::string("cannot read image \"") + (dir / name).string() + "\"");
+        }
+    }
 }
