@@ -5,8 +5,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "border_clusters.h"
 #include "core/error.h"
+#include "gaps.h"
 #include "io/manifest.h"
+#include "shadow.h"
 
 namespace cm {
 
@@ -123,8 +126,10 @@ int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<i
     return int(sizes.size());
 }
 
-// Estimates the background field and its noise from a band along the image border.
-void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise) {
+// Estimates the background field and its noise from a band along the image border; the
+// samples it leaves out go to `outliers`, the number of samples to `total`.
+void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise,
+                            std::vector<Rgb>& outliers, std::size_t& total) {
     const int w = img.width, h = img.height;
     const int band = std::max(1, std::min({2, w / 8, h / 8}));
     std::vector<Sample> s;
@@ -174,8 +179,11 @@ void background_from_border(const Image& img, const std::string& option, Backgro
     }
     std::vector<double> kept;
     const double cut = std::max(3.0 * median(d), 0.03);
-    for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t i = 0; i < s.size(); ++i) {
         if (d[i] <= cut || given) kept.push_back(d[i]);
+        else outliers.push_back(s[i].c);
+    }
+    total = s.size();
     noise = median(kept);
 }
 
@@ -184,7 +192,9 @@ void background_from_border(const Image& img, const std::string& option, Backgro
 // and the coverage read from those.
 class BackgroundCut {
 public:
-    BackgroundCut(const Image& img, const BackgroundModel& model, double t)
+    // Each further border colour (a cloth reaching the frame) is a background too: a pixel's
+    // distance is to the nearest background, in units of that background's threshold.
+    BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
         : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
         for (int y = 0; y < h_; ++y)
             for (int x = 0; x < w_; ++x) {
@@ -192,16 +202,28 @@ public:
                 bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
                 const float* p = &img_.pixels[i * 4];
                 d_[i] = dist({p[0], p[1], p[2]}, bgc_[i]);
+                for (const auto& c : more) {
+                    const double dc = dist({p[0], p[1], p[2]}, c.colour) * t_ / c.threshold;
+                    if (dc < d_[i]) {
+                        d_[i] = dc;
+                        bgc_[i] = c.colour;
+                    }
+                }
             }
     }
 
     // Background: background-coloured pixels 4-connected to the border (so a line drawn
-    // with 8-connected pixels closes a region).
-    void flood_from_border() {
+    // with 8-connected pixels closes a region). The ink closed over gaps up to `gap` px
+    // (see close_ink) bars the way, so a break in an outline does not let the background
+    // in; the object keeps the ink's own outer edge.
+    void flood_from_border(double gap) {
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        const std::vector<char> closed = close_ink(ink, w_, h_, gap);
         const int w = w_, h = h_;
         std::vector<int> stack;
         auto seed = [&](int p) {
-            if (!bg_[std::size_t(p)] && d_[std::size_t(p)] < t_) {
+            if (!bg_[std::size_t(p)] && !closed[std::size_t(p)]) {
                 bg_[std::size_t(p)] = 1;
                 stack.push_back(p);
             }
@@ -253,6 +275,9 @@ public:
         for (std::size_t i = 0; i < n_; ++i)
             if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
     }
+
+    // A ground shadow under the object is background (see remove_ground_shadow).
+    std::size_t remove_shadow() { return remove_ground_shadow(img_, bgc_, bg_); }
 
     // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
     // background and the nearest interior object colour, which keeps anti-aliasing.
@@ -338,12 +363,19 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     res.method = "background";
     BackgroundModel model;
     double noise = 0;
-    background_from_border(img, opt.background, model, noise);
+    std::vector<Rgb> outliers;
+    std::size_t total = 0;
+    background_from_border(img, opt.background, model, noise, outliers, total);
     res.noise = noise;
     const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
     res.threshold = t;
-    BackgroundCut cut(img, model, t);
-    cut.flood_from_border();
+    std::vector<BorderCluster> more;
+    if (opt.background == "auto") more = cluster_border(outliers, total, t);
+    res.border_colours = 1 + int(more.size());
+    BackgroundCut cut(img, model, t, more);
+    res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
+    cut.flood_from_border(res.close_gaps);
+    if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
     cut.open_holes(opt.holes, res);
     cut.coverage(res.coverage);
 }
@@ -410,6 +442,8 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         throw Error("keep must be auto, largest or all, got \"" + opt.keep + "\"");
     if (opt.holes != "auto" && opt.holes != "fill" && opt.holes != "keep")
         throw Error("holes must be auto, fill or keep, got \"" + opt.holes + "\"");
+    if (opt.shadow != "auto" && opt.shadow != "keep")
+        throw Error("shadow must be auto or keep, got \"" + opt.shadow + "\"");
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     if (w <= 0 || h <= 0 || img.channels != 4 || img.pixels.size() != n * 4)
