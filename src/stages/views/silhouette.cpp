@@ -245,6 +245,26 @@ public:
             if (y > 0) seed(p - w);
             if (y + 1 < h) seed(p + w);
         }
+        if (gap > 0) give_back_barrier_rim(ink, closed);
+    }
+
+    // The barrier's rim outside the ink (see close_ink) is background where it touches what
+    // the flood reached: one step, so it cannot pass a bridged break.
+    void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& closed) {
+        std::vector<int> rim;
+        for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x) {
+                const std::size_t i = std::size_t(y) * w_ + x;
+                if (bg_[i] || ink[i] || !closed[i]) continue;
+                bool near = false;
+                for (int dy = -1; dy <= 1 && !near; ++dy)
+                    for (int dx = -1; dx <= 1 && !near; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && bg_[std::size_t(yy) * w_ + xx];
+                    }
+                if (near) rim.push_back(int(i));
+            }
+        for (int p : rim) bg_[std::size_t(p)] = 1;
     }
 
     // Background-coloured regions the object encloses: holes through a filled drawing, or
@@ -267,6 +287,7 @@ public:
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         const bool holes = mode == "keep" || (mode == "auto" && ink > blank);
+        line_drawing_ = ink <= blank;
         std::vector<char> is_hole(std::size_t(nreg), 0);
         for (int r = 0; r < nreg; ++r) {
             is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
@@ -274,6 +295,14 @@ public:
         }
         for (std::size_t i = 0; i < n_; ++i)
             if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
+    }
+
+    // Overshooting strokes of a line drawing (see remove_thin_spurs).
+    std::size_t remove_spurs(double gap) {
+        if (!line_drawing_) return 0;
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        return remove_thin_spurs(bg_, ink, w_, h_, gap);
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
@@ -356,6 +385,7 @@ private:
     std::vector<Rgb> bgc_;  ///< the background colour the model gives each pixel
     std::vector<double> d_; ///< each pixel's colour distance to it
     std::vector<char> bg_;  ///< background pixels
+    bool line_drawing_ = false;
 };
 
 // The coverage of a drawing without meaningful alpha, from its background colour.
@@ -377,6 +407,7 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     cut.flood_from_border(res.close_gaps);
     if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
     cut.open_holes(opt.holes, res);
+    cut.remove_spurs(res.close_gaps);
     cut.coverage(res.coverage);
 }
 
