@@ -177,6 +177,7 @@ TEST(RealDrawings, OvershootingStrokesDoNotChangeTheSilhouette) {
     opt.close_gaps = 4;
     const SilhouetteResult r = extract(sketch(s), opt);
     EXPECT_GE(iou(r.coverage, kSize, kSize, object), 0.99);
+    EXPECT_GT(r.spurs_removed, 40u);
     // The overshoots themselves are gone, not only outweighed.
     for (const auto& [x, y] : std::vector<std::pair<int, int>>{{111, 346}, {289, 346}})
         EXPECT_LT(r.coverage[std::size_t(y) * kSize + x], 0.5f) << x << "," << y;

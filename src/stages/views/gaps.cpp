@@ -7,11 +7,19 @@
 
 namespace cm {
 
+namespace {
+
+// The disc that bridges a break `gap` px wide: half the gap and one pixel more, so a break
+// of that many pixels along a diagonal stroke (sqrt 2 farther apart) is bridged too.
+double gap_radius(double gap) { return 0.5 * gap + 1.0; }
+
+} // namespace
+
 double default_close_gaps(int w, int h) { return std::max(3.0, 0.004 * double(std::max(w, h))); }
 
 std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double gap) {
     if (gap <= 0) return ink;
-    const double radius = (gap + 1.0) / 2.0;
+    const double radius = gap_radius(gap);
     const float r2 = float(radius * radius) + 1e-4f;
     // Padded by more than the radius, so the image border behaves as blank paper.
     const int pad = int(std::ceil(radius)) + 1;
@@ -42,7 +50,7 @@ namespace cm {
 
 std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& ink, int w, int h, double gap) {
     if (gap <= 0) return 0;
-    const double radius = (gap + 1.0) / 2.0;
+    const double radius = 0.5 * gap + 0.5; // strokes up to about the gap wide
     const float r2 = float(radius * radius) + 1e-4f;
     const std::size_t n = std::size_t(w) * h;
     // Opening of the object: erode (farther than the radius from the background, the
@@ -59,10 +67,10 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
-            residue[i] = !bg[i] && ink[i] && to_core[std::size_t(y + pad) * pw + x + pad] > r2;
+            residue[i] = !bg[i] && to_core[std::size_t(y + pad) * pw + x + pad] > r2;
         }
-    // Pieces (8-connected) larger than what the disc takes off a square corner, three times over.
-    const std::size_t corner = std::size_t(std::ceil(3.0 * radius * radius));
+    // Pieces (8-connected) larger than what the disc takes off a sharp corner (about 1.5 r^2).
+    const std::size_t corner = std::size_t(std::ceil(1.5 * radius * radius));
     std::vector<char> seen(n, 0);
     std::vector<int> stack, piece;
     std::size_t removed = 0;

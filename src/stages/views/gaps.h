@@ -11,8 +11,9 @@ namespace cm {
 double default_close_gaps(int w, int h);
 
 /// @brief A barrier against the border flood: the ink (w x h, row-major) dilated by a disc
-/// of radius (gap + 1) / 2 and eroded by one pixel less, so breaks in a stroke up to `gap`
-/// pixels wide are bridged while an opening more than a pixel wider keeps a passage. The
+/// of radius gap / 2 + 1 and eroded by one pixel less, so breaks in a stroke up to `gap`
+/// pixels wide (or that many pixels along a diagonal stroke) are bridged while an opening
+/// about two pixels wider keeps a passage. The
 /// barrier runs up to one pixel outside the ink; the flood takes that pixel back. Beyond
 /// the image is blank, so the border closes nothing. `gap` <= 0 gives the ink itself.
 std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double gap);

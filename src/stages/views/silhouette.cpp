@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "gaps.h"
 #include "io/manifest.h"
+#include "line_holes.h"
 #include "shadow.h"
 
 namespace cm {
@@ -219,7 +220,8 @@ public:
     void flood_from_border(double gap) {
         std::vector<char> ink(n_);
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
-        const std::vector<char> closed = close_ink(ink, w_, h_, gap);
+        closed_ = close_ink(ink, w_, h_, gap);
+        const std::vector<char>& closed = closed_;
         const int w = w_, h = h_;
         std::vector<int> stack;
         auto seed = [&](int p) {
@@ -245,12 +247,13 @@ public:
             if (y > 0) seed(p - w);
             if (y + 1 < h) seed(p + w);
         }
-        if (gap > 0) give_back_barrier_rim(ink, closed);
+        if (gap > 0) give_back_barrier_rim(ink, bg_);
     }
 
     // The barrier's rim outside the ink (see close_ink) is background where it touches what
     // the flood reached: one step, so it cannot pass a bridged break.
-    void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& closed) {
+    void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& from) {
+        const std::vector<char>& closed = closed_;
         std::vector<int> rim;
         for (int y = 0; y < h_; ++y)
             for (int x = 0; x < w_; ++x) {
@@ -260,7 +263,7 @@ public:
                 for (int dy = -1; dy <= 1 && !near; ++dy)
                     for (int dx = -1; dx <= 1 && !near; ++dx) {
                         const int xx = x + dx, yy = y + dy;
-                        near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && bg_[std::size_t(yy) * w_ + xx];
+                        near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && from[std::size_t(yy) * w_ + xx];
                     }
                 if (near) rim.push_back(int(i));
             }
@@ -288,6 +291,7 @@ public:
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         const bool holes = mode == "keep" || (mode == "auto" && ink > blank);
         line_drawing_ = ink <= blank;
+        if (mode == "auto" && line_drawing_) return open_nested_holes(res);
         std::vector<char> is_hole(std::size_t(nreg), 0);
         for (int r = 0; r < nreg; ++r) {
             is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
@@ -297,16 +301,52 @@ public:
             if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
     }
 
+    // The holes of a line drawing: blank regions behind an even number of strokes (see
+    // nested_holes), at least 9 px; their barrier rim goes back to them.
+    void open_nested_holes(SilhouetteResult& res) {
+        std::vector<char> blank(n_, 0), ink(n_, 0), hole(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) {
+            blank[i] = !bg_[i] && !closed_[i];
+            ink[i] = d_[i] >= t_;
+        }
+        std::vector<int> lab;
+        std::vector<std::size_t> sizes;
+        const int nreg = label(blank, w_, h_, false, lab, sizes);
+        std::vector<char> is_hole = nested_holes(lab, nreg, closed_, bg_, w_, h_);
+        for (int r = 0; r < nreg; ++r) {
+            is_hole[std::size_t(r)] = is_hole[std::size_t(r)] && sizes[std::size_t(r)] >= 9;
+            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
+        }
+        for (std::size_t i = 0; i < n_; ++i)
+            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) hole[i] = bg_[i] = 1;
+        if (res.holes_kept) give_back_barrier_rim(ink, hole);
+    }
+
     // Overshooting strokes of a line drawing (see remove_thin_spurs).
     std::size_t remove_spurs(double gap) {
         if (!line_drawing_) return 0;
         std::vector<char> ink(n_);
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
-        return remove_thin_spurs(bg_, ink, w_, h_, gap);
+        const std::vector<char> before = bg_;
+        const std::size_t removed = remove_thin_spurs(bg_, ink, w_, h_, gap);
+        mark_forced(before);
+        return removed;
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
-    std::size_t remove_shadow() { return remove_ground_shadow(img_, bgc_, bg_); }
+    std::size_t remove_shadow() {
+        const std::vector<char> before = bg_;
+        const std::size_t removed = remove_ground_shadow(img_, bgc_, bg_);
+        mark_forced(before);
+        return removed;
+    }
+
+    // Pixels made background against their colour (spurs, shadow) stay outside whatever
+    // their colour mix says.
+    void mark_forced(const std::vector<char>& before) {
+        if (forced_.empty()) forced_.assign(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) forced_[i] = forced_[i] || (bg_[i] && !before[i]);
+    }
 
     // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
     // background and the nearest interior object colour, which keeps anti-aliasing.
@@ -316,6 +356,7 @@ public:
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 cov[i] = edge[i] ? boundary_coverage(x, y, edge) : (bg_[i] ? 0.0f : 1.0f);
+                if (!forced_.empty() && forced_[i]) cov[i] = std::min(cov[i], 0.49f);
             }
     }
 
@@ -386,6 +427,8 @@ private:
     std::vector<double> d_; ///< each pixel's colour distance to it
     std::vector<char> bg_;  ///< background pixels
     bool line_drawing_ = false;
+    std::vector<char> closed_; ///< the ink with its gaps closed (see close_ink)
+    std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
 
 // The coverage of a drawing without meaningful alpha, from its background colour.
@@ -407,7 +450,7 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     cut.flood_from_border(res.close_gaps);
     if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
     cut.open_holes(opt.holes, res);
-    cut.remove_spurs(res.close_gaps);
+    res.spurs_removed = cut.remove_spurs(res.close_gaps);
     cut.coverage(res.coverage);
 }
 

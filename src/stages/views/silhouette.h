@@ -36,6 +36,7 @@ struct SilhouetteResult {
     double close_gaps = 0;                  ///< the gap closed (pixels), background method
     int border_colours = 0;                 ///< background colours found along the border
     std::size_t shadow_removed = 0;         ///< ground-shadow pixels made background
+    std::size_t spurs_removed = 0;          ///< overshooting-stroke pixels made background
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.
