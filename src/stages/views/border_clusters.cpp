@@ -39,15 +39,26 @@ void lloyd(const std::vector<Rgb>& s, std::vector<Rgb>& centre, std::vector<int>
 } // namespace
 
 std::vector<BorderCluster> cluster_border(const std::vector<Rgb>& outliers, std::size_t total, double base_threshold,
-                                          double min_share) {
+                                          const Rgb& main, double min_share) {
     std::vector<BorderCluster> out;
     if (total == 0 || double(outliers.size()) < min_share * double(total)) return out;
-    // Seeds: the first sample, then the sample farthest from it.
+    // Seeds: the first sample, then twice the sample farthest from the seeds so far (when
+    // it is farther than the threshold): up to three clusters, so an object touching the
+    // border gets a cluster of its own (too small to count) and does not pull the others.
     std::vector<Rgb> centre{outliers[0]};
-    std::size_t far = 0;
-    for (std::size_t i = 1; i < outliers.size(); ++i)
-        if (rms(outliers[i], centre[0]) > rms(outliers[far], centre[0])) far = i;
-    if (rms(outliers[far], centre[0]) > base_threshold) centre.push_back(outliers[far]);
+    for (int extra = 0; extra < 2; ++extra) {
+        std::size_t far = 0;
+        double far_d = -1;
+        for (std::size_t i = 0; i < outliers.size(); ++i) {
+            double d = 1e9;
+            for (const auto& c : centre) d = std::min(d, rms(outliers[i], c));
+            if (d > far_d) {
+                far_d = d;
+                far = i;
+            }
+        }
+        if (far_d > base_threshold) centre.push_back(outliers[far]);
+    }
     std::vector<int> member;
     lloyd(outliers, centre, member);
     for (std::size_t k = 0; k < centre.size(); ++k) {
@@ -61,10 +72,49 @@ std::vector<BorderCluster> cluster_border(const std::vector<Rgb>& outliers, std:
         BorderCluster c;
         c.colour = centre[k];
         c.share = share;
-        c.threshold = std::clamp(std::max({base_threshold, 0.1 + 5.0 * median, 2.0 * p90}), 0.1, 0.5);
+        // The cluster's own spread, and at most half-way to the main background (or another
+        // cluster would swallow it).
+        double room = 0.5 * rms(centre[k], main);
+        for (std::size_t j = 0; j < centre.size(); ++j)
+            if (j != k) room = std::min(room, 0.5 * rms(centre[k], centre[j]));
+        c.threshold = std::clamp(std::max(3.0 * median, 1.5 * p90), 0.03, std::min(0.5, room));
         out.push_back(c);
     }
     return out;
+}
+
+std::vector<char> cluster_reach(const Image& img, const BorderCluster& c) {
+    const int w = img.width, h = img.height;
+    std::vector<char> near(std::size_t(w) * h), reached(near.size(), 0);
+    for (std::size_t i = 0; i < near.size(); ++i) {
+        const float* p = &img.pixels[i * 4];
+        near[i] = rms({p[0], p[1], p[2]}, c.colour) < c.threshold;
+    }
+    std::vector<int> stack;
+    auto seed = [&](int p) {
+        if (near[std::size_t(p)] && !reached[std::size_t(p)]) {
+            reached[std::size_t(p)] = 1;
+            stack.push_back(p);
+        }
+    };
+    for (int x = 0; x < w; ++x) {
+        seed(x);
+        seed((h - 1) * w + x);
+    }
+    for (int y = 0; y < h; ++y) {
+        seed(y * w);
+        seed(y * w + w - 1);
+    }
+    while (!stack.empty()) {
+        const int p = stack.back();
+        stack.pop_back();
+        const int x = p % w, y = p / w;
+        if (x > 0) seed(p - 1);
+        if (x + 1 < w) seed(p + 1);
+        if (y > 0) seed(p - w);
+        if (y + 1 < h) seed(p + w);
+    }
+    return reached;
 }
 
 } // namespace cm

@@ -193,21 +193,25 @@ void background_from_border(const Image& img, const std::string& option, Backgro
 // and the coverage read from those.
 class BackgroundCut {
 public:
-    // Each further border colour (a cloth reaching the frame) is a background too: a pixel's
-    // distance is to the nearest background, in units of that background's threshold.
+    // Each further border colour (a cloth reaching the frame) is a background too where it
+    // reaches from the border: there a pixel's distance is to the nearest background, in
+    // units of that background's threshold.
     BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
         : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
+        std::vector<std::vector<char>> reach;
+        for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         for (int y = 0; y < h_; ++y)
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
                 const float* p = &img_.pixels[i * 4];
                 d_[i] = dist({p[0], p[1], p[2]}, bgc_[i]);
-                for (const auto& c : more) {
-                    const double dc = dist({p[0], p[1], p[2]}, c.colour) * t_ / c.threshold;
+                for (std::size_t k = 0; k < more.size(); ++k) {
+                    if (!reach[k][i]) continue; // only where that background reaches from the border
+                    const double dc = dist({p[0], p[1], p[2]}, more[k].colour) * t_ / more[k].threshold;
                     if (dc < d_[i]) {
                         d_[i] = dc;
-                        bgc_[i] = c.colour;
+                        bgc_[i] = more[k].colour;
                     }
                 }
             }
@@ -443,7 +447,7 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
     res.threshold = t;
     std::vector<BorderCluster> more;
-    if (opt.background == "auto") more = cluster_border(outliers, total, t);
+    if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
     res.border_colours = 1 + int(more.size());
     BackgroundCut cut(img, model, t, more);
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
