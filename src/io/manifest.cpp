@@ -146,6 +146,41 @@ struct CameraKeys {
     int matrix_sources = 0;
 };
 
+// The keys for drawings as they are handed over (close_gaps, mask, shadow); false when `k`
+// is none of them.
+bool read_real_drawing_key(const fs::path& file, const fs::path& base, const std::string& k, const YAML::Node& val,
+                           ManifestView& v) {
+    const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
+    if (k == "close_gaps") {
+        const std::string text = val.IsScalar() ? val.Scalar() : "?";
+        if (text == "auto") {
+            v.close_gaps.reset();
+            return true;
+        }
+        double g = -1;
+        try {
+            g = val.as<double>();
+        } catch (const YAML::Exception&) {
+            g = -1;
+        }
+        if (!(g >= 0) || !std::isfinite(g))
+            throw Error(where + "close_gaps must be auto or a number of pixels >= 0 (0 turns gap closing off), got \"" +
+                        text + "\"");
+        v.close_gaps = g;
+    } else if (k == "mask") {
+        v.mask = scalar(file, val, v.key, k);
+        if (v.mask.empty()) throw Error(where + "mask must name an image file");
+        if (v.mask.is_relative()) v.mask = base / v.mask;
+    } else if (k == "shadow") {
+        v.shadow = scalar(file, val, v.key, k);
+        if (v.shadow != "auto" && v.shadow != "keep")
+            throw Error(where + "shadow must be auto or keep, got \"" + v.shadow + "\"");
+    } else {
+        return false;
+    }
+    return true;
+}
+
 // One key (its node: `key`) of a view's mapping, with its value `val`.
 void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node& key, const YAML::Node& val,
                    ManifestView& v, CameraKeys& cam) {
@@ -192,10 +227,11 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
     } else if (k == "K") cam.K = numbers<9>(file, val, where + "K must be 3 rows of 3 numbers");
     else if (k == "R") cam.R = numbers<9>(file, val, where + "R must be 3 rows of 3 numbers");
     else if (k == "t") cam.tvec = numbers<3>(file, val, where + "t must be 3 numbers");
+    else if (read_real_drawing_key(file, base, k, val, v)) return;
     else
         throw Error(at(file, key) + ": view \"" + v.key + "\": unknown key \"" + k +
                     "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
-                    "background, threshold, keep, holes)");
+                    "background, threshold, keep, holes, close_gaps, mask, shadow)");
 }
 
 // A view given as a mapping (node n): its keys, then the camera they give, given once and

@@ -25,6 +25,10 @@ struct ManifestView {
     std::string keep = "auto";       ///< auto | largest | all ("auto" defers to the stage's keep)
     std::string holes = "auto";      ///< auto | fill | keep
     int line = 0;
+    // Real drawings: gap closing, mask, shadow.
+    std::optional<double> close_gaps; ///< px of ink gap closed before flooding; none: scaled to the image; 0: off
+    std::filesystem::path mask;       ///< a mask image used instead of segmentation (resolved); empty: none
+    std::string shadow = "auto";      ///< auto (a ground shadow is background) | keep
 };
 
 // Turnaround sheets.

@@ -67,7 +67,14 @@ std::string image_text(const fs::path& image, const fs::path& folder) {
     return scalar_text((inside ? rel : abs).generic_string());
 }
 
-std::vector<std::string> view_fields(const ManifestView& v) {
+// The keys for drawings as they are handed over (close_gaps, mask, shadow).
+void real_drawing_fields(const ManifestView& v, const fs::path& folder, std::vector<std::string>& f) {
+    if (v.close_gaps) f.push_back("close_gaps: " + number_text(*v.close_gaps, "view \"" + v.key + "\": close_gaps"));
+    if (!v.mask.empty()) f.push_back("mask: " + image_text(v.mask, folder));
+    if (v.shadow != "auto") f.push_back("shadow: " + scalar_text(v.shadow));
+}
+
+std::vector<std::string> view_fields(const ManifestView& v, const fs::path& folder) {
     const std::string what = "view \"" + v.key + "\": ";
     std::vector<std::string> f;
     if (v.view && *v.view != v.key) f.push_back("view: " + scalar_text(*v.view));
@@ -83,12 +90,13 @@ std::vector<std::string> view_fields(const ManifestView& v) {
     if (v.threshold) f.push_back("threshold: " + number_text(*v.threshold, what + "threshold"));
     if (v.keep != "auto") f.push_back("keep: " + scalar_text(v.keep));
     if (v.holes != "auto") f.push_back("holes: " + scalar_text(v.holes));
+    real_drawing_fields(v, folder, f);
     return f;
 }
 
 std::string view_line(const ManifestView& v, const fs::path& folder) {
     const std::string image = image_text(v.image, folder);
-    const std::vector<std::string> fields = view_fields(v);
+    const std::vector<std::string> fields = view_fields(v, folder);
     if (fields.empty()) return "  " + scalar_text(v.key) + ": " + image + "\n";
     std::string line = "  " + scalar_text(v.key) + ": {image: " + image;
     for (const auto& f : fields) line += ", " + f;

@@ -1,5 +1,6 @@
 #include "load.h"
 
+#include <algorithm>
 #include <atomic>
 
 #include <tbb/parallel_for.h>
@@ -14,6 +15,35 @@
 namespace fs = std::filesystem;
 
 namespace cm {
+
+namespace {
+
+// A view whose manifest entry gives a mask: white (or alpha, where the mask has alpha
+// that separates something) is the object, grey its fractional coverage. The mask stands
+// for the drawing's segmentation; it must have the drawing's size.
+SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image) {
+    ImageInfo info;
+    const Image m = read_image(mv.mask, &info);
+    if (m.width != image.width || m.height != image.height)
+        throw Error("mask \"" + mv.mask.string() + "\" is " + std::to_string(m.width) + "x" + std::to_string(m.height) +
+                    " but image \"" + mv.image.string() + "\" is " + std::to_string(image.width) + "x" +
+                    std::to_string(image.height) + "; they must match");
+    const std::size_t n = std::size_t(m.width) * m.height;
+    std::size_t transparent = 0;
+    if (info.has_alpha)
+        for (std::size_t i = 0; i < n; ++i) transparent += m.pixels[i * 4 + 3] < 0.5f;
+    const bool alpha = transparent > 0 && transparent < n;
+    SilhouetteResult res;
+    res.method = "mask";
+    res.coverage.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* p = &m.pixels[i * 4];
+        res.coverage[i] = std::clamp(alpha ? p[3] : (p[0] + p[1] + p[2]) / 3.0f, 0.0f, 1.0f);
+    }
+    return res;
+}
+
+} // namespace
 
 Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadViewsReport& report,
                  const std::function<void(double)>& progress) {
@@ -49,7 +79,10 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             so.threshold = mv.threshold.value_or(-1.0);
             so.keep = mv.keep != "auto" ? mv.keep : opt.keep;
             so.holes = mv.holes;
-            SilhouetteResult s = extract_silhouette(v.image, info, so);
+            so.close_gaps = mv.close_gaps.value_or(-1.0);
+            so.shadow = mv.shadow;
+            SilhouetteResult s =
+                mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
             std::string note;
             if (s.components_dropped)

@@ -5,90 +5,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "background_model.h"
+#include "border_clusters.h"
 #include "core/error.h"
+#include "gaps.h"
 #include "io/manifest.h"
+#include "line_holes.h"
+#include "shadow.h"
 
 namespace cm {
 
 namespace {
-
-using Rgb = std::array<double, 3>;
-
-// RMS distance over the three channels, so a threshold reads as a fraction of full scale.
-double dist(const Rgb& a, const Rgb& b) {
-    const double dr = a[0] - b[0], dg = a[1] - b[1], db = a[2] - b[2];
-    return std::sqrt((dr * dr + dg * dg + db * db) / 3.0);
-}
-
-// A smooth background colour field over the image: per channel a quadratic in the
-// normalised coordinates (u, v) in [-1, 1], enough for paper tone and vignetting.
-struct BackgroundModel {
-    std::array<std::array<double, 6>, 3> coef{};
-    static std::array<double, 6> basis(double u, double v) { return {1.0, u, v, u * u, v * v, u * v}; }
-    Rgb at(double u, double v) const {
-        const auto b = basis(u, v);
-        Rgb c{};
-        for (int k = 0; k < 3; ++k)
-            for (int i = 0; i < 6; ++i) c[k] += coef[k][i] * b[i];
-        return c;
-    }
-    void set_constant(const Rgb& c) {
-        coef = {};
-        for (int k = 0; k < 3; ++k) coef[k][0] = c[k];
-    }
-};
-
-struct Sample {
-    double u, v;
-    Rgb c;
-};
-
-// Least squares of the quadratic on the samples marked in `use`; false when ill-posed.
-bool fit_quadratic(const std::vector<Sample>& s, const std::vector<char>& use, BackgroundModel& m) {
-    double A[6][6] = {};
-    double B[3][6] = {};
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        if (!use[i]) continue;
-        ++n;
-        const auto b = BackgroundModel::basis(s[i].u, s[i].v);
-        for (int r = 0; r < 6; ++r) {
-            for (int c = 0; c < 6; ++c) A[r][c] += b[r] * b[c];
-            for (int k = 0; k < 3; ++k) B[k][r] += b[r] * s[i].c[k];
-        }
-    }
-    if (n < 24) return false;
-    for (int r = 0; r < 6; ++r) A[r][r] += 1e-9 * double(n);
-    // Gaussian elimination with partial pivoting, three right-hand sides.
-    for (int col = 0; col < 6; ++col) {
-        int piv = col;
-        for (int r = col + 1; r < 6; ++r)
-            if (std::abs(A[r][col]) > std::abs(A[piv][col])) piv = r;
-        if (std::abs(A[piv][col]) < 1e-12 * double(n)) return false;
-        if (piv != col) {
-            for (int c = 0; c < 6; ++c) std::swap(A[col][c], A[piv][c]);
-            for (int k = 0; k < 3; ++k) std::swap(B[k][col], B[k][piv]);
-        }
-        for (int r = col + 1; r < 6; ++r) {
-            const double f = A[r][col] / A[col][col];
-            for (int c = col; c < 6; ++c) A[r][c] -= f * A[col][c];
-            for (int k = 0; k < 3; ++k) B[k][r] -= f * B[k][col];
-        }
-    }
-    for (int k = 0; k < 3; ++k)
-        for (int r = 5; r >= 0; --r) {
-            double v = B[k][r];
-            for (int c = r + 1; c < 6; ++c) v -= A[r][c] * m.coef[k][c];
-            m.coef[k][r] = v / A[r][r];
-        }
-    return true;
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-}
 
 // Connected components of `mask` (4- or 8-connected); labels -1 outside the mask.
 int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab,
@@ -123,85 +50,48 @@ int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<i
     return int(sizes.size());
 }
 
-// Estimates the background field and its noise from a band along the image border.
-void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise) {
-    const int w = img.width, h = img.height;
-    const int band = std::max(1, std::min({2, w / 8, h / 8}));
-    std::vector<Sample> s;
-    const std::size_t perimeter = 2 * std::size_t(w + h) * std::size_t(band);
-    const int stride = int(std::max<std::size_t>(1, perimeter / 40000));
-    auto add = [&](int x, int y) {
-        const float* p = &img.pixels[(std::size_t(y) * w + x) * 4];
-        s.push_back({(x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1, {p[0], p[1], p[2]}});
-    };
-    for (int b = 0; b < band; ++b) {
-        for (int x = 0; x < w; x += stride) {
-            add(x, b);
-            add(x, h - 1 - b);
-        }
-        for (int y = band; y < h - band; y += stride) {
-            add(b, y);
-            add(w - 1 - b, y);
-        }
-    }
-    Rgb fixed{};
-    const bool given = option != "auto";
-    if (given && !parse_background_colour(option, fixed)) check_background_option(option);
-    Rgb med{};
-    for (int k = 0; k < 3; ++k) {
-        std::vector<double> c(s.size());
-        for (std::size_t i = 0; i < s.size(); ++i) c[i] = s[i].c[k];
-        med[k] = median(c);
-    }
-    model.set_constant(given ? fixed : med);
-    std::vector<double> d(s.size());
-    auto residuals = [&] {
-        for (std::size_t i = 0; i < s.size(); ++i) d[i] = dist(s[i].c, model.at(s[i].u, s[i].v));
-    };
-    residuals();
-    std::vector<char> use(s.size(), 1);
-    if (!given) {
-        // Robust refit: drop what the object (touching the border) contributes, fit again.
-        for (int iter = 0; iter < 4; ++iter) {
-            const double sigma = median(d);
-            const double keep_below = std::max(3.0 * sigma, 0.03);
-            for (std::size_t i = 0; i < s.size(); ++i) use[i] = d[i] <= keep_below;
-            BackgroundModel trial = model;
-            if (!fit_quadratic(s, use, trial)) break;
-            model = trial;
-            residuals();
-        }
-    }
-    std::vector<double> kept;
-    const double cut = std::max(3.0 * median(d), 0.03);
-    for (std::size_t i = 0; i < s.size(); ++i)
-        if (d[i] <= cut || given) kept.push_back(d[i]);
-    noise = median(kept);
-}
-
 // The object in a drawing as what is not its background: per pixel the colour distance to
 // the background field, the background itself (what the border reaches, and the holes),
 // and the coverage read from those.
 class BackgroundCut {
 public:
-    BackgroundCut(const Image& img, const BackgroundModel& model, double t)
+    // Each further border colour (a cloth reaching the frame) is a background too where it
+    // reaches from the border: there a pixel's distance is to the nearest background, in
+    // units of that background's threshold.
+    BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
         : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
+        std::vector<std::vector<char>> reach;
+        for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         for (int y = 0; y < h_; ++y)
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
                 const float* p = &img_.pixels[i * 4];
-                d_[i] = dist({p[0], p[1], p[2]}, bgc_[i]);
+                d_[i] = colour_distance({p[0], p[1], p[2]}, bgc_[i]);
+                for (std::size_t k = 0; k < more.size(); ++k) {
+                    if (!reach[k][i]) continue; // only where that background reaches from the border
+                    const double dc = colour_distance({p[0], p[1], p[2]}, more[k].colour) * t_ / more[k].threshold;
+                    if (dc < d_[i]) {
+                        d_[i] = dc;
+                        bgc_[i] = more[k].colour;
+                    }
+                }
             }
     }
 
     // Background: background-coloured pixels 4-connected to the border (so a line drawn
-    // with 8-connected pixels closes a region).
-    void flood_from_border() {
+    // with 8-connected pixels closes a region). The ink closed over gaps up to `gap` px
+    // (see close_ink) bars the way, so a break in an outline does not let the background
+    // in; the object keeps the ink's own outer edge.
+    void flood_from_border(double gap) {
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        closed_ = close_ink(ink, w_, h_, gap);
+        const std::vector<char>& closed = closed_;
         const int w = w_, h = h_;
         std::vector<int> stack;
         auto seed = [&](int p) {
-            if (!bg_[std::size_t(p)] && d_[std::size_t(p)] < t_) {
+            if (!bg_[std::size_t(p)] && !closed[std::size_t(p)]) {
                 bg_[std::size_t(p)] = 1;
                 stack.push_back(p);
             }
@@ -223,6 +113,27 @@ public:
             if (y > 0) seed(p - w);
             if (y + 1 < h) seed(p + w);
         }
+        if (gap > 0) give_back_barrier_rim(ink, bg_);
+    }
+
+    // The barrier's rim outside the ink (see close_ink) is background where it touches what
+    // the flood reached: one step, so it cannot pass a bridged break.
+    void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& from) {
+        const std::vector<char>& closed = closed_;
+        std::vector<int> rim;
+        for (int y = 0; y < h_; ++y)
+            for (int x = 0; x < w_; ++x) {
+                const std::size_t i = std::size_t(y) * w_ + x;
+                if (bg_[i] || ink[i] || !closed[i]) continue;
+                bool near = false;
+                for (int dy = -1; dy <= 1 && !near; ++dy)
+                    for (int dx = -1; dx <= 1 && !near; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && from[std::size_t(yy) * w_ + xx];
+                    }
+                if (near) rim.push_back(int(i));
+            }
+        for (int p : rim) bg_[std::size_t(p)] = 1;
     }
 
     // Background-coloured regions the object encloses: holes through a filled drawing, or
@@ -245,6 +156,8 @@ public:
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         const bool holes = mode == "keep" || (mode == "auto" && ink > blank);
+        line_drawing_ = ink <= blank;
+        if (mode == "auto" && line_drawing_) return open_nested_holes(res);
         std::vector<char> is_hole(std::size_t(nreg), 0);
         for (int r = 0; r < nreg; ++r) {
             is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
@@ -252,6 +165,53 @@ public:
         }
         for (std::size_t i = 0; i < n_; ++i)
             if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
+    }
+
+    // The holes of a line drawing: blank regions behind an even number of strokes (see
+    // nested_holes), at least 9 px; their barrier rim goes back to them.
+    void open_nested_holes(SilhouetteResult& res) {
+        std::vector<char> blank(n_, 0), ink(n_, 0), hole(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) {
+            blank[i] = !bg_[i] && !closed_[i];
+            ink[i] = d_[i] >= t_;
+        }
+        std::vector<int> lab;
+        std::vector<std::size_t> sizes;
+        const int nreg = label(blank, w_, h_, false, lab, sizes);
+        std::vector<char> is_hole = nested_holes(lab, nreg, closed_, bg_, w_, h_);
+        for (int r = 0; r < nreg; ++r) {
+            is_hole[std::size_t(r)] = is_hole[std::size_t(r)] && sizes[std::size_t(r)] >= 9;
+            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
+        }
+        for (std::size_t i = 0; i < n_; ++i)
+            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) hole[i] = bg_[i] = 1;
+        if (res.holes_kept) give_back_barrier_rim(ink, hole);
+    }
+
+    // Overshooting strokes of a line drawing (see remove_thin_spurs).
+    std::size_t remove_spurs(double gap) {
+        if (!line_drawing_) return 0;
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        const std::vector<char> before = bg_;
+        const std::size_t removed = remove_thin_spurs(bg_, ink, w_, h_, gap);
+        mark_forced(before);
+        return removed;
+    }
+
+    // A ground shadow under the object is background (see remove_ground_shadow).
+    std::size_t remove_shadow() {
+        const std::vector<char> before = bg_;
+        const std::size_t removed = remove_ground_shadow(img_, bgc_, bg_);
+        mark_forced(before);
+        return removed;
+    }
+
+    // Pixels made background against their colour (spurs, shadow) stay outside whatever
+    // their colour mix says.
+    void mark_forced(const std::vector<char>& before) {
+        if (forced_.empty()) forced_.assign(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) forced_[i] = forced_[i] || (bg_[i] && !before[i]);
     }
 
     // Coverage: 1 inside, 0 outside; along the boundary the pixel is read as a mix of the
@@ -262,6 +222,7 @@ public:
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 cov[i] = edge[i] ? boundary_coverage(x, y, edge) : (bg_[i] ? 0.0f : 1.0f);
+                if (!forced_.empty() && forced_[i]) cov[i] = std::min(cov[i], 0.49f);
             }
     }
 
@@ -331,6 +292,9 @@ private:
     std::vector<Rgb> bgc_;  ///< the background colour the model gives each pixel
     std::vector<double> d_; ///< each pixel's colour distance to it
     std::vector<char> bg_;  ///< background pixels
+    bool line_drawing_ = false;
+    std::vector<char> closed_; ///< the ink with its gaps closed (see close_ink)
+    std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
 
 // The coverage of a drawing without meaningful alpha, from its background colour.
@@ -338,13 +302,21 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     res.method = "background";
     BackgroundModel model;
     double noise = 0;
-    background_from_border(img, opt.background, model, noise);
+    std::vector<Rgb> outliers;
+    std::size_t total = 0;
+    background_from_border(img, opt.background, model, noise, outliers, total);
     res.noise = noise;
     const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
     res.threshold = t;
-    BackgroundCut cut(img, model, t);
-    cut.flood_from_border();
+    std::vector<BorderCluster> more;
+    if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
+    res.border_colours = 1 + int(more.size());
+    BackgroundCut cut(img, model, t, more);
+    res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
+    cut.flood_from_border(res.close_gaps);
+    if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
     cut.open_holes(opt.holes, res);
+    res.spurs_removed = cut.remove_spurs(res.close_gaps);
     cut.coverage(res.coverage);
 }
 
@@ -410,6 +382,8 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         throw Error("keep must be auto, largest or all, got \"" + opt.keep + "\"");
     if (opt.holes != "auto" && opt.holes != "fill" && opt.holes != "keep")
         throw Error("holes must be auto, fill or keep, got \"" + opt.holes + "\"");
+    if (opt.shadow != "auto" && opt.shadow != "keep")
+        throw Error("shadow must be auto or keep, got \"" + opt.shadow + "\"");
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     if (w <= 0 || h <= 0 || img.channels != 4 || img.pixels.size() != n * 4)

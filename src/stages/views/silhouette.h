@@ -19,6 +19,11 @@ struct SilhouetteOptions {
     /// Regions enclosed by the object that look like the background: auto (holes in a filled
     /// drawing, interior of a line drawing), fill (always object), keep (always holes).
     std::string holes = "auto";
+    /// Breaks in the ink up to this many pixels wide are closed before the background is
+    /// flooded from the border; < 0: 0.4 % of the image's larger side, at least 3 px; 0: off.
+    double close_gaps = -1;
+    /// auto: a soft ground shadow under the object is background; keep: it stays object.
+    std::string shadow = "auto";
 };
 
 struct SilhouetteResult {
@@ -28,6 +33,10 @@ struct SilhouetteResult {
     double noise = 0;            ///< spread of the border around the background model
     int components_kept = 0, components_dropped = 0;
     int holes_kept = 0, regions_filled = 0; ///< enclosed background-like regions
+    double close_gaps = 0;                  ///< the gap closed (pixels), background method
+    int border_colours = 0;                 ///< background colours found along the border
+    std::size_t shadow_removed = 0;         ///< ground-shadow pixels made background
+    std::size_t spurs_removed = 0;          ///< overshooting-stroke pixels made background
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.

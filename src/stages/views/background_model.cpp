@@ -1,0 +1,132 @@
+#include "background_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/manifest.h"
+
+namespace cm {
+
+namespace {
+
+double dist_rgb(const Rgb& a, const Rgb& b) {
+    const double dr = a[0] - b[0], dg = a[1] - b[1], db = a[2] - b[2];
+    return std::sqrt((dr * dr + dg * dg + db * db) / 3.0);
+}
+
+struct Sample {
+    double u, v;
+    Rgb c;
+};
+
+// Least squares of the quadratic on the samples marked in `use`; false when ill-posed.
+bool fit_quadratic(const std::vector<Sample>& s, const std::vector<char>& use, BackgroundModel& m) {
+    double A[6][6] = {};
+    double B[3][6] = {};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (!use[i]) continue;
+        ++n;
+        const auto b = BackgroundModel::basis(s[i].u, s[i].v);
+        for (int r = 0; r < 6; ++r) {
+            for (int c = 0; c < 6; ++c) A[r][c] += b[r] * b[c];
+            for (int k = 0; k < 3; ++k) B[k][r] += b[r] * s[i].c[k];
+        }
+    }
+    if (n < 24) return false;
+    for (int r = 0; r < 6; ++r) A[r][r] += 1e-9 * double(n);
+    // Gaussian elimination with partial pivoting, three right-hand sides.
+    for (int col = 0; col < 6; ++col) {
+        int piv = col;
+        for (int r = col + 1; r < 6; ++r)
+            if (std::abs(A[r][col]) > std::abs(A[piv][col])) piv = r;
+        if (std::abs(A[piv][col]) < 1e-12 * double(n)) return false;
+        if (piv != col) {
+            for (int c = 0; c < 6; ++c) std::swap(A[col][c], A[piv][c]);
+            for (int k = 0; k < 3; ++k) std::swap(B[k][col], B[k][piv]);
+        }
+        for (int r = col + 1; r < 6; ++r) {
+            const double f = A[r][col] / A[col][col];
+            for (int c = col; c < 6; ++c) A[r][c] -= f * A[col][c];
+            for (int k = 0; k < 3; ++k) B[k][r] -= f * B[k][col];
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        for (int r = 5; r >= 0; --r) {
+            double v = B[k][r];
+            for (int c = r + 1; c < 6; ++c) v -= A[r][c] * m.coef[k][c];
+            m.coef[k][r] = v / A[r][r];
+        }
+    return true;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+} // namespace
+
+double colour_distance(const Rgb& a, const Rgb& b) { return dist_rgb(a, b); }
+
+void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise,
+                            std::vector<Rgb>& outliers, std::size_t& total) {
+    const int w = img.width, h = img.height;
+    const int band = std::max(1, std::min({2, w / 8, h / 8}));
+    std::vector<Sample> s;
+    const std::size_t perimeter = 2 * std::size_t(w + h) * std::size_t(band);
+    const int stride = int(std::max<std::size_t>(1, perimeter / 40000));
+    auto add = [&](int x, int y) {
+        const float* p = &img.pixels[(std::size_t(y) * w + x) * 4];
+        s.push_back({(x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1, {p[0], p[1], p[2]}});
+    };
+    for (int b = 0; b < band; ++b) {
+        for (int x = 0; x < w; x += stride) {
+            add(x, b);
+            add(x, h - 1 - b);
+        }
+        for (int y = band; y < h - band; y += stride) {
+            add(b, y);
+            add(w - 1 - b, y);
+        }
+    }
+    Rgb fixed{};
+    const bool given = option != "auto";
+    if (given && !parse_background_colour(option, fixed)) check_background_option(option);
+    Rgb med{};
+    for (int k = 0; k < 3; ++k) {
+        std::vector<double> c(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) c[i] = s[i].c[k];
+        med[k] = median(c);
+    }
+    model.set_constant(given ? fixed : med);
+    std::vector<double> d(s.size());
+    auto residuals = [&] {
+        for (std::size_t i = 0; i < s.size(); ++i) d[i] = dist_rgb(s[i].c, model.at(s[i].u, s[i].v));
+    };
+    residuals();
+    std::vector<char> use(s.size(), 1);
+    if (!given) {
+        // Robust refit: drop what the object (touching the border) contributes, fit again.
+        for (int iter = 0; iter < 4; ++iter) {
+            const double sigma = median(d);
+            const double keep_below = std::max(3.0 * sigma, 0.03);
+            for (std::size_t i = 0; i < s.size(); ++i) use[i] = d[i] <= keep_below;
+            BackgroundModel trial = model;
+            if (!fit_quadratic(s, use, trial)) break;
+            model = trial;
+            residuals();
+        }
+    }
+    std::vector<double> kept;
+    const double cut = std::max(3.0 * median(d), 0.03);
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (d[i] <= cut || given) kept.push_back(d[i]);
+        else outliers.push_back(s[i].c);
+    }
+    total = s.size();
+    noise = median(kept);
+}
+
+} // namespace cm

@@ -1,0 +1,43 @@
+// The background of a drawing or photograph as the image border shows it: a smooth colour
+// field (per channel a quadratic in the image coordinates) fitted robustly to the border.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "io/image_io.h"
+
+namespace cm {
+
+using Rgb = std::array<double, 3>;
+
+/// RMS distance over the three channels, so a threshold reads as a fraction of full scale.
+double colour_distance(const Rgb& a, const Rgb& b);
+
+/// A smooth background colour field over the image: per channel a quadratic in the
+/// normalised coordinates (u, v) in [-1, 1], enough for paper tone and vignetting.
+struct BackgroundModel {
+    std::array<std::array<double, 6>, 3> coef{};
+    static std::array<double, 6> basis(double u, double v) { return {1.0, u, v, u * u, v * v, u * v}; }
+    Rgb at(double u, double v) const {
+        const auto b = basis(u, v);
+        Rgb c{};
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 6; ++i) c[k] += coef[k][i] * b[i];
+        return c;
+    }
+    void set_constant(const Rgb& c) {
+        coef = {};
+        for (int k = 0; k < 3; ++k) coef[k][0] = c[k];
+    }
+};
+
+/// @brief Estimates the background field and its noise (the median distance of the border
+/// to it) from a band along the image border; `option` is auto or a colour (which replaces
+/// the fit). The border samples the field leaves out go to `outliers`, the number of
+/// samples to `total`.
+void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise,
+                            std::vector<Rgb>& outliers, std::size_t& total);
+
+} // namespace cm

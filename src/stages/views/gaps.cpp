@@ -1,0 +1,105 @@
+#include "gaps.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/distance_transform.h"
+
+namespace cm {
+
+namespace {
+
+// The disc that bridges a break `gap` px wide: half the gap and one pixel more, so a break
+// of that many pixels along a diagonal stroke (sqrt 2 farther apart) is bridged too.
+double gap_radius(double gap) { return 0.5 * gap + 1.0; }
+
+} // namespace
+
+double default_close_gaps(int w, int h) { return std::max(3.0, 0.004 * double(std::max(w, h))); }
+
+std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double gap) {
+    if (gap <= 0) return ink;
+    const double radius = gap_radius(gap);
+    const float r2 = float(radius * radius) + 1e-4f;
+    // Padded by more than the radius, so the image border behaves as blank paper.
+    const int pad = int(std::ceil(radius)) + 1;
+    const int pw = w + 2 * pad, ph = h + 2 * pad;
+    std::vector<char> seed(std::size_t(pw) * ph, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) seed[std::size_t(y + pad) * pw + x + pad] = ink[std::size_t(y) * w + x];
+    // Dilation: within the radius of the ink.
+    const std::vector<float> to_ink = squared_edt(seed, pw, ph);
+    for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_ink[i] > r2; // outside the dilation
+    // Erosion of the dilation, by one pixel less than the radius: a disc's tip is one pixel,
+    // and on the grid the full radius would let it reach through a break in a thin stroke.
+    // The barrier is so up to one pixel thicker than the ink; the caller gives that back.
+    const float e2 = float((radius - 1.0) * (radius - 1.0)) + 1e-4f;
+    const std::vector<float> to_outside = squared_edt(seed, pw, ph);
+    std::vector<char> closed(std::size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            closed[i] = ink[i] || to_outside[std::size_t(y + pad) * pw + x + pad] > e2;
+        }
+    return closed;
+}
+
+} // namespace cm
+
+namespace cm {
+
+std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& ink, int w, int h, double gap) {
+    if (gap <= 0) return 0;
+    const double radius = 0.5 * gap + 0.5; // strokes up to about the gap wide
+    const float r2 = float(radius * radius) + 1e-4f;
+    const std::size_t n = std::size_t(w) * h;
+    // Opening of the object: erode (farther than the radius from the background, the
+    // image's outside counting as background), then dilate back.
+    const int pad = int(std::ceil(radius)) + 1;
+    const int pw = w + 2 * pad, ph = h + 2 * pad;
+    std::vector<char> seed(std::size_t(pw) * ph, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) seed[std::size_t(y + pad) * pw + x + pad] = bg[std::size_t(y) * w + x];
+    const std::vector<float> to_bg = squared_edt(seed, pw, ph);
+    for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_bg[i] > r2; // the eroded object
+    const std::vector<float> to_core = squared_edt(seed, pw, ph);
+    std::vector<char> residue(n, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            residue[i] = !bg[i] && to_core[std::size_t(y + pad) * pw + x + pad] > r2;
+        }
+    // Pieces (8-connected) larger than what the disc takes off a sharp corner (about 1.5 r^2).
+    const std::size_t corner = std::size_t(std::ceil(1.5 * radius * radius));
+    std::vector<char> seen(n, 0);
+    std::vector<int> stack, piece;
+    std::size_t removed = 0;
+    for (std::size_t s = 0; s < n; ++s) {
+        if (!residue[s] || seen[s]) continue;
+        piece.clear();
+        stack.push_back(int(s));
+        seen[s] = 1;
+        while (!stack.empty()) {
+            const int p = stack.back();
+            stack.pop_back();
+            piece.push_back(p);
+            const int x = p % w, y = p / w;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const std::size_t q = std::size_t(yy) * w + xx;
+                    if (residue[q] && !seen[q]) {
+                        seen[q] = 1;
+                        stack.push_back(int(q));
+                    }
+                }
+        }
+        if (piece.size() <= corner) continue;
+        for (int p : piece) bg[std::size_t(p)] = 1;
+        removed += piece.size();
+    }
+    return removed;
+}
+
+} // namespace cm
