@@ -97,6 +97,8 @@ const char* const kGood[] = {
     "    holes: keep\n"
     "  three_quarter: {image: front.png, azimuth: 45, elevation: 30}\n",
     "width: 2\nviews:\n  front: {image: front.png, background: alpha, keep: largest, holes: fill}\n",
+    "views:\n  front: {image: front.png, close_gaps: 6, mask: m.png, shadow: keep}\n  top: {image: t.png, close_gaps: "
+    "auto, shadow: auto}\n",
     "depth: 0.5\nviews:\n  top: {image: front.png, background: \"10,20,30\"}\n",
     "bounds: [-0.6, 0, -0.45, 0.6, 1.7, 0.45]\n"
     "views:\n"

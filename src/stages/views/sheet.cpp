@@ -179,6 +179,11 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
             so.threshold = first.threshold.value_or(-1.0);
             so.keep = "all";
             so.holes = "fill";
+            // Panels are found from the ink as drawn; each panel's own extraction then closes
+            // its gaps and drops its shadow (the line-art steps run on the whole sheet made
+            // the test sheets fall into twice their panels).
+            so.shadow = "keep";
+            so.close_gaps = 0;
             found = find_panels(extract_silhouette(img, info, so).coverage, img.width, img.height, opt);
         } catch (const Error& e) {
             throw Error(where + ": " + e.what());
