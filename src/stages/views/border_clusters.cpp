@@ -1,4 +1,5 @@
 #include "border_clusters.h"
+#include "pixel_flood.h"
 
 #include <algorithm>
 #include <cmath>
@@ -90,30 +91,7 @@ std::vector<char> cluster_reach(const Image& img, const BorderCluster& c) {
         const float* p = &img.pixels[i * 4];
         near[i] = rms({p[0], p[1], p[2]}, c.colour) < c.threshold;
     }
-    std::vector<int> stack;
-    auto seed = [&](int p) {
-        if (near[std::size_t(p)] && !reached[std::size_t(p)]) {
-            reached[std::size_t(p)] = 1;
-            stack.push_back(p);
-        }
-    };
-    for (int x = 0; x < w; ++x) {
-        seed(x);
-        seed((h - 1) * w + x);
-    }
-    for (int y = 0; y < h; ++y) {
-        seed(y * w);
-        seed(y * w + w - 1);
-    }
-    while (!stack.empty()) {
-        const int p = stack.back();
-        stack.pop_back();
-        const int x = p % w, y = p / w;
-        if (x > 0) seed(p - 1);
-        if (x + 1 < w) seed(p + 1);
-        if (y > 0) seed(p - w);
-        if (y + 1 < h) seed(p + w);
-    }
+    flood_from_border(w, h, reached, [&](int p) { return near[std::size_t(p)] != 0; });
     return reached;
 }
 

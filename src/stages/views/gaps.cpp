@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "geometry/distance_transform.h"
+#include "pixel_flood.h"
 
 namespace cm {
 
@@ -24,9 +25,7 @@ std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double g
     // Padded by more than the radius, so the image border behaves as blank paper.
     const int pad = int(std::ceil(radius)) + 1;
     const int pw = w + 2 * pad, ph = h + 2 * pad;
-    std::vector<char> seed(std::size_t(pw) * ph, 0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) seed[std::size_t(y + pad) * pw + x + pad] = ink[std::size_t(y) * w + x];
+    std::vector<char> seed = padded(ink, w, h, pad, 0);
     // Dilation: within the radius of the ink.
     const std::vector<float> to_ink = squared_edt(seed, pw, ph);
     for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_ink[i] > r2; // outside the dilation
@@ -57,9 +56,7 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
     // image's outside counting as background), then dilate back.
     const int pad = int(std::ceil(radius)) + 1;
     const int pw = w + 2 * pad, ph = h + 2 * pad;
-    std::vector<char> seed(std::size_t(pw) * ph, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) seed[std::size_t(y + pad) * pw + x + pad] = bg[std::size_t(y) * w + x];
+    std::vector<char> seed = padded(bg, w, h, pad, 1);
     const std::vector<float> to_bg = squared_edt(seed, pw, ph);
     for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_bg[i] > r2; // the eroded object
     const std::vector<float> to_core = squared_edt(seed, pw, ph);
@@ -72,29 +69,20 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
     // Pieces (8-connected) larger than what the disc takes off a sharp corner (about 1.5 r^2).
     const std::size_t corner = std::size_t(std::ceil(1.5 * radius * radius));
     std::vector<char> seen(n, 0);
-    std::vector<int> stack, piece;
+    std::vector<int> piece;
     std::size_t removed = 0;
     for (std::size_t s = 0; s < n; ++s) {
         if (!residue[s] || seen[s]) continue;
         piece.clear();
-        stack.push_back(int(s));
         seen[s] = 1;
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            piece.push_back(p);
-            const int x = p % w, y = p / w;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const std::size_t q = std::size_t(yy) * w + xx;
-                    if (residue[q] && !seen[q]) {
-                        seen[q] = 1;
-                        stack.push_back(int(q));
-                    }
-                }
-        }
+        grow_piece_8(
+            int(s), w, h,
+            [&](int q) {
+                if (!residue[std::size_t(q)] || seen[std::size_t(q)]) return false;
+                seen[std::size_t(q)] = 1;
+                return true;
+            },
+            [&](int p) { piece.push_back(p); });
         if (piece.size() <= corner) continue;
         for (int p : piece) bg[std::size_t(p)] = 1;
         removed += piece.size();

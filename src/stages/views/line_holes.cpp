@@ -1,4 +1,5 @@
 #include "line_holes.h"
+#include "pixel_flood.h"
 
 #include <algorithm>
 #include <set>
@@ -10,27 +11,20 @@ std::vector<char> nested_holes(const std::vector<int>& region, int count, const 
                                const std::vector<char>& bg, int w, int h) {
     const std::size_t n = std::size_t(w) * h;
     // Strokes: 8-connected pieces of the barrier not taken by the background.
-    std::vector<int> stroke(n, -1), stack;
+    std::vector<int> stroke(n, -1);
     int nstrokes = 0;
     for (std::size_t s = 0; s < n; ++s) {
         if (!barrier[s] || bg[s] || stroke[s] >= 0) continue;
         stroke[s] = nstrokes;
-        stack.push_back(int(s));
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            const int x = p % w, y = p / w;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const std::size_t q = std::size_t(yy) * w + xx;
-                    if (barrier[q] && !bg[q] && stroke[q] < 0) {
-                        stroke[q] = nstrokes;
-                        stack.push_back(int(q));
-                    }
-                }
-        }
+        grow_piece_8(
+            int(s), w, h,
+            [&](int q) {
+                const std::size_t i = std::size_t(q);
+                if (!barrier[i] || bg[i] || stroke[i] >= 0) return false;
+                stroke[i] = nstrokes;
+                return true;
+            },
+            [](int) {});
         ++nstrokes;
     }
     // What touches what (8-neighbours): strokes and the background, strokes and regions.

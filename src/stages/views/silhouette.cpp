@@ -11,6 +11,7 @@
 #include "gaps.h"
 #include "io/manifest.h"
 #include "line_holes.h"
+#include "pixel_flood.h"
 #include "shadow.h"
 
 namespace cm {
@@ -88,31 +89,7 @@ public:
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
         closed_ = close_ink(ink, w_, h_, gap);
         const std::vector<char>& closed = closed_;
-        const int w = w_, h = h_;
-        std::vector<int> stack;
-        auto seed = [&](int p) {
-            if (!bg_[std::size_t(p)] && !closed[std::size_t(p)]) {
-                bg_[std::size_t(p)] = 1;
-                stack.push_back(p);
-            }
-        };
-        for (int x = 0; x < w; ++x) {
-            seed(x);
-            seed((h - 1) * w + x);
-        }
-        for (int y = 0; y < h; ++y) {
-            seed(y * w);
-            seed(y * w + w - 1);
-        }
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            const int x = p % w, y = p / w;
-            if (x > 0) seed(p - 1);
-            if (x + 1 < w) seed(p + 1);
-            if (y > 0) seed(p - w);
-            if (y + 1 < h) seed(p + w);
-        }
+        cm::flood_from_border(w_, h_, bg_, [&](int p) { return !closed[std::size_t(p)]; });
         if (gap > 0) give_back_barrier_rim(ink, bg_);
     }
 
