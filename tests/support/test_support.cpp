@@ -13,6 +13,8 @@
 #include <random>
 #include <sstream>
 
+#include "core/error.h"
+
 namespace fs = std::filesystem;
 
 namespace cm::test {
@@ -44,6 +46,15 @@ CommandResult run_cli(const std::string& args, const fs::path& cwd) {
     fs::remove(base.string() + ".out");
     fs::remove(base.string() + ".err");
     return r;
+}
+
+std::string error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 void write_text(const fs::path& file, const std::string& text) {

@@ -2,6 +2,7 @@
 // built in code are in support/shapes.h.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace cm::test {
@@ -24,6 +25,9 @@ struct CommandResult {
 };
 /// Runs the built conceptmesh command with `args` (shell-quoted by the caller) in `cwd`.
 CommandResult run_cli(const std::string& args, const std::filesystem::path& cwd = std::filesystem::current_path());
+
+/// What cm::Error `f` throws, or "(no error)".
+std::string error_of(const std::function<void()>& f);
 
 void write_text(const std::filesystem::path& file, const std::string& text);
 std::string read_text(const std::filesystem::path& file);

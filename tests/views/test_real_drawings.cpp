@@ -15,6 +15,7 @@
 #include "support/test_support.h"
 
 using namespace cm;
+using test::error_of;
 
 namespace {
 
@@ -134,15 +135,6 @@ Image sketch(const Sketch& s) {
 SilhouetteResult extract(const Image& img, SilhouetteOptions opt = {}) {
     ImageInfo info;
     return extract_silhouette(img, info, opt);
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 } // namespace

@@ -15,6 +15,7 @@
 #include "support/test_support.h"
 
 using namespace cm;
+using test::error_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -92,15 +93,6 @@ double panel_iou(const View& v, const SheetPanel& p, const Sheet& s, int who, in
         }
     outside = int(total - in_crop);
     return either ? double(both) / double(either) : 0.0;
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 Sheet four_panel_sheet() {

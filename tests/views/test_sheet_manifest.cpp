@@ -7,6 +7,7 @@
 #include "support/test_support.h"
 
 using namespace cm;
+using test::error_of;
 namespace fs = std::filesystem;
 
 namespace {
@@ -34,15 +35,6 @@ void expect_same(const Manifest& a, const Manifest& b) {
         EXPECT_EQ(normal(a.sheets[i].image), normal(b.sheets[i].image));
         EXPECT_EQ(a.sheets[i].views, b.sheets[i].views);
     }
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 } // namespace

@@ -15,6 +15,7 @@
 #include "support/test_support.h"
 
 using namespace cm;
+using test::error_of;
 
 namespace {
 
@@ -41,15 +42,6 @@ View rect_view(const std::string& name, int w, int h, int x0, int y0, int x1, in
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) v.coverage[std::size_t(y) * w + x] = 1.0f;
     return v;
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 } // namespace
