@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include "core/progress.h"
 #include "io/file_commit.h"
 #include "pipeline/pipeline.h"
 
@@ -165,6 +166,12 @@ RunResult PipelineRun::run() {
         if (p_.nodes[i].inputs.empty()) roots.push_back(i);
     for (std::size_t i : roots) launch(i);
     group_.wait();
+    // A stop asked for while the last stages ran (a stage that does not look, such as a
+    // write in progress) still means no output.
+    if (!failed_ && cancel_requested()) {
+        failed_ = true;
+        cancelled_ = true;
+    }
     if (failed_) {
         files_.discard();
         if (cancelled_) throw Cancelled();
@@ -203,6 +210,7 @@ void PipelineRun::execute(std::size_t i) {
 bool PipelineRun::run_node(std::size_t i, const Inputs& in, Context& ctx) {
     const auto& node = p_.nodes[i];
     try {
+        if (cancel_requested()) throw Cancelled(); // no new stage after a stop was asked for
         Data d = stages_[i]->run(in, ctx);
         if (kind_of(d) != node.info.output)
             throw Error(std::string("the stage returned ") + to_string(kind_of(d)) + " instead of " +

@@ -183,14 +183,13 @@ int run_and_signal(const test::TempDir& dir, std::initializer_list<int> signals)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// The mesh is staged at once; then a stage holds the run for half a minute.
-std::string held_run(bool ignore_cancel) {
-    return std::string(
-               "nodes:\n"
-               "  - {id: box, stage: test.box}\n"
-               "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: out/m.obj}}\n"
-               "  - {id: held, stage: test.sleep, inputs: {mesh: box}, params: {seconds: 30, ignore_cancel: ") +
-           (ignore_cancel ? "true" : "false") + "}}\n";
+// The mesh is staged at once; then a stage holds the run for `seconds`.
+std::string held_run(bool ignore_cancel, int seconds = 30) {
+    return "nodes:\n"
+           "  - {id: box, stage: test.box}\n"
+           "  - {id: write, stage: mesh.write, inputs: {mesh: box}, params: {path: out/m.obj}}\n"
+           "  - {id: held, stage: test.sleep, inputs: {mesh: box}, params: {seconds: " +
+           std::to_string(seconds) + ", ignore_cancel: " + (ignore_cancel ? "true" : "false") + "}}\n";
 }
 
 } // namespace
@@ -207,5 +206,14 @@ TEST(Outputs, SigtermStopsTheRunWith143AndLeavesNothing) {
     test::TempDir dir("outputs_sigterm");
     test::write_text(dir / "p.yaml", held_run(false));
     EXPECT_EQ(run_and_signal(dir, {SIGTERM}), 143);
+    EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"p.yaml"});
+}
+
+TEST(Outputs, AStopAskedForDuringAStageThatDoesNotLookStillLeavesNothing) {
+    // The held stage never looks and finishes on its own after a second: the run must still
+    // end as cancelled, not commit.
+    test::TempDir dir("outputs_late_cancel");
+    test::write_text(dir / "p.yaml", held_run(true, 1));
+    EXPECT_EQ(run_and_signal(dir, {SIGINT}), 130);
     EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"p.yaml"});
 }
