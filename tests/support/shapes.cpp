@@ -276,6 +276,18 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
     return v;
 }
 
+double coverage_iou(const std::vector<float>& coverage, int w, int h,
+                    const std::function<bool(double x, double y)>& inside) {
+    std::size_t inter = 0, uni = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool s = coverage[std::size_t(y) * w + x] >= 0.5f, t = inside(x + 0.5, y + 0.5);
+            inter += s && t;
+            uni += s || t;
+        }
+    return uni ? double(inter) / double(uni) : 1.0;
+}
+
 std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f) {
     std::vector<View> vs;
     const Vec3d eyes[] = {{0, 0, 6}, {6, 0.5, 0}, {0, 6, 0.5}, {-4, 3, -3}};

@@ -85,6 +85,11 @@ std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f);
 /// the paper is one sheet (no step in tone where two drawings meet).
 Image compose_sheet(const std::vector<Image>& drawings, int gap, int strip);
 
+/// IoU of a coverage image (inside where >= 0.5) and the region where `inside(x, y)`
+/// holds at pixel centres; 1 when both are empty.
+double coverage_iou(const std::vector<float>& coverage, int w, int h,
+                    const std::function<bool(double x, double y)>& inside);
+
 /// Grid points inside x voxel volume.
 double counted_volume(const Volume& v);
 /// Volume along x rows with the exact crossings at both ends of every run (O(h^2)).

@@ -12,6 +12,7 @@
 #include "io/manifest.h"
 #include "load.h"
 #include "silhouette.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;
@@ -54,14 +55,7 @@ Image render(int w, int h, const Sampler& colour) {
 }
 
 double iou(const std::vector<float>& coverage, int w, int h, const std::function<bool(double, double)>& truth) {
-    std::size_t inter = 0, uni = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const bool s = coverage[std::size_t(y) * w + x] >= 0.5f, t = truth(x + 0.5, y + 0.5);
-            inter += s && t;
-            uni += s || t;
-        }
-    return uni ? double(inter) / double(uni) : 1.0;
+    return test::coverage_iou(coverage, w, h, truth);
 }
 
 // Breaks in a stroke: points on the outline, each with a width (px) across which the stroke

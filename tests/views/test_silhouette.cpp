@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "silhouette.h"
+#include "support/shapes.h"
 #include "support/test_support.h"
 
 using namespace cm;
@@ -53,14 +54,7 @@ void paint(Image& img, const Shape& shape, std::array<float, 3> colour) {
 }
 
 double iou(const std::vector<float>& coverage, int w, int h, const Shape& truth) {
-    std::size_t inter = 0, uni = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const bool s = coverage[std::size_t(y) * w + x] >= 0.5f, t = truth(x + 0.5, y + 0.5);
-            inter += s && t;
-            uni += s || t;
-        }
-    return uni ? double(inter) / double(uni) : 1.0;
+    return test::coverage_iou(coverage, w, h, truth);
 }
 
 // A character-like object: a body (ellipse) with a head (disc) and a leg (rectangle).
