@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/tool_common.h"
+#include "core/limits.h"
 #include "pipeline/run_stage.h"
 #include "render/raster.h"
 #include "render/shade.h"
@@ -45,6 +46,10 @@ Views self_views(const Mesh& mesh, const std::vector<ViewSpec>& specs, int size)
 }
 
 int run_preview(const PreviewOptions& o, const GlobalOptions& g) {
+    // About 310 bytes per pixel of one panel at the peak (all panels, their renders and the
+    // sheet), measured at 2048 px panels.
+    check_memory_estimate(std::uint64_t(310.0 * double(o.panel) * double(o.panel)),
+                          "a preview of " + std::to_string(o.panel) + " px panels", "lower --panel");
     Mesh mesh = load_oriented(o.mesh, o.axes.parse());
     std::shared_ptr<const Views> views;
     if (o.manifest.empty()) {

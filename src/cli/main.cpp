@@ -3,9 +3,13 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+
+#include <tbb/global_control.h>
 
 #include "cli/commands.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/progress.h"
 #include "io/file_commit.h"
 #include "plugins/registry.h"
@@ -55,6 +59,21 @@ int main(int argc, char** argv) {
         "conceptmesh"};
     app.set_version_flag("--version", std::string("conceptmesh ") + CONCEPTMESH_VERSION_STRING);
     app.require_subcommand(1);
+    // Resource limits, accepted before or after the sub-command (conceptmesh run p.yaml --threads 2).
+    app.fallthrough();
+    cm::ResourceLimits& limits = cm::resource_limits();
+    int threads = 0;
+    app.add_option("--threads", threads, "Worker threads (0: one per core)")->check(CLI::Range(0, 4096));
+    app.add_option("--max-memory", limits.max_memory,
+                   "Refuse work estimated to need more memory than this (e.g. 8G, 512M; 0: no limit; default 80% "
+                   "of physical memory)")
+        ->transform(CLI::AsSizeValue(true))
+        ->default_str(cm::format_bytes(limits.max_memory));
+    app.add_option("--max-image-pixels", limits.max_image_pixels,
+                   "Refuse images larger than this many pixels, read from the header before decoding (0: no limit)")
+        ->capture_default_str();
+    app.add_option("--max-views", limits.max_views, "Refuse views manifests with more views than this (0: no limit)")
+        ->capture_default_str();
     cm::cli::GlobalOptions g;
     std::function<int()> action;
     cm::cli::add_run_command(app, g, action);
@@ -77,6 +96,10 @@ int main(int argc, char** argv) {
         cm::cli::print_error(e.what() + std::string(" (see conceptmesh --help)"));
         return 2;
     }
+    std::unique_ptr<tbb::global_control> thread_limit;
+    if (threads > 0)
+        thread_limit =
+            std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     try {
         return action ? action() : 2;
     } catch (const cm::Cancelled&) {

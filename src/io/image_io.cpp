@@ -2,8 +2,12 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
+#include <cstring>
+
 #include "core/data.h"
 #include "core/error.h"
+#include "core/limits.h"
 
 namespace fs = std::filesystem;
 
@@ -17,9 +21,25 @@ Image read_image(const fs::path& file, ImageInfo* info) {
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         throw Error("cannot read image \"" + file.string() + "\": it is empty");
+    // The size is in the header: refuse a huge image before a pixel of it is allocated (a
+    // few hundred bytes of PNG can claim 20000 x 20000).
+    const std::uint64_t pixels = std::uint64_t(spec.width) * std::uint64_t(spec.height);
+    const std::uint64_t limit = resource_limits().max_image_pixels;
+    if (limit != 0 && pixels > limit)
+        throw Error("cannot read image \"" + file.string() + "\": it is " + std::to_string(spec.width) + " x " +
+                    std::to_string(spec.height) + " pixels (" + std::to_string(pixels / 1'000'000) +
+                    " megapixels), over the limit of " + std::to_string(limit / 1'000'000) +
+                    " megapixels (--max-image-pixels)");
     const int nc = spec.nchannels;
-    std::vector<float> raw(std::size_t(spec.width) * spec.height * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data()))
+    if (nc > 64) throw Error("cannot read image \"" + file.string() + "\": it has " + std::to_string(nc) + " channels");
+    // Decoded at the file's own depth (8 or 16 bits, float otherwise), not widened to float
+    // first: the buffer is a quarter or half of a float one.
+    const OIIO::TypeDesc src = spec.format.basetype == OIIO::TypeDesc::UINT8    ? OIIO::TypeDesc::UINT8
+                               : spec.format.basetype == OIIO::TypeDesc::UINT16 ? OIIO::TypeDesc::UINT16
+                                                                                : OIIO::TypeDesc::FLOAT;
+    const std::size_t values = std::size_t(pixels) * std::size_t(nc);
+    std::vector<unsigned char> raw(values * src.size());
+    if (!in->read_image(0, 0, 0, nc, src, raw.data()))
         throw Error("cannot read image \"" + file.string() + "\": " + in->geterror());
     // A reader may fill what it could not decode (a truncated JPEG comes back grey at the
     // bottom) and still say it succeeded; the error it recorded says so.
@@ -35,17 +55,28 @@ Image read_image(const fs::path& file, ImageInfo* info) {
     img.channels = 4;
     img.pixels.resize(std::size_t(img.width) * img.height * 4);
     const int alpha = spec.alpha_channel >= 0 ? spec.alpha_channel : (nc == 4 ? 3 : (nc == 2 ? 1 : -1));
+    auto value = [&](std::size_t k) -> float {
+        if (src == OIIO::TypeDesc::UINT8) return float(raw[k]) * (1.0f / 255.0f);
+        if (src == OIIO::TypeDesc::UINT16) {
+            std::uint16_t v;
+            std::memcpy(&v, &raw[k * 2], 2);
+            return float(v) * (1.0f / 65535.0f);
+        }
+        float v;
+        std::memcpy(&v, &raw[k * 4], 4);
+        return v;
+    };
     for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
-        const float* s = &raw[i * nc];
+        const std::size_t s = i * std::size_t(nc);
         float* d = &img.pixels[i * 4];
         if (nc >= 3) {
-            d[0] = s[0];
-            d[1] = s[1];
-            d[2] = s[2];
+            d[0] = value(s);
+            d[1] = value(s + 1);
+            d[2] = value(s + 2);
         } else {
-            d[0] = d[1] = d[2] = s[0];
+            d[0] = d[1] = d[2] = value(s);
         }
-        d[3] = alpha >= 0 ? s[alpha] : 1.0f;
+        d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : 1.0f;
     }
     if (info) {
         info->has_alpha = alpha >= 0;

@@ -10,6 +10,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/limits.h"
 #include "io/yaml_checks.h"
 
 namespace fs = std::filesystem;
@@ -519,6 +520,10 @@ Manifest read_manifest(const fs::path& file) {
             m.views.push_back(read_view(file, base, key, n));
         }
     }
+    const std::size_t max_views = resource_limits().max_views;
+    if (max_views != 0 && m.views.size() > max_views)
+        throw Error("views manifest \"" + file.string() + "\" holds " + std::to_string(m.views.size()) +
+                    " views, over the limit of " + std::to_string(max_views) + " (--max-views)");
     check_unique_keys(file, m);
     check_frame(file, doc, m);
     return m;

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "geometry/hull_distance.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
@@ -31,15 +32,15 @@ std::string manifest_error(const test::TempDir& dir, const std::string& yaml) {
 
 // The bundled example's drawings under the manifest `yaml`, through the paper pipeline
 // (hull-constrained smoothing) at a small resolution.
-test::CommandResult paper_run_on(const test::TempDir& dir, const std::string& yaml) {
+test::CommandResult paper_run_on(const test::TempDir& dir, const std::string& yaml, const std::string& more = "") {
     for (const char* f : {"front.png", "right.png", "top.png"})
-        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f);
+        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f, fs::copy_options::overwrite_existing);
     test::write_text(dir / "views.yaml", yaml);
     std::string pipeline = test::read_text(test::source_dir() / "pipelines" / "paper.yaml");
     const std::string from = "examples/spot/views.yaml";
     pipeline.replace(pipeline.find(from), from.size(), "views.yaml");
     test::write_text(dir / "p.yaml", pipeline);
-    return test::run_cli("run p.yaml -q --set hull.resolution=48", dir.path());
+    return test::run_cli("run p.yaml -q --set hull.resolution=48" + more, dir.path());
 }
 
 } // namespace
@@ -203,4 +204,133 @@ TEST(HostileInput, ATruncatedImageIsAnErrorNotAGreyDrawing) {
             EXPECT_HAS(e.what(), std::string("cannot read image \"") + (dir / name).string() + "\"");
         }
     }
+}
+
+namespace {
+
+// A PNG whose header claims width x height, with the pixel data of an all-white RGB image
+// compressed (a few hundred kB claims hundreds of megapixels).
+void write_white_png(const fs::path& file, int width, int height) {
+    Image img;
+    img.width = width;
+    img.height = height;
+    img.channels = 3;
+    img.pixels.assign(std::size_t(width) * height * 3, 1.0f);
+    write_image(img, file);
+}
+
+} // namespace
+
+TEST(HostileInput, AnImageOverThePixelLimitIsRefusedFromItsHeader) {
+    test::TempDir dir("hostile_pixels");
+    write_white_png(dir / "big.png", 400, 300);
+    ResourceLimits& limits = resource_limits();
+    const ResourceLimits saved = limits;
+    limits.max_image_pixels = 100'000;
+    const std::string e = test::error_of([&] { read_image(dir / "big.png"); });
+    limits = saved;
+    EXPECT_HAS(e, "cannot read image \"" + (dir / "big.png").string() + "\": it is 400 x 300 pixels");
+    EXPECT_HAS(e, "over the limit of 0 megapixels (--max-image-pixels)");
+    EXPECT_NO_THROW(read_image(dir / "big.png")); // under the default limit it reads
+
+    // From the command line: the limit is an option, and the run names the view and the size.
+    for (const char* f : {"front.png", "right.png", "top.png"})
+        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f);
+    test::write_text(dir / "views.yaml", "views: {front: front.png, right: right.png, top: top.png}\n");
+    test::write_text(dir / "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    const auto r = test::run_cli("compare t.obj views.yaml --max-image-pixels 1000", dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err, "front.png\": it is ");
+    EXPECT_HAS(r.err, "(--max-image-pixels)");
+}
+
+TEST(HostileInput, EightAndSixteenBitImagesReadAsTheirValues) {
+    test::TempDir dir("hostile_depth");
+    Image img;
+    img.width = 2;
+    img.height = 1;
+    img.channels = 4;
+    img.pixels = {0.0f, 0.5f, 1.0f, 1.0f, 0.25f, 0.75f, 0.1f, 1.0f};
+    write_image(img, dir / "a.png"); // 8 bits
+    write_image(img, dir / "a.tif"); // float
+    // 16 bits: a binary PPM with maxval 65535 (big-endian samples).
+    const std::uint16_t samples[6] = {0, 32768, 65535, 16384, 49152, 6554};
+    std::string ppm = "P6\n2 1\n65535\n";
+    for (const std::uint16_t v : samples) ppm += {char(v >> 8), char(v & 0xff)};
+    test::write_text(dir / "a.ppm", ppm);
+    ImageInfo info;
+    for (const char* name : {"a.png", "a.tif", "a.ppm"}) {
+        SCOPED_TRACE(name);
+        const Image back = read_image(dir / name, &info);
+        ASSERT_EQ(back.pixels.size(), img.pixels.size());
+        for (std::size_t i = 0; i < img.pixels.size(); ++i)
+            EXPECT_NEAR(back.pixels[i], img.pixels[i], 0.5 / 255 + 1e-6);
+        EXPECT_EQ(info.has_alpha, std::string(name) != "a.ppm");
+    }
+    EXPECT_EQ(info.bits, 16);
+}
+
+TEST(HostileInput, AManifestWithTooManyViewsIsRefused) {
+    test::TempDir dir("hostile_views");
+    std::string yaml = "views:\n";
+    for (int i = 0; i < 600; ++i) yaml += "  v" + std::to_string(i) + ": {image: a.png, azimuth: 0}\n";
+    EXPECT_HAS(manifest_error(dir, yaml), "holds 600 views, over the limit of 512 (--max-views)");
+}
+
+TEST(HostileInput, AMemoryEstimateOverTheLimitIsRefusedWithBothFigures) {
+    ResourceLimits& limits = resource_limits();
+    const ResourceLimits saved = limits;
+    limits.max_memory = 1'000'000'000;
+    const std::string e =
+        test::error_of([] { check_memory_estimate(3'500'000'000, "the work", "lower the resolution"); });
+    EXPECT_NO_THROW(check_memory_estimate(900'000'000, "the work", "lower the resolution"));
+    limits = saved;
+    EXPECT_HAS(
+        e, "the work would need about 3.5 GB, over the memory limit of 1.0 GB (--max-memory); lower the resolution");
+    EXPECT_GT(default_max_memory(), 0u);
+}
+
+TEST(HostileInput, OneThreadAndTwoGiveTheSameBytes) {
+    test::TempDir one("threads_one"), two("threads_two");
+    const std::string views = "views: {front: front.png, right: right.png, top: top.png}\n";
+    const auto a = paper_run_on(one, views, " --threads 1 --set hull.resolution=96");
+    const auto b = paper_run_on(two, views, " --threads 2 --set hull.resolution=96");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    for (const char* f : {"out/spot.obj", "out/spot.preview.png"}) {
+        SCOPED_TRACE(f);
+        const std::string x = test::read_text(one / f), y = test::read_text(two / f);
+        EXPECT_GT(x.size(), 1000u);
+        EXPECT_TRUE(x == y) << "the files differ";
+    }
+    const auto bad = paper_run_on(one, views, " --threads -3");
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_HAS(bad.err, "--threads");
+}
+
+TEST(HostileInput, AResolutionTheMachineCannotHoldIsRefusedBeforeCarving) {
+    test::TempDir dir("hostile_memory");
+    const std::string views = "views: {front: front.png, right: right.png, top: top.png}\n";
+    const auto r = paper_run_on(dir, views, " --set hull.resolution=16384 --max-memory 2G");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err, "node \"hull\" (hull.carve): the hull at resolution 16384 (about ");
+    EXPECT_HAS(r.err, "over the memory limit of 2.0 GB (--max-memory); lower the resolution");
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    // The estimate follows the surface: the same run at 96 goes through under the same limit.
+    EXPECT_EQ(paper_run_on(dir, views, " --set hull.resolution=96 --max-memory 2G").exit_code, 0);
+}
+
+TEST(HostileInput, RenderAndPreviewSizesOverTheMemoryLimitAreRefused) {
+    test::TempDir dir("hostile_render_size");
+    test::write_text(dir / "t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    auto r = test::run_cli("render-views t.obj -o views --size 16384 --max-memory 2G", dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err, "render-views at 16384 px (art) would need about ");
+    EXPECT_FALSE(fs::exists(dir / "views"));
+    r = test::run_cli("preview t.obj -o sheet.png --panel 4096 --max-memory 2G", dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err, "a preview of 4096 px panels would need about ");
+    EXPECT_FALSE(fs::exists(dir / "sheet.png"));
+    EXPECT_EQ(test::run_cli("render-views t.obj -o views --size 64 -q", dir.path()).exit_code, 0);
 }

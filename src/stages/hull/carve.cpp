@@ -332,3 +332,39 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
 }
 
 } // namespace cm
+
+namespace cm {
+
+double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution,
+                              int coarse) {
+    CarveOptions c = opt;
+    c.resolution = coarse;
+    c.voxel_ratio = 0;
+    CarveStats st;
+    const auto vol = carve(views, c, {}, &st);
+    int res = opt.resolution;
+    if (opt.voxel_ratio > 0) res = resolution_from_ratio(*views, st.box_min, st.box_max, opt.voxel_ratio);
+    if (resolution) *resolution = res;
+    // Inside grid points with an outside face neighbour.
+    auto acc = vol->occupancy->getConstAccessor();
+    double boundary = 0;
+    for (auto it = vol->occupancy->tree().cbeginLeaf(); it; ++it)
+        for (auto v = it->cbeginValueOn(); v; ++v) {
+            const Coord p = v.getCoord();
+            for (int a = 0; a < 3; ++a) {
+                Coord q = p, r = p;
+                q[a] += 1;
+                r[a] -= 1;
+                if (!acc.isValueOn(q) || !acc.isValueOn(r)) {
+                    boundary += 1;
+                    break;
+                }
+            }
+        }
+    // A surface cell count is 1.45 times this count of boundary points, measured on the
+    // bundled example at resolutions 256 and 1024 (1.44 and 1.45).
+    const double scale = double(res) / double(st.resolution);
+    return 1.45 * boundary * scale * scale;
+}
+
+} // namespace cm

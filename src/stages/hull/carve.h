@@ -38,4 +38,17 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats = 
 std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
                               const std::function<void(double)>& progress = {}, CarveStats* stats = nullptr);
 
+/// The number of surface cells (cells with inside and outside corners) a carve at
+/// `resolution` will have, from a coarse carve of the same box at `coarse` cells scaled
+/// by the square of the ratio (the surface is two-dimensional). Used to estimate the
+/// memory of what follows before anything large is allocated.
+/// `resolution`, when given, receives the resolution the carve will use.
+double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution = nullptr,
+                              int coarse = 64);
+
+/// Bytes the stages after the carve keep per surface cell at their peak (refinement,
+/// extraction and smoothing of the paper pipeline), measured on the bundled example
+/// at resolution 1024 (docs/hull.md).
+constexpr double kPipelineBytesPerSurfaceCell = 260.0;
+
 } // namespace cm

@@ -1,6 +1,10 @@
 // hull.carve: the coarse visual hull (paper step 1) in a sparse OpenVDB grid.
 #include "carve.h"
+#include "core/limits.h"
 #include "core/stage.h"
+
+#include <cstdint>
+#include <cstdio>
 
 namespace cm {
 namespace {
@@ -31,6 +35,19 @@ public:
         CarveOptions opt;
         opt.resolution = resolution_;
         if (voxel_ratio_) opt.voxel_ratio = *voxel_ratio_;
+        // Refuse before anything large is allocated: a one-line change of the resolution
+        // can ask for more memory than the machine has (the stages after the carve hold
+        // about kPipelineBytesPerSurfaceCell per surface cell).
+        int res = 0;
+        const double cells = estimate_surface_cells(views, opt, &res);
+        const double bytes = cells * kPipelineBytesPerSurfaceCell;
+        ctx.metric("estimated_surface_cells", cells);
+        ctx.metric("estimated_peak_bytes", bytes);
+        char what[160];
+        std::snprintf(what, sizeof what,
+                      "the hull at resolution %d (about %.1f million surface cells) and the stages after it", res,
+                      cells / 1e6);
+        check_memory_estimate(std::uint64_t(bytes), what, "lower the resolution");
         CarveStats st;
         auto vol = carve(
             views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
