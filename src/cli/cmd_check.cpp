@@ -44,6 +44,7 @@ nlohmann::json check_json(const CheckOptions& o, const Mesh& mesh, const OutputC
                         {"inconsistent_edges", c.inconsistent_edges},
                         {"degenerate_faces", c.degenerate_faces},
                         {"self_intersections", pairs.size()},
+                        {"coincident_vertices", check.coincident_vertices},
                         {"volume", c.signed_volume},
                         {"area", c.area},
                         {"euler", c.euler}};
@@ -73,6 +74,7 @@ void print_check_table(const CheckOptions& o, const Mesh& mesh, const OutputChec
     row("inconsistent edges", c.inconsistent_edges, c.inconsistent_edges == 0);
     row("degenerate faces", c.degenerate_faces, c.degenerate_faces == 0);
     row("self-intersections", crossings, crossings == 0);
+    row("coincident vertices", check.coincident_vertices, check.coincident_vertices == 0);
     row("volume", c.signed_volume, c.signed_volume > 0);
     for (std::size_t i = 0; i < shown; ++i) {
         const auto a = face_centre(mesh, pairs[i][0]), b = face_centre(mesh, pairs[i][1]);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -290,7 +292,58 @@ std::vector<FacePair> find_self_intersections(const Mesh& m) {
 std::size_t count_self_intersections(const Mesh& m) { return find_self_intersections(m).size(); }
 
 bool OutputCheck::clean() const {
-    return mesh.closed_manifold() && mesh.degenerate_faces == 0 && mesh.signed_volume > 0 && crossings.empty();
+    return mesh.closed_manifold() && mesh.degenerate_faces == 0 && mesh.signed_volume > 0 && crossings.empty() &&
+           coincident_vertices == 0;
+}
+
+std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {
+    const std::size_t n = mesh.positions.size();
+    if (n < 2 || !(tolerance > 0)) return 0;
+    // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
+    // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
+    const double cell = 2 * tolerance;
+    Vec3f lo, hi;
+    mesh.bounds(lo, hi);
+    auto cell_of = [&](const Vec3f& p, int a) { return std::int64_t(std::floor((double(p[a]) - lo[a]) / cell)); };
+    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+        return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
+               (std::uint64_t(z) * 0x165667B19E3779F9ull);
+    };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        const Vec3f& p = mesh.positions[i];
+        cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
+    });
+    tbb::parallel_sort(cells.begin(), cells.end());
+    const double tol2 = tolerance * tolerance;
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n), std::size_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t count) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const Vec3f& p = mesh.positions[i];
+                std::int64_t c[3], d[3];
+                for (int a = 0; a < 3; ++a) {
+                    const double u = (double(p[a]) - lo[a]) / cell;
+                    c[a] = std::int64_t(std::floor(u));
+                    d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
+                }
+                bool found = false;
+                for (int k = 0; k < 8 && !found; ++k) {
+                    const std::uint64_t want =
+                        key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
+                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
+                    for (; it != cells.end() && it->first == want && !found; ++it) {
+                        if (it->second == i) continue;
+                        const Vec3f& q = mesh.positions[it->second];
+                        const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+                        found = dx * dx + dy * dy + dz * dz <= tol2;
+                    }
+                }
+                count += found;
+            }
+            return count;
+        },
+        std::plus<>());
 }
 
 std::vector<std::string> OutputCheck::broken() const {
@@ -304,11 +357,20 @@ std::vector<std::string> OutputCheck::broken() const {
     add(mesh.inconsistent_edges, "inconsistently oriented edges");
     add(mesh.degenerate_faces, "degenerate faces");
     add(crossings.size(), "self-intersecting face pairs");
+    add(coincident_vertices, "coincident vertices (welded by an importer)");
     if (mesh.signed_volume <= 0)
         out.push_back("inward orientation (volume " + std::to_string(mesh.signed_volume) + ")");
     return out;
 }
 
-OutputCheck check_output(const Mesh& m) { return {check_mesh(m), find_self_intersections(m)}; }
+OutputCheck check_output(const Mesh& m) {
+    OutputCheck c{check_mesh(m), find_self_intersections(m)};
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Vec3f d = hi - lo;
+    const double diagonal = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+    c.coincident_vertices = count_coincident_vertices(m, kCoincidentTolerance * diagonal);
+    return c;
+}
 
 } // namespace cm

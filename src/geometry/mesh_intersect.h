@@ -95,10 +95,20 @@ std::size_t count_self_intersections(const Mesh& mesh);
 struct OutputCheck {
     MeshCheck mesh;
     std::vector<FacePair> crossings;
+    /// Vertices with another vertex within kCoincidentTolerance of the bounding-box diagonal:
+    /// an importer that merges by distance (Blender, most engines) welds them, and the
+    /// welded mesh may be non-manifold where this one is not.
+    std::size_t coincident_vertices = 0;
     bool clean() const;
     /// One phrase per broken rule ("3 boundary edges", ...); empty when clean.
     std::vector<std::string> broken() const;
 };
 OutputCheck check_output(const Mesh& mesh);
+
+/// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
+/// as one (a millionth: far above float rounding, far below any feature a mesh means).
+constexpr double kCoincidentTolerance = 1e-6;
+/// Number of vertices that have another vertex within `tolerance` (absolute distance).
+std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance);
 
 } // namespace cm

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
@@ -53,4 +54,54 @@ TEST(CheckCommand, MissingFileIsOneLineError) {
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("/nonexistent/mesh.obj"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(CheckCommand, CoincidentVerticesAreReportedAsAnImporterWouldWeldThem) {
+    // Two boxes touching at one corner through two distinct vertices at one position: each
+    // closed and manifold, but merged by distance (as Blender and most engines import) the
+    // corner becomes a non-manifold vertex.
+    test::TempDir dir("check_coincident");
+    Mesh two = test::make_box({0, 0, 0}, {1, 1, 1});
+    const Mesh b = test::make_box({1, 1, 1}, {2, 2, 2});
+    const auto base = std::uint32_t(two.positions.size());
+    two.positions.insert(two.positions.end(), b.positions.begin(), b.positions.end());
+    for (auto t : b.triangles) two.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    write_mesh(two, dir / "touching.obj");
+    auto r = test::run_cli("check --json \"" + (dir / "touching.obj").string() + "\"");
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["coincident_vertices"].get<int>(), 2);
+    EXPECT_EQ(j["boundary_edges"].get<int>(), 0);
+    r = test::run_cli("check \"" + (dir / "touching.obj").string() + "\"");
+    EXPECT_NE(r.out.find("coincident vertices"), std::string::npos) << r.out;
+
+    // Apart by more than the tolerance (a millionth of the diagonal), they are two vertices.
+    for (std::size_t i = base; i < two.positions.size(); ++i) two.positions[i].x += 1e-4f;
+    write_mesh(two, dir / "apart.obj");
+    r = test::run_cli("check --json \"" + (dir / "apart.obj").string() + "\"");
+    EXPECT_EQ(nlohmann::json::parse(r.out)["coincident_vertices"].get<int>(), 0) << r.out;
+}
+
+TEST(CheckCommand, CoincidentVerticesAgreeWithTheBruteForceCount) {
+    Mesh m;
+    std::uint32_t seed = 7;
+    auto next = [&] { return float((seed = seed * 1664525u + 1013904223u) >> 8) / float(1u << 24); };
+    for (int i = 0; i < 3000; ++i) m.positions.push_back({next(), next(), next()});
+    for (int i = 0; i < 200; ++i) { // near copies, some within the tolerance and some not
+        const Vec3f p = m.positions[std::size_t(i) * 7];
+        const float off = i % 2 ? 4e-4f : 2e-3f;
+        m.positions.push_back({p.x + off * next(), p.y, p.z});
+    }
+    const double tol = 1e-3;
+    std::size_t brute = 0;
+    for (std::size_t i = 0; i < m.positions.size(); ++i)
+        for (std::size_t k = 0; k < m.positions.size(); ++k) {
+            const Vec3f d = m.positions[i] - m.positions[k];
+            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
+                ++brute;
+                break;
+            }
+        }
+    EXPECT_GT(brute, 100u);
+    EXPECT_EQ(count_coincident_vertices(m, tol), brute);
 }
