@@ -1,7 +1,11 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -28,6 +32,55 @@ void quiet_openmesh() {
         return true;
     }();
     (void)done;
+}
+
+// Triangles a text .obj or .off file declares (an n-gon counts n - 2), so faces the reader
+// could not take are not dropped in silence; -1 for other formats or an unreadable count.
+long long declared_triangles(const fs::path& file) {
+    const std::string ext = lower_extension(file);
+    if (ext != ".obj" && ext != ".off") return -1;
+    std::ifstream in(file);
+    if (!in) return -1;
+    long long total = 0;
+    std::string line;
+    if (ext == ".obj") {
+        while (std::getline(in, line)) {
+            if (line.size() < 2 || line[0] != 'f' || (line[1] != ' ' && line[1] != '\t')) continue;
+            std::istringstream ss(line.substr(1));
+            std::string tok;
+            long long n = 0;
+            while (ss >> tok) ++n;
+            if (n >= 3) total += n - 2;
+        }
+        return total;
+    }
+    // OFF: "OFF" then "nv nf ne" (comments and blank lines aside), nv vertex lines, nf faces.
+    long long nv = -1, nf = -1, seen = 0;
+    while (std::getline(in, line)) {
+        if (const auto c = line.find('#'); c != std::string::npos) line.erase(c);
+        std::istringstream ss(line);
+        if (nv < 0) {
+            std::string first;
+            if (!(ss >> first)) continue;
+            if (first.find("OFF") != std::string::npos) {
+                if (!(ss >> nv)) nv = -1;
+                else if (!(ss >> nf)) return -1;
+                continue;
+            }
+            std::istringstream again(line);
+            if (!(again >> nv >> nf)) return -1;
+            continue;
+        }
+        if (nf < 0) {
+            if (!(ss >> nf)) continue;
+            continue;
+        }
+        long long n = 0;
+        if (!(ss >> n)) continue;
+        if (seen++ < nv) continue;
+        if (n >= 3) total += n - 2;
+    }
+    return total;
 }
 
 } // namespace
@@ -57,6 +110,9 @@ Mesh read_mesh(const fs::path& file) {
     m.positions.reserve(om.n_vertices());
     for (auto v : om.vertices()) {
         const auto& p = om.point(v);
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+            throw Error("cannot read mesh \"" + file.string() + "\": vertex " + std::to_string(v.idx() + 1) +
+                        " has a coordinate that is not a finite number");
         m.positions.emplace_back(p[0], p[1], p[2]);
     }
     m.triangles.reserve(om.n_faces());
@@ -70,6 +126,13 @@ Mesh read_mesh(const fs::path& file) {
         if (k == 3) m.triangles.push_back({idx[0], idx[1], idx[2]});
     }
     if (m.triangles.empty()) throw Error("cannot read mesh \"" + file.string() + "\": it has no faces");
+    // The reader leaves out a face whose index is out of range: say so rather than check a
+    // different mesh. (An edge of more than two faces it keeps, on copies of its vertices, so
+    // the check reports it as boundary edges.)
+    if (const long long declared = declared_triangles(file); declared > 0 && declared > (long long)(om.n_faces()))
+        throw Error("cannot read mesh \"" + file.string() + "\": " +
+                    std::to_string(declared - (long long)om.n_faces()) + " of its " + std::to_string(declared) +
+                    " triangles cannot be read (a vertex index out of range, or a face repeated)");
     return m;
 }
 

@@ -105,3 +105,21 @@ TEST(CheckCommand, CoincidentVerticesAgreeWithTheBruteForceCount) {
     EXPECT_GT(brute, 100u);
     EXPECT_EQ(count_coincident_vertices(m, tol), brute);
 }
+
+TEST(CheckCommand, FacesTheReaderCannotTakeAreAnErrorNotDroppedInSilence) {
+    test::TempDir dir("check_dropped");
+    const std::string tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    test::write_text(dir / "range.obj", tetra + "f 1 2 9\n");
+    auto r = test::run_cli("check \"" + (dir / "range.obj").string() + "\"");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("range.obj\": 1 of its 5 triangles cannot be read"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // An edge of three faces (a fin on the tetrahedron): the reader keeps the fin on copies
+    // of its vertices, and the check says the mesh is not clean.
+    test::write_text(dir / "fin.obj", tetra + "v 1 1 1\nf 1 2 5\n");
+    r = test::run_cli("check \"" + (dir / "fin.obj").string() + "\"");
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("FAIL"), std::string::npos) << r.out;
+    test::write_text(dir / "whole.obj", tetra);
+    EXPECT_EQ(test::run_cli("check \"" + (dir / "whole.obj").string() + "\"").exit_code, 0);
+}
