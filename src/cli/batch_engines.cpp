@@ -192,8 +192,16 @@ std::string submit_slurm(const std::vector<const AssetPlan*>& plans, const Slurm
     argv.push_back((meta / "array.sh").string());
     std::string out, err;
     const int rc = run_capture(argv, out, err);
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
-    if (rc != 0) throw Error("sbatch refused the batch (exit " + std::to_string(rc) + "): " + err);
+    if (rc != 0) {
+        // sbatch says it in a few lines ("sbatch: error: ..."): one line here.
+        std::string why;
+        std::istringstream lines(err);
+        for (std::string l; std::getline(lines, l);) {
+            if (l.rfind("sbatch: error: ", 0) == 0) l = l.substr(15);
+            if (!l.empty()) why += (why.empty() ? "" : "; ") + l;
+        }
+        throw Error("sbatch refused the batch (exit " + std::to_string(rc) + "): " + why);
+    }
     const std::string id = out.substr(0, out.find_first_of(";\n"));
     if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
         throw Error("sbatch gave no job id (it printed \"" + out + "\")");

@@ -122,6 +122,8 @@ std::vector<fs::path> copy_inputs(const AssetPlan& p) {
     return out;
 }
 
+constexpr std::size_t kEagerModels = 12;
+
 const char* kPageHead = R"(<!doctype html>
 <html lang="en"><head><meta charset="utf-8">
 <script>
@@ -132,6 +134,9 @@ window.addEventListener('error', function (e) {
   window.CM_ERRORS.push(what);
   document.documentElement.setAttribute('data-errors', String(window.CM_ERRORS.length));
 }, true);
+// Each model.js hands its model over here, as a data URI.
+window.CM_MODELS = {};
+window.CM_MODEL = function (name, uri) { window.CM_MODELS[name] = uri; };
 </script>
 <style>
 body { font: 14px system-ui, sans-serif; margin: 16px; background: #f4f4f1; color: #222; }
@@ -156,8 +161,7 @@ table.fig td { padding: 1px 6px 1px 0; } table.fig td:first-child { color: #666;
 const char* kPageScript = R"(
 <script>
 (function () {
-  var models = {};
-  window.CM_MODEL = function (name, uri) { models[name] = uri; };
+  var models = window.CM_MODELS;
   function buffer(uri) {
     var b = atob(uri.slice(uri.indexOf(',') + 1)), a = new Uint8Array(b.length);
     for (var i = 0; i < b.length; ++i) a[i] = b.charCodeAt(i);
@@ -210,8 +214,15 @@ const char* kPageScript = R"(
     s.onload = function () { show(card); };
     document.head.appendChild(s);
   }
-  // A model loads when its card comes into view: a page of many assets stays light.
+  // The first models came with the page; the others load when their card comes into view,
+  // so that a page of many assets stays light.
   var cards = Array.prototype.slice.call(document.querySelectorAll('.card[data-model]'));
+  cards = cards.filter(function (c) {
+    if (!models[c.dataset.name]) return true;
+    c.setAttribute('data-loading', 'yes');
+    show(c);
+    return false;
+  });
   if ('IntersectionObserver' in window) {
     var seen = new IntersectionObserver(function (entries) {
       entries.forEach(function (e) { if (e.isIntersecting) { seen.unobserve(e.target); load(e.target); } });
@@ -304,7 +315,16 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
               << html(url(rel / p.preview_file)) << "\" alt=\"preview sheet\"></a></div>\n";
         h << "</div>\n";
     }
-    h << "</div>\n" << kPageScript << "</body></html>\n";
+    h << "</div>\n";
+    // The first models load with the page itself (no wait for a card to scroll into view).
+    std::size_t eager = 0;
+    for (std::size_t i = 0; i < results.size() && eager < kEagerModels; ++i)
+        if (fs::is_regular_file(results[i].dir / "model.js") && results[i].status != "failed" &&
+            !plans[i].mesh_file.empty()) {
+            h << "<script src=\"" << html(url(fs::relative(results[i].dir / "model.js", dir))) << "\"></script>\n";
+            ++eager;
+        }
+    h << kPageScript << "</body></html>\n";
     write_file_atomic(dir / "index.html", h.str());
 }
 
