@@ -346,7 +346,12 @@ std::string write_summary(const AssetsFile& f, const std::vector<AssetPlan>& pla
     }
     j["counts"] = {{"ok", ok}, {"failed", failed}, {"skipped", skipped}};
     write_file_atomic(dir / "batch-report.json", j.dump(2) + "\n");
-    write_review_page(plans, results, dir, f.name);
+    std::string page_warning;
+    try {
+        write_review_page(plans, results, dir, f.name);
+    } catch (const Error& e) {
+        page_warning = std::string("no review page: ") + e.what() + "\n";
+    }
 
     std::size_t w = 5;
     for (const auto& r : results) w = std::max(w, r.name.size());
@@ -364,7 +369,7 @@ std::string write_summary(const AssetsFile& f, const std::vector<AssetPlan>& pla
     t << ok << " ok, " << skipped << " up to date, " << failed << " failed\n";
     for (const auto& r : results)
         if (r.status == "failed") t << "FAILED " << r.name << ": " << r.cause << "\n";
-    return t.str();
+    return t.str() + page_warning;
 }
 
 } // namespace cm::cli::batch

@@ -430,3 +430,17 @@ TEST(Batch, ReviewPageDrawsEveryModelInHeadlessChromium) {
         }
     EXPECT_GT(double(model) / double(area), 0.02) << "the 3D views look blank";
 }
+
+TEST(Batch, WithoutThreeJsTheSummaryIsStillWritten) {
+    test::TempDir dir("batch-nothree");
+    const fs::path assets = copy_kit(dir);
+    test::write_text(assets, "pipeline: '" + (test::source_dir() / "pipelines" / "paper.yaml").string() +
+                                 "'\nset: {hull.resolution: 40}\nassets:\n  - name: box\n    views: box/views.yaml\n");
+    ::setenv("CONCEPTMESH_THREE_JS", (dir / "nothing-here").c_str(), 1);
+    auto r = test::run_cli("batch '" + assets.string() + "' -q -o '" + (dir / "out").string() + "'");
+    ::unsetenv("CONCEPTMESH_THREE_JS");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("no review page: the review page needs three.js"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "batch-report.json"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "index.html"));
+}
