@@ -143,7 +143,7 @@ body { font: 14px system-ui, sans-serif; margin: 16px; background: #f4f4f1; colo
 header { display: flex; gap: 16px; align-items: baseline; flex-wrap: wrap; }
 h1 { font-size: 20px; margin: 0 0 8px 0; }
 .cards { display: flex; flex-wrap: wrap; gap: 12px; }
-.card { background: #fff; border: 1px solid #ccc; border-radius: 6px; padding: 10px; width: 560px; }
+.card { background: #fff; border: 1px solid #ccc; border-radius: 6px; padding: 10px; width: 560px; box-sizing: border-box; }
 .card.failed { border-color: #c33; }
 .card h2 { font-size: 16px; margin: 0 0 6px 0; }
 .badge { font-size: 12px; padding: 1px 6px; border-radius: 3px; background: #dfe; }
@@ -178,15 +178,15 @@ const char* kPageScript = R"(
     renderer.setSize(canvas.clientWidth, canvas.clientHeight, false);
     renderer.setClearColor(0x2a2f38);
     var scene = new THREE.Scene();
-    scene.add(new THREE.HemisphereLight(0xffffff, 0x444455, 0.9));
-    var sun = new THREE.DirectionalLight(0xffffff, 0.8);
+    scene.add(new THREE.HemisphereLight(0xffffff, 0x444455, 0.55));
+    var sun = new THREE.DirectionalLight(0xffffff, 0.6);
     sun.position.set(1, 2, 3);
     scene.add(sun);
     var camera = new THREE.PerspectiveCamera(35, canvas.clientWidth / canvas.clientHeight, 0.001, 1e7);
     new THREE.GLTFLoader().parse(buffer(models[name]), '', function (gltf) {
       // glTF's default material is fully metallic, which is black without an environment:
       // a plain clay look shows the shape.
-      var clay = new THREE.MeshStandardMaterial({ color: 0xb8c0d0, metalness: 0, roughness: 0.7 });
+      var clay = new THREE.MeshStandardMaterial({ color: 0x9ea8bc, metalness: 0, roughness: 0.8 });
       gltf.scene.traverse(function (o) {
         if (!o.isMesh) return;
         if (!o.geometry.attributes.normal) o.geometry.computeVertexNormals();
@@ -291,7 +291,8 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
           << "\" data-seconds=\"" << fixed(r.seconds, 2) << "\"";
         if (r.xor_pct >= 0) h << " data-xor=\"" << r.xor_pct << "\"";
         if (r.faces >= 0) h << " data-faces=\"" << r.faces << "\"";
-        h << model_attr << ">\n<h2>" << html(r.name) << " <span class=\"badge\">" << r.status << "</span></h2>\n";
+        h << model_attr << ">\n<h2>" << html(r.name) << " <span class=\"badge\">" << (r.status == "skipped" ? "up to date" : r.status)
+          << "</span></h2>\n";
         if (r.status == "failed") h << "<div class=\"cause\">" << html(r.cause) << "</div>\n";
         h << "<div class=\"row\">";
         if (!model_attr.empty()) h << "<canvas class=\"view3d\" width=\"320\" height=\"240\"></canvas>";
