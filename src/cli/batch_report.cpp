@@ -291,8 +291,8 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
           << "\" data-seconds=\"" << fixed(r.seconds, 2) << "\"";
         if (r.xor_pct >= 0) h << " data-xor=\"" << r.xor_pct << "\"";
         if (r.faces >= 0) h << " data-faces=\"" << r.faces << "\"";
-        h << model_attr << ">\n<h2>" << html(r.name) << " <span class=\"badge\">" << (r.status == "skipped" ? "up to date" : r.status)
-          << "</span></h2>\n";
+        h << model_attr << ">\n<h2>" << html(r.name) << " <span class=\"badge\">"
+          << (r.status == "skipped" ? "up to date" : r.status) << "</span></h2>\n";
         if (r.status == "failed") h << "<div class=\"cause\">" << html(r.cause) << "</div>\n";
         h << "<div class=\"row\">";
         if (!model_attr.empty()) h << "<canvas class=\"view3d\" width=\"320\" height=\"240\"></canvas>";
