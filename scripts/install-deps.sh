@@ -7,7 +7,8 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       libopenimageio-dev openimageio-tools libopenexr-dev
       libopenmesh-dev libyaml-cpp-dev libvalijson-dev libtinygltf-dev
       nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
-      libmeshoptimizer-dev)
+      libmeshoptimizer-dev
+      libssl-dev libjs-three)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

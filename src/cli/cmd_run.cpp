@@ -15,7 +15,7 @@ namespace {
 
 struct RunCommandOptions {
     std::string pipeline, report;
-    std::vector<std::string> sets;
+    std::vector<std::string> sets, labels;
 };
 
 int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
@@ -33,6 +33,13 @@ int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
     opt.sink = &printer;
     opt.side_output_dir = o.report.empty() ? fs::path(".") : fs::absolute(o.report).parent_path();
     opt.report = o.report;
+    for (const auto& l : o.labels) {
+        const auto eq = l.find('=');
+        if (eq == 0 || eq == std::string::npos) throw Error("--label \"" + l + "\": expected KEY=VALUE");
+        opt.labels[l.substr(0, eq)] = l.substr(eq + 1);
+    }
+    if (!o.labels.empty() && o.report.empty())
+        throw Error("--label needs --report: labels are written into the run report");
     RunResult r = run_pipeline(p, Registry::global(), opt);
     if (!g.quiet) {
         for (const auto& out : r.outputs) std::cerr << "conceptmesh: wrote " << out.string() << "\n";
@@ -50,6 +57,7 @@ void add_run_command(CLI::App& app, GlobalOptions& g, std::function<int()>& acti
     cmd->add_option("pipeline", o->pipeline, "Pipeline YAML file")->required();
     cmd->add_option("--set", o->sets, "Override a parameter: NODE.PARAM=VALUE (repeatable)");
     cmd->add_option("--report", o->report, "Write a JSON run report (per node: params, time, memory, counts)");
+    cmd->add_option("--label", o->labels, "Add KEY=VALUE to the run report's \"labels\" (repeatable)");
     cmd->add_flag("-q,--quiet", g.quiet, "Only errors and warnings");
     cmd->add_flag("-v,--verbose", g.verbose, "More detail while running");
     set_action(cmd, action, [&g, o] { return run_run(*o, g); });

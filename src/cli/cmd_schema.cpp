@@ -10,6 +10,7 @@ namespace fs = std::filesystem;
 namespace cm::cli {
 
 const char* views_manifest_schema_json(); // generated from schemas/views-manifest.schema.json
+const char* batch_schema_json();          // generated from schemas/batch.schema.json
 
 void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action) {
     auto* cmd =
@@ -23,10 +24,11 @@ void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& a
         fs::create_directories(fs::path(*dir) / "stages");
         write_file_atomic(fs::path(*dir) / "pipeline.schema.json", pipeline_schema_json(reg));
         write_file_atomic(fs::path(*dir) / "views-manifest.schema.json", views_manifest_schema_json());
+        write_file_atomic(fs::path(*dir) / "batch.schema.json", batch_schema_json());
         for (const auto& n : reg.names())
             write_file_atomic(fs::path(*dir) / "stages" / (n + ".schema.json"),
                               stage_schema_json(reg.create(n)->info()));
-        if (!g.quiet) std::cerr << "conceptmesh: wrote " << reg.names().size() + 2 << " schemas into " << *dir << "\n";
+        if (!g.quiet) std::cerr << "conceptmesh: wrote " << reg.names().size() + 3 << " schemas into " << *dir << "\n";
         return 0;
     });
 }

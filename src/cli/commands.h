@@ -28,5 +28,6 @@ void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int
 void add_compare_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);      // cmd_compare.cpp
 void add_preview_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);      // cmd_preview.cpp
 void add_check_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_check.cpp
+void add_batch_command(CLI::App& app, GlobalOptions& g, std::function<int()>& action);        // cmd_batch.cpp
 
 } // namespace cm::cli

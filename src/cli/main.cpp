@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
     cm::cli::add_compare_command(app, g, action);
     cm::cli::add_preview_command(app, g, action);
     cm::cli::add_check_command(app, g, action);
+    cm::cli::add_batch_command(app, g, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -251,6 +251,7 @@ RunResult PipelineRun::commit() {
     RunResult result;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     result.peak_rss_bytes = peak_rss();
+    result.labels = opt_.labels;
     for (std::size_t i : p_.order) result.nodes.push_back(records_[i]);
     if (!opt_.report.empty()) {
         // The report lists the outputs it is committed with, and goes in with them.
@@ -285,6 +286,7 @@ std::string RunResult::to_json(const Pipeline& p) const {
     j["peak_rss_bytes"] = peak_rss_bytes;
     j["outputs"] = json::array();
     for (const auto& o : outputs) j["outputs"].push_back(o.string());
+    if (!labels.empty()) j["labels"] = labels;
     j["nodes"] = json::array();
     for (const auto& r : nodes) {
         json jn;

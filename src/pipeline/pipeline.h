@@ -90,6 +90,9 @@ struct RunOptions {
     /// When set, the run report (RunResult::to_json) is written here, committed with the
     /// run's other outputs: all of them appear, or none.
     std::filesystem::path report;
+    /// Written into the run report as "labels" (a caller's own keys: an asset name, a hash
+    /// of the inputs), so the report says which job it belongs to.
+    std::map<std::string, std::string> labels;
 };
 
 struct RunResult {
@@ -97,6 +100,7 @@ struct RunResult {
     double seconds = 0;
     std::size_t peak_rss_bytes = 0;
     std::vector<std::filesystem::path> outputs; ///< files committed
+    std::map<std::string, std::string> labels;  ///< RunOptions::labels
     std::string to_json(const Pipeline& p) const;
 };
 
