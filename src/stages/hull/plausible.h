@@ -1,0 +1,69 @@
+// Plausible volume inside the visual hull with the silhouettes kept exact
+// (hull.plausible).
+//
+// Every shape whose projections are the silhouettes lies inside the visual hull, and a
+// silhouette pixel needs only one occupied point along its line of sight. So the hull's
+// voxels are scored by how far they sit outside an inflated depth profile of each
+// drawing, and removed most implausible first, only while every line of sight through
+// them, in every view, still holds another occupied voxel. The silhouettes stay those
+// of the hull by construction; the removed region's new surface is placed on the
+// smoothed score's zero level, and every crossing on a silhouette cone is kept as
+// hull.marching_intersections found it.
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <memory>
+
+#include "core/volume.h"
+
+namespace cm {
+
+struct PlausibleOptions {
+    /// 0: the visual hull as it is; 1: the full depth profile of the drawings.
+    double roundness = 1.0;
+    /// Exponent n of the profile (1 - (1 - d/R)^n)^(1/n): 2 is a round (circular)
+    /// cross-section, 1 a ridge, larger values flatter and boxier.
+    double profile_exponent = 2.0;
+    /// Occupied cells every line of sight keeps (1: the silhouettes only need one).
+    int ray_keep = 1;
+    /// A voxel in a run of at most this many cells along any view's line of sight is
+    /// kept: thin parts (fins, blades, wings) have no volume to spare.
+    int thin_cells = 3;
+    /// Width (cells) of the Gaussian smoothing of the score before removal, 0 for none.
+    double smooth_cells = 1.0;
+};
+
+struct PlausibleStats {
+    std::size_t hull_voxels = 0;   ///< occupied grid points of the input
+    std::size_t candidates = 0;    ///< voxels outside the profile (score > 0), not thin
+    std::size_t removed = 0;       ///< voxels taken out
+    std::size_t kept_for_rays = 0; ///< candidates kept because a line of sight needs them
+    std::size_t thin_kept = 0;     ///< voxels outside the profile kept as thin parts
+    std::size_t new_crossings = 0; ///< crossings placed on the score's zero level
+    double cell_px = 0;            ///< line-of-sight raster pitch, pixels of the finest view
+};
+
+/// @brief The plausible volume of the (carved, optionally refined) hull `in` and `views`.
+/// The output's occupancy is a subset of the input's; every line-of-sight cell of every
+/// view (a raster at the grid's pitch on the view's image plane, a voxel belonging to
+/// the cell its centre projects into) that holds an input voxel still holds one. The
+/// input's exact crossings are kept wherever an edge still runs from an inside point to
+/// a point outside the hull; edges into the removed region get the smoothed score's zero
+/// crossing. Orthographic and perspective views; TBB-parallel over leaves and cells.
+/// @param progress called between steps with a fraction in [0, 1]; may throw to cancel.
+/// @throw cm::Error when the volume has no occupancy, no views are given, or a view's
+///        line-of-sight raster would be unreasonably large (a camera inside the object).
+std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const Views> views,
+                                       const PlausibleOptions& opt, const std::function<void(double)>& progress = {},
+                                       PlausibleStats* stats = nullptr);
+
+/// The depth-profile fraction (1 - (1 - u)^n)^(1/n) at u = d / R in [0, 1], blended with
+/// 1 by `roundness` (0 gives 1 everywhere: the hull).
+double profile_fraction(double u, double exponent, double roundness);
+
+/// @brief Local inscribed radius of a binary raster: for every inside cell, the radius
+/// of the largest disc inside the shape that holds it ("local thickness"), with `dist`
+/// the distance of every cell to the outline (cells). Cells outside get 0.
+std::vector<float> local_inscribed_radius(const std::vector<float>& dist, int w, int h);
+
+} // namespace cm

@@ -1,0 +1,219 @@
+// hull.plausible on shapes drawn in code: a sphere comes out round, a cube stays a cube
+// at roundness 0, a thin fin survives, and every line of sight keeps its voxel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "core/stage.h"
+#include "geometry/distance_transform.h"
+#include "hull_steps.h"
+#include "marching_cubes.h"
+#include "plausible.h"
+#include "render/raster.h"
+#include "support/shapes.h"
+#include "support/stage_harness.h"
+#include "support/test_support.h"
+
+using namespace cm;
+using namespace cm::test;
+
+namespace {
+
+std::shared_ptr<Views> views_of(const std::vector<std::string>& names, int size, double scale,
+                                const std::function<Outline(const Camera&)>& outline, Vec3d lo, Vec3d hi) {
+    std::vector<View> vs;
+    for (const auto& n : names) vs.push_back(ortho_view(n, size, scale, outline(*Camera::named(n))));
+    return make_views(std::move(vs), lo, hi);
+}
+
+std::shared_ptr<Views> sphere_views(double r) {
+    return views_of({"front", "right", "top"}, 320, 150.0, [r](const Camera&) { return sphere_outline(r); },
+                    {-r, -r, -r}, {r, r, r});
+}
+
+std::size_t occupied(const Volume& v) { return std::size_t(v.occupancy->activeVoxelCount()); }
+
+// The set of grid lines along `axis` holding an occupied grid point: what an
+// axis-aligned orthographic view sees at the grid's resolution.
+std::set<std::pair<int, int>> columns(const Volume& v, int axis) {
+    std::set<std::pair<int, int>> s;
+    auto grid = v.occupancy->deepCopy();
+    grid->tree().voxelizeActiveTiles();
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+        const auto c = it.getCoord();
+        s.insert({c[(axis + 1) % 3], c[(axis + 2) % 3]});
+    }
+    return s;
+}
+
+// Every grid line along x, y and z that held a voxel of the hull still holds one.
+void expect_columns_kept(const Volume& hull, const Volume& out) {
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(columns(hull, a), columns(out, a)) << "axis " << a;
+}
+
+// Mean distance of the mesh's vertices from the sphere of radius r at the origin, in r.
+double sphere_deviation(const Mesh& m, double r) {
+    double s = 0;
+    for (const auto& p : m.positions) s += std::abs(double(length(Vec3d(p))) - r);
+    return s / double(m.positions.size()) / r;
+}
+
+// Pixels of `ref` (a re-rendered hull) the mesh `m` leaves uncovered, over all views.
+double uncovered_pct(const Mesh& hull, const Mesh& m, const Views& views) {
+    double lost = 0, total = 0;
+    for (const auto& v : views.views) {
+        const auto a = render_mask(hull, v.camera, v.width, v.height);
+        const auto b = render_mask(m, v.camera, v.width, v.height);
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            total += a[i];
+            lost += a[i] && !b[i];
+        }
+    }
+    return 100.0 * lost / std::max(total, 1.0);
+}
+
+} // namespace
+
+TEST(HullPlausible, ProfileFractionIsRoundAndBlends) {
+    EXPECT_DOUBLE_EQ(profile_fraction(1.0, 2.0, 1.0), 1.0);
+    EXPECT_DOUBLE_EQ(profile_fraction(0.0, 2.0, 1.0), 0.0);
+    EXPECT_NEAR(profile_fraction(0.5, 2.0, 1.0), std::sqrt(0.75), 1e-12);
+    EXPECT_DOUBLE_EQ(profile_fraction(0.3, 2.0, 0.0), 1.0);
+    EXPECT_NEAR(profile_fraction(0.0, 2.0, 0.5), 0.5, 1e-12);
+    EXPECT_GT(profile_fraction(0.2, 6.0, 1.0), profile_fraction(0.2, 2.0, 1.0)); // flatter
+}
+
+TEST(HullPlausible, LocalInscribedRadiusOfADiscAndABar) {
+    // A disc of radius 20 beside a bar 6 cells high: the disc's cells get about 20, the bar's 3.
+    const int w = 100, h = 60;
+    std::vector<char> outside(std::size_t(w) * h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool disc = std::hypot(x - 25.0, y - 30.0) < 20.0;
+            const bool bar = x >= 40 && x < 95 && y >= 27 && y < 33;
+            outside[std::size_t(y) * w + x] = !(disc || bar);
+        }
+    std::vector<float> dist = squared_edt(outside, w, h);
+    for (auto& d : dist) d = d > 0 ? std::sqrt(d) - 0.5f : 0.0f;
+    const auto R = local_inscribed_radius(dist, w, h);
+    EXPECT_NEAR(R[std::size_t(30) * w + 25], 19.5, 1.0);
+    EXPECT_NEAR(R[std::size_t(30) * w + 12], 19.5, 1.5); // off centre, same disc
+    EXPECT_NEAR(R[std::size_t(28) * w + 80], 3.0, 0.6);
+    EXPECT_EQ(R[std::size_t(5) * w + 80], 0.0f);
+}
+
+// The hull of a sphere from three views is the intersection of three cylinders; the
+// plausible volume's deviation from the sphere is at most a third of the hull's.
+TEST(HullPlausible, SphereFromThreeViewsComesOutRound) {
+    const double r = 1.0;
+    auto views = sphere_views(r);
+    auto hull = carve_and_refine(views, 64);
+    PlausibleStats st;
+    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    EXPECT_GT(st.removed, 0u);
+    EXPECT_LT(occupied(*out), occupied(*hull));
+    const Mesh mh = marching_cubes(*hull), mp = marching_cubes(*out);
+    const double dh = sphere_deviation(mh, r), dp = sphere_deviation(mp, r);
+    EXPECT_LT(dp, dh / 3.0) << "hull " << dh << ", plausible " << dp;
+    EXPECT_TRUE(check_mesh(mp).closed_manifold());
+    expect_columns_kept(*hull, *out);
+    EXPECT_LT(uncovered_pct(mh, mp, *views), 0.5);
+}
+
+// At roundness 0 the cube is the hull, voxel for voxel and crossing for crossing; at any
+// roundness it keeps its three squares.
+TEST(HullPlausible, CubeStaysACubeAtRoundnessZero) {
+    auto views = std::make_shared<Views>(make_box_views(-1.0f, 1.0f, 200));
+    auto hull = carve_and_refine(views, 48);
+    PlausibleOptions opt;
+    opt.roundness = 0;
+    PlausibleStats st;
+    auto out = make_plausible(*hull, nullptr, opt, {}, &st);
+    EXPECT_EQ(st.removed, 0u);
+    EXPECT_EQ(occupied(*out), occupied(*hull));
+    std::size_t same = 0, total = 0;
+    auto acc = out->crossings->getConstAccessor();
+    for (auto it = hull->crossings->cbeginValueOn(); it; ++it, ++total) same += acc.getValue(it.getCoord()) == *it;
+    EXPECT_EQ(same, total);
+    for (double roundness : {0.5, 1.0}) {
+        opt.roundness = roundness;
+        auto o = make_plausible(*hull, nullptr, opt);
+        expect_columns_kept(*hull, *o);
+        const Mesh m = marching_cubes(*o);
+        EXPECT_TRUE(check_mesh(m).closed_manifold()) << roundness;
+        EXPECT_LT(uncovered_pct(marching_cubes(*hull), m, *views), 0.5) << roundness;
+    }
+}
+
+// A fin two cells thick on a ball: the fin has no volume to spare and stays whole.
+TEST(HullPlausible, ThinFinSurvives) {
+    const double r = 0.6;
+    const Vec3d flo{-1.0, -0.1, -0.035}, fhi{1.0, 0.1, 0.035};
+    auto views = views_of({"front", "right", "top"}, 320, 150.0,
+                          [&](const Camera& c) { return union_outline(sphere_outline(r), box_outline(flo, fhi, c.d)); },
+                          {-1.0, -r, -r}, {1.0, r, r});
+    auto hull = carve_and_refine(views, 64);
+    PlausibleStats st;
+    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    EXPECT_GT(st.removed, 0u);
+    // Grid points of the fin (outside the ball) in the hull, and how many stay.
+    std::size_t fin = 0, kept = 0;
+    auto grid = hull->occupancy->deepCopy();
+    grid->tree().voxelizeActiveTiles();
+    auto acc = out->occupancy->getConstAccessor();
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+        const auto w = hull->transform().indexToWorld(it.getCoord());
+        if (std::abs(w.x()) < r + 0.1) continue;
+        ++fin;
+        kept += acc.isValueOn(it.getCoord());
+    }
+    ASSERT_GT(fin, 100u);
+    EXPECT_EQ(kept, fin);
+    expect_columns_kept(*hull, *out);
+}
+
+// An oblique fourth view (azimuth 45, elevation 30) and perspective cameras: every pixel
+// the hull covers stays covered.
+TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
+    const double r = 1.0;
+    auto views = sphere_views(r);
+    View oblique = views->views[0];
+    oblique.name = "oblique";
+    Camera c = Camera::from_azimuth_elevation(45, 30);
+    c.scale = 150.0, c.cx = c.cy = 160.0;
+    oblique.camera = c;
+    auto all = std::make_shared<Views>(*views);
+    all->views.push_back(oblique); // a sphere looks the same from everywhere
+    auto hull = carve_and_refine(all, 64);
+    PlausibleStats st;
+    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    EXPECT_GT(st.removed, 0u);
+    const Mesh mh = marching_cubes(*hull), mp = marching_cubes(*out);
+    EXPECT_LT(uncovered_pct(mh, mp, *all), 0.5);
+    EXPECT_LT(sphere_deviation(mp, r), sphere_deviation(mh, r));
+
+    auto persp = make_views(perspective_sphere_ring({0.1, 0.2, -0.1}, 1.0, 500.0), {-1.2, -1.0, -1.4}, {1.4, 1.4, 1.2});
+    persp->calibrated = true;
+    auto ph = carve_and_refine(persp, 48);
+    auto po = make_plausible(*ph, nullptr, {}, {}, &st);
+    EXPECT_GT(st.removed, 0u);
+    const Mesh pmh = marching_cubes(*ph), pmp = marching_cubes(*po);
+    EXPECT_TRUE(check_mesh(pmp).closed_manifold());
+    EXPECT_LT(uncovered_pct(pmh, pmp, *persp), 0.5);
+}
+
+TEST(HullPlausible, StageRunsAndRefusesBadParameters) {
+    auto views = sphere_views(1.0);
+    auto hull = carve_and_refine(views, 32);
+    StageHarness h("hull.plausible");
+    h.params("{roundness: 0.8, ray_keep: 2}").input("volume", hull);
+    auto out = h.run<Volume>();
+    ASSERT_TRUE(out && out->occupancy);
+    EXPECT_LT(occupied(*out), occupied(*hull));
+    StageHarness bad("hull.plausible");
+    bad.params("{roundness: 1.5}").input("volume", hull);
+    EXPECT_NE(error_of([&] { bad.run<Volume>(); }).find("roundness"), std::string::npos);
+    Volume empty;
+    EXPECT_NE(error_of([&] { make_plausible(empty, views, {}); }).find("occupancy"), std::string::npos);
+}
