@@ -20,15 +20,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <Eigen/Dense>
 
 #include "core/error.h"
+#include "dmc_octree.h"
 #include "geometry/hull_normal.h"
 
 namespace cm {
 namespace {
-
-using Index = std::uint32_t;
 
 /// The Hermite normals of the crossings (one per Marching Cubes vertex, zero for centre vertices).
 std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const MarchingCubesPatches& P,
@@ -74,49 +72,6 @@ std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const Mar
             }
         });
     return N;
-}
-
-/// The vertex of one disc: the QEF minimum of its crossings (index space), clamped into its cell.
-struct QefResult {
-    Vec3d x;
-    int rank = 0;
-    bool clamped = false;
-};
-
-QefResult solve_qef(const Vec3d* p, const Vec3f* n, int count, const openvdb::Coord& cell, double singular_ratio) {
-    Vec3d mean{};
-    for (int i = 0; i < count; ++i) mean += p[i];
-    mean = mean / double(count);
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    for (int i = 0; i < count; ++i) {
-        const Eigen::Vector3d ni(n[i].x, n[i].y, n[i].z);
-        const Vec3d d = p[i] - mean;
-        A += ni * ni.transpose();
-        b += ni * ni.dot(Eigen::Vector3d(d.x, d.y, d.z));
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A);
-    const Eigen::Vector3d ev = es.eigenvalues();
-    const double top = std::max({ev[0], ev[1], ev[2], 0.0});
-    Eigen::Vector3d y = Eigen::Vector3d::Zero();
-    QefResult r;
-    if (top > 0) {
-        const Eigen::Matrix3d V = es.eigenvectors();
-        for (int k = 0; k < 3; ++k) {
-            if (ev[k] <= singular_ratio * top) continue;
-            y += V.col(k) * (V.col(k).dot(b) / ev[k]);
-            ++r.rank;
-        }
-    }
-    r.x = mean + Vec3d(y[0], y[1], y[2]);
-    // Clamped into the cell, a hair inside, so vertices of neighbouring cells never coincide.
-    constexpr double kMargin = 1e-3;
-    for (int a = 0; a < 3; ++a) {
-        const double lo = cell[a] + kMargin, hi = cell[a] + 1 - kMargin;
-        if (r.x[a] < lo || r.x[a] > hi) r.clamped = true;
-        r.x[a] = std::clamp(r.x[a], lo, hi);
-    }
-    return r;
 }
 
 /// The triangles of the Marching Cubes mesh around each vertex (CSR), rotated so the
@@ -196,43 +151,54 @@ Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt, DualMcStat
     MarchingCubesOptions mco = opt.mc;
     mco.progress = [&](double f) { progress(0.4 * f); };
     const Mesh mc = marching_cubes(vol, mco, &st.mc, &P);
-    const std::size_t nloops = P.loop_cell.size();
+    const std::size_t nloops = P.loop_cell.size(), nv = mc.positions.size();
     st.cells = nloops;
 
-    // 2. Normals.
-    const std::vector<Vec3f> N = crossing_normals(vol, mc, P, opt.normals, st.normals);
-    progress(0.6);
-
-    // 3. One vertex per loop. A loop's triangles are consecutive.
+    // 2. Normals; the crossings in index space.
+    DualMesh D;
+    D.cross_n = crossing_normals(vol, mc, P, opt.normals, st.normals);
     const auto& xf = vol.occupancy->transform();
     const openvdb::Vec3d w0 = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
     const double h = vol.voxel_size();
-    auto to_index = [&](const Vec3f& w) { return Vec3d((w.x - w0.x()) / h, (w.y - w0.y()) / h, (w.z - w0.z()) / h); };
-    std::vector<Index> loop_first(nloops + 1, Index(mc.triangles.size()));
-    for (Index t = Index(mc.triangles.size()); t-- > 0;) loop_first[P.triangle_loop[t]] = t;
-    Mesh out;
-    out.positions.resize(nloops);
+    D.cross_pos.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const Vec3f& w = mc.positions[v];
+        D.cross_pos[v] = Vec3d((w.x - w0.x()) / h, (w.y - w0.y()) / h, (w.z - w0.z()) / h);
+    }
+    progress(0.6);
+
+    // 3. Each loop's crossings (its triangles are consecutive), and its vertex.
+    {
+        std::vector<Index> tfirst(nloops + 1, Index(mc.triangles.size()));
+        for (Index t = Index(mc.triangles.size()); t-- > 0;) tfirst[P.triangle_loop[t]] = t;
+        D.loop_first.assign(nloops + 1, 0);
+        D.loop_cross.reserve(nv * 4);
+        for (std::size_t l = 0; l < nloops; ++l) {
+            const std::size_t b = D.loop_cross.size();
+            for (Index t = tfirst[l]; t < tfirst[l + 1]; ++t)
+                for (Index v : mc.triangles[t])
+                    if (P.vertex_edge[v][3] >= 0 && std::find(D.loop_cross.begin() + std::ptrdiff_t(b),
+                                                              D.loop_cross.end(), v) == D.loop_cross.end())
+                        D.loop_cross.push_back(v);
+            D.loop_first[l + 1] = Index(D.loop_cross.size());
+        }
+    }
+    D.loop_cell = std::move(P.loop_cell);
+    D.vert.resize(nloops);
     std::atomic<std::size_t> clamped{0}, multi{0};
     std::atomic<std::size_t> ranks[4] = {0, 0, 0, 0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nloops, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         std::size_t my_clamped = 0, my_multi = 0, my_rank[4] = {0, 0, 0, 0};
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
-            Index ids[40];
-            int n = 0;
-            for (Index t = loop_first[l]; t < loop_first[l + 1]; ++t)
-                for (Index v : mc.triangles[t])
-                    if (P.vertex_edge[v][3] >= 0 && std::find(ids, ids + n, v) == ids + n && n < 40) ids[n++] = v;
-            Vec3d p[40];
-            Vec3f nn[40];
-            for (int i = 0; i < n; ++i) p[i] = to_index(mc.positions[ids[i]]), nn[i] = N[ids[i]];
-            const QefResult q = solve_qef(p, nn, n, P.loop_cell[l], opt.singular_ratio);
-            const openvdb::Vec3d w = xf.indexToWorld(openvdb::Vec3d(q.x.x, q.x.y, q.x.z));
-            out.positions[l] = Vec3f(float(w.x()), float(w.y()), float(w.z()));
-            my_clamped += q.clamped;
-            ++my_rank[q.rank];
-            if ((l > 0 && P.loop_cell[l - 1] == P.loop_cell[l]) ||
-                (l + 1 < nloops && P.loop_cell[l + 1] == P.loop_cell[l]))
-                ++my_multi;
+            Qef q;
+            for (Index i = D.loop_first[l]; i < D.loop_first[l + 1]; ++i)
+                q.add(D.cross_pos[D.loop_cross[i]], D.cross_n[D.loop_cross[i]]);
+            const openvdb::Coord& c = D.loop_cell[l];
+            const Qef::Result res = q.solve(Vec3d(c.x(), c.y(), c.z()), 1.0, opt.singular_ratio);
+            D.vert[l] = res.x;
+            my_clamped += res.clamped;
+            ++my_rank[res.rank];
+            if ((l > 0 && D.loop_cell[l - 1] == c) || (l + 1 < nloops && D.loop_cell[l + 1] == c)) ++my_multi;
         }
         clamped += my_clamped;
         multi += my_multi;
@@ -241,48 +207,78 @@ Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt, DualMcStat
     st.clamped = clamped;
     st.multi_disc_cells = multi;
     for (int k = 0; k < 4; ++k) st.rank[k] = ranks[k];
-    progress(0.75);
+    progress(0.7);
 
-    // 4. One polygon per crossed edge: count, then write.
-    const Fans fans = build_fans(mc);
-    const std::size_t nv = mc.positions.size();
-    std::vector<Index> tri_first(nv + 1, 0);
-    std::atomic<std::size_t> bad{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        Index loops[16];
-        for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            if (P.vertex_edge[v][3] < 0) continue;
-            const int k = ring(fans, P, Index(v), loops, 16);
-            if (k < 3) ++bad;
-            else tri_first[v + 1] = Index(k - 2);
-        }
-    });
-    if (bad)
-        throw Error("dual marching cubes: " + std::to_string(std::size_t(bad)) +
-                    " crossing(s) have fewer than three discs around them (internal error)");
-    for (std::size_t v = 0; v < nv; ++v) tri_first[v + 1] += tri_first[v];
-    out.triangles.resize(tri_first.back());
-    std::atomic<std::size_t> quads{0}, other{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        Index loops[16];
-        std::size_t my_quads = 0, my_other = 0;
-        for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            const Index t0 = tri_first[v], nt = tri_first[v + 1] - t0;
-            if (nt == 0) continue;
-            const int k = ring(fans, P, Index(v), loops, 16);
-            if (k == 4) {
-                split_quad(out.positions, loops, &out.triangles[t0]);
-                ++my_quads;
-            } else {
-                for (int i = 1; i + 1 < k; ++i) out.triangles[t0 + Index(i - 1)] = {loops[0], loops[i], loops[i + 1]};
-                ++my_other;
+    // 4. One polygon per crossed edge: the loops around it.
+    {
+        const Fans fans = build_fans(mc);
+        D.face_first.assign(nv + 1, 0);
+        std::atomic<std::size_t> bad{0};
+        std::vector<std::uint8_t> count(nv, 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            Index loops[16];
+            for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                if (P.vertex_edge[v][3] < 0) continue;
+                const int k = ring(fans, P, Index(v), loops, 16);
+                if (k < 3) ++bad;
+                else count[v] = std::uint8_t(k);
             }
+        });
+        if (bad)
+            throw Error("dual marching cubes: " + std::to_string(std::size_t(bad)) +
+                        " crossing(s) have fewer than three discs around them (internal error)");
+        for (std::size_t v = 0; v < nv; ++v) D.face_first[v + 1] = D.face_first[v] + count[v];
+        D.face_loops.resize(D.face_first.back());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t v = r.begin(); v != r.end(); ++v)
+                if (count[v]) ring(fans, P, Index(v), &D.face_loops[D.face_first[v]], count[v]);
+        });
+        for (std::size_t v = 0; v < nv; ++v) {
+            if (count[v] == 4) ++st.quads;
+            else if (count[v]) ++st.other_polygons;
         }
-        quads += my_quads;
-        other += my_other;
-    });
-    st.quads = quads;
-    st.other_polygons = other;
+    }
+    progress(0.8);
+
+    // 5. Adaptivity: cells merged up the octree.
+    std::vector<Index> rep(nloops);
+    for (std::size_t l = 0; l < nloops; ++l) rep[l] = Index(l);
+    if (opt.max_error > 0) {
+        AdaptiveStats ast;
+        merge_octree(D, opt.max_error, opt.singular_ratio, rep, ast);
+        st.merged = ast.merged;
+        st.levels = ast.levels;
+    }
+    progress(0.9);
+
+    // 6. The triangles, on the vertices that remain.
+    Mesh out;
+    std::vector<Index> id(nloops, kNoIndex);
+    for (std::size_t l = 0; l < nloops; ++l) {
+        if (rep[l] != l) continue;
+        id[l] = Index(out.positions.size());
+        const openvdb::Vec3d w = xf.indexToWorld(openvdb::Vec3d(D.vert[l].x, D.vert[l].y, D.vert[l].z));
+        out.positions.emplace_back(float(w.x()), float(w.y()), float(w.z()));
+    }
+    out.triangles.reserve(2 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        Index poly[16];
+        int k = 0;
+        for (Index i = D.face_first[v]; i < D.face_first[v + 1]; ++i) {
+            const Index u = id[rep[D.face_loops[i]]];
+            if (k == 0 || poly[k - 1] != u) poly[k++] = u;
+        }
+        while (k > 1 && poly[k - 1] == poly[0]) --k;
+        if (k < 3) continue;
+        if (k == 4) {
+            std::array<Index, 3> t[2];
+            split_quad(out.positions, poly, t);
+            out.triangles.push_back(t[0]);
+            out.triangles.push_back(t[1]);
+        } else {
+            for (int i = 1; i + 1 < k; ++i) out.triangles.push_back({poly[0], poly[i], poly[i + 1]});
+        }
+    }
     progress(1.0);
     if (stats_out) *stats_out = st;
     return out;

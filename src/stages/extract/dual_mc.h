@@ -21,8 +21,9 @@ struct DualMcOptions {
     /// Eigenvalues of the QEF under this fraction of its largest are dropped
     /// (pseudo-inverse): a flat or ruled patch keeps its vertex near the crossings' mean.
     double singular_ratio = 0.1;
-    /// Adaptivity (in voxels): neighbouring cells are merged up an octree while one vertex
-    /// stays within this QEF error of all their crossings; 0 keeps every cell.
+    /// Adaptivity (in cells): the cells of an octree node are merged into one vertex when it
+    /// lies within this distance of every crossing's tangent plane and the merge keeps the
+    /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
     double max_error = 0.0;
     /// Called on the calling thread with the fraction done; may throw to cancel.
     std::function<void(double)> progress;
@@ -35,7 +36,8 @@ struct DualMcStats {
     std::size_t other_polygons = 0;     ///< edges whose ring of discs is not four (split as a fan)
     std::size_t clamped = 0;            ///< QEF minima outside their cell, clamped into it
     std::size_t rank[4] = {0, 0, 0, 0}; ///< discs by the QEF's rank: 0 (none), 1 flat, 2 crease, 3 corner
-    std::size_t merged = 0;             ///< cells merged into a coarser vertex (adaptive)
+    std::size_t merged = 0;             ///< discs merged into a coarser vertex (adaptive)
+    int levels = 0;                     ///< octree levels that merged anything
     const char* normals = "";           ///< "stored", "views" or "mesh"
     MarchingCubesStats mc;
 };

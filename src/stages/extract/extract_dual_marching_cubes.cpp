@@ -31,6 +31,11 @@ public:
                               "(exact), else mesh; views requires the views; mesh approximates them from the "
                               "Marching Cubes surface"),
               {Normals::Auto, Normals::Views, Normals::Mesh});
+        b.add(opt_.max_error,
+              ParamSpec::Float("max_error", 0.1, 0.0, 16.0, "cell",
+                               "adaptivity: cells merge up an octree into one vertex while it stays within this "
+                               "distance of every crossing's tangent plane and the topology is kept; 0: one "
+                               "vertex per disc of every cell"));
         b.add(opt_.singular_ratio,
               ParamSpec::Float("singular_ratio", 0.1, 0.0, 1.0, "",
                                "QEF eigenvalues below this fraction of the largest are dropped: larger keeps "
@@ -69,6 +74,8 @@ public:
         ctx.metric("crease_vertices", double(st.rank[2]));
         ctx.metric("corner_vertices", double(st.rank[3]));
         ctx.metric("normals", st.normals);
+        ctx.metric("merged", double(st.merged));
+        ctx.metric("levels", double(st.levels));
         ctx.metric("thin_points", double(st.mc.thin_points));
         if (st.mc.missing_crossings)
             ctx.warn(std::to_string(st.mc.missing_crossings) +
