@@ -9,6 +9,7 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
       libmeshoptimizer-dev
       libssl-dev libjs-three)
+pkgs+=(libeigen3-dev) # the 3x3 QEF of extract.dual_marching_cubes
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

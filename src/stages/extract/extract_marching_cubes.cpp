@@ -1,21 +1,17 @@
 // extract.marching_cubes: the volume's boundary as a closed, 2-manifold, outward
 // triangle mesh (paper step 3), with vertices at the exact crossings when refined.
-#include <cstdio>
-
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/volume.h"
 #include "marching_cubes.h"
+#include "mesh_report.h"
 
 namespace cm {
 namespace {
 
-constexpr std::size_t kAutoCheckFaces = 5'000'000;
-
 class ExtractMarchingCubes : public Stage {
-    enum class Check { Auto, On, Off };
     MarchingCubesOptions opt_;
-    Check check_ = Check::Auto;
+    MeshCheckMode check_ = MeshCheckMode::Auto;
 
 public:
     StageSignature signature() const override {
@@ -42,9 +38,7 @@ public:
               ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
                                "crossings nearer than this to a grid point are moved out to it, so no two "
                                "vertices coincide"));
-        b.add_auto_on_off(check_, "check",
-                          "check the mesh (closed, manifold, outward, no degenerate faces) and report the counts; "
-                          "auto: up to 5 million faces (the check costs more time and memory than the extraction)");
+        declare_check(b, check_);
     }
 
     Data run(const Inputs& in, Context& ctx) override {
@@ -72,27 +66,7 @@ public:
                 std::to_string(st.missing_crossings) +
                 " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
         }
-        if (check_ == Check::On || (check_ == Check::Auto && mesh->face_count() <= kAutoCheckFaces)) {
-            const MeshCheck c = check_mesh(*mesh);
-            ctx.metric("boundary_edges", double(c.boundary_edges));
-            ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges));
-            ctx.metric("nonmanifold_vertices", double(c.nonmanifold_vertices));
-            ctx.metric("inconsistent_edges", double(c.inconsistent_edges));
-            ctx.metric("degenerate_faces", double(c.degenerate_faces));
-            ctx.metric("components", double(c.components));
-            ctx.metric("euler", double(c.euler));
-            ctx.metric("volume", c.signed_volume);
-            ctx.metric("area", c.area);
-            if (!c.closed_manifold() || c.degenerate_faces || c.signed_volume <= 0) {
-                char buf[256];
-                std::snprintf(buf, sizeof buf,
-                              "the mesh fails its check: %zu boundary, %zu non-manifold and %zu inconsistent edges, "
-                              "%zu non-manifold vertices, %zu degenerate faces, volume %g",
-                              c.boundary_edges, c.nonmanifold_edges, c.inconsistent_edges, c.nonmanifold_vertices,
-                              c.degenerate_faces, c.signed_volume);
-                ctx.warn(buf);
-            }
-        }
+        report_mesh_check(*mesh, check_, ctx);
         return std::shared_ptr<const Mesh>(mesh);
     }
 };

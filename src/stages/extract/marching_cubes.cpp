@@ -175,7 +175,8 @@ public:
 
     /// Writes the vertices of `b` into positions[b.vbase...]; returns how many of its edges
     /// had no valid crossing.
-    std::size_t place(const Block& b, std::vector<Vec3f>& positions) const {
+    std::size_t place(const Block& b, std::vector<Vec3f>& positions,
+                      std::vector<std::array<std::int32_t, 4>>* edges = nullptr) const {
         const openvdb::Vec3fGrid::TreeType::LeafNodeType* cleaf = nullptr;
         std::size_t miss = 0;
         if (src_.crossings) cleaf = src_.crossings->tree().probeConstLeaf(b.origin);
@@ -221,6 +222,7 @@ public:
                         else ++miss;
                     }
                     t = std::clamp(t, lo_t_, hi_t_);
+                    if (edges) (*edges)[v] = {p.x(), p.y(), p.z(), a};
                     positions[v++] = world(p, a, t, shift);
                 }
         return miss;
@@ -248,9 +250,10 @@ private:
 /// nextra), then written at the block's offsets (emit true).
 class Triangulator {
 public:
-    Triangulator(std::vector<Block>& blocks, Mesh& mesh, const MarchingCubesOptions& opt)
+    Triangulator(std::vector<Block>& blocks, Mesh& mesh, const MarchingCubesOptions& opt, MarchingCubesPatches* patches)
         : blocks_(blocks),
           mesh_(mesh),
+          patches_(patches),
           table_(mc::Table::get()),
           geometric_(opt.ambiguity == MarchingCubesOptions::Ambiguity::Geometric),
           join_(opt.ambiguity == MarchingCubesOptions::Ambiguity::Join) {}
@@ -260,8 +263,8 @@ public:
 
     void process(std::size_t bi, bool emit) {
         Block& b = blocks_[bi];
-        std::uint32_t tri = b.tbase, extra = b.xbase;
-        std::uint32_t ntris = 0, nextra = 0;
+        std::uint32_t tri = b.tbase, extra = b.xbase, lp = b.lbase;
+        std::uint32_t ntris = 0, nextra = 0, nloops = 0;
         std::size_t namb = 0, njoin = 0;
         for (int x = 0; x < 8; ++x)
             for (int y = 0; y < 8; ++y)
@@ -278,6 +281,7 @@ public:
                         njoin += std::size_t(popcount64((bits ^ table_.separating_bits(config)) & amb));
                     }
                     const mc::Case& cs = table_.lookup(config, bits);
+                    nloops += cs.loop_count;
                     for (std::uint32_t li = 0; li < cs.loop_count; ++li) {
                         const mc::Loop& loop = table_.loop(cs.first_loop + li);
                         const int n = loop.size;
@@ -290,12 +294,20 @@ public:
                         if (!emit) continue;
                         std::uint32_t id[12];
                         for (int k = 0; k < n; ++k) id[k] = vertex(b, x, y, z, loop.edges[std::size_t(k)]);
+                        const std::uint32_t tri0 = tri;
                         write_loop(loop, id, tri, extra);
+                        if (patches_) {
+                            for (std::uint32_t t = tri0; t < tri; ++t) patches_->triangle_loop[t] = lp;
+                            patches_->loop_cell[lp] = b.origin.offsetBy(x, y, z);
+                            if (loop.mode == mc::Loop::Centroid) patches_->vertex_edge[extra - 1] = {0, 0, 0, -1};
+                        }
+                        ++lp;
                     }
                 }
         if (!emit) {
             b.ntris = ntris;
             b.nextra = nextra;
+            b.nloops = nloops;
             if (namb) amb_faces_ += namb;
             if (njoin) joined_faces_ += njoin;
         }
@@ -400,6 +412,7 @@ private:
 
     std::vector<Block>& blocks_;
     Mesh& mesh_;
+    MarchingCubesPatches* patches_;
     const mc::Table& table_;
     const bool geometric_, join_;
     std::atomic<std::size_t> amb_faces_{0}, joined_faces_{0};
@@ -407,7 +420,8 @@ private:
 
 } // namespace
 
-Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, MarchingCubesStats* stats_out) {
+Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, MarchingCubesStats* stats_out,
+                    MarchingCubesPatches* patches) {
     if (!vol.occupancy) throw Error("the volume has no occupancy grid");
     const openvdb::BoolGrid& occ = *vol.occupancy;
     MarchingCubesStats stats;
@@ -420,27 +434,36 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     // 2. Vertices at the crossings.
     Mesh mesh;
     mesh.positions.resize(nverts);
+    if (patches) patches->vertex_edge.resize(nverts);
     const VertexPlacer placer(src, occ.transform(), opt);
     std::atomic<std::size_t> missing{0};
     for_blocks(blocks.size(), 0.35, 0.6, opt, [&](std::size_t i) {
-        if (const std::size_t miss = placer.place(blocks[i], mesh.positions)) missing += miss;
+        if (const std::size_t miss = placer.place(blocks[i], mesh.positions, patches ? &patches->vertex_edge : nullptr))
+            missing += miss;
     });
     stats.missing_crossings = missing;
 
     // 3. Triangles: count, then write.
-    Triangulator triangulator(blocks, mesh, opt);
+    Triangulator triangulator(blocks, mesh, opt, patches);
     for_blocks(blocks.size(), 0.6, 0.75, opt, [&](std::size_t i) { triangulator.process(i, false); });
-    std::size_t ntris = 0, nextra = 0;
+    std::size_t ntris = 0, nextra = 0, nloops = 0;
     for (Block& b : blocks) {
         b.tbase = std::uint32_t(ntris);
         b.xbase = std::uint32_t(nverts + nextra);
+        b.lbase = std::uint32_t(nloops);
         ntris += b.ntris;
         nextra += b.nextra;
+        nloops += b.nloops;
     }
     if (nverts + nextra >= kNone / 2 || ntris >= kNone / 2)
         throw Error("the surface has too many triangles for 32-bit indices");
     mesh.positions.resize(nverts + nextra);
     mesh.triangles.resize(ntris);
+    if (patches) {
+        patches->vertex_edge.resize(nverts + nextra);
+        patches->triangle_loop.resize(ntris);
+        patches->loop_cell.resize(nloops);
+    }
     for_blocks(blocks.size(), 0.75, 1.0, opt, [&](std::size_t i) { triangulator.process(i, true); });
     stats.ambiguous_faces = triangulator.ambiguous_faces();
     stats.joined_faces = triangulator.joined_faces();

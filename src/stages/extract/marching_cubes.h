@@ -1,7 +1,10 @@
 // Marching Cubes over a sparse occupancy grid with exact edge crossings.
 #pragma once
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "core/mesh.h"
 #include "core/volume.h"
@@ -36,11 +39,23 @@ struct MarchingCubesStats {
     std::size_t thin_points = 0;       ///< grid points made inside to keep thin parts
 };
 
+/// The cell structure behind a Marching Cubes mesh, for the dual extractors: every loop is
+/// one disc of surface inside one cell (the cell's part of one surface component).
+struct MarchingCubesPatches {
+    std::vector<std::uint32_t> triangle_loop; ///< per triangle: its loop
+    std::vector<openvdb::Coord> loop_cell;    ///< per loop: its cell (the cell's lowest grid point)
+    /// Per vertex: the lattice edge it sits on, as start point and axis (axis -1 for the extra
+    /// centre vertex of a loop).
+    std::vector<std::array<std::int32_t, 4>> vertex_edge;
+};
+
 /// @brief Extracts the boundary of `vol.occupancy` as a closed, 2-manifold, outward
 /// triangle mesh in world space (the volume's transform). One vertex per crossed
 /// lattice edge, placed at the exact crossing when the volume is refined.
 /// TBB-parallel over 8^3 blocks of cells.
+/// @param patches when given, filled with the loops behind the triangles.
 /// @throw cm::Error when the occupancy is missing or its grids do not match.
-Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt = {}, MarchingCubesStats* stats = nullptr);
+Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt = {}, MarchingCubesStats* stats = nullptr,
+                    MarchingCubesPatches* patches = nullptr);
 
 } // namespace cm

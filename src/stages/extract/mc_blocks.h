@@ -29,6 +29,7 @@ struct Block {
     std::uint32_t vbase = 0, nverts = 0;
     std::uint32_t tbase = 0, ntris = 0;
     std::uint32_t xbase = 0, nextra = 0;
+    std::uint32_t lbase = 0, nloops = 0; ///< loops (discs of surface in one cell), when counted
 };
 
 /// Bit z set when cell (x, y, z) of a block with these corner rows has mixed corners.

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <limits>
 
+#include <openvdb/tree/LeafManager.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "geometry/hull_normal.h"
 #include "geometry/visual_hull.h"
 
 namespace cm {
@@ -322,6 +324,40 @@ void add_thin_grids(Volume& out, const std::vector<ThinHit>& all, const openvdb:
 
 } // namespace
 
+void add_normal_grids(Volume& vol, const VisualHull& hull) {
+    if (!vol.crossings) throw Error("the volume has no crossings to give normals to");
+    const auto& xform = vol.crossings->transform();
+    std::erase_if(vol.extra, [](const openvdb::GridBase::Ptr& g) {
+        return g && (g->getName() == "normal_x" || g->getName() == "normal_y" || g->getName() == "normal_z");
+    });
+    const char* names[3] = {"normal_x", "normal_y", "normal_z"};
+    for (int a = 0; a < 3; ++a) {
+        auto tree = std::make_shared<VecTree>(vol.crossings->tree(), openvdb::Vec3f(0.0f), openvdb::TopologyCopy());
+        openvdb::tree::LeafManager<VecTree> leaves(*tree);
+        const VecTree& ctree = vol.crossings->tree();
+        leaves.foreach ([&](VecLeaf& leaf, std::size_t) {
+            const VecLeaf* cl = ctree.probeConstLeaf(leaf.origin());
+            for (auto it = leaf.beginValueOn(); it; ++it) {
+                const float t = cl ? cl->getValue(it.pos())[a] : -1.0f;
+                if (!(t >= 0.0f && t <= 1.0f)) {
+                    it.setValueOff();
+                    continue;
+                }
+                openvdb::Vec3d ip = it.getCoord().asVec3d();
+                ip[a] += double(t);
+                const openvdb::Vec3d w = xform.indexToWorld(ip);
+                const Vec3d n = hull_normal(hull, {w.x(), w.y(), w.z()}).normal;
+                it.setValue(openvdb::Vec3f(float(n.x), float(n.y), float(n.z)));
+            }
+        });
+        tree->prune();
+        auto grid = openvdb::Vec3fGrid::create(tree);
+        grid->setTransform(xform.copy());
+        grid->setName(names[a]);
+        vol.extra.push_back(grid);
+    }
+}
+
 std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> views, const RefineOptions& opt,
                                const std::function<void(double)>& progress, RefineStats* stats) {
     if (!in.occupancy) throw Error("the volume has no occupancy grid");
@@ -336,16 +372,9 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         lat.origin = {o.x(), o.y(), o.z()};
         lat.h = xform.voxelSize()[0];
     }
-    Vec3d clip_lo{-1e300, -1e300, -1e300}, clip_hi{1e300, 1e300, 1e300};
-    if (auto m = in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_min")) {
-        const auto v = m->value();
-        clip_lo = {v.x(), v.y(), v.z()};
-    }
-    if (auto m = in.occupancy->getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
-        const auto v = m->value();
-        clip_hi = {v.x(), v.y(), v.z()};
-    }
-    const VisualHull hull(*views, clip_lo, clip_hi);
+    const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views);
+    const VisualHull& hull = *hull_ptr;
+    const Vec3d clip_lo = hull.clip_lo(), clip_hi = hull.clip_hi();
     const openvdb::BoolTree& occ = in.occupancy->tree();
 
     // Topology of the crossings.
@@ -375,6 +404,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
         n_thin = all.size();
     }
+    if (opt.normals) add_normal_grids(*out, hull);
     if (progress) progress(1.0);
     if (stats) {
         stats->crossings = n_cross;

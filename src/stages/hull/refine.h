@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/volume.h"
+#include "geometry/visual_hull.h"
 
 namespace cm {
 
@@ -15,6 +16,8 @@ struct RefineOptions {
     enum class Thin { Auto, On, Off };
     Thin thin = Thin::Auto;
     double thin_auto_px = 1.0;
+    /// Also store the exact outward normal of every crossing (add_normal_grids()).
+    bool normals = false;
 };
 
 struct RefineStats {
@@ -24,6 +27,13 @@ struct RefineStats {
     double cell_px = 0;             ///< grid spacing in pixels of the finest view (at the hull's centre)
     bool thin_searched = false;
 };
+
+/// @brief Stores the exact outward normal of the hull at every crossing of `vol` as the
+/// extra grids "normal_x", "normal_y", "normal_z" (openvdb::Vec3fGrid on the crossings'
+/// transform): grid a at p holds the normal where the edge p -> p + e_a crosses the hull,
+/// active exactly where that crossing is set (see hull_normal.h). Replaces earlier ones.
+/// @throw cm::Error when the volume has no crossings.
+void add_normal_grids(Volume& vol, const VisualHull& hull);
 
 /// @brief Finds, for every lattice edge whose ends differ in occupancy, where it leaves
 /// the visual hull of `views` (the intersection of the per-view inside intervals along

@@ -1,0 +1,73 @@
+#include "geometry/hull_normal.h"
+
+#include <cmath>
+#include <limits>
+
+namespace cm {
+
+namespace {
+
+// Pixel position of a world point in a view (after the perspective division).
+Vec2d pixel(const SilhouetteField& f, const Vec3d& p) {
+    const auto h = f.project_h(p);
+    return {h[0] / h[2], h[1] / h[2]};
+}
+
+} // namespace
+
+HullNormal hull_normal(const VisualHull& hull, const Vec3d& p) {
+    HullNormal best{{0, 0, 0}, -1, std::numeric_limits<double>::infinity()};
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+        const SilhouetteField& f = hull.field(i);
+        if (f.project_h(p)[2] <= SilhouetteField::kMinDepth) continue;
+        const Vec2d q = pixel(f, p);
+        // Gradient of the bilinear coverage in pixels (exact within a cell of pixel centres).
+        constexpr double e = 1e-3;
+        const double c = f.coverage(q.x, q.y);
+        const double gx = (f.coverage(q.x + e, q.y) - f.coverage(q.x - e, q.y)) / (2 * e);
+        const double gy = (f.coverage(q.x, q.y + e) - f.coverage(q.x, q.y - e)) / (2 * e);
+        if (gx == 0 && gy == 0) continue; // no outline through this pixel cell
+        // Pulled back through the projection's Jacobian (linear for orthographic views).
+        const double d = 1e-3 * f.pixel_size_at(p);
+        Vec3d g{};
+        for (int a = 0; a < 3; ++a) {
+            Vec3d lo = p, hi = p;
+            lo[a] -= d;
+            hi[a] += d;
+            const Vec2d ql = pixel(f, lo), qh = pixel(f, hi);
+            g[a] = (gx * (qh.x - ql.x) + gy * (qh.y - ql.y)) / (2 * d);
+        }
+        const double gl = length(g);
+        if (!(gl > 0)) continue;
+        const double dist = std::abs(c - 0.5) / gl;
+        if (dist < best.distance) best = {g * (-1.0 / gl), int(i), dist};
+    }
+    // A face of the clip box nearer than every outline bounds the hull there.
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const double plane = side ? hull.clip_hi()[a] : hull.clip_lo()[a];
+            if (!std::isfinite(plane) || std::abs(plane) > 1e200) continue;
+            const double dist = std::abs(p[a] - plane);
+            if (dist < best.distance) {
+                Vec3d n{0, 0, 0};
+                n[a] = side ? 1.0 : -1.0;
+                best = {n, -1, dist};
+            }
+        }
+    return best;
+}
+
+std::unique_ptr<VisualHull> carved_hull(const openvdb::BoolGrid& occupancy, const Views& views) {
+    Vec3d lo{-1e300, -1e300, -1e300}, hi{1e300, 1e300, 1e300};
+    if (auto m = occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_min")) {
+        const auto v = m->value();
+        lo = {v.x(), v.y(), v.z()};
+    }
+    if (auto m = occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
+        const auto v = m->value();
+        hi = {v.x(), v.y(), v.z()};
+    }
+    return std::make_unique<VisualHull>(views, lo, hi);
+}
+
+} // namespace cm
