@@ -7,6 +7,7 @@
 #include <fstream>
 #include <thread>
 
+#include <sys/resource.h>
 #include <tbb/task_group.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -27,6 +28,14 @@ std::size_t current_rss() {
     std::size_t pages = 0, resident = 0;
     in >> pages >> resident;
     return resident * std::size_t(::sysconf(_SC_PAGESIZE));
+}
+
+/// CPU seconds (user + system, all threads) the process has used so far.
+double process_cpu_seconds() {
+    rusage u{};
+    ::getrusage(RUSAGE_SELF, &u);
+    auto secs = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+    return secs(u.ru_utime) + secs(u.ru_stime);
 }
 
 std::size_t peak_rss() {
@@ -120,7 +129,7 @@ private:
     Context context(const PipelineNode& node);
     /// Runs the node's stage; false when it failed (the first failure is kept).
     bool run_node(std::size_t i, const Inputs& in, Context& ctx);
-    void record(std::size_t i, const Context& ctx, double seconds, std::size_t rss0, std::size_t peak);
+    void record(std::size_t i, const Context& ctx, double seconds, double cpu, std::size_t rss0, std::size_t peak);
     /// Frees the node's inputs nobody else needs (grids can be large) and launches the
     /// dependents it was the last input of.
     void release(std::size_t i);
@@ -197,11 +206,12 @@ void PipelineRun::execute(std::size_t i) {
     if (opt_.sink) opt_.sink->started(node.id, node.stage);
     const std::size_t rss0 = memory_.begin(i);
     const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = process_cpu_seconds();
     const bool ok = run_node(i, in, ctx);
     const std::size_t peak = memory_.end(i);
     if (!ok) return;
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    record(i, ctx, secs, rss0, peak);
+    record(i, ctx, secs, process_cpu_seconds() - cpu0, rss0, peak);
     if (opt_.sink) opt_.sink->finished(node.id, secs);
     in = Inputs();
     release(i);
@@ -227,13 +237,15 @@ bool PipelineRun::run_node(std::size_t i, const Inputs& in, Context& ctx) {
     }
 }
 
-void PipelineRun::record(std::size_t i, const Context& ctx, double seconds, std::size_t rss0, std::size_t peak) {
+void PipelineRun::record(std::size_t i, const Context& ctx, double seconds, double cpu, std::size_t rss0,
+                         std::size_t peak) {
     const auto& node = p_.nodes[i];
     auto& rec = records_[i];
     rec.id = node.id;
     rec.stage = node.stage;
     for (const auto& [k, v] : node.params.values()) rec.params_json[k] = param_to_json(v).dump();
     rec.seconds = seconds;
+    rec.cpu_seconds = cpu;
     rec.peak_rss_bytes = peak;
     rec.rss_growth_bytes = peak > rss0 ? peak - rss0 : 0;
     rec.metrics_json = ctx.metrics_json();
@@ -250,6 +262,7 @@ void PipelineRun::release(std::size_t i) {
 RunResult PipelineRun::commit() {
     RunResult result;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    result.cpu_seconds = process_cpu_seconds();
     result.peak_rss_bytes = peak_rss();
     result.labels = opt_.labels;
     for (std::size_t i : p_.order) result.nodes.push_back(records_[i]);
@@ -283,6 +296,7 @@ std::string RunResult::to_json(const Pipeline& p) const {
     j["file"] = p.file.string();
     j["conceptmesh_version"] = CONCEPTMESH_VERSION_STRING;
     j["seconds"] = seconds;
+    j["cpu_seconds"] = cpu_seconds;
     j["peak_rss_bytes"] = peak_rss_bytes;
     j["outputs"] = json::array();
     for (const auto& o : outputs) j["outputs"].push_back(o.string());
@@ -295,6 +309,7 @@ std::string RunResult::to_json(const Pipeline& p) const {
         jn["params"] = json::object();
         for (const auto& [k, v] : r.params_json) jn["params"][k] = json::parse(v);
         jn["seconds"] = r.seconds;
+        jn["cpu_seconds"] = r.cpu_seconds;
         jn["peak_rss_bytes"] = r.peak_rss_bytes;
         jn["rss_growth_bytes"] = r.rss_growth_bytes;
         jn["metrics"] = json::object();

@@ -78,6 +78,9 @@ struct NodeRecord {
     std::string id, stage;
     std::map<std::string, std::string> params_json; ///< name -> JSON text
     double seconds = 0;
+    /// CPU seconds (user + system, all threads) of the process while the node ran; nodes
+    /// running at the same time (independent branches) are counted in each other's.
+    double cpu_seconds = 0;
     std::size_t peak_rss_bytes = 0;   ///< process peak RSS while the node ran
     std::size_t rss_growth_bytes = 0; ///< that peak minus RSS when it started
     std::map<std::string, std::string> metrics_json;
@@ -98,6 +101,7 @@ struct RunOptions {
 struct RunResult {
     std::vector<NodeRecord> nodes; ///< in topological order
     double seconds = 0;
+    double cpu_seconds = 0; ///< of the whole process up to the end of the run, start-up included
     std::size_t peak_rss_bytes = 0;
     std::vector<std::filesystem::path> outputs; ///< files committed
     std::map<std::string, std::string> labels;  ///< RunOptions::labels

@@ -72,6 +72,12 @@ TEST(Pipeline, ValidGraphRunsAndWritesItsOutput) {
     EXPECT_EQ(j["nodes"][0]["params"]["size"], 2.5);
     EXPECT_GE(j["nodes"][1]["seconds"].get<double>(), 0.05);
     EXPECT_GT(j["nodes"][2]["peak_rss_bytes"].get<double>(), 0);
+    // CPU time of the process: each node's is part of the whole run's.
+    for (const auto& n : j["nodes"]) {
+        EXPECT_GE(n["cpu_seconds"].get<double>(), 0.0);
+        EXPECT_LE(n["cpu_seconds"].get<double>(), j["cpu_seconds"].get<double>());
+    }
+    EXPECT_GT(j["cpu_seconds"].get<double>(), 0.0);
     EXPECT_EQ(j["outputs"][0], (dir / "box.ply").string());
 }
 

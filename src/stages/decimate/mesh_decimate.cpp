@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "geometry/mesh_intersect.h"
@@ -19,43 +22,44 @@ using decimate::Collapser;
 using decimate::kPi;
 using decimate::run_queue;
 
-// One reduction run (see reduce_mesh).
-DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
-    DecimateStats st;
-    st.faces_before = mesh.face_count();
-    Collapser c(mesh, frozen);
-    st.locked_vertices = c.locked();
+// The paper's candidate test and importance of vertex v: theta = the largest angle between
+// two face normals around v, under `limit`; I = theta * sum_j |V_j - V|. A small multiple of
+// the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first.
+bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
+    constexpr int kMax = 64;
+    Vec3f normals[kMax];
+    int n = 0;
+    double L = 0;
+    const Vec3f p = c.point(v);
+    bool many = false;
+    c.for_faces(v, [&](std::uint32_t f) {
+        if (n == kMax) {
+            many = true;
+            return;
+        }
+        normals[n++] = c.normal(f);
+        const auto& t = c.tri(f);
+        const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
+        L += length(c.point(next) - p);
+    });
+    if (many || n < 3) return false;
+    float min_dot = 1.0f;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j) min_dot = std::min(min_dot, dot(normals[i], normals[j]));
+    const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
+    if (!(theta < limit)) return false;
+    key = float(theta * L + 1e-4 * L);
+    return true;
+}
+
+// The queue of one reduction run over the collapser's mesh (see reduce_mesh), down to
+// `target_faces` (0: until no vertex can go) or to the first vertex more important than
+// `stop_key`; returns the collapses made.
+std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
+                         float stop_key, const std::function<void(double)>& progress) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
-    // Candidate test and importance: theta = the largest angle between two face normals
-    // around v; I = theta * sum_j |V_j - V|. A small multiple of the perimeter orders
-    // the exactly flat vertices (theta = 0) shortest-edges first.
-    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) {
-        constexpr int kMax = 64;
-        Vec3f normals[kMax];
-        int n = 0;
-        double L = 0;
-        const Vec3f p = c.point(v);
-        bool many = false;
-        c.for_faces(v, [&](std::uint32_t f) {
-            if (n == kMax) {
-                many = true;
-                return;
-            }
-            normals[n++] = c.normal(f);
-            const auto& t = c.tri(f);
-            const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
-            L += length(c.point(next) - p);
-        });
-        if (many || n < 3) return false;
-        float min_dot = 1.0f;
-        for (int i = 0; i < n; ++i)
-            for (int j = i + 1; j < n; ++j) min_dot = std::min(min_dot, dot(normals[i], normals[j]));
-        const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
-        if (!(theta < limit)) return false;
-        key = float(theta * L + 1e-4 * L);
-        return true;
-    };
+    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
     // The target: among the neighbours whose collapse passes the geometric guards, the one
     // that turns the faces least (then the nearest); topology is checked in that order.
     struct Option {
@@ -82,10 +86,229 @@ DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vecto
             }
         return false;
     };
-    st.collapses = run_queue(c, mesh.positions.size(), opt.target_faces, HUGE_VALF, opt.progress, score, choose,
-                             [](std::uint32_t, std::uint32_t, float) {});
+    return run_queue(c, nv, target_faces, stop_key, progress, score, choose,
+                     [](std::uint32_t, std::uint32_t, float) {});
+}
+
+// One reduction run over the whole mesh (see reduce_mesh).
+DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
+    DecimateStats st;
+    st.faces_before = mesh.face_count();
+    Collapser c(mesh, frozen);
+    st.locked_vertices = c.locked();
+    st.collapses = reduce_queue(c, mesh.positions.size(), opt, opt.target_faces, HUGE_VALF, opt.progress);
     c.finish();
     st.faces_after = mesh.face_count();
+    return st;
+}
+
+// Faces per block of reduce_blocked, and the size from which a mesh is cut in blocks.
+constexpr std::size_t kBlockFaces = std::size_t(1) << 16;
+constexpr std::size_t kBlockedFrom = 4 * kBlockFaces;
+// The share of the starting candidates (by importance) a round's blocks may remove.
+// 0.9 measured against one queue over the whole mesh (docs/results/speed.md): the same
+// face count within 0.2 % and the same silhouette error; 0.5 leaves too much to the last queue.
+constexpr double kBlockQuantile = 0.9;
+
+// The blocks of reduce_blocked: the cells of a k x k x k grid over the mesh's bounding box
+// holding at least one vertex, with k the smallest giving about one occupied cell per
+// kBlockFaces faces. Returns k; `cell` is each vertex's cell.
+int block_cells(const Mesh& mesh, float shift, std::vector<std::uint32_t>& cell) {
+    Vec3f lo, hi;
+    mesh.bounds(lo, hi);
+    const Vec3f ext = vmax(hi - lo, Vec3f(1e-30f, 1e-30f, 1e-30f));
+    const std::size_t want = mesh.face_count() / kBlockFaces;
+    auto cell_of = [&](const Vec3f& p, int k) {
+        auto axis = [&](float x, float l, float e) {
+            return std::uint32_t(std::clamp(int((x - l) / e * float(k) + shift), 0, k));
+        };
+        const std::uint32_t n = std::uint32_t(k) + 1; // a shifted grid has one more cell per axis
+        return (axis(p.z, lo.z, ext.z) * n + axis(p.y, lo.y, ext.y)) * n + axis(p.x, lo.x, ext.x);
+    };
+    int k = 2;
+    for (; k < 64; ++k) { // occupancy from every 64th vertex: the surface, not the box, decides
+        std::vector<char> used(std::size_t(k + 1) * (k + 1) * (k + 1), 0);
+        std::size_t occupied = 0;
+        for (std::size_t v = 0; v < mesh.positions.size(); v += 64) {
+            char& u = used[cell_of(mesh.positions[v], k)];
+            occupied += !u;
+            u = 1;
+        }
+        if (occupied >= want) break;
+    }
+    cell.resize(mesh.positions.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell.size(), 1 << 14), [&](const auto& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) cell[v] = cell_of(mesh.positions[v], k);
+    });
+    return k;
+}
+
+// One round of reduce_blocked: the mesh is cut into spatial blocks (each face goes with
+// its first vertex's cell) and every block is reduced on its own, in parallel, removing
+// only the vertices less important than the q-quantile of the starting importances (in
+// that range the order hardly matters). A vertex with faces in two blocks is on the open
+// border of both, so it stays. The blocks' faces then replace the mesh's, over the vertices
+// they still use (in input order, attributes kept: surviving vertices do not move);
+// `frozen` follows. Returns the collapses made.
+std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>* frozen, float shift, double q) {
+    const std::size_t nf = mesh.face_count(), nv = mesh.positions.size();
+    std::vector<std::uint32_t> cell;
+    const int k = block_cells(mesh, shift, cell);
+    const std::size_t ncells = std::size_t(k + 1) * (k + 1) * (k + 1);
+    // Faces by block (counting sort, faces in input order within a block).
+    std::vector<std::uint32_t> start(ncells + 1, 0), faces(nf);
+    for (const auto& t : mesh.triangles) ++start[cell[t[0]] + 1];
+    for (std::size_t b = 0; b < ncells; ++b) start[b + 1] += start[b];
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t f = 0; f < nf; ++f) faces[fill[cell[mesh.triangles[f][0]]]++] = std::uint32_t(f);
+    }
+    std::vector<std::uint32_t> blocks;
+    for (std::size_t b = 0; b < ncells; ++b)
+        if (start[b + 1] > start[b]) blocks.push_back(std::uint32_t(b));
+
+    // Each block: its faces and vertices as a mesh of their own (positions only: the
+    // surviving vertices keep their input positions and attributes).
+    struct Block {
+        Mesh mesh;
+        std::vector<std::uint32_t> input; ///< input vertex of each block vertex
+        std::vector<char> frozen;
+        std::unique_ptr<Collapser> collapser;
+        std::vector<float> keys; ///< starting importance of a sample of the candidates
+        std::size_t collapses = 0;
+    };
+    std::vector<std::unique_ptr<Block>> parts(blocks.size());
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> local_ids(
+        [nv] { return std::vector<std::uint32_t>(nv, decimate::kNone); });
+    const double limit = opt.max_angle_deg * kPi / 180.0;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
+        auto& local = local_ids.local();
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const std::uint32_t b = blocks[i];
+            auto blk = std::make_unique<Block>();
+            Mesh& sub = blk->mesh;
+            auto& global = blk->input;
+            sub.triangles.reserve(start[b + 1] - start[b]);
+            for (std::uint32_t j = start[b]; j < start[b + 1]; ++j) {
+                std::array<std::uint32_t, 3> t = mesh.triangles[faces[j]];
+                for (auto& x : t) {
+                    if (local[x] == decimate::kNone) {
+                        local[x] = std::uint32_t(global.size());
+                        global.push_back(x);
+                    }
+                    x = local[x];
+                }
+                sub.triangles.push_back(t);
+            }
+            sub.positions.reserve(global.size());
+            for (auto g : global) sub.positions.push_back(mesh.positions[g]);
+            if (frozen)
+                for (auto g : global) blk->frozen.push_back((*frozen)[g]);
+            for (auto g : global) local[g] = decimate::kNone;
+            blk->collapser = std::make_unique<Collapser>(sub, frozen ? &blk->frozen : nullptr);
+            for (std::uint32_t v = 0; v < global.size(); v += 4) { // a sample is enough for a quantile
+                float key;
+                if (blk->collapser->usable(v) && importance(*blk->collapser, v, limit, key)) blk->keys.push_back(key);
+            }
+            parts[i] = std::move(blk);
+        }
+    });
+    // The blocks remove only the least important vertices (below a quantile of the
+    // starting importances): in that range the order hardly matters, and the rest goes
+    // in one queue, in the order of the paper, seams included.
+    std::vector<float> all_keys;
+    for (const auto& blk : parts) all_keys.insert(all_keys.end(), blk->keys.begin(), blk->keys.end());
+    float stop_key = HUGE_VALF;
+    if (!all_keys.empty()) {
+        const std::size_t at = std::min(all_keys.size() - 1, std::size_t(q * double(all_keys.size())));
+        std::nth_element(all_keys.begin(), all_keys.begin() + std::ptrdiff_t(at), all_keys.end());
+        stop_key = all_keys[at];
+    }
+    std::vector<std::vector<std::array<std::uint32_t, 3>>> kept(blocks.size());
+    std::vector<std::size_t> collapses(blocks.size(), 0);
+    std::mutex progress_mutex;
+    std::size_t done = 0;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            Block& blk = *parts[i];
+            collapses[i] = reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr);
+            auto& out = kept[i];
+            for (const auto& t : blk.mesh.triangles)
+                if (t[0] != decimate::kNone) out.push_back({blk.input[t[0]], blk.input[t[1]], blk.input[t[2]]});
+            parts[i].reset();
+            if (opt.progress) { // from one thread at a time; may throw to cancel
+                std::lock_guard<std::mutex> lock(progress_mutex);
+                opt.progress(double(++done) / double(blocks.size()));
+            }
+        }
+    });
+
+    // The blocks' faces as one mesh over the input vertices they still use (in input
+    // order), then the second pass over it.
+    std::vector<std::uint32_t> order(nv, decimate::kNone);
+    for (const auto& fs : kept)
+        for (const auto& t : fs)
+            for (auto x : t) order[x] = 0;
+    std::vector<std::uint32_t> input_of;
+    for (std::size_t v = 0; v < nv; ++v)
+        if (order[v] != decimate::kNone) {
+            order[v] = std::uint32_t(input_of.size());
+            input_of.push_back(std::uint32_t(v));
+        }
+    Mesh merged;
+    auto pick = [&](const auto& from, auto& to) {
+        if (from.size() != nv) return;
+        to.reserve(input_of.size());
+        for (auto v : input_of) to.push_back(from[v]);
+    };
+    pick(mesh.positions, merged.positions);
+    pick(mesh.uvs, merged.uvs);
+    pick(mesh.colors, merged.colors);
+    pick(mesh.normals, merged.normals);
+    std::size_t total = 0;
+    for (const auto& fs : kept) total += fs.size();
+    merged.triangles.reserve(total);
+    for (auto& fs : kept) {
+        for (const auto& t : fs) merged.triangles.push_back({order[t[0]], order[t[1]], order[t[2]]});
+        std::vector<std::array<std::uint32_t, 3>>().swap(fs);
+    }
+    if (frozen) {
+        std::vector<char> f;
+        f.reserve(input_of.size());
+        for (auto v : input_of) f.push_back((*frozen)[v]);
+        *frozen = std::move(f);
+    }
+    mesh = std::move(merged);
+    std::size_t n = 0;
+    for (auto c : collapses) n += c;
+    return n;
+}
+
+// reduce_once for large meshes: rounds of reduce_round, the grid shifted by half a block
+// each time so that a round's block borders lie inside the next round's blocks, while the
+// mesh is large and a round removes a good share of it; then one queue over the whole,
+// now much lighter mesh, in the order of the paper, which takes whatever the rounds left
+// (borders included) and runs until no vertex can go. So the rounds apply only without a
+// face target.
+DecimateStats reduce_blocked(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
+    const std::size_t nf = mesh.face_count();
+    if (opt.target_faces > 0 || nf < kBlockedFrom) return reduce_once(mesh, opt, frozen);
+    std::vector<char> fz;
+    if (frozen) fz = *frozen;
+    std::size_t collapses = 0;
+    ReduceOptions round_opt = opt;
+    for (int round = 0; mesh.face_count() >= kBlockedFrom; ++round) {
+        const std::size_t before = mesh.face_count();
+        if (opt.progress)
+            round_opt.progress = [&opt, round](double f) { opt.progress(std::min(0.8, 0.4 * (round + f))); };
+        collapses += reduce_round(mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f, kBlockQuantile);
+        if (mesh.face_count() > before - before / 8) break; // under an eighth: the rest in one queue
+    }
+    ReduceOptions last = opt;
+    if (opt.progress) last.progress = [&opt](double f) { opt.progress(0.8 + 0.2 * f); };
+    DecimateStats st = reduce_once(mesh, last, frozen ? &fz : nullptr);
+    st.faces_before = nf;
+    st.collapses += collapses;
     return st;
 }
 
@@ -143,7 +366,7 @@ DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Onc
 
 DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt) {
     return without_crossings(input, out, opt.no_crossings,
-                             [&](Mesh& m, const std::vector<char>* frozen) { return reduce_once(m, opt, frozen); });
+                             [&](Mesh& m, const std::vector<char>* frozen) { return reduce_blocked(m, opt, frozen); });
 }
 
 DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {

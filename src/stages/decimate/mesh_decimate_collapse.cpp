@@ -159,7 +159,9 @@ void Collapser::finish() {
 }
 
 bool Collapser::closed_fan(std::uint32_t v) const {
-    constexpr int kMax = 64;
+    // Well above the valence of a candidate (64, see the scores), so a vertex that grew
+    // that large in an earlier pass (reduce_blocked) can still take collapses, as in one pass.
+    constexpr int kMax = 256;
     std::uint32_t nxt[kMax], prv[kMax];
     int n = 0;
     bool ok = true;

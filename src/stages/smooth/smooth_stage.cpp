@@ -2,11 +2,35 @@
 
 #include <memory>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include "core/mesh.h"
 #include "core/views.h"
 #include "geometry/hull_distance.h"
 
 namespace cm {
+
+namespace {
+
+// The enclosed volume (the divergence theorem over the faces), for the volume_change_pct
+// metric: one parallel pass, where a full check_mesh (edges sorted, fans per vertex)
+// cost more than the smoothing itself on a million faces.
+double signed_volume(const Mesh& m) {
+    return tbb::parallel_reduce(
+               tbb::blocked_range<std::size_t>(0, m.triangles.size(), 1 << 14), 0.0,
+               [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+                   for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                       const auto& t = m.triangles[f];
+                       acc += dot(Vec3d(m.positions[t[0]]), cross(Vec3d(m.positions[t[1]]), Vec3d(m.positions[t[2]])));
+                   }
+                   return acc;
+               },
+               [](double a, double b) { return a + b; }) /
+           6.0;
+}
+
+} // namespace
 
 void SmoothCommon::declare(ParamBinder& b, std::int64_t default_iterations) {
     b.add(iterations, ParamSpec::Int("iterations", default_iterations, 0, 10000, "",
@@ -44,9 +68,9 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
     opt.guard = guard;
     opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
     auto out = std::make_shared<Mesh>(*src);
-    const double v0 = check_mesh(*src).signed_volume;
+    const double v0 = signed_volume(*src);
     const SmoothStats st = smooth_mesh(*out, opt);
-    const double v1 = check_mesh(*out).signed_volume;
+    const double v1 = signed_volume(*out);
     ctx.metric("vertices", double(out->vertex_count()));
     ctx.metric("faces", double(out->face_count()));
     ctx.metric("volume_before", v0);
