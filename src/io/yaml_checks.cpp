@@ -27,7 +27,8 @@ struct Walk {
         } else if (n.IsMap()) {
             std::map<std::string, int> lines;
             for (auto it = n.begin(); it != n.end(); ++it) {
-                const YAML::Node& key = it->first;
+                // Copies: it-> gives a temporary, and a reference into it dangles.
+                const YAML::Node key = it->first, value = it->second;
                 if (key.IsScalar()) {
                     const auto [first, fresh] = lines.emplace(key.Scalar(), key.Mark().line + 1);
                     if (!fresh)
@@ -35,7 +36,7 @@ struct Walk {
                                     "\" is given twice in one mapping (first on line " + std::to_string(first->second) +
                                     "); keep one");
                 }
-                visit(it->second);
+                visit(value);
             }
         }
     }
