@@ -64,15 +64,15 @@ int run_compare(const CompareOptions& o, const GlobalOptions& g) {
     Mesh mesh = load_oriented(o.mesh, o.axes.parse());
     const auto views = load_views_through_registry(o.manifest, g);
     fit_mesh(mesh, *views, o.fit);
-    const StageRun run =
-        run_stage(Registry::global(), "eval.silhouette_error", {}, mesh_and_views(std::move(mesh), views));
-    const json report = json::parse(std::get<std::shared_ptr<const Report>>(run.output)->json);
     // A mesh with colour (texture or vertex colours) is also compared with the drawings' colours.
     json colour = json::array();
     if (has_colour(mesh))
         for (const auto& e : colour_error(mesh, *views, 3.0))
             colour.push_back(
                 {{"view", e.view}, {"pixels", e.pixels}, {"mean_delta_e", e.mean_de}, {"over10_pct", e.over10_pct}});
+    const StageRun run =
+        run_stage(Registry::global(), "eval.silhouette_error", {}, mesh_and_views(std::move(mesh), views));
+    const json report = json::parse(std::get<std::shared_ptr<const Report>>(run.output)->json);
     if (o.json) {
         json j = compare_json(o, report);
         if (!colour.empty()) j["colour"] = colour;

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -21,6 +23,8 @@
 #include <tiny_gltf.h>
 
 #include "core/camera.h"
+#include "io/image_io.h"
+#include "io/manifest.h"
 #include "io/mesh_io.h"
 #include "render/colour.h"
 #include "support/stage_harness.h"
@@ -32,7 +36,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::shared_ptr<const Mesh> textured_box() {
+std::vector<View> box_drawings() {
     const Vec3d lo(-1, -1, -1), hi(1, 1, 1);
     std::vector<View> vs;
     const test::Rgb colours[3] = {{0.9f, 0.2f, 0.1f}, {0.1f, 0.3f, 0.9f}, {0.2f, 0.8f, 0.3f}};
@@ -42,6 +46,12 @@ std::shared_ptr<const Mesh> textured_box() {
         vs.push_back(test::painted_view(name, 96, 36, test::box_outline(lo, hi, Camera::named(name)->d),
                                         [c](const Vec3d&) { return c; }));
     }
+    return vs;
+}
+
+std::shared_ptr<const Mesh> textured_box() {
+    const Vec3d lo(-1, -1, -1), hi(1, 1, 1);
+    const std::vector<View> vs = box_drawings();
     test::StageHarness h("texture.project");
     h.params("{texture_size: 128, padding: 2}")
         .input("mesh", test::make_grid_box(-1, 1, 3))
@@ -223,4 +233,32 @@ TEST(TexturedWriters, HeightSizesTheModelInMetresInEveryFormat) {
     test::StageHarness h("mesh.write");
     h.params("{height: 1.5, unit_scale: 2}").param("path", dir / "x.glb").input("mesh", m);
     EXPECT_NE(h.error().find("height and unit_scale"), std::string::npos) << h.error();
+}
+
+TEST(TexturedWriters, CompareReportsTheColourErrorOfATexturedGlbAgainstItsDrawings) {
+    test::TempDir dir("tex_compare");
+    write(textured_box(), dir / "crate.glb");
+    Manifest man;
+    man.bounds = {-1, -1, -1, 1, 1, 1};
+    for (const View& v : box_drawings()) {
+        ManifestView mv;
+        mv.key = v.name;
+        mv.view = v.name;
+        mv.image = dir / (v.name + ".png");
+        mv.scale = v.camera.scale;
+        mv.origin = {v.camera.cx, v.camera.cy};
+        write_image(v.image, mv.image);
+        man.views.push_back(mv);
+    }
+    write_manifest(dir / "views.yaml", man);
+    const auto r = test::run_cli("compare crate.glb views.yaml --json -q", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("colour")) << r.out;
+    ASSERT_EQ(j["colour"].size(), 3u);
+    for (const auto& v : j["colour"]) {
+        EXPECT_GT(v["pixels"].get<double>(), 1000) << v.dump();
+        EXPECT_LT(v["mean_delta_e"].get<double>(), 2.0) << v.dump();
+        EXPECT_LT(v["over10_pct"].get<double>(), 1.0) << v.dump();
+    }
 }
