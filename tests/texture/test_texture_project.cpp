@@ -4,6 +4,8 @@
 #include <cmath>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
 #include "core/camera.h"
 #include "core/mesh.h"
 #include "core/views.h"
@@ -240,4 +242,25 @@ TEST(TextureProject, ViewsWithoutDrawingsOrNotSeeingTheMeshAreErrors) {
     test::StageHarness h2("texture.project");
     h2.input("mesh", far).input("views", box_views({0, 2}));
     EXPECT_NE(h2.error().find("no view sees the mesh"), std::string::npos) << h2.error();
+}
+
+TEST(TextureProject, TheRunReportCountsTheInkFoundInEachView) {
+    std::vector<View> vs;
+    for (const char* name : {"front", "right"}) {
+        View v = test::painted_view(name, 128, 48, test::sphere_outline(1.0), [](const Vec3d&) {
+            return Rgb{0.2f, 0.6f, 0.9f};
+        });
+        if (std::string(name) == "front") test::draw_ink(v, 2);
+        vs.push_back(std::move(v));
+    }
+    test::StageHarness h("texture.project");
+    h.params("{texture_size: 128, padding: 2}")
+        .input("mesh", test::make_sphere({0, 0, 0}, 1.0f, 3))
+        .input("views", test::make_views(vs, {-1, -1, -1}, {1, 1, 1}));
+    h.run<Mesh>();
+    const auto ink = nlohmann::json::parse(h.metrics().at("ink_pixels"));
+    EXPECT_GT(ink.at("front").get<double>(), 300) << ink.dump(); // outline and stroke
+    EXPECT_LT(ink.at("right").get<double>(), 20) << ink.dump();  // a flat drawing has none
+    EXPECT_GT(h.metric("charts"), 0);
+    EXPECT_GT(h.metric("seen_vertices"), 0.5);
 }

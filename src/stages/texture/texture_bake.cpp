@@ -110,6 +110,7 @@ Mesh project_texture(const Mesh& in, const Views& views, const TextureOptions& o
     std::vector<ViewSampler> samplers;
     samplers.reserve(views.views.size());
     stats.line_pixels.clear();
+    stats.views.clear();
     for (const View& v : views.views) {
         if (v.image.empty() || v.image.width != v.width || v.image.height != v.height) continue;
         ViewSampler s;
@@ -118,6 +119,7 @@ Mesh project_texture(const Mesh& in, const Views& views, const TextureOptions& o
         s.depth = render_depth(mesh, v.camera, v.width, v.height);
         s.colours = clean_view_colours(v, &s.depth, 4.0 * s.pixel_world, opt.clean);
         stats.line_pixels.push_back(s.colours.line_pixels);
+        stats.views.push_back(v.name);
         samplers.push_back(std::move(s));
         step(0.05 + 0.25 * double(samplers.size()) / double(views.views.size()));
     }

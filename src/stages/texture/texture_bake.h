@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/mesh.h"
@@ -26,7 +27,8 @@ struct TextureStats {
     double texels_per_unit = 0;
     double seen_vertices = 0;             ///< fraction of vertices some view sees
     double atlas_fill = 0;                ///< fraction of the image covered by triangles
-    std::vector<std::size_t> line_pixels; ///< per view
+    std::vector<std::string> views;       ///< the views colours came from (those with a drawing)
+    std::vector<std::size_t> line_pixels; ///< per entry of `views`
 };
 
 /// @brief A copy of `mesh` with per-vertex colours (linear RGBA), and with `opt.texture`

@@ -2,7 +2,8 @@
 // base-colour atlas (texture_bake.h), for the writers to put into .glb, .obj + .mtl + .png
 // and .ply.
 #include <memory>
-#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "core/mesh.h"
 #include "core/stage.h"
@@ -70,12 +71,9 @@ public:
             ctx.metric("texels_per_unit", stats.texels_per_unit);
             ctx.metric("atlas_fill", stats.atlas_fill);
         }
-        std::ostringstream lines;
-        lines << "{";
-        for (std::size_t i = 0; i < stats.line_pixels.size() && i < views->views.size(); ++i)
-            lines << (i ? ", " : "") << "\"" << views->views[i].name << "\": " << stats.line_pixels[i];
-        lines << "}";
-        if (opt.clean.strip_lines) ctx.metric_json("ink_pixels", lines.str());
+        nlohmann::json lines = nlohmann::json::object(); // view names escaped as JSON needs
+        for (std::size_t i = 0; i < stats.line_pixels.size(); ++i) lines[stats.views[i]] = stats.line_pixels[i];
+        if (opt.clean.strip_lines) ctx.metric_json("ink_pixels", lines.dump());
         if (stats.seen_vertices < 0.5)
             ctx.warn("the views see only " + std::to_string(int(stats.seen_vertices * 100)) +
                      " % of the vertices; the rest take the nearest seen colour");
