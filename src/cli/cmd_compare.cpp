@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/tool_common.h"
 #include "pipeline/run_stage.h"
+#include "render/textured.h"
 
 using nlohmann::json;
 
@@ -63,11 +64,35 @@ int run_compare(const CompareOptions& o, const GlobalOptions& g) {
     Mesh mesh = load_oriented(o.mesh, o.axes.parse());
     const auto views = load_views_through_registry(o.manifest, g);
     fit_mesh(mesh, *views, o.fit);
+    // A mesh with colour (texture or vertex colours) is also compared with the drawings' colours.
+    json colour = json::array();
+    if (has_colour(mesh))
+        for (const auto& e : colour_error(mesh, *views, 3.0))
+            colour.push_back(
+                {{"view", e.view}, {"pixels", e.pixels}, {"mean_delta_e", e.mean_de}, {"over10_pct", e.over10_pct}});
     const StageRun run =
         run_stage(Registry::global(), "eval.silhouette_error", {}, mesh_and_views(std::move(mesh), views));
     const json report = json::parse(std::get<std::shared_ptr<const Report>>(run.output)->json);
-    if (o.json) std::cout << compare_json(o, report).dump(2) << "\n";
-    else print_compare_table(std::cout, report);
+    if (o.json) {
+        json j = compare_json(o, report);
+        if (!colour.empty()) j["colour"] = colour;
+        std::cout << j.dump(2) << "\n";
+    } else {
+        print_compare_table(std::cout, report);
+        if (!colour.empty()) {
+            std::cout << "\n"
+                      << std::left << std::setw(14) << "view" << std::right << std::setw(12) << "pixels"
+                      << std::setw(12) << "mean dE" << std::setw(12) << "dE>10 %"
+                      << "\n";
+            for (const auto& c : colour)
+                std::cout << std::left << std::setw(14) << c["view"].get<std::string>() << std::right << std::fixed
+                          << std::setprecision(0) << std::setw(12) << c["pixels"].get<double>() << std::setprecision(2)
+                          << std::setw(12) << c["mean_delta_e"].get<double>() << std::setw(12)
+                          << c["over10_pct"].get<double>() << "\n";
+            std::cout << "dE = CIE76 colour difference of the mesh's colour (unlit) and the drawing, inside the "
+                         "silhouette eroded by 3 px\n";
+        }
+    }
     return 0;
 }
 

@@ -1,11 +1,14 @@
 #include "io/gltf_io.h"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <unordered_map>
 
-// Images are not written or decoded here (no textures yet); without stb.
+// Images are encoded and decoded with OpenImageIO (io/image_io.h), not stb.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
@@ -15,6 +18,8 @@
 #include <tiny_gltf.h>
 
 #include "core/error.h"
+#include "core/views.h"
+#include "io/image_io.h"
 
 namespace fs = std::filesystem;
 
@@ -49,62 +54,141 @@ int accessor(tinygltf::Model& model, int view, int component, int type, std::siz
     return int(model.accessors.size() - 1);
 }
 
+// The vertices as glTF needs them: one per distinct (vertex, corner UV) pair when the
+// mesh has per-corner UVs (an atlas seam splits a vertex), else the mesh's own.
+struct GltfVertices {
+    std::vector<std::uint32_t> source;    ///< mesh vertex of each glTF vertex
+    std::vector<std::array<float, 2>> uv; ///< v up; empty without UVs
+    std::vector<std::uint32_t> indices;   ///< 3 per triangle
+};
+
+GltfVertices gltf_vertices(const Mesh& mesh) {
+    GltfVertices g;
+    g.indices.resize(mesh.triangles.size() * 3);
+    if (mesh.corner_uvs.size() == mesh.triangles.size() * 3) {
+        std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> seen; // mesh vertex -> its glTF vertices
+        for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = mesh.triangles[f][k];
+                const auto& uv = mesh.corner_uvs[3 * f + k];
+                auto& list = seen[v];
+                std::uint32_t found = 0xffffffffu;
+                for (std::uint32_t c : list)
+                    if (g.uv[c] == uv) found = c;
+                if (found == 0xffffffffu) {
+                    found = std::uint32_t(g.source.size());
+                    g.source.push_back(v);
+                    g.uv.push_back(uv);
+                    list.push_back(found);
+                }
+                g.indices[3 * f + k] = found;
+            }
+        return g;
+    }
+    g.source.resize(mesh.positions.size());
+    for (std::size_t i = 0; i < g.source.size(); ++i) g.source[i] = std::uint32_t(i);
+    if (mesh.uvs.size() == mesh.positions.size()) g.uv = mesh.uvs;
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) g.indices[3 * f + k] = mesh.triangles[f][k];
+    return g;
+}
+
+// The base-colour texture as an embedded PNG and a PBR material (roughness 1, metallic 0:
+// painted colour, no shine); returns the material's index.
+int add_material(tinygltf::Model& model, const Mesh& mesh, const std::string& name) {
+    tinygltf::Material mat;
+    mat.name = name;
+    mat.pbrMetallicRoughness.metallicFactor = 0.0;
+    mat.pbrMetallicRoughness.roughnessFactor = 1.0;
+    mat.doubleSided = false;
+    if (mesh.texture && !mesh.texture->empty()) {
+        const std::vector<unsigned char> png = encode_png(*mesh.texture, 3);
+        tinygltf::Image img;
+        img.name = name + "_basecolor";
+        img.mimeType = "image/png";
+        img.bufferView = append(model, png, 0);
+        model.images.push_back(img);
+        tinygltf::Sampler sampler;
+        sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+        sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+        sampler.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+        sampler.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+        model.samplers.push_back(sampler);
+        tinygltf::Texture tex;
+        tex.source = int(model.images.size() - 1);
+        tex.sampler = int(model.samplers.size() - 1);
+        model.textures.push_back(tex);
+        mat.pbrMetallicRoughness.baseColorTexture.index = int(model.textures.size() - 1);
+    }
+    model.materials.push_back(mat);
+    return int(model.materials.size() - 1);
+}
+
 } // namespace
 
-void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name) {
+void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name_in) {
+    const std::string name = name_in.empty() ? file.stem().string() : name_in;
     tinygltf::Model model;
     model.asset.version = "2.0";
     model.asset.generator = "conceptmesh";
     model.buffers.emplace_back();
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
+    const GltfVertices gv = gltf_vertices(mesh);
+    const std::size_t nv = gv.source.size();
 
-    std::vector<float> pos(mesh.positions.size() * 3);
+    std::vector<float> pos(nv * 3);
     std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+    for (std::size_t i = 0; i < nv; ++i)
         for (int k = 0; k < 3; ++k) {
-            const float v = mesh.positions[i][k];
+            const float v = mesh.positions[gv.source[i]][k];
             pos[3 * i + k] = v;
             lo[k] = std::min(lo[k], double(v));
             hi[k] = std::max(hi[k], double(v));
         }
     const int pa = accessor(model, append(model, pos, TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                            TINYGLTF_TYPE_VEC3, mesh.positions.size());
+                            TINYGLTF_TYPE_VEC3, nv);
     model.accessors[pa].minValues = lo;
     model.accessors[pa].maxValues = hi;
     prim.attributes["POSITION"] = pa;
 
     if (normals && mesh.normals.size() == mesh.positions.size()) {
-        std::vector<float> n(mesh.normals.size() * 3);
-        for (std::size_t i = 0; i < mesh.normals.size(); ++i)
-            for (int k = 0; k < 3; ++k) n[3 * i + k] = mesh.normals[i][k];
+        std::vector<float> n(nv * 3);
+        for (std::size_t i = 0; i < nv; ++i)
+            for (int k = 0; k < 3; ++k) n[3 * i + k] = mesh.normals[gv.source[i]][k];
         prim.attributes["NORMAL"] = accessor(model, append(model, n, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                             TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, mesh.normals.size());
+                                             TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
     }
-    if (mesh.uvs.size() == mesh.positions.size()) {
-        std::vector<float> t(mesh.uvs.size() * 2);
-        for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
-            t[2 * i] = mesh.uvs[i][0];
-            t[2 * i + 1] = 1.0f - mesh.uvs[i][1];
+    if (gv.uv.size() == nv) {
+        std::vector<float> t(nv * 2);
+        for (std::size_t i = 0; i < nv; ++i) {
+            t[2 * i] = gv.uv[i][0];
+            t[2 * i + 1] = 1.0f - gv.uv[i][1];
         }
         prim.attributes["TEXCOORD_0"] = accessor(model, append(model, t, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, mesh.uvs.size());
+                                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
     }
+    const bool textured = mesh.texture && !mesh.texture->empty() && gv.uv.size() == nv;
     if (mesh.colors.size() == mesh.positions.size()) {
-        std::vector<float> c(mesh.colors.size() * 4);
-        for (std::size_t i = 0; i < mesh.colors.size(); ++i)
-            for (int k = 0; k < 4; ++k) c[4 * i + k] = mesh.colors[i][k];
-        prim.attributes["COLOR_0"] = accessor(model, append(model, c, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, mesh.colors.size());
+        std::vector<float> c(nv * 4);
+        for (std::size_t i = 0; i < nv; ++i)
+            for (int k = 0; k < 4; ++k) c[4 * i + k] = mesh.colors[gv.source[i]][k];
+        // COLOR_0 multiplies the base-colour texture in every viewer; beside a texture the
+        // vertex colours travel as an application attribute that leaves the look alone.
+        prim.attributes[textured ? "_COLOR_0" : "COLOR_0"] =
+            accessor(model, append(model, c, TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                     TINYGLTF_TYPE_VEC4, nv);
     }
-    std::vector<std::uint32_t> idx(mesh.triangles.size() * 3);
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) idx[3 * f + k] = mesh.triangles[f][k];
+    if (textured || mesh.colors.size() == mesh.positions.size()) {
+        Mesh bare; // a material without a texture when there is nothing for it to address
+        prim.material = add_material(model, textured ? mesh : bare, name);
+    }
+    const std::vector<std::uint32_t>& idx = gv.indices;
     prim.indices = accessor(model, append(model, idx, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, idx.size());
 
     tinygltf::Mesh gm;
-    gm.name = name.empty() ? file.stem().string() : name;
+    gm.name = name;
     gm.primitives.push_back(prim);
     model.meshes.push_back(gm);
     tinygltf::Node node;
@@ -224,11 +308,50 @@ std::vector<double> read_accessor(const tinygltf::Model& model, int index, int c
     return out;
 }
 
+// Keeps an embedded image as 8-bit RGBA for the reader below (decoded by OpenImageIO).
+bool load_image(tinygltf::Image* image, const int, std::string* err, std::string*, int, int, const unsigned char* bytes,
+                int size, void*) {
+    try {
+        const Image img = decode_image(bytes, std::size_t(size), "image \"" + image->name + "\"");
+        image->width = img.width;
+        image->height = img.height;
+        image->component = 4;
+        image->bits = 8;
+        image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+        image->image.resize(img.pixels.size());
+        for (std::size_t i = 0; i < img.pixels.size(); ++i)
+            image->image[i] = static_cast<unsigned char>(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f + 0.5f);
+        return true;
+    } catch (const Error& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
+// The base-colour texture of a material, as float RGBA; null when it has none.
+std::shared_ptr<const Image> base_colour(const tinygltf::Model& model, int material) {
+    if (material < 0 || std::size_t(material) >= model.materials.size()) return nullptr;
+    const int t = model.materials[std::size_t(material)].pbrMetallicRoughness.baseColorTexture.index;
+    if (t < 0 || std::size_t(t) >= model.textures.size()) return nullptr;
+    const int s = model.textures[std::size_t(t)].source;
+    if (s < 0 || std::size_t(s) >= model.images.size()) return nullptr;
+    const tinygltf::Image& gi = model.images[std::size_t(s)];
+    if (gi.image.empty() || gi.component != 4 || gi.bits != 8) return nullptr;
+    auto img = std::make_shared<Image>();
+    img->width = gi.width;
+    img->height = gi.height;
+    img->channels = 4;
+    img->pixels.resize(gi.image.size());
+    for (std::size_t i = 0; i < gi.image.size(); ++i) img->pixels[i] = float(gi.image[i]) / 255.0f;
+    return img;
+}
+
 } // namespace
 
 Mesh read_glb(const fs::path& file) {
     tinygltf::Model model;
     tinygltf::TinyGLTF io;
+    io.SetImageLoader(&load_image, nullptr);
     std::string err, warn;
     const bool ok = file.extension() == ".gltf" ? io.LoadASCIIFromFile(&model, &err, &warn, file.string())
                                                 : io.LoadBinaryFromFile(&model, &err, &warn, file.string());
@@ -272,7 +395,9 @@ Mesh read_glb(const fs::path& file) {
             } else {
                 all_uvs = false;
             }
+            if (!m.texture) m.texture = base_colour(model, prim.material);
             auto cit = prim.attributes.find("COLOR_0");
+            if (cit == prim.attributes.end()) cit = prim.attributes.find("_COLOR_0");
             if (cit != prim.attributes.end() && all_colors) {
                 const int comps =
                     tinygltf::GetNumComponentsInType(std::uint32_t(model.accessors.at(std::size_t(cit->second)).type));

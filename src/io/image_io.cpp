@@ -1,5 +1,6 @@
 #include "io/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
@@ -96,6 +97,54 @@ void write_image(const Image& img, const fs::path& file) {
     if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data()))
         throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
     out->close();
+}
+
+std::vector<unsigned char> encode_png(const Image& img, int channels) {
+    if (img.empty() || channels < 1 || channels > img.channels) throw Error("cannot encode an empty image as PNG");
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error("cannot encode PNG: " + OIIO::geterror());
+    out->set_ioproxy(&proxy);
+    OIIO::ImageSpec spec(img.width, img.height, channels, OIIO::TypeDesc::UINT8);
+    if (!out->open("memory.png", spec)) throw Error("cannot encode PNG: " + out->geterror());
+    const OIIO::stride_t xstride = OIIO::stride_t(img.channels * sizeof(float));
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data(), xstride))
+        throw Error("cannot encode PNG: " + out->geterror());
+    out->close();
+    return bytes;
+}
+
+Image decode_image(const unsigned char* data, std::size_t size, const std::string& what) {
+    OIIO::Filesystem::IOMemReader proxy(const_cast<unsigned char*>(data), size);
+    OIIO::ImageSpec config;
+    void* ptr = &proxy;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
+    const bool png = size >= 4 && data[0] == 0x89 && data[1] == 'P' && data[2] == 'N' && data[3] == 'G';
+    const bool jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
+    if (!png && !jpeg) throw Error(what + ": the image is neither PNG nor JPEG");
+    auto in = OIIO::ImageInput::create(png ? "png" : "jpeg");
+    if (!in) throw Error(what + ": " + OIIO::geterror());
+    in->set_ioproxy(&proxy);
+    if (!in->open("memory", config)) throw Error(what + ": " + in->geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    const int nc = spec.nchannels;
+    if (spec.width <= 0 || spec.height <= 0 || nc <= 0) throw Error(what + ": the image is empty");
+    std::vector<float> raw(std::size_t(spec.width) * spec.height * nc);
+    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data()) || in->has_error())
+        throw Error(what + ": " + in->geterror());
+    Image img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = 4;
+    img.pixels.resize(std::size_t(img.width) * img.height * 4);
+    for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
+        const float* s = &raw[i * nc];
+        float* d = &img.pixels[i * 4];
+        for (int k = 0; k < 3; ++k) d[k] = s[nc >= 3 ? k : 0];
+        d[3] = nc == 4 ? s[3] : (nc == 2 ? s[1] : 1.0f);
+    }
+    return img;
 }
 
 } // namespace cm

@@ -1,6 +1,8 @@
 // Reading and writing images through OpenImageIO.
 #pragma once
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "core/views.h"
 
@@ -18,5 +20,15 @@ Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr);
 /// Writes an image (1, 3 or 4 channels, float in [0,1]); the format follows the
 /// extension (.png is 8-bit; .tif/.exr keep more). Writes exactly to `file`.
 void write_image(const Image& img, const std::filesystem::path& file);
+
+} // namespace cm
+
+namespace cm {
+
+/// PNG bytes of an image (8-bit; its first `channels` channels: 3 for RGB, 4 for RGBA).
+std::vector<unsigned char> encode_png(const Image& img, int channels);
+/// Decodes image bytes of any format OpenImageIO reads from memory (PNG, JPEG) into
+/// float RGBA as read_image(). Throws cm::Error starting with `what`.
+Image decode_image(const unsigned char* data, std::size_t size, const std::string& what);
 
 } // namespace cm

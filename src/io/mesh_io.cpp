@@ -1,7 +1,11 @@
+// OpenMesh's colour property (Vec3uc) trips GCC 12's -Wmaybe-uninitialized inside
+// std::vector; a false positive in library code, silenced for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "io/mesh_io.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -13,7 +17,9 @@
 
 #include "core/data.h"
 #include "core/error.h"
+#include "core/views.h"
 #include "io/gltf_io.h"
+#include "io/image_io.h"
 
 namespace fs = std::filesystem;
 
@@ -83,7 +89,84 @@ long long declared_triangles(const fs::path& file) {
     return total;
 }
 
+std::uint8_t srgb8(float linear) {
+    const float c = std::clamp(linear, 0.0f, 1.0f);
+    const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    return std::uint8_t(std::lround(s * 255.0f));
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+    std::ofstream out(file, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
+}
+
+// OBJ with per-corner UVs (v/vt/vn), a material library and its texture, by hand: OpenMesh
+// writes neither per-corner UVs nor a map_Kd.
+void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
+    const std::string name = wo.name.empty() ? file.stem().string() : wo.name;
+    const fs::path mtl_file = wo.mtl_file.empty() ? obj_material_path(file) : wo.mtl_file;
+    const fs::path tex_file = wo.texture_file.empty() ? obj_texture_path(file) : wo.texture_file;
+    const std::string mtl_name = wo.mtl_name.empty() ? obj_material_path(file).filename().string() : wo.mtl_name;
+    const std::string tex_name = wo.texture_name.empty() ? obj_texture_path(file).filename().string() : wo.texture_name;
+    const bool with_tex = obj_has_material(mesh);
+    const bool corner = mesh.corner_uvs.size() == mesh.triangles.size() * 3;
+    const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size();
+    std::string o;
+    o.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * 40);
+    o += "# conceptmesh\n";
+    if (with_tex) o += "mtllib " + mtl_name + "\n";
+    o += "o " + name + "\n";
+    char buf[160];
+    for (const auto& p : mesh.positions) {
+        std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
+        o += buf;
+    }
+    const auto& uvs = corner ? mesh.corner_uvs : mesh.uvs;
+    for (const auto& t : uvs) {
+        std::snprintf(buf, sizeof buf, "vt %.7f %.7f\n", double(t[0]), double(t[1]));
+        o += buf;
+    }
+    if (with_normals)
+        for (const auto& n : mesh.normals) {
+            std::snprintf(buf, sizeof buf, "vn %.6f %.6f %.6f\n", double(n.x), double(n.y), double(n.z));
+            o += buf;
+        }
+    if (with_tex) o += "usemtl " + name + "\n";
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+        o += "f";
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t v = mesh.triangles[f][k] + 1, t = (corner ? 3 * f + std::size_t(k) : v - 1) + 1;
+            if (with_normals) std::snprintf(buf, sizeof buf, " %zu/%zu/%zu", v, t, v);
+            else std::snprintf(buf, sizeof buf, " %zu/%zu", v, t);
+            o += buf;
+        }
+        o += "\n";
+    }
+    write_text(file, o);
+    if (!with_tex) return;
+    write_text(mtl_file, "# conceptmesh\nnewmtl " + name +
+                             "\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 0\nd 1\nillum 1\nmap_Kd " + tex_name + "\n");
+    const std::vector<unsigned char> png = encode_png(*mesh.texture, 3);
+    write_text(tex_file, std::string(png.begin(), png.end()));
+}
+
 } // namespace
+
+namespace {
+bool has_uvs(const Mesh& m) {
+    return m.corner_uvs.size() == m.triangles.size() * 3 || (!m.uvs.empty() && m.uvs.size() == m.positions.size());
+}
+} // namespace
+
+bool obj_has_material(const Mesh& m) { return m.texture && !m.texture->empty() && has_uvs(m); }
+
+fs::path obj_material_path(const fs::path& obj) {
+    fs::path p = obj;
+    return p.replace_extension(".mtl");
+}
+fs::path obj_texture_path(const fs::path& obj) { return obj.parent_path() / (obj.stem().string() + "_basecolor.png"); }
 
 const std::vector<std::string>& mesh_extensions() {
     static const std::vector<std::string> extensions = {".obj", ".ply", ".stl", ".off", ".glb"};
@@ -143,6 +226,8 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
         return write_glb(mesh, file, wo.normals, wo.name);
     }
+    const std::string ext = lower_extension(file);
+    if (ext == ".obj" && has_uvs(mesh)) return write_textured_obj(mesh, file, wo);
     quiet_openmesh();
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
@@ -156,6 +241,14 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
             om.set_normal(OMesh::VertexHandle(int(i)), OMesh::Normal(n.x, n.y, n.z));
         }
     }
+    const bool with_colors = ext == ".ply" && mesh.colors.size() == mesh.positions.size();
+    if (with_colors) {
+        om.request_vertex_colors();
+        for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
+            const auto& c = mesh.colors[i];
+            om.set_color(OMesh::VertexHandle(int(i)), OMesh::Color(srgb8(c[0]), srgb8(c[1]), srgb8(c[2])));
+        }
+    }
     std::vector<OMesh::VertexHandle> vh(3);
     for (const auto& t : mesh.triangles) {
         for (int k = 0; k < 3; ++k) vh[k] = OMesh::VertexHandle(int(t[k]));
@@ -165,7 +258,8 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
     }
     OpenMesh::IO::Options opt;
     if (with_normals) opt += OpenMesh::IO::Options::VertexNormal;
-    const std::string e = lower_extension(file);
+    if (with_colors) opt += OpenMesh::IO::Options::VertexColor;
+    const std::string& e = ext;
     if (wo.binary && (e == ".ply" || e == ".stl")) opt += OpenMesh::IO::Options::Binary;
     if (e == ".stl") {
         om.request_face_normals();

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "render/shade.h"
+#include "render/textured.h"
 
 namespace cm {
 
@@ -149,8 +150,10 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         const double f = std::min(1.0, 2.0 * P / std::max(view.width, view.height));
         const int sw = std::max(1, int(std::lround(view.width * f))),
                   sh = std::max(1, int(std::lround(view.height * f)));
-        sheet.paste(render_art(mesh, resized_camera(view.camera, double(sw) / view.width), sw, sh, art), 2 * gap + P,
-                    py, P, P);
+        // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
+        const Camera small = resized_camera(view.camera, double(sw) / view.width);
+        sheet.paste(has_colour(mesh) ? render_colour(mesh, small, sw, sh) : render_art(mesh, small, sw, sh, art),
+                    2 * gap + P, py, P, P);
         // 3. overlay: both grey, input only and mesh only in their colours
         const std::vector<std::uint8_t> r = render_mask(mesh, view.camera, view.width, view.height);
         Image ov;

@@ -1,11 +1,15 @@
 // mesh.write: writes the mesh to OBJ, PLY, STL, OFF or glTF binary (format from
 // the extension), under a temporary name that the host renames when the run succeeds.
+// A textured mesh brings its material library and texture along with an OBJ (staged
+// the same way); `height` or `unit_scale` sizes the model in the file (glTF and Blender
+// read one unit as one metre).
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "core/mesh.h"
 #include "core/stage.h"
+#include "core/views.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 
@@ -32,6 +36,7 @@ class MeshWrite : public Stage {
     std::filesystem::path path_;
     MeshWriteOptions opt_;
     bool check_ = true;
+    double height_ = 0, unit_scale_ = 1;
 
 public:
     StageSignature signature() const override {
@@ -48,28 +53,62 @@ public:
                                       "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
                                       "self-intersections): figures in the run report, a warning when a rule is "
                                       "broken"));
+        b.add(height_, ParamSpec::Float("height", 0, 0, 1e9, "m",
+                                        "scale the model to this height (Y extent) in the file; 0: keep its size "
+                                        "(the views' real size when the manifest gives one, else one unit per "
+                                        "pixel of the first view)"));
+        b.add(unit_scale_, ParamSpec::Float("unit_scale", 1, 1e-9, 1e9, "",
+                                            "multiply every coordinate by this (e.g. 0.01: centimetre units to "
+                                            "metres); not with height"));
+    }
+    void check() override {
+        if (height_ > 0 && unit_scale_ != 1) throw Error("height and unit_scale both size the model; give one");
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto mesh = in.get<Mesh>("mesh");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; nothing to write");
         MeshWriteOptions opt = opt_;
         opt.name = path_.stem().string(); // not the temporary file's name
-        Mesh with_normals;
+        Mesh changed;
         const Mesh* m = mesh.get();
-        if (opt.normals && mesh->normals.size() != mesh->positions.size()) {
-            with_normals = *mesh;
-            with_normals.compute_normals();
-            m = &with_normals;
+        double scale = unit_scale_;
+        if (height_ > 0) {
+            Vec3f lo, hi;
+            mesh->bounds(lo, hi);
+            if (!(hi.y > lo.y)) throw Error("the mesh has no height to scale to " + std::to_string(height_) + " m");
+            scale = height_ / double(hi.y - lo.y);
+        }
+        if (scale != 1 || (opt.normals && mesh->normals.size() != mesh->positions.size())) {
+            changed = *mesh;
+            for (auto& p : changed.positions) p = Vec3f(Vec3d(p) * scale);
+            if (opt.normals && changed.normals.size() != changed.positions.size()) changed.compute_normals();
+            m = &changed;
+        }
+        auto out = std::make_shared<FileOutput>();
+        const bool textured_obj = lower_extension(path_) == ".obj" && obj_has_material(*m);
+        if (textured_obj) {
+            const auto mtl = obj_material_path(path_), tex = obj_texture_path(path_);
+            opt.mtl_file = ctx.output_file(mtl);
+            opt.texture_file = ctx.output_file(tex);
+            opt.mtl_name = mtl.filename().string();
+            opt.texture_name = tex.filename().string();
         }
         const auto tmp = ctx.output_file(path_);
         write_mesh(*m, tmp, opt);
+        if (scale != 1) ctx.metric("scale", scale);
+        Vec3f lo, hi;
+        m->bounds(lo, hi);
+        ctx.metric("height", double(hi.y - lo.y));
         ctx.metric("faces", double(m->face_count()));
         ctx.metric("vertices", double(m->vertex_count()));
         ctx.metric("path", path_.string());
         ctx.metric("bytes", double(std::filesystem::file_size(tmp)));
         if (check_) report_check(*m, path_, ctx);
-        auto out = std::make_shared<FileOutput>();
         out->paths.push_back(path_);
+        if (textured_obj) {
+            out->paths.push_back(obj_material_path(path_));
+            out->paths.push_back(obj_texture_path(path_));
+        }
         return std::shared_ptr<const FileOutput>(out);
     }
 };

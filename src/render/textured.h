@@ -1,0 +1,35 @@
+// Pictures of a coloured mesh through a camera (its base-colour texture, else its
+// vertex colours, unlit: the colour as painted), and the colour error of such a mesh
+// against the drawings it was coloured from.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/mesh.h"
+#include "core/views.h"
+
+namespace cm {
+
+/// True when the mesh carries colour: a texture with UVs, or vertex colours.
+bool has_colour(const Mesh& mesh);
+
+/// @brief The mesh's colour (sRGB) seen through `cam`: texture at the UVs (bilinear), else
+/// the vertex colours interpolated. Alpha 1 where the mesh covers the pixel centre, else
+/// 0 with `background` in RGB.
+Image render_colour(const Mesh& mesh, const Camera& cam, int width, int height,
+                    const std::array<float, 3>& background = {1, 1, 1});
+
+struct ViewColourError {
+    std::string view;
+    double pixels = 0;     ///< compared: inside the drawing's silhouette eroded by `erode_px`, covered by the mesh
+    double mean_de = 0;    ///< mean CIE76 delta E
+    double over10_pct = 0; ///< share of the compared pixels with delta E over 10, percent
+};
+
+/// @brief Renders the mesh's colour through every view and compares it with the drawing
+/// inside the silhouette eroded by `erode_px` (pixels where the mesh is).
+std::vector<ViewColourError> colour_error(const Mesh& mesh, const Views& views, double erode_px = 3);
+
+} // namespace cm

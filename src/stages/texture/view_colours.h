@@ -1,0 +1,43 @@
+// The colour a drawing gives its object, cleaned for texturing: the silhouette border
+// eroded (the background bleeds in there), the ink strokes of concept art (outlines,
+// hatching: thin, dark, high-contrast) found and replaced by the neighbouring fill, and
+// a confidence that ramps from 0 at what was removed (and at occlusion edges of the
+// mesh in this view) to 1 a few pixels inside, so views hand over smoothly.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "core/views.h"
+#include "render/raster.h"
+
+namespace cm {
+
+struct CleanOptions {
+    bool strip_lines = true;     ///< find ink strokes and fill them from the neighbouring fill
+    float line_width = 4.0f;     ///< widest stroke taken for ink, px
+    float line_contrast = 0.12f; ///< a stroke is this much darker (luminance) than the fill around it
+    float erode_px = 2.0f;       ///< silhouette border not sampled, px
+    float blend_px = 3.0f;       ///< confidence ramp from removed pixels and occlusion edges, px
+};
+
+struct ViewColours {
+    int width = 0, height = 0;
+    std::vector<std::array<float, 3>> rgb; ///< every pixel: its own colour where valid, else the nearest valid one
+    std::vector<float> confidence;         ///< [0,1]
+    std::size_t line_pixels = 0;           ///< pixels taken for ink inside the silhouette
+    bool any_valid = false;
+    /// Bilinear colour and confidence at continuous pixel coordinates (clamped to the image).
+    void sample(double x, double y, std::array<float, 3>& c, float& conf) const;
+};
+
+/// @brief Ink mask of an image: 1 where a pixel is a thin dark stroke (black top-hat of
+/// the luminance over a square of side about `line_width` above `line_contrast`), grown by
+/// one pixel for the anti-aliased fringe. Only pixels where `inside` is set are tested.
+std::vector<char> find_ink(const Image& img, const std::vector<char>& inside, float line_width, float line_contrast);
+
+/// @brief The cleaned colours of `view`; `depth` (the mesh rendered through the view's
+/// camera, may be empty) marks occlusion edges where the confidence ramps down.
+ViewColours clean_view_colours(const View& view, const DepthImage* depth, double depth_jump, const CleanOptions& opt);
+
+} // namespace cm

@@ -1,0 +1,264 @@
+// The textured mesh in every format, opened by the readers a studio uses: tinygltf (and
+// the Khronos glTF validator when node is present), OpenMesh and OpenImageIO.
+// OpenMesh's colour property trips GCC 12's -Wmaybe-uninitialized inside std::vector (library code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_INCLUDE_STB_IMAGE
+#define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include "core/camera.h"
+#include "io/image_io.h"
+#include "io/manifest.h"
+#include "io/mesh_io.h"
+#include "render/colour.h"
+#include "support/stage_harness.h"
+#include "support/test_support.h"
+#include "texture_views.h"
+
+using namespace cm;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<View> box_drawings() {
+    const Vec3d lo(-1, -1, -1), hi(1, 1, 1);
+    std::vector<View> vs;
+    const test::Rgb colours[3] = {{0.9f, 0.2f, 0.1f}, {0.1f, 0.3f, 0.9f}, {0.2f, 0.8f, 0.3f}};
+    int k = 0;
+    for (const char* name : {"front", "right", "top"}) {
+        const test::Rgb c = colours[k++];
+        vs.push_back(test::painted_view(name, 96, 36, test::box_outline(lo, hi, Camera::named(name)->d),
+                                        [c](const Vec3d&) { return c; }));
+    }
+    return vs;
+}
+
+std::shared_ptr<const Mesh> textured_box() {
+    const Vec3d lo(-1, -1, -1), hi(1, 1, 1);
+    const std::vector<View> vs = box_drawings();
+    test::StageHarness h("texture.project");
+    h.params("{texture_size: 128, padding: 2}")
+        .input("mesh", test::make_grid_box(-1, 1, 3))
+        .input("views", test::make_views(vs, lo, hi));
+    return h.run<Mesh>();
+}
+
+void write(const std::shared_ptr<const Mesh>& m, const fs::path& path, const std::string& extra = {}) {
+    test::StageHarness h("mesh.write");
+    h.param("path", path).input("mesh", m);
+    if (!extra.empty()) h.params(extra);
+    h.run<FileOutput>();
+}
+
+bool keep_png(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+              int size, void*) {
+    image->image.assign(bytes, bytes + size); // the encoded file, checked below with OpenImageIO
+    return size > 8;
+}
+
+} // namespace
+
+TEST(TexturedWriters, GlbHasTheEmbeddedPngUvsAndAMatteMaterialNamedAfterTheFile) {
+    test::TempDir dir("tex_glb");
+    const auto m = textured_box();
+    write(m, dir / "crate.glb");
+    tinygltf::Model model;
+    tinygltf::TinyGLTF io;
+    io.SetImageLoader(&keep_png, nullptr);
+    std::string err, warn;
+    ASSERT_TRUE(io.LoadBinaryFromFile(&model, &err, &warn, (dir / "crate.glb").string())) << err;
+    ASSERT_EQ(model.nodes.size(), 1u);
+    EXPECT_EQ(model.nodes[0].name, "crate"); // not the temporary file's name
+    ASSERT_EQ(model.meshes.size(), 1u);
+    EXPECT_EQ(model.meshes[0].name, "crate");
+    const auto& prim = model.meshes[0].primitives.at(0);
+    EXPECT_TRUE(prim.attributes.count("TEXCOORD_0"));
+    EXPECT_TRUE(prim.attributes.count("NORMAL"));
+    EXPECT_TRUE(prim.attributes.count("_COLOR_0")); // vertex colours that do not tint the texture
+    EXPECT_FALSE(prim.attributes.count("COLOR_0"));
+    ASSERT_GE(prim.material, 0);
+    const auto& mat = model.materials.at(std::size_t(prim.material));
+    EXPECT_EQ(mat.pbrMetallicRoughness.metallicFactor, 0.0);
+    EXPECT_EQ(mat.pbrMetallicRoughness.roughnessFactor, 1.0);
+    const int tex = mat.pbrMetallicRoughness.baseColorTexture.index;
+    ASSERT_GE(tex, 0);
+    const auto& img = model.images.at(std::size_t(model.textures.at(std::size_t(tex)).source));
+    EXPECT_EQ(img.mimeType, "image/png");
+    ASSERT_GE(img.bufferView, 0);
+    OIIO::Filesystem::IOMemReader mem(const_cast<unsigned char*>(img.image.data()), img.image.size());
+    auto in = OIIO::ImageInput::create("png");
+    ASSERT_TRUE(in);
+    OIIO::ImageSpec config;
+    void* proxy = &mem;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    OIIO::ImageSpec spec;
+    ASSERT_TRUE(in->open("crate.png", spec, config)) << in->geterror();
+    EXPECT_EQ(in->spec().width, 128);
+    EXPECT_EQ(in->spec().height, 128);
+    // The seams split vertices: more glTF vertices than mesh vertices, one UV each.
+    EXPECT_GT(model.accessors.at(std::size_t(prim.attributes.at("TEXCOORD_0"))).count, m->positions.size());
+
+    // And conceptmesh reads it back with its texture.
+    const Mesh back = read_mesh(dir / "crate.glb");
+    ASSERT_TRUE(back.texture);
+    EXPECT_EQ(back.texture->width, 128);
+    EXPECT_EQ(back.uvs.size(), back.positions.size());
+    EXPECT_EQ(back.colors.size(), back.positions.size());
+}
+
+TEST(TexturedWriters, GlbPassesTheKhronosValidator) {
+    if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
+    const fs::path tool = fs::path(CM_BINARY_DIR) / "gltf-validator";
+    if (!fs::exists(tool / "node_modules" / "gltf-validator")) {
+        fs::create_directories(tool);
+        if (!fs::exists(tool / "package.json")) test::write_text(tool / "package.json", "{\"private\": true}\n");
+        const std::string cmd = "cd '" + tool.string() +
+                                "' && npm install --no-audit --no-fund gltf-validator@latest > '" +
+                                (tool / "npm.log").string() + "' 2>&1";
+        if (std::system(cmd.c_str()) != 0 || !fs::exists(tool / "node_modules" / "gltf-validator"))
+            GTEST_SKIP() << "the npm package gltf-validator could not be installed into " << tool
+                         << " (see npm.log there)";
+    }
+    test::TempDir dir("tex_validator");
+    write(textured_box(), dir / "crate.glb");
+    test::write_text(
+        dir / "validate.js",
+        "const v = require('" + (tool / "node_modules" / "gltf-validator").string() +
+            "');\n"
+            "const buf = require('fs').readFileSync(process.argv[2]);\n"
+            "v.validateBytes(new Uint8Array(buf)).then(r => {\n"
+            "  console.log('errors=' + r.issues.numErrors + ' warnings=' + r.issues.numWarnings);\n"
+            "  for (const m of r.issues.messages) if (m.severity === 0) console.log(m.code + ' ' + m.pointer);\n"
+            "}).catch(e => { console.log('failed ' + e); });\n");
+    const std::string out = (dir / "report.txt").string();
+    const std::string cmd =
+        "node '" + (dir / "validate.js").string() + "' '" + (dir / "crate.glb").string() + "' > '" + out + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const std::string report = test::read_text(out);
+    EXPECT_NE(report.find("errors=0 "), std::string::npos) << report;
+}
+
+TEST(TexturedWriters, ObjComesWithItsMaterialAndTextureThatOpenMeshAndOpenImageIORead) {
+    test::TempDir dir("tex_obj");
+    const auto m = textured_box();
+    write(m, dir / "crate.obj");
+    ASSERT_TRUE(fs::exists(dir / "crate.mtl"));
+    ASSERT_TRUE(fs::exists(dir / "crate_basecolor.png"));
+    for (const auto& e : fs::directory_iterator(dir.path()))
+        EXPECT_EQ(e.path().string().find(".part-"), std::string::npos) << "temporary left: " << e.path();
+    const std::string obj = test::read_text(dir / "crate.obj");
+    EXPECT_NE(obj.find("mtllib crate.mtl\n"), std::string::npos);
+    EXPECT_NE(obj.find("o crate\n"), std::string::npos);
+    const std::string mtl = test::read_text(dir / "crate.mtl");
+    EXPECT_NE(mtl.find("map_Kd crate_basecolor.png"), std::string::npos) << mtl;
+
+    using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+    OMesh om;
+    om.request_halfedge_texcoords2D();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(om, (dir / "crate.obj").string(), opt));
+    EXPECT_EQ(om.n_faces(), m->triangles.size());
+    EXPECT_EQ(om.n_vertices(), m->positions.size()); // corners carry the UVs, vertices stay shared
+    ASSERT_TRUE(opt.check(OpenMesh::IO::Options::FaceTexCoord));
+    // Each face's corners carry the UVs written.
+    std::size_t f = 0, matched = 0;
+    for (auto fh : om.faces()) {
+        for (auto heh : om.fh_range(fh)) {
+            const auto t = om.texcoord2D(heh);
+            const auto vi = std::uint32_t(om.to_vertex_handle(heh).idx());
+            for (int k = 0; k < 3; ++k)
+                if (m->triangles[f][k] == vi && std::abs(t[0] - m->corner_uvs[3 * f + k][0]) < 1e-5 &&
+                    std::abs(t[1] - m->corner_uvs[3 * f + k][1]) < 1e-5)
+                    ++matched;
+        }
+        ++f;
+    }
+    EXPECT_EQ(matched, 3 * m->triangles.size());
+
+    auto in = OIIO::ImageInput::open((dir / "crate_basecolor.png").string());
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().width, 128);
+    EXPECT_EQ(in->spec().nchannels, 3);
+}
+
+TEST(TexturedWriters, PlyCarriesTheVertexColoursAsDrawn) {
+    test::TempDir dir("tex_ply");
+    const auto m = textured_box();
+    write(m, dir / "crate.ply");
+    using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+    OMesh om;
+    om.request_vertex_colors();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor;
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(om, (dir / "crate.ply").string(), opt));
+    ASSERT_TRUE(opt.check(OpenMesh::IO::Options::VertexColor));
+    ASSERT_EQ(om.n_vertices(), m->positions.size());
+    for (auto vh : om.vertices()) {
+        const auto c = om.color(vh);
+        const auto& lin = m->colors[std::size_t(vh.idx())];
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], linear_to_srgb(lin[k]) * 255.0f, 1.0f);
+    }
+}
+
+TEST(TexturedWriters, HeightSizesTheModelInMetresInEveryFormat) {
+    test::TempDir dir("tex_units");
+    const auto m = textured_box(); // 2 units tall
+    for (const char* name : {"tall.glb", "tall.obj", "tall.ply"}) {
+        write(m, dir / name, "{height: 1.5}");
+        const Mesh back = read_mesh(dir / name);
+        Vec3f lo, hi;
+        back.bounds(lo, hi);
+        EXPECT_NEAR(hi.y - lo.y, 1.5f, 1e-5f) << name;
+        EXPECT_NEAR(hi.x - lo.x, 1.5f, 1e-5f) << name; // uniformly
+    }
+    write(m, dir / "cm.glb", "{unit_scale: 0.01}");
+    Vec3f lo, hi;
+    read_mesh(dir / "cm.glb").bounds(lo, hi);
+    EXPECT_NEAR(hi.y - lo.y, 0.02f, 1e-7f);
+    test::StageHarness h("mesh.write");
+    h.params("{height: 1.5, unit_scale: 2}").param("path", dir / "x.glb").input("mesh", m);
+    EXPECT_NE(h.error().find("height and unit_scale"), std::string::npos) << h.error();
+}
+
+TEST(TexturedWriters, CompareReportsTheColourErrorOfATexturedGlbAgainstItsDrawings) {
+    test::TempDir dir("tex_compare");
+    write(textured_box(), dir / "crate.glb");
+    Manifest man;
+    man.bounds = {-1, -1, -1, 1, 1, 1};
+    for (const View& v : box_drawings()) {
+        ManifestView mv;
+        mv.key = v.name;
+        mv.view = v.name;
+        mv.image = dir / (v.name + ".png");
+        mv.scale = v.camera.scale;
+        mv.origin = {v.camera.cx, v.camera.cy};
+        write_image(v.image, mv.image);
+        man.views.push_back(mv);
+    }
+    write_manifest(dir / "views.yaml", man);
+    const auto r = test::run_cli("compare crate.glb views.yaml --json -q", dir.path());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.contains("colour")) << r.out;
+    ASSERT_EQ(j["colour"].size(), 3u);
+    for (const auto& v : j["colour"]) {
+        EXPECT_GT(v["pixels"].get<double>(), 1000) << v.dump();
+        EXPECT_LT(v["mean_delta_e"].get<double>(), 2.0) << v.dump();
+        EXPECT_LT(v["over10_pct"].get<double>(), 1.0) << v.dump();
+    }
+}
