@@ -59,6 +59,9 @@ struct AssetPlan {
 /// Throws cm::Error naming the asset when its pipeline cannot be read.
 std::vector<AssetPlan> plan_assets(const AssetsFile& f, const std::filesystem::path& out_dir);
 
+/// The bytes of a file; empty when it cannot be read.
+std::string read_bytes(const std::filesystem::path& f);
+
 /// SHA-256 of the asset's inputs: every image its manifest reads (bytes), the manifest, the
 /// pipeline file, its --set list and the tool's version.
 std::string inputs_hash(const AssetPlan& p, const std::filesystem::path& pipeline);

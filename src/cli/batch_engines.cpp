@@ -62,7 +62,9 @@ std::map<std::string, double> run_local(const std::vector<const AssetPlan*>& pla
     while (done < plans.size() && !(stopping && running.empty())) {
         if (cancel_requested() && !stopping) {
             stopping = true;
-            for (const auto& [pid, p] : running) ::kill(pid, SIGTERM);
+            // Each task is a process group of its own (its shell and the run): stop the run, not
+            // only the shell waiting for it.
+            for (const auto& [pid, p] : running) ::kill(-pid, SIGTERM);
         }
         while (!stopping && running.size() < std::size_t(jobs) && next < plans.size()) {
             const AssetPlan* p = plans[next++];
@@ -70,11 +72,13 @@ std::map<std::string, double> run_local(const std::vector<const AssetPlan*>& pla
             const pid_t pid = ::fork();
             if (pid < 0) throw Error(std::string("cannot start a process for asset \"") + p->spec->name + "\"");
             if (pid == 0) {
+                ::setpgid(0, 0);
                 const int devnull = ::open("/dev/null", O_RDONLY);
                 if (devnull >= 0) ::dup2(devnull, 0);
                 ::execl("/bin/sh", "sh", script.c_str(), static_cast<char*>(nullptr));
                 _exit(127);
             }
+            ::setpgid(pid, pid); // also here, so that a stop right after the fork finds the group
             running[pid] = p;
         }
         draw();
@@ -96,8 +100,11 @@ std::map<std::string, double> run_local(const std::vector<const AssetPlan*>& pla
         failed += !ok;
         if (!quiet) {
             if (tty) std::fputs("\r\033[K", stderr);
-            std::cerr << "conceptmesh: " << p->spec->name << ": " << (ok ? "done" : "FAILED") << " (" << done << "/"
-                      << plans.size() << ")\n";
+            std::cerr << "conceptmesh: " << p->spec->name << ": "
+                      << (ok         ? "done"
+                          : stopping ? "stopped"
+                                     : "FAILED")
+                      << " (" << done << "/" << plans.size() << ")\n";
         }
     }
     if (tty) std::fputs("\r\033[K", stderr);

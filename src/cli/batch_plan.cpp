@@ -25,13 +25,6 @@ namespace cm::cli::batch {
 
 namespace {
 
-std::string read_bytes(const fs::path& f) {
-    std::ifstream in(f, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 class Sha256 {
 public:
     Sha256() : ctx_(EVP_MD_CTX_new(), EVP_MD_CTX_free) { EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr); }
@@ -101,6 +94,13 @@ std::string shell_quote(const std::string& s) {
 }
 
 } // namespace
+
+std::string read_bytes(const fs::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
 
 std::string inputs_hash(const AssetPlan& p, const fs::path& pipeline) {
     Sha256 h;

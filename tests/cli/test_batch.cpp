@@ -38,7 +38,7 @@ Shell sh(const std::string& cmd) {
     static int n = 0;
     const fs::path f =
         fs::temp_directory_path() / ("cm-batch-sh-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
-    const int st = std::system((cmd + " >'" + f.string() + "' 2>&1 </dev/null").c_str());
+    const int st = std::system(("{ " + cmd + "; } >'" + f.string() + "' 2>&1 </dev/null").c_str());
     Shell r{WIFEXITED(st) ? WEXITSTATUS(st) : -1, test::read_text(f)};
     fs::remove(f);
     return r;
@@ -443,4 +443,20 @@ TEST(Batch, WithoutThreeJsTheSummaryIsStillWritten) {
     EXPECT_NE(r.out.find("no review page: the review page needs three.js"), std::string::npos) << r.out;
     EXPECT_TRUE(fs::is_regular_file(dir / "out" / "batch-report.json"));
     EXPECT_FALSE(fs::exists(dir / "out" / "index.html"));
+}
+
+TEST(Batch, AStoppedBatchStopsItsRunsAndLeavesNoMesh) {
+    test::TempDir dir("batch-stop");
+    const fs::path assets = copy_kit(dir);
+    const fs::path out = dir / "out";
+    // SIGTERM to the batch alone (as a farm's wrapper or `kill` sends it), once its first runs
+    // have started: they stop too.
+    const Shell r = sh("'" + std::string(CM_EXE) + "' batch '" + assets.string() + "' --jobs 2 -o '" + out.string() +
+                       "' & pid=$!; for i in $(seq 600); do ls '" + out.string() +
+                       "'/*/log.txt >/dev/null 2>&1 && break; sleep 0.1; done; sleep 0.5; kill -TERM $pid; wait $pid; "
+                       "echo \"exit $?\"; sleep 6");
+    EXPECT_NE(r.out.find("exit 143"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("cancelled; no output was written"), std::string::npos) << r.out;
+    for (const auto& n : kGood) EXPECT_FALSE(fs::exists(out / n / (n + ".glb"))) << n << ": a run went on";
+    EXPECT_FALSE(fs::exists(out / "batch-report.json"));
 }
