@@ -5,7 +5,7 @@
 // bottom centre is at the origin, as `conceptmesh render-views` frames it, so a mesh
 // reconstructed from those views lies on it. Each mesh is sampled at N points (area
 // weighted, fixed seed) and each point's distance to the other mesh is read from that
-// mesh's unsigned distance field (OpenVDB, exact within a narrow band, voxel diag/500).
+// mesh's unsigned distance field (OpenVDB, exact within a narrow band of 12 voxels of diag/256).
 // Prints one JSON line.
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     try {
         openvdb::initialize();
         std::string recon, truth, up = "+Y", front = "+Z";
-        int samples = 200000;
+        int samples = 100000;
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if (a == "--up" && i + 1 < argc) up = argv[++i];
@@ -107,8 +107,8 @@ int main(int argc, char** argv) {
         const cm::Vec3f pivot{0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z)};
         for (auto& p : t.positions) p = p - pivot;
         const double diag = cm::length(cm::Vec3d(hi - lo));
-        const double voxel = diag / 500.0;
-        const int band = 50;
+        const double voxel = diag / 256.0;
+        const int band = 12; // 4.7 % of the diagonal
         std::size_t beyond = 0;
         const double rt = mean_distance(r, distance_field(t, voxel, band), samples, beyond);
         const double tr = mean_distance(t, distance_field(r, voxel, band), samples, beyond);

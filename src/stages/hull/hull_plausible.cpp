@@ -35,8 +35,9 @@ public:
         b.add(opt_.thin_cells, ParamSpec::Int("thin_cells", 3, 0, 64, "cells",
                                               "voxels in a run of at most this many cells along any view's line of "
                                               "sight are kept (thin parts: fins, blades, wings)"));
-        b.add(opt_.smooth_cells, ParamSpec::Float("smooth", 1.0, 0.0, 8.0, "cells",
-                                                  "width of the Gaussian smoothing of the score, 0 for none"));
+        b.add(opt_.smooth_cells, ParamSpec::Float("smooth", 1.5, 0.0, 4.0, "cells",
+                                                  "standard deviation of the Gaussian smoothing of the score (a "
+                                                  "smoother new surface), 0 for none"));
     }
 
     Data run(const Inputs& in, Context& ctx) override {

@@ -35,7 +35,9 @@ std::vector<float> local_inscribed_radius(const std::vector<float>& dist, int w,
         float r;
     };
     // A cell's disc lies inside a neighbour's when the neighbour is farther from the
-    // outline by at least their distance: only the others (the medial ridge) paint.
+    // outline by their distance: only the others (the medial ridge) paint. A distance
+    // grows by at least cos 22.5 deg of a step towards the neighbour nearest its gradient,
+    // so 0.9 of a step keeps the ridge thin at the cost of a tenth of a cell of radius.
     std::vector<Disc> ridge;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -47,7 +49,7 @@ std::vector<float> local_inscribed_radius(const std::vector<float>& dist, int w,
                     const int nx = x + dx, ny = y + dy;
                     if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
                     const float step = (dx != 0 && dy != 0) ? 1.41421356f : 1.0f;
-                    covered = dist[std::size_t(ny) * w + nx] >= r + step - 1e-4f;
+                    covered = dist[std::size_t(ny) * w + nx] >= r + 0.9f * step;
                 }
             if (!covered) ridge.push_back({x, y, r});
         }
@@ -136,6 +138,108 @@ RayRaster make_raster(const View& view, const openvdb::math::Transform& xf, cons
     return r;
 }
 
+// 3x3 box passes over a raster, normalised over the cells not `masked` (all when null);
+// masked cells keep their value.
+void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int h, int passes) {
+    std::vector<float> tmp(f.size());
+    for (int k = 0; k < passes; ++k) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+            for (int j = rows.begin(); j != rows.end(); ++j)
+                for (int i = 0; i < w; ++i) {
+                    const std::size_t c = std::size_t(j) * w + i;
+                    if (masked && (*masked)[c]) {
+                        tmp[c] = f[c];
+                        continue;
+                    }
+                    float sum = 0;
+                    int cnt = 0;
+                    for (int dj = -1; dj <= 1; ++dj)
+                        for (int di = -1; di <= 1; ++di) {
+                            const int x = i + di, y = j + dj;
+                            if (x < 0 || y < 0 || x >= w || y >= h) continue;
+                            const std::size_t q = std::size_t(y) * w + x;
+                            if (masked && (*masked)[q]) continue;
+                            sum += f[q];
+                            ++cnt;
+                        }
+                    tmp[c] = sum / float(cnt);
+                }
+        });
+        f.swap(tmp);
+    }
+}
+
+// 3x3 maximum passes over a raster.
+void dilate(std::vector<float>& f, int w, int h, int passes) {
+    std::vector<float> tmp(f.size());
+    for (int k = 0; k < passes; ++k) {
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                float m = f[std::size_t(j) * w + i];
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const int x = i + di, y = j + dj;
+                        if (x >= 0 && y >= 0 && x < w && y < h) m = std::max(m, f[std::size_t(y) * w + x]);
+                    }
+                tmp[std::size_t(j) * w + i] = m;
+            }
+        f.swap(tmp);
+    }
+}
+
+// One normalised binomial pass from `src` into `dst` (same topology): each active voxel
+// gets the [1 2 1]^3 weighted mean of the active voxels around it. Per leaf, its 10^3
+// neighbourhood is gathered from the 27 leaves around it, then filtered separably.
+void binomial_pass(const openvdb::FloatGrid& src, openvdb::FloatGrid& dst) {
+    using FLeaf = openvdb::FloatTree::LeafNodeType;
+    openvdb::tree::LeafManager<openvdb::FloatTree> lm(dst.tree());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, lm.leafCount()), [&](const tbb::blocked_range<std::size_t>& r) {
+            constexpr int N = 10;
+            std::vector<float> v(N * N * N), w(N * N * N), v2(N * N * N), w2(N * N * N);
+            auto at = [](int x, int y, int z) { return (x * N + y) * N + z; };
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                FLeaf& leaf = lm.leaf(l);
+                const Coord o = leaf.origin();
+                const FLeaf* nb[27];
+                for (int k = 0; k < 27; ++k)
+                    nb[k] =
+                        src.tree().probeConstLeaf(o.offsetBy((k / 9 - 1) * 8, (k / 3 % 3 - 1) * 8, (k % 3 - 1) * 8));
+                for (int x = 0; x < N; ++x)
+                    for (int y = 0; y < N; ++y)
+                        for (int z = 0; z < N; ++z) {
+                            const int gx = x - 1, gy = y - 1, gz = z - 1;
+                            const int bx = gx < 0 ? 0 : (gx > 7 ? 2 : 1), by = gy < 0 ? 0 : (gy > 7 ? 2 : 1),
+                                      bz = gz < 0 ? 0 : (gz > 7 ? 2 : 1);
+                            const FLeaf* s = nb[bx * 9 + by * 3 + bz];
+                            const openvdb::Index off = FLeaf::coordToOffset(Coord(gx & 7, gy & 7, gz & 7));
+                            const bool on = s && s->isValueOn(off);
+                            v[at(x, y, z)] = on ? s->getValue(off) : 0.0f;
+                            w[at(x, y, z)] = on ? 1.0f : 0.0f;
+                        }
+                // Along x, y, then z; each pass leaves the halo of the axes still to come.
+                for (int axis = 0; axis < 3; ++axis) {
+                    const int sx = axis == 0 ? N * N : 0, sy = axis == 1 ? N : 0, sz = axis == 2 ? 1 : 0;
+                    const int st = sx + sy + sz;
+                    for (int x = axis == 0 ? 1 : 0; x < (axis == 0 ? N - 1 : N); ++x)
+                        for (int y = axis == 1 ? 1 : 0; y < (axis == 1 ? N - 1 : N); ++y)
+                            for (int z = axis == 2 ? 1 : 0; z < (axis == 2 ? N - 1 : N); ++z) {
+                                const int c = at(x, y, z);
+                                v2[c] = v[c - st] + 2 * v[c] + v[c + st];
+                                w2[c] = w[c - st] + 2 * w[c] + w[c + st];
+                            }
+                    std::swap(v, v2);
+                    std::swap(w, w2);
+                }
+                for (auto it = leaf.beginValueOn(); it; ++it) {
+                    const Coord g = it.getCoord() - o;
+                    const int c = at(g.x() + 1, g.y() + 1, g.z() + 1);
+                    if (w[c] > 0) it.setValue(v[c] / w[c]);
+                }
+            }
+        });
+}
+
 } // namespace
 
 std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const Views> views,
@@ -178,7 +282,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     std::vector<float> total(n, 0.0f); // sum over views: orders the candidates within a tie
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
-    std::vector<std::vector<std::uint32_t>> ray_count;
+    std::vector<std::vector<std::uint32_t>> ray_count, ray_start, ray_order;
     const std::size_t nv = views->views.size();
     for (std::size_t v = 0; v < nv; ++v) {
         const RayRaster R = make_raster(views->views[v], xf, box, voxel);
@@ -221,7 +325,11 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                     dist[c] = float(std::max(0.0, -sdf.sample(px, py) / R.cp));
                 }
         });
-        const std::vector<float> radius = local_inscribed_radius(dist, R.w, R.h);
+        // The local inscribed radius steps where one disc takes over from another; blurred
+        // over the drawing, the profile (and the surface) has no creases there.
+        std::vector<float> radius = local_inscribed_radius(dist, R.w, R.h);
+        box_blur(radius, &outside, R.w, R.h, 4);
+        for (std::size_t c = 0; c < ncell; ++c) radius[c] = std::max(radius[c], dist[c]);
 
         tbb::parallel_for(
             tbb::blocked_range<std::size_t>(0, ncell, 256), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -258,6 +366,8 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 }
             });
         ray_count.push_back(std::move(count));
+        ray_start.push_back(std::move(start));
+        ray_order.push_back(std::move(order));
         rasters.push_back(R);
         step(0.05 + 0.45 * double(v + 1) / double(nv));
     }
@@ -267,7 +377,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     auto sgrid = openvdb::FloatGrid::create(0.0f);
     sgrid->setTransform(xf.copy());
     sgrid->tree().topologyUnion(occ->tree());
-    auto wgrid = sgrid->deepCopy();
     // Same topology, so the leaves come in the occupancy's order (checked).
     auto for_leaves = [&](auto& grid, auto&& body) {
         openvdb::tree::LeafManager<openvdb::FloatTree> lm(grid.tree());
@@ -283,20 +392,54 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         });
     };
     for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
-    for_leaves(*wgrid, [&](std::size_t, auto& it) { it.setValue(1.0f); });
     if (opt.smooth_cells > 0) {
-        const int width = std::max(1, int(std::lround(opt.smooth_cells)));
-        openvdb::tools::Filter<openvdb::FloatGrid> fs(*sgrid), fw(*wgrid);
-        fs.gaussian(width, 1);
-        fw.gaussian(width, 1);
-        for_leaves(*sgrid, [&](std::size_t i, auto& it) {
-            const float w = wgrid->tree().getValue(it.getCoord());
-            const float s = w > 1e-6f ? it.getValue() / w : score[i];
-            it.setValue(s);
-            score[i] = s;
-        });
+        // Binomial passes ([1 2 1] along each axis, variance 1/2 each) normalised by the
+        // weight of the hull's voxels under the kernel.
+        const int passes = std::max(1, int(std::lround(2.0 * opt.smooth_cells * opt.smooth_cells)));
+        auto other = sgrid->deepCopy();
+        for (int k = 0; k < passes; ++k) {
+            binomial_pass(*sgrid, *other);
+            std::swap(sgrid, other);
+        }
+        for_leaves(*sgrid, [&](std::size_t i, auto& it) { score[i] = it.getValue(); });
     }
-    wgrid.reset();
+
+    // 3b. Coverage repair: a line of sight whose voxels all lie outside the profile gets
+    // its scores lowered until its best voxel, and a band of a few cells around it, is
+    // plausible; the lowering is smoothed over the image plane, so what a ray needs is a
+    // smooth layer joined to its neighbours rather than a voxel of its own.
+    for (std::size_t v = 0; v < nv; ++v) {
+        const RayRaster& R = rasters[v];
+        const auto& start = ray_start[v];
+        const auto& order = ray_order[v];
+        const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
+        std::vector<float> need(ncell, 0.0f);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                  const std::uint32_t k = start[c + 1] - start[c];
+                                  if (k == 0) continue;
+                                  float m = std::numeric_limits<float>::infinity();
+                                  for (std::uint32_t q = start[c]; q < start[c + 1] && m > 0; ++q)
+                                      m = std::min(m, thin[order[q]] ? -1.0f : score[order[q]]);
+                                  if (m > 0) need[c] = m + std::min(0.3f, 4.0f / float(k));
+                              }
+                          });
+        std::vector<float> lower = need;
+        dilate(lower, R.w, R.h, 2);
+        box_blur(lower, nullptr, R.w, R.h, 6);
+        for (std::size_t c = 0; c < ncell; ++c) lower[c] = std::max(lower[c], need[c]);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c)
+                                  if (lower[c] > 0)
+                                      for (std::uint32_t q = start[c]; q < start[c + 1]; ++q)
+                                          score[order[q]] -= lower[c];
+                          });
+    }
+    ray_start = {};
+    ray_order = {};
+    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
     step(0.6);
 
     // 4. Removal, most implausible first, while every ray keeps `ray_keep` voxels.

@@ -29,8 +29,9 @@ struct PlausibleOptions {
     /// A voxel in a run of at most this many cells along any view's line of sight is
     /// kept: thin parts (fins, blades, wings) have no volume to spare.
     int thin_cells = 3;
-    /// Width (cells) of the Gaussian smoothing of the score before removal, 0 for none.
-    double smooth_cells = 1.0;
+    /// Standard deviation (cells) of the Gaussian smoothing of the score before removal
+    /// (binomial passes, 2 sigma^2 of them), 0 for none.
+    double smooth_cells = 1.5;
 };
 
 struct PlausibleStats {
