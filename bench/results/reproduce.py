@@ -413,7 +413,7 @@ def main():
               "smoothing, 10 iterations, and quadric decimation to our face count); (b) **Open3D "
               "carve_silhouette** (`VoxelGrid.carve_silhouette`, carve only, no mesh, so no xor); (c) **OpenVDB "
               "volumeToMesh** (`pyopenvdb` `convertToPolygons` on the same numpy carve). Ratios are peer / ours "
-              "(above 1: we are faster, lighter or more accurate).\n")
+              "(above 1: we are faster, lighter or more accurate). Peer (c) is phase 1 only (carve and mesh, no smoothing or reduction, about a million faces out) against our whole pipeline, so its time ratio compares different work.\n")
     md.append("| resolution | ours: wall s / CPU s / MiB / xor_pct | peer | wall s | CPU s | MiB | xor_pct | time ratio | memory ratio | xor ratio |")
     md.append("|---:|---|---|---:|---:|---:|---:|---:|---:|---:|")
     names = {"dense": "(a) dense numpy + scikit-image + Open3D", "o3d": "(b) Open3D carve_silhouette",
