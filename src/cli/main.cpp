@@ -1,4 +1,5 @@
 // The conceptmesh command: parses the command line and dispatches to a sub-command.
+#include <malloc.h>
 #include <unistd.h>
 #include <csignal>
 #include <cstdio>
@@ -47,6 +48,14 @@ extern "C" void on_sigint(int sig) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // Stages allocate and free images and meshes of megabytes to tens of megabytes one after
+    // the other. By default glibc returns freed heap tops above 128 kB to the system, so
+    // every new buffer is faulted in and zeroed by the kernel again: a third of the CPU time
+    // of a preview, a seventh of a whole pipeline run (docs/results/speed.md). Freed memory
+    // is kept for reuse, and blocks up to 32 MB (glibc's largest mmap threshold; setting
+    // any threshold fixes it, so it is set too) come from the heap. About a tenth more peak memory.
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
     struct sigaction sa {};
     sa.sa_handler = on_sigint;
     sigemptyset(&sa.sa_mask);

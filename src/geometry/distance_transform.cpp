@@ -40,12 +40,20 @@ static void edt_1d(const float* f, float* d, int n, int* v, float* z) {
 std::vector<float> squared_edt(const std::vector<char>& seed, int w, int h) {
     std::vector<float> g(std::size_t(w) * h);
     for (std::size_t i = 0; i < g.size(); ++i) g[i] = seed[i] ? 0.0f : kEdtFar;
-    // Columns, then rows.
+    // Columns, then rows. A line that is all seeds stays 0 and a line without any stays
+    // kEdtFar (kEdtFar + n^2 rounds back to kEdtFar in float): both are skipped, which
+    // for a silhouette is most of the image (its box is a fraction of the frame).
     tbb::parallel_for(tbb::blocked_range<int>(0, w, 16), [&](const tbb::blocked_range<int>& r) {
         std::vector<float> f(h), d(h), z(h + 1);
         std::vector<int> v(h);
         for (int x = r.begin(); x != r.end(); ++x) {
-            for (int y = 0; y < h; ++y) f[y] = g[std::size_t(y) * w + x];
+            bool any = false, all = true;
+            for (int y = 0; y < h; ++y) {
+                f[y] = g[std::size_t(y) * w + x];
+                any |= f[y] == 0.0f;
+                all &= f[y] == 0.0f;
+            }
+            if (!any || all) continue;
             edt_1d(f.data(), d.data(), h, v.data(), z.data());
             for (int y = 0; y < h; ++y) g[std::size_t(y) * w + x] = d[y];
         }
@@ -55,6 +63,7 @@ std::vector<float> squared_edt(const std::vector<char>& seed, int w, int h) {
         std::vector<int> v(w);
         for (int y = r.begin(); y != r.end(); ++y) {
             float* row = g.data() + std::size_t(y) * w;
+            if (std::all_of(row, row + w, [](float x) { return x == 0.0f; })) continue;
             std::copy(row, row + w, f.begin());
             edt_1d(f.data(), row, w, v.data(), z.data());
         }

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "geometry/distance_transform.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
 #include "mesh_smooth.h"
@@ -84,6 +86,33 @@ TEST(Smooth, FactorScalesTheStep) {
         const Vec3f expect = m0.positions[v] + (full.positions[v] - m0.positions[v]) * 0.5f;
         EXPECT_NEAR(length(half.positions[v] - expect), 0.0f, 1e-6f);
     }
+}
+
+// The distance transform against brute force, on a mask with the lines it skips (columns and
+// rows all seed or without a seed) beside lines that need the full pass.
+TEST(DistanceTransform, MatchesBruteForceWithBlankAndFullLines) {
+    const int w = 37, h = 23;
+    std::vector<char> seed(std::size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool full_column = x == 30 || x == 31, full_row = y == 20;
+            const bool blob = (x - 12) * (x - 12) + (y - 9) * (y - 9) < 30 || (x * 7 + y * 3) % 23 == 0;
+            seed[std::size_t(y) * w + x] = (x < 26 && blob) || full_column || full_row;
+        }
+    for (int y = 0; y < h; ++y) seed[std::size_t(y) * w + 35] = 0; // a column without a seed but the full row's
+    const std::vector<float> d = squared_edt(seed, w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float best = kEdtFar;
+            for (int j = 0; j < h; ++j)
+                for (int i = 0; i < w; ++i)
+                    if (seed[std::size_t(j) * w + i])
+                        best = std::min(best, float((i - x) * (i - x) + (j - y) * (j - y)));
+            ASSERT_EQ(d[std::size_t(y) * w + x], best) << x << "," << y;
+        }
+    // All seed: zeros; no seed: kEdtFar everywhere.
+    for (float v : squared_edt(std::vector<char>(std::size_t(w) * h, 1), w, h)) ASSERT_EQ(v, 0.0f);
+    for (float v : squared_edt(std::vector<char>(std::size_t(w) * h, 0), w, h)) ASSERT_EQ(v, kEdtFar);
 }
 
 TEST(HullDistance, SignedDistanceOfABoxFromItsViews) {
