@@ -15,7 +15,7 @@ Vec2d pixel(const SilhouetteField& f, const Vec3d& p) {
 
 } // namespace
 
-HullNormal hull_normal(const VisualHull& hull, const Vec3d& p) {
+HullNormal hull_normal(const VisualHull& hull, const Vec3d& p, double smooth_px) {
     HullNormal best{{0, 0, 0}, -1, std::numeric_limits<double>::infinity()};
     for (std::size_t i = 0; i < hull.size(); ++i) {
         const SilhouetteField& f = hull.field(i);
@@ -27,6 +27,22 @@ HullNormal hull_normal(const VisualHull& hull, const Vec3d& p) {
         const double gx = (f.coverage(q.x + e, q.y) - f.coverage(q.x - e, q.y)) / (2 * e);
         const double gy = (f.coverage(q.x, q.y + e) - f.coverage(q.x, q.y - e)) / (2 * e);
         if (gx == 0 && gy == 0) continue; // no outline through this pixel cell
+        // The direction, averaged over a disc; the magnitude stays the pointwise one.
+        double dx = gx, dy = gy;
+        if (smooth_px > 0) {
+            const double step = std::min(0.5, smooth_px / 2);
+            const int n = int(std::ceil(smooth_px / step));
+            double mx = 0, my = 0;
+            for (int j = -n; j <= n; ++j)
+                for (int k = -n; k <= n; ++k) {
+                    const double sx = k * step, sy = j * step;
+                    if (sx * sx + sy * sy > smooth_px * smooth_px) continue;
+                    const double w = f.coverage(q.x + sx, q.y + sy);
+                    mx += w * sx, my += w * sy;
+                }
+            const double ml = std::hypot(mx, my), gl2 = std::hypot(gx, gy);
+            if (ml > 0) dx = mx / ml * gl2, dy = my / ml * gl2;
+        }
         // Pulled back through the projection's Jacobian (linear for orthographic views).
         const double d = 1e-3 * f.pixel_size_at(p);
         Vec3d g{};
@@ -35,7 +51,7 @@ HullNormal hull_normal(const VisualHull& hull, const Vec3d& p) {
             lo[a] -= d;
             hi[a] += d;
             const Vec2d ql = pixel(f, lo), qh = pixel(f, hi);
-            g[a] = (gx * (qh.x - ql.x) + gy * (qh.y - ql.y)) / (2 * d);
+            g[a] = (dx * (qh.x - ql.x) + dy * (qh.y - ql.y)) / (2 * d);
         }
         const double gl = length(g);
         if (!(gl > 0)) continue;
