@@ -22,7 +22,12 @@ struct HullNormal {
 /// hull.marching_intersections lies on it): of all views' outlines (the 0.5 iso-line of
 /// the bilinear coverage, as in silhouette_field.h) and the clip box's faces, the one
 /// nearest to `p` in world units.
-HullNormal hull_normal(const VisualHull& hull, const Vec3d& p);
+/// @param smooth_px 0: the outline's normal at the point (exact for the silhouette model:
+/// of a binary mask, a pixel staircase). > 0: the outline's direction averaged over a disc
+/// of that radius in pixels (the first moment of the coverage), which follows the drawn
+/// shape rather than its pixels; symmetric, so straight edges and circles keep their
+/// exact normals.
+HullNormal hull_normal(const VisualHull& hull, const Vec3d& p, double smooth_px = 0);
 
 /// @brief The visual hull `occupancy` was carved from: the cones of `views` clipped to the
 /// box hull.carve recorded in the grid's "hull_clip_min"/"hull_clip_max" metadata (no clip

@@ -17,14 +17,15 @@
 #include "core/volume.h"
 #include "marching_cubes.h"
 #include "mc_table.h"
+#include "sdf_volume.h"
 #include "support/stage_harness.h"
 
 using namespace cm;
 using openvdb::Coord;
+using test::Sdf;
+using test::volume_from_sdf;
 
 namespace {
-
-using Sdf = std::function<double(const Vec3d&)>;
 
 /// Empty thin_enter / thin_leave grids: where a part thinner than a cell enters and
 /// leaves the edges from each grid point (-1: no crossing on that axis).
@@ -34,51 +35,6 @@ std::pair<openvdb::Vec3fGrid::Ptr, openvdb::Vec3fGrid::Ptr> thin_grids() {
     enter->setName("thin_enter");
     leave->setName("thin_leave");
     return {enter, leave};
-}
-
-/// A volume on the lattice origin + h * ijk over `box`: inside where sdf < 0, crossings
-/// found by bisection on each edge with differing ends (from the start point, as the
-/// contract says), solid interior pruned into tiles.
-Volume volume_from_sdf(const Sdf& sdf, const openvdb::CoordBBox& box, double h, Vec3d origin, bool refine = true) {
-    Volume v;
-    auto xf = openvdb::math::Transform::createLinearTransform(h);
-    xf->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
-    v.occupancy = openvdb::BoolGrid::create(false);
-    v.occupancy->setTransform(xf);
-    auto world = [&](const Coord& p) { return origin + Vec3d(p.x(), p.y(), p.z()) * h; };
-    auto acc = v.occupancy->getAccessor();
-    for (auto it = box.begin(); it; ++it)
-        if (sdf(world(*it)) < 0) acc.setValueOn(*it, true);
-    if (refine) {
-        v.crossings = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
-        v.crossings->setTransform(xf->copy());
-        auto cacc = v.crossings->getAccessor();
-        for (auto it = v.occupancy->cbeginValueOn(); it; ++it) {
-            const Coord p = it.getCoord();
-            for (int a = 0; a < 3; ++a)
-                for (int dir : {-1, 1}) {
-                    Coord q = p;
-                    q[a] += dir;
-                    if (acc.isValueOn(q)) continue;
-                    const Coord s = dir > 0 ? p : q; // edge start
-                    Coord e = s;
-                    e[a] += 1;
-                    const Vec3d ws = world(s), we = world(e);
-                    const bool s_in = sdf(ws) < 0;
-                    double lo = 0, hi = 1;
-                    for (int i = 0; i < 60; ++i) {
-                        const double m = 0.5 * (lo + hi);
-                        const bool m_in = sdf(ws + (we - ws) * m) < 0;
-                        (m_in == s_in ? lo : hi) = m;
-                    }
-                    openvdb::Vec3f c = cacc.getValue(s);
-                    c[a] = float(0.5 * (lo + hi));
-                    cacc.setValueOn(s, c);
-                }
-        }
-    }
-    v.occupancy->tree().prune();
-    return v;
 }
 
 double sphere_sdf(const Vec3d& p, const Vec3d& c, double r) { return length(p - c) - r; }

@@ -30,7 +30,7 @@ namespace {
 
 /// The Hermite normals of the crossings (one per Marching Cubes vertex, zero for centre vertices).
 std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const MarchingCubesPatches& P,
-                                    DualMcOptions::Normals mode, const char*& source) {
+                                    DualMcOptions::Normals mode, double normal_px, const char*& source) {
     std::vector<Vec3f> N(mc.positions.size(), Vec3f(0, 0, 0));
     const openvdb::Vec3fGrid* stored[3] = {nullptr, nullptr, nullptr};
     const char* names[3] = {"normal_x", "normal_y", "normal_z"};
@@ -61,7 +61,7 @@ std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const Mar
                 if (use_mesh) {
                     N[v] = approx.normals[v];
                 } else if (hull) {
-                    const Vec3d n = hull_normal(*hull, Vec3d(mc.positions[v])).normal;
+                    const Vec3d n = hull_normal(*hull, Vec3d(mc.positions[v]), normal_px).normal;
                     N[v] = dot(n, n) > 0 ? Vec3f(n) : approx.normals[v];
                 } else {
                     const openvdb::Coord c(e[0], e[1], e[2]);
@@ -156,7 +156,7 @@ Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt, DualMcStat
 
     // 2. Normals; the crossings in index space.
     DualMesh D;
-    D.cross_n = crossing_normals(vol, mc, P, opt.normals, st.normals);
+    D.cross_n = crossing_normals(vol, mc, P, opt.normals, opt.normal_px, st.normals);
     const auto& xf = vol.occupancy->transform();
     const openvdb::Vec3d w0 = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
     const double h = vol.voxel_size();

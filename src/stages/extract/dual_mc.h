@@ -18,13 +18,16 @@ struct DualMcOptions {
     /// mesh's own vertex normals (an approximation, for volumes without views).
     enum class Normals { Auto, Views, Mesh };
     Normals normals = Normals::Auto;
+    /// From the views: the outlines' directions averaged over a disc of this radius in
+    /// pixels (hull_normal.h); 0 takes the outline's normal at the point.
+    double normal_px = 3.0;
     /// Eigenvalues of the QEF under this fraction of its largest are dropped
     /// (pseudo-inverse): a flat or ruled patch keeps its vertex near the crossings' mean.
     double singular_ratio = 0.1;
     /// Adaptivity (in cells): the cells of an octree node are merged into one vertex when it
     /// lies within this distance of every crossing's tangent plane and the merge keeps the
     /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
-    double max_error = 0.0;
+    double max_error = 0.25;
     /// Called on the calling thread with the fraction done; may throw to cancel.
     std::function<void(double)> progress;
 };

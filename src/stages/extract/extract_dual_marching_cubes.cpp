@@ -31,8 +31,12 @@ public:
                               "(exact), else mesh; views requires the views; mesh approximates them from the "
                               "Marching Cubes surface"),
               {Normals::Auto, Normals::Views, Normals::Mesh});
+        b.add(opt_.normal_px,
+              ParamSpec::Float("normal_px", 3.0, 0.0, 64.0, "px",
+                               "normals from the views: the outline's direction averaged over a disc of this "
+                               "radius (follows the drawn shape, not a mask's pixel steps); 0: at the point"));
         b.add(opt_.max_error,
-              ParamSpec::Float("max_error", 0.1, 0.0, 16.0, "cell",
+              ParamSpec::Float("max_error", 0.25, 0.0, 16.0, "cell",
                                "adaptivity: cells merge up an octree into one vertex while it stays within this "
                                "distance of every crossing's tangent plane and the topology is kept; 0: one "
                                "vertex per disc of every cell"));

@@ -324,7 +324,7 @@ void add_thin_grids(Volume& out, const std::vector<ThinHit>& all, const openvdb:
 
 } // namespace
 
-void add_normal_grids(Volume& vol, const VisualHull& hull) {
+void add_normal_grids(Volume& vol, const VisualHull& hull, double normal_px) {
     if (!vol.crossings) throw Error("the volume has no crossings to give normals to");
     const auto& xform = vol.crossings->transform();
     std::erase_if(vol.extra, [](const openvdb::GridBase::Ptr& g) {
@@ -346,7 +346,7 @@ void add_normal_grids(Volume& vol, const VisualHull& hull) {
                 openvdb::Vec3d ip = it.getCoord().asVec3d();
                 ip[a] += double(t);
                 const openvdb::Vec3d w = xform.indexToWorld(ip);
-                const Vec3d n = hull_normal(hull, {w.x(), w.y(), w.z()}).normal;
+                const Vec3d n = hull_normal(hull, {w.x(), w.y(), w.z()}, normal_px).normal;
                 it.setValue(openvdb::Vec3f(float(n.x), float(n.y), float(n.z)));
             }
         });
@@ -404,7 +404,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
         n_thin = all.size();
     }
-    if (opt.normals) add_normal_grids(*out, hull);
+    if (opt.normals) add_normal_grids(*out, hull, opt.normal_px);
     if (progress) progress(1.0);
     if (stats) {
         stats->crossings = n_cross;

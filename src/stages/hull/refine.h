@@ -18,6 +18,8 @@ struct RefineOptions {
     double thin_auto_px = 1.0;
     /// Also store the exact outward normal of every crossing (add_normal_grids()).
     bool normals = false;
+    /// Their smoothing radius in pixels (hull_normal()).
+    double normal_px = 3.0;
 };
 
 struct RefineStats {
@@ -33,7 +35,7 @@ struct RefineStats {
 /// transform): grid a at p holds the normal where the edge p -> p + e_a crosses the hull,
 /// active exactly where that crossing is set (see hull_normal.h). Replaces earlier ones.
 /// @throw cm::Error when the volume has no crossings.
-void add_normal_grids(Volume& vol, const VisualHull& hull);
+void add_normal_grids(Volume& vol, const VisualHull& hull, double normal_px = 3.0);
 
 /// @brief Finds, for every lattice edge whose ends differ in occupancy, where it leaves
 /// the visual hull of `views` (the intersection of the per-view inside intervals along
