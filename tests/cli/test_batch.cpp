@@ -448,6 +448,11 @@ TEST(Batch, WithoutThreeJsTheSummaryIsStillWritten) {
 TEST(Batch, AStoppedBatchStopsItsRunsAndLeavesNoMesh) {
     test::TempDir dir("batch-stop");
     const fs::path assets = copy_kit(dir);
+    // Runs long enough (a finer grid) that the stop surely lands while they run.
+    std::string yaml = test::read_text(assets);
+    const std::string coarse = "hull.resolution: 40";
+    yaml.replace(yaml.find(coarse), coarse.size(), "hull.resolution: 360");
+    test::write_text(assets, yaml);
     const fs::path out = dir / "out";
     // SIGTERM to the batch alone (as a farm's wrapper or `kill` sends it), once its first runs
     // have started: they stop too.
