@@ -8,7 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/tool_common.h"
-#include "core/limits.h"
+#include "io/limits.h"
 #include "pipeline/run_stage.h"
 #include "render/raster.h"
 #include "render/shade.h"

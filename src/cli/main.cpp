@@ -10,9 +10,9 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
-#include "core/limits.h"
 #include "core/progress.h"
 #include "io/file_commit.h"
+#include "io/limits.h"
 #include "plugins/registry.h"
 
 namespace cm::cli {

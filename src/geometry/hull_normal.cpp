@@ -14,6 +14,21 @@ Vec2d pixel(const SilhouetteField& f, const Vec3d& p) {
     return {h[0] / h[2], h[1] / h[2]};
 }
 
+// An image-plane gradient (gx, gy) at the pixel of p, pulled back to world space through the
+// projection's Jacobian (central differences; linear for orthographic views).
+Vec3d pulled_back(const SilhouetteField& f, const Vec3d& p, double gx, double gy) {
+    const double d = 1e-3 * f.pixel_size_at(p);
+    Vec3d g{};
+    for (int a = 0; a < 3; ++a) {
+        Vec3d lo = p, hi = p;
+        lo[a] -= d;
+        hi[a] += d;
+        const Vec2d ql = pixel(f, lo), qh = pixel(f, hi);
+        g[a] = (gx * (qh.x - ql.x) + gy * (qh.y - ql.y)) / (2 * d);
+    }
+    return g;
+}
+
 // The outward normal of the view's outline near p, its direction averaged over a disc of
 // radius r pixels: the first moment of the coverage over the disc, pulled back.
 Vec3d smoothed(const SilhouetteField& f, const Vec3d& p, double r) {
@@ -29,15 +44,7 @@ Vec3d smoothed(const SilhouetteField& f, const Vec3d& p, double r) {
             const double w = f.coverage(q.x + sx, q.y + sy);
             mx += w * sx, my += w * sy;
         }
-    const double d = 1e-3 * f.pixel_size_at(p);
-    Vec3d g{};
-    for (int a = 0; a < 3; ++a) {
-        Vec3d lo = p, hi = p;
-        lo[a] -= d;
-        hi[a] += d;
-        const Vec2d ql = pixel(f, lo), qh = pixel(f, hi);
-        g[a] = (mx * (qh.x - ql.x) + my * (qh.y - ql.y)) / (2 * d);
-    }
+    const Vec3d g = pulled_back(f, p, mx, my);
     const double gl = length(g);
     return gl > 0 ? g * (-1.0 / gl) : Vec3d{0, 0, 0};
 }
@@ -56,16 +63,7 @@ HullNormal hull_normal(const VisualHull& hull, const Vec3d& p, double smooth_px)
         const double gx = (f.coverage(q.x + e, q.y) - f.coverage(q.x - e, q.y)) / (2 * e);
         const double gy = (f.coverage(q.x, q.y + e) - f.coverage(q.x, q.y - e)) / (2 * e);
         if (gx == 0 && gy == 0) continue; // no outline through this pixel cell
-        // Pulled back through the projection's Jacobian (linear for orthographic views).
-        const double d = 1e-3 * f.pixel_size_at(p);
-        Vec3d g{};
-        for (int a = 0; a < 3; ++a) {
-            Vec3d lo = p, hi = p;
-            lo[a] -= d;
-            hi[a] += d;
-            const Vec2d ql = pixel(f, lo), qh = pixel(f, hi);
-            g[a] = (gx * (qh.x - ql.x) + gy * (qh.y - ql.y)) / (2 * d);
-        }
+        const Vec3d g = pulled_back(f, p, gx, gy);
         const double gl = length(g);
         if (!(gl > 0)) continue;
         const double dist = std::abs(c - 0.5) / gl;

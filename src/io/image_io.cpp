@@ -8,7 +8,7 @@
 
 #include "core/data.h"
 #include "core/error.h"
-#include "core/limits.h"
+#include "io/limits.h"
 
 namespace fs = std::filesystem;
 

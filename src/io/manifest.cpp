@@ -10,7 +10,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/limits.h"
+#include "io/limits.h"
 #include "io/yaml_checks.h"
 
 namespace fs = std::filesystem;

@@ -5,9 +5,9 @@
 #include <cstring>
 
 #include "core/error.h"
-#include "core/limits.h"
 #include "fuzz_support.h"
 #include "io/image_io.h"
+#include "io/limits.h"
 #include "silhouette.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "core/error.h"
-#include "core/limits.h"
 #include "geometry/hull_distance.h"
 #include "io/image_io.h"
+#include "io/limits.h"
 #include "io/manifest.h"
 #include "support/test_support.h"
 

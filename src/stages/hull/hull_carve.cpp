@@ -1,7 +1,7 @@
 // hull.carve: the coarse visual hull (paper step 1) in a sparse OpenVDB grid.
 #include "carve.h"
-#include "core/limits.h"
 #include "core/stage.h"
+#include "io/limits.h"
 
 #include <cstdint>
 #include <cstdio>

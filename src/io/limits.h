@@ -1,5 +1,6 @@
-// Resource limits of one process: what a run may take before it refuses, said up front
-// so a bad input ends in one clear line instead of an exhausted machine.
+// Resource limits of one process: what a run may take before it refuses, said up front so
+// a bad input ends in one clear line instead of an exhausted machine. Kept in the io layer,
+// whose readers meet the inputs first; stages and the command line consult them too.
 #pragma once
 #include <cstddef>
 #include <cstdint>
