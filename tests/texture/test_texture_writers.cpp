@@ -154,6 +154,50 @@ TEST(TexturedWriters, GlbPassesTheKhronosValidator) {
     EXPECT_NE(report.find("errors=0 "), std::string::npos) << report;
 }
 
+// The client a TD opens it in: Blender's own glTF importer (headless), not our reader.
+TEST(TexturedWriters, BlenderImportsTheGlbInMetresWithItsNameAndEachSideInItsDrawnColour) {
+    if (std::system("blender --version > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "Blender is not installed (Debian's blender package)";
+    test::TempDir dir("tex_blender");
+    write(textured_box(), dir / "crate.glb", "{height: 2.5}");
+    const fs::path log = dir / "blender.log";
+    const std::string cmd = "cd '" + dir.path().string() + "' && blender -b --factory-startup --python '" +
+                            (fs::path(CM_SOURCE_DIR) / "tests/texture/blender_import.py").string() + "' -- '" +
+                            (dir / "crate.glb").string() + "' > '" + log.string() + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << test::read_text(log);
+    const std::string text = test::read_text(log);
+    const auto at = text.find("IMPORTED ");
+    ASSERT_NE(at, std::string::npos) << text;
+    const auto json = nlohmann::json::parse(text.substr(at + 9, text.find('\n', at) - at - 9));
+    ASSERT_EQ(json["objects"].size(), 1u) << text;
+    const auto& ob = json["objects"][0];
+    EXPECT_EQ(ob["name"], "crate"); // what the outliner shows, not a temporary file's name
+    EXPECT_EQ(ob["mesh"], "crate");
+    // Blender is Z up; the box is as tall as it is wide, 2.5 m.
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(ob["dimensions"][k].get<double>(), 2.5, 1e-3) << k;
+    ASSERT_EQ(ob["uv_layers"].size(), 1u);
+    ASSERT_EQ(ob["materials"].size(), 1u);
+    EXPECT_EQ(ob["materials"][0]["images"].size(), 1u);
+    EXPECT_EQ(ob["colourspace"], "sRGB");
+    // Each drawn side (glTF Y up, front +Z) is, in Blender's frame, (x, -z, y); its faces
+    // carry the colour of its drawing, as Blender reads the texture.
+    const std::vector<View> drawn = box_drawings();
+    const test::Rgb colours[3] = {{0.9f, 0.2f, 0.1f}, {0.1f, 0.3f, 0.9f}, {0.2f, 0.8f, 0.3f}};
+    int checked[3] = {0, 0, 0};
+    for (const auto& f : ob["faces"]) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d n = -drawn[std::size_t(k)].camera.d;
+            const Vec3d b(n.x, -n.z, n.y);
+            if (f[0].get<double>() * b.x + f[1].get<double>() * b.y + f[2].get<double>() * b.z < 0.99) continue;
+            for (int ch = 0; ch < 3; ++ch)
+                EXPECT_NEAR(f[3 + ch].get<double>(), colours[k][std::size_t(ch)], 0.03) << drawn[std::size_t(k)].name;
+            ++checked[k];
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(checked[k], 18) << drawn[std::size_t(k)].name; // a 3 x 3 grid, two triangles a square
+}
+
 TEST(TexturedWriters, ObjComesWithItsMaterialAndTextureThatOpenMeshAndOpenImageIORead) {
     test::TempDir dir("tex_obj");
     const auto m = textured_box();
