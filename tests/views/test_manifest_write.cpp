@@ -8,6 +8,7 @@
 #include "io/manifest.h"
 #include "io/mesh_io.h"
 #include "load.h"
+#include "support/manifest_checks.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
 
@@ -15,32 +16,6 @@ using namespace cm;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path normal(const fs::path& p) { return fs::absolute(p).lexically_normal(); }
-
-void expect_same(const Manifest& a, const Manifest& b) {
-    EXPECT_EQ(a.height, b.height);
-    EXPECT_EQ(a.width, b.width);
-    EXPECT_EQ(a.depth, b.depth);
-    EXPECT_EQ(a.bounds, b.bounds);
-    ASSERT_EQ(a.views.size(), b.views.size());
-    for (std::size_t i = 0; i < a.views.size(); ++i) {
-        const ManifestView &x = a.views[i], &y = b.views[i];
-        SCOPED_TRACE(x.key);
-        EXPECT_EQ(x.key, y.key);
-        EXPECT_EQ(normal(x.image), normal(y.image));
-        EXPECT_EQ(x.view, y.view);
-        EXPECT_EQ(x.azimuth, y.azimuth);
-        EXPECT_EQ(x.elevation, y.elevation);
-        EXPECT_EQ(x.matrix, y.matrix);
-        EXPECT_EQ(x.scale, y.scale);
-        EXPECT_EQ(x.origin, y.origin);
-        EXPECT_EQ(x.background, y.background);
-        EXPECT_EQ(x.threshold, y.threshold);
-        EXPECT_EQ(x.keep, y.keep);
-        EXPECT_EQ(x.holes, y.holes);
-    }
-}
 
 ManifestView view(const fs::path& dir, const std::string& key) {
     ManifestView v;
@@ -75,7 +50,7 @@ TEST(ManifestWrite, DrawnViewsWithOptionsRoundTrip) {
     const std::string text = test::read_text(dir / "views.yaml");
     EXPECT_EQ(text.rfind("# Two lines\n# of comment.\n", 0), 0u) << text;
     EXPECT_NE(text.find("\n  front: front.png\n"), std::string::npos) << text;
-    expect_same(read_manifest(dir / "views.yaml"), m);
+    test::expect_same_manifest(read_manifest(dir / "views.yaml"), m);
 }
 
 TEST(ManifestWrite, FixedCamerasAndBoundsRoundTripExactly) {
@@ -98,7 +73,7 @@ TEST(ManifestWrite, FixedCamerasAndBoundsRoundTripExactly) {
               std::string::npos)
         << text;
     EXPECT_EQ(text.find("-0,"), std::string::npos) << text;
-    expect_same(read_manifest(dir / "views.yaml"), m);
+    test::expect_same_manifest(read_manifest(dir / "views.yaml"), m);
 }
 
 TEST(ManifestWrite, CalibratedViewsAndImagesOutsideTheFolderRoundTrip) {
@@ -122,7 +97,7 @@ TEST(ManifestWrite, CalibratedViewsAndImagesOutsideTheFolderRoundTrip) {
     const std::string text = test::read_text(dir / "m" / "views.yaml");
     EXPECT_NE(text.find("image: sub/b.png"), std::string::npos) << text;
     const Manifest back = read_manifest(dir / "m" / "views.yaml");
-    expect_same(back, m);
+    test::expect_same_manifest(back, m);
 }
 
 TEST(ManifestWrite, RenderViewsManifestIsWhatWriteManifestWrites) {
@@ -141,7 +116,7 @@ TEST(ManifestWrite, RenderViewsManifestIsWhatWriteManifestWrites) {
     }
     write_manifest(dir / "v" / "copy.yaml", m);
     EXPECT_EQ(test::read_text(dir / "v" / "copy.yaml"), original);
-    expect_same(read_manifest(dir / "v" / "copy.yaml"), m);
+    test::expect_same_manifest(read_manifest(dir / "v" / "copy.yaml"), m);
     // views.load gives the same cameras from both.
     LoadViewsReport ra, rb;
     const Views a = load_views(dir / "v" / "views.yaml", {}, ra), b = load_views(dir / "v" / "copy.yaml", {}, rb);

@@ -4,40 +4,12 @@
 
 #include "core/error.h"
 #include "io/manifest.h"
+#include "support/manifest_checks.h"
 #include "support/test_support.h"
 
 using namespace cm;
 using test::error_of;
 namespace fs = std::filesystem;
-
-namespace {
-
-fs::path normal(const fs::path& p) { return fs::absolute(p).lexically_normal(); }
-
-void expect_same(const Manifest& a, const Manifest& b) {
-    EXPECT_EQ(a.height, b.height);
-    ASSERT_EQ(a.views.size(), b.views.size());
-    for (std::size_t i = 0; i < a.views.size(); ++i) {
-        const ManifestView &x = a.views[i], &y = b.views[i];
-        SCOPED_TRACE(x.key);
-        EXPECT_EQ(x.key, y.key);
-        EXPECT_EQ(normal(x.image), normal(y.image));
-        EXPECT_EQ(x.view, y.view);
-        EXPECT_EQ(x.azimuth, y.azimuth);
-        EXPECT_EQ(x.elevation, y.elevation);
-        EXPECT_EQ(x.background, y.background);
-        EXPECT_EQ(x.threshold, y.threshold);
-        EXPECT_EQ(x.keep, y.keep);
-        EXPECT_EQ(x.holes, y.holes);
-    }
-    ASSERT_EQ(a.sheets.size(), b.sheets.size());
-    for (std::size_t i = 0; i < a.sheets.size(); ++i) {
-        EXPECT_EQ(normal(a.sheets[i].image), normal(b.sheets[i].image));
-        EXPECT_EQ(a.sheets[i].views, b.sheets[i].views);
-    }
-}
-
-} // namespace
 
 TEST(SheetManifest, ReadsNamesEntriesAndOptionsInTheFilesOrder) {
     test::TempDir dir("sheet_read");
@@ -102,7 +74,7 @@ TEST(SheetManifest, WriteManifestRoundTrip) {
     write_manifest(dir / "one.yaml", m);
     const std::string text = test::read_text(dir / "one.yaml");
     EXPECT_NE(text.find("\nsheet: {image: a.png, views: [right, top]}\n"), std::string::npos) << text;
-    expect_same(read_manifest(dir / "one.yaml"), m);
+    test::expect_same_manifest(read_manifest(dir / "one.yaml"), m);
 
     // Two sheets (a list), with options and mapping entries.
     b.views.push_back(add("side", b.image));
@@ -118,7 +90,7 @@ TEST(SheetManifest, WriteManifestRoundTrip) {
     }
     m.sheets = {a, b};
     write_manifest(dir / "two.yaml", m);
-    expect_same(read_manifest(dir / "two.yaml"), m);
+    test::expect_same_manifest(read_manifest(dir / "two.yaml"), m);
 
     // Sheets first: the order reads back.
     Manifest s;
@@ -138,7 +110,7 @@ TEST(SheetManifest, WriteManifestRoundTrip) {
     s.views.push_back(r);
     s.sheets = {c};
     write_manifest(dir / "first.yaml", s);
-    expect_same(read_manifest(dir / "first.yaml"), s);
+    test::expect_same_manifest(read_manifest(dir / "first.yaml"), s);
 
     // An order no file gives is refused rather than written differently.
     std::swap(s.views[1], s.views[2]);
