@@ -49,14 +49,16 @@ double SilhouetteSdf::sample(double x, double y) const {
     double fx = x - 0.5, fy = y - 0.5;
     const double cx = std::clamp(fx, 0.0, double(width - 1));
     const double cy = std::clamp(fy, 0.0, double(height - 1));
-    const double beyond = std::hypot(fx - cx, fy - cy);
+    const bool in_frame = fx == cx && fy == cy;
     const int x0 = std::min(int(cx), width - 1), y0 = std::min(int(cy), height - 1);
     const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
     const double tx = cx - x0, ty = cy - y0;
     auto at = [&](int i, int j) { return double(sdf[std::size_t(j) * width + i]); };
     const double v =
         (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+    if (in_frame) return v;
     // Beyond the image: at least as far as the border sample plus the way out.
+    const double beyond = std::hypot(fx - cx, fy - cy);
     return beyond > 0 ? std::max(v, 0.0) + beyond : v;
 }
 
@@ -67,29 +69,41 @@ HullDistance::HullDistance(const Views& views) {
         views_.push_back({v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)});
 }
 
+double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
+    const Vec2d q = e.camera.project(p);
+    const double px = e.sdf.sample(q.x, q.y);
+    double pixel_size; // world units per pixel at p
+    if (e.camera.orthographic()) {
+        pixel_size = 1.0 / e.camera.scale;
+    } else {
+        // Local scale of the projection, from finite differences along the axes.
+        const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
+        double s = 0;
+        for (int a = 0; a < 3; ++a) {
+            Vec3d o = p;
+            o[a] += h;
+            const Vec2d qa = e.camera.project(o);
+            s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
+        }
+        pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
+    }
+    return px * pixel_size;
+}
+
 double HullDistance::operator()(const Vec3d& p) const {
     double best = -std::numeric_limits<double>::infinity();
-    for (const auto& e : views_) {
-        const Vec2d q = e.camera.project(p);
-        const double px = e.sdf.sample(q.x, q.y);
-        double pixel_size; // world units per pixel at p
-        if (e.camera.orthographic()) {
-            pixel_size = 1.0 / e.camera.scale;
-        } else {
-            // Local scale of the projection, from finite differences along the axes.
-            const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
-            double s = 0;
-            for (int a = 0; a < 3; ++a) {
-                Vec3d o = p;
-                o[a] += h;
-                const Vec2d qa = e.camera.project(o);
-                s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
-            }
-            pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
-        }
-        best = std::max(best, px * pixel_size);
-    }
+    for (const auto& e : views_) best = std::max(best, view_distance(e, p));
     return best;
+}
+
+bool HullDistance::within(const Vec3d& p, double bound) const {
+    double best = -std::numeric_limits<double>::infinity();
+    for (const auto& e : views_) {
+        const double d = view_distance(e, p);
+        if (d > bound) return false; // the largest is farther still
+        best = std::max(best, d);
+    }
+    return std::fabs(best) <= bound;
 }
 
 } // namespace cm

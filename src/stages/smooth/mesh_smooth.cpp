@@ -56,7 +56,7 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             double lo = 0, hi = 1;
             for (int k = 0; k < kBisections; ++k) {
                 const double mid = 0.5 * (lo + hi);
-                if (std::fabs((*hull)(p0 + s * mid)) <= bound) lo = mid;
+                if (hull->within(p0 + s * mid, bound)) lo = mid;
                 else hi = mid;
             }
             dst[v] = p + step * float(lo);
