@@ -6,6 +6,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
@@ -16,12 +17,17 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
     if (w <= 0 || h <= 0 || coverage.size() != std::size_t(w) * h)
         throw Error("view \"" + view_name + "\": the silhouette does not match the image size");
     std::vector<char> inside(coverage.size()), outside(coverage.size());
-    std::size_t n_in = 0;
-    for (std::size_t i = 0; i < coverage.size(); ++i) {
-        inside[i] = coverage[i] >= 0.5f;
-        outside[i] = !inside[i];
-        n_in += inside[i];
-    }
+    const std::size_t n_in = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, coverage.size(), 1 << 16), std::size_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t n) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                inside[i] = coverage[i] >= 0.5f;
+                outside[i] = !inside[i];
+                n += std::size_t(inside[i]);
+            }
+            return n;
+        },
+        [](std::size_t x, std::size_t y) { return x + y; });
     if (n_in == 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
     const auto to_in = squared_edt(inside, w, h);
     const std::vector<float> to_out =
@@ -65,8 +71,20 @@ double SilhouetteSdf::sample(double x, double y) const {
 HullDistance::HullDistance(const Views& views) {
     if (views.views.empty()) throw Error("the hull constraint needs at least one view");
     finest_pixel_ = views.finest_pixel();
-    for (const auto& v : views.views)
-        views_.push_back({v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)});
+    // The views' fields are independent: built side by side (each is parallel inside too).
+    // The first failing view in order is reported, whichever thread found it first.
+    views_.resize(views.views.size());
+    std::vector<std::string> errors(views.views.size());
+    tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
+        const View& v = views.views[i];
+        try {
+            views_[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
+        } catch (const std::exception& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (const auto& e : errors)
+        if (!e.empty()) throw Error(e);
 }
 
 double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
