@@ -114,11 +114,17 @@ double HullDistance::operator()(const Vec3d& p) const {
     return best;
 }
 
-bool HullDistance::within(const Vec3d& p, double bound) const {
+bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first) const {
+    const std::size_t n = views_.size();
+    if (first >= n) first = 0;
     double best = -std::numeric_limits<double>::infinity();
-    for (const auto& e : views_) {
-        const double d = view_distance(e, p);
-        if (d > bound) return false; // the largest is farther still
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = (first + k) % n;
+        const double d = view_distance(views_[i], p);
+        if (d > bound) { // the largest is farther still
+            first = i;
+            return false;
+        }
         best = std::max(best, d);
     }
     return std::fabs(best) <= bound;

@@ -40,8 +40,10 @@ public:
     /// Approximate signed distance from p to the visual hull in world units (positive outside).
     double operator()(const Vec3d& p) const;
     /// Whether |(*this)(p)| <= bound, stopping at the first view that puts p farther out
-    /// than `bound` (the same answer, cheaper where p is outside).
-    bool within(const Vec3d& p, double bound) const;
+    /// than `bound` (the same answer, cheaper where p is outside). The view at index
+    /// `first` is asked first, and `first` becomes the view that said no: a caller asking
+    /// about nearby points in turn (a bisection) meets the binding view at once.
+    bool within(const Vec3d& p, double bound, std::size_t& first) const;
     /// Pixel size of the finest view, world units.
     double finest_pixel() const { return finest_pixel_; }
 
