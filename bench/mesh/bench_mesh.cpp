@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -20,6 +21,7 @@
 #endif
 
 #include "core/mesh.h"
+#include "geometry/distance_transform.h"
 #include "geometry/mesh_adjacency.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
@@ -55,6 +57,30 @@ void BM_Adjacency(benchmark::State& st) {
     for (auto _ : st) benchmark::DoNotOptimize(build_vertex_adjacency(m));
     st.SetLabel(name_of(int(st.range(0))));
     st.counters["faces"] = double(m.face_count());
+}
+
+// The mesh check the extractor and mesh.write report (edges, fans, components).
+void BM_CheckMesh(benchmark::State& st) {
+    const Mesh& m = input(int(st.range(0)));
+    for (auto _ : st) benchmark::DoNotOptimize(check_mesh(m));
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["faces"] = double(m.face_count());
+}
+
+// The exact distance transform of a 2048 x 2048 silhouette-like mask (an ellipse with
+// stripes): seeds inside (range 0) or outside (range 1), as views.load and the hull
+// distance of smoothing run it.
+void BM_DistanceTransform(benchmark::State& st) {
+    const int w = 2048, h = 2048;
+    std::vector<char> seed(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double u = (x - 1024) / 700.0, v = (y - 1100) / 500.0;
+            const bool in = u * u + v * v < 1 || ((x / 37 + y / 53) % 7 == 0 && u * u + v * v < 1.6);
+            seed[std::size_t(y) * w + x] = st.range(0) == 0 ? in : !in;
+        }
+    for (auto _ : st) benchmark::DoNotOptimize(squared_edt(seed, w, h));
+    st.SetLabel(st.range(0) == 0 ? "to_inside" : "to_outside");
 }
 
 void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
@@ -178,6 +204,8 @@ void BM_QuadricOpenMesh(benchmark::State& st) {
 } // namespace
 
 BENCHMARK(BM_Adjacency)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CheckMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DistanceTransform)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LaplacianSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TaubinSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelfIntersections)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -6,6 +6,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
@@ -16,12 +17,17 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
     if (w <= 0 || h <= 0 || coverage.size() != std::size_t(w) * h)
         throw Error("view \"" + view_name + "\": the silhouette does not match the image size");
     std::vector<char> inside(coverage.size()), outside(coverage.size());
-    std::size_t n_in = 0;
-    for (std::size_t i = 0; i < coverage.size(); ++i) {
-        inside[i] = coverage[i] >= 0.5f;
-        outside[i] = !inside[i];
-        n_in += inside[i];
-    }
+    const std::size_t n_in = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, coverage.size(), 1 << 16), std::size_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t n) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                inside[i] = coverage[i] >= 0.5f;
+                outside[i] = !inside[i];
+                n += std::size_t(inside[i]);
+            }
+            return n;
+        },
+        [](std::size_t x, std::size_t y) { return x + y; });
     if (n_in == 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
     const auto to_in = squared_edt(inside, w, h);
     const std::vector<float> to_out =
@@ -49,47 +55,79 @@ double SilhouetteSdf::sample(double x, double y) const {
     double fx = x - 0.5, fy = y - 0.5;
     const double cx = std::clamp(fx, 0.0, double(width - 1));
     const double cy = std::clamp(fy, 0.0, double(height - 1));
-    const double beyond = std::hypot(fx - cx, fy - cy);
+    const bool in_frame = fx == cx && fy == cy;
     const int x0 = std::min(int(cx), width - 1), y0 = std::min(int(cy), height - 1);
     const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
     const double tx = cx - x0, ty = cy - y0;
     auto at = [&](int i, int j) { return double(sdf[std::size_t(j) * width + i]); };
     const double v =
         (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+    if (in_frame) return v;
     // Beyond the image: at least as far as the border sample plus the way out.
+    const double beyond = std::hypot(fx - cx, fy - cy);
     return beyond > 0 ? std::max(v, 0.0) + beyond : v;
 }
 
 HullDistance::HullDistance(const Views& views) {
     if (views.views.empty()) throw Error("the hull constraint needs at least one view");
     finest_pixel_ = views.finest_pixel();
-    for (const auto& v : views.views)
-        views_.push_back({v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)});
+    // The views' fields are independent: built side by side (each is parallel inside too).
+    // The first failing view in order is reported, whichever thread found it first.
+    views_.resize(views.views.size());
+    std::vector<std::string> errors(views.views.size());
+    tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
+        const View& v = views.views[i];
+        try {
+            views_[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
+        } catch (const std::exception& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (const auto& e : errors)
+        if (!e.empty()) throw Error(e);
+}
+
+double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
+    const Vec2d q = e.camera.project(p);
+    const double px = e.sdf.sample(q.x, q.y);
+    double pixel_size; // world units per pixel at p
+    if (e.camera.orthographic()) {
+        pixel_size = 1.0 / e.camera.scale;
+    } else {
+        // Local scale of the projection, from finite differences along the axes.
+        const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
+        double s = 0;
+        for (int a = 0; a < 3; ++a) {
+            Vec3d o = p;
+            o[a] += h;
+            const Vec2d qa = e.camera.project(o);
+            s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
+        }
+        pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
+    }
+    return px * pixel_size;
 }
 
 double HullDistance::operator()(const Vec3d& p) const {
     double best = -std::numeric_limits<double>::infinity();
-    for (const auto& e : views_) {
-        const Vec2d q = e.camera.project(p);
-        const double px = e.sdf.sample(q.x, q.y);
-        double pixel_size; // world units per pixel at p
-        if (e.camera.orthographic()) {
-            pixel_size = 1.0 / e.camera.scale;
-        } else {
-            // Local scale of the projection, from finite differences along the axes.
-            const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
-            double s = 0;
-            for (int a = 0; a < 3; ++a) {
-                Vec3d o = p;
-                o[a] += h;
-                const Vec2d qa = e.camera.project(o);
-                s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
-            }
-            pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
-        }
-        best = std::max(best, px * pixel_size);
-    }
+    for (const auto& e : views_) best = std::max(best, view_distance(e, p));
     return best;
+}
+
+bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first) const {
+    const std::size_t n = views_.size();
+    if (first >= n) first = 0;
+    double best = -std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = (first + k) % n;
+        const double d = view_distance(views_[i], p);
+        if (d > bound) { // the largest is farther still
+            first = i;
+            return false;
+        }
+        best = std::max(best, d);
+    }
+    return std::fabs(best) <= bound;
 }
 
 } // namespace cm

@@ -39,6 +39,11 @@ public:
     explicit HullDistance(const Views& views);
     /// Approximate signed distance from p to the visual hull in world units (positive outside).
     double operator()(const Vec3d& p) const;
+    /// Whether |(*this)(p)| <= bound, stopping at the first view that puts p farther out
+    /// than `bound` (the same answer, cheaper where p is outside). The view at index
+    /// `first` is asked first, and `first` becomes the view that said no: a caller asking
+    /// about nearby points in turn (a bisection) meets the binding view at once.
+    bool within(const Vec3d& p, double bound, std::size_t& first) const;
     /// Pixel size of the finest view, world units.
     double finest_pixel() const { return finest_pixel_; }
 
@@ -47,6 +52,8 @@ private:
         Camera camera;
         SilhouetteSdf sdf;
     };
+    // View e's distance at p in world units.
+    double view_distance(const Entry& e, const Vec3d& p) const;
     std::vector<Entry> views_;
     double finest_pixel_ = 1.0;
 };

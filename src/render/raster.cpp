@@ -235,13 +235,14 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
     return img;
 }
 
-SilhouetteError silhouette_error(const Mesh& mesh, const Views& views) {
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vector<std::vector<std::uint8_t>>* masks) {
     SilhouetteError res;
+    if (masks) masks->clear();
     double sum_xor = 0, sum_input = 0, sum_iou = 0;
     for (const View& v : views.views) {
         if (v.coverage.size() != std::size_t(v.width) * v.height || v.width <= 0 || v.height <= 0)
             throw Error("view \"" + v.name + "\" has no silhouette to compare with");
-        const std::vector<std::uint8_t> r = render_mask(mesh, v.camera, v.width, v.height);
+        std::vector<std::uint8_t> r = render_mask(mesh, v.camera, v.width, v.height);
         struct Counts {
             std::size_t s = 0, r = 0, both = 0;
         };
@@ -274,6 +275,7 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views) {
         sum_input += e.input_px;
         sum_iou += e.iou;
         res.views.push_back(e);
+        if (masks) masks->push_back(std::move(r));
     }
     res.xor_pct = sum_input > 0 ? 100.0 * sum_xor / sum_input : (sum_xor > 0 ? 100.0 : 0.0);
     res.mean_iou = res.views.empty() ? 0.0 : sum_iou / double(res.views.size());

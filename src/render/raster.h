@@ -48,8 +48,10 @@ struct SilhouetteError {
 };
 
 /// @brief Re-renders the mesh through every view's camera and compares with the view's
-/// silhouette (coverage >= 0.5).
-SilhouetteError silhouette_error(const Mesh& mesh, const Views& views);
+/// silhouette (coverage >= 0.5). With `masks`, the renders (render_mask, one per view) are
+/// kept there for a caller that shows them.
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views,
+                                 std::vector<std::vector<std::uint8_t>>* masks = nullptr);
 
 /// @brief Orthographic camera framed as ../shared/conventions/views.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.

@@ -27,23 +27,27 @@ double hash01(std::uint64_t x, std::uint64_t y, std::uint64_t seed) {
 // pixel where `seed` is set; pixels outside the image count as seeds when `outside_seeds`.
 std::vector<float> distance_to(const std::vector<char>& seed, int w, int h, bool outside_seeds) {
     const float inf = 1e9f;
-    std::vector<float> d(seed.size());
-    for (std::size_t i = 0; i < seed.size(); ++i) d[i] = seed[i] ? 0.0f : inf;
-    const float a = 1.0f, b = 1.4142f;
-    auto at = [&](int x, int y) -> float {
-        if (x < 0 || y < 0 || x >= w || y >= h) return outside_seeds ? 0.0f : inf;
-        return d[std::size_t(y) * w + x];
-    };
+    // On a frame one pixel wider on each side that holds what lies outside the image, so
+    // the two passes read their neighbours without bounds checks.
+    const int pw = w + 2;
+    std::vector<float> f(std::size_t(pw) * std::size_t(h + 2), outside_seeds ? 0.0f : inf);
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            float& v = d[std::size_t(y) * w + x];
-            v = std::min({v, at(x - 1, y) + a, at(x, y - 1) + a, at(x - 1, y - 1) + b, at(x + 1, y - 1) + b});
-        }
-    for (int y = h - 1; y >= 0; --y)
-        for (int x = w - 1; x >= 0; --x) {
-            float& v = d[std::size_t(y) * w + x];
-            v = std::min({v, at(x + 1, y) + a, at(x, y + 1) + a, at(x + 1, y + 1) + b, at(x - 1, y + 1) + b});
-        }
+        for (int x = 0; x < w; ++x) f[std::size_t(y + 1) * pw + x + 1] = seed[std::size_t(y) * w + x] ? 0.0f : inf;
+    const float a = 1.0f, b = 1.4142f;
+    for (int y = 1; y <= h; ++y) {
+        float* row = f.data() + std::size_t(y) * pw;
+        const float* up = row - pw;
+        for (int x = 1; x <= w; ++x)
+            row[x] = std::min({row[x], row[x - 1] + a, up[x] + a, up[x - 1] + b, up[x + 1] + b});
+    }
+    for (int y = h; y >= 1; --y) {
+        float* row = f.data() + std::size_t(y) * pw;
+        const float* down = row + pw;
+        for (int x = w; x >= 1; --x)
+            row[x] = std::min({row[x], row[x + 1] + a, down[x] + a, down[x + 1] + b, down[x - 1] + b});
+    }
+    std::vector<float> d(seed.size());
+    for (int y = 0; y < h; ++y) std::copy_n(f.data() + std::size_t(y + 1) * pw + 1, w, d.data() + std::size_t(y) * w);
     return d;
 }
 

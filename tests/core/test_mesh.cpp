@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
@@ -47,6 +49,59 @@ TEST(MeshCheck, DetectsBowtieVertex) {
         a.triangles.push_back(t);
     }
     EXPECT_EQ(check_mesh(a).nonmanifold_vertices, 1u);
+}
+
+namespace {
+
+// A closed double cone with `sides` faces around each apex (vertices 0 and 1).
+Mesh double_cone(int sides, Vec3f centre) {
+    Mesh m;
+    m.positions.push_back(centre + Vec3f{0, 1, 0});
+    m.positions.push_back(centre + Vec3f{0, -1, 0});
+    for (int i = 0; i < sides; ++i) {
+        const float a = 6.2831853f * float(i) / float(sides);
+        m.positions.push_back(centre + Vec3f{std::cos(a), 0, -std::sin(a)});
+    }
+    for (int i = 0; i < sides; ++i) {
+        const std::uint32_t r0 = std::uint32_t(2 + i), r1 = std::uint32_t(2 + (i + 1) % sides);
+        m.triangles.push_back({0, r0, r1});
+        m.triangles.push_back({1, r1, r0});
+    }
+    return m;
+}
+
+} // namespace
+
+// Fans of more faces than the check's small path takes, and faces with a repeated index.
+TEST(MeshCheck, LargeFansAndRepeatedIndices) {
+    for (int sides : {5, 40}) {
+        SCOPED_TRACE(sides);
+        const Mesh one = double_cone(sides, {0, 0, 0});
+        MeshCheck c = check_mesh(one);
+        EXPECT_TRUE(c.closed_manifold());
+        EXPECT_EQ(c.euler, 2);
+        EXPECT_EQ(c.components, 1u);
+        EXPECT_GT(c.signed_volume, 0);
+        // Two cones sharing one apex: the apex's faces form two fans.
+        Mesh two = one;
+        const Mesh other = double_cone(sides, {0, 2, 0});
+        const std::uint32_t off = std::uint32_t(two.positions.size());
+        for (auto p : other.positions) two.positions.push_back(p);
+        for (auto t : other.triangles) {
+            for (auto& i : t) i = i == 1 ? 0 : i + off; // its lower apex is the first cone's upper one
+            two.triangles.push_back(t);
+        }
+        c = check_mesh(two);
+        EXPECT_EQ(c.nonmanifold_vertices, 1u);
+        EXPECT_EQ(c.boundary_edges + c.nonmanifold_edges + c.inconsistent_edges, 0u);
+        EXPECT_EQ(c.components, 1u);
+        // A face with a repeated index is degenerate and adds no edge.
+        Mesh bad = one;
+        bad.triangles.push_back({2, 2, 3});
+        c = check_mesh(bad);
+        EXPECT_EQ(c.degenerate_faces, 1u);
+        EXPECT_TRUE(c.closed_manifold());
+    }
 }
 
 TEST(MeshIO, EveryFormatRoundTrips) {

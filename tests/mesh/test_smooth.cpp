@@ -127,6 +127,28 @@ TEST(HullDistance, SignedDistanceOfABoxFromItsViews) {
     EXPECT_GT(h({5.0, 0.0, 0.0}), 3.0);                            // far outside the images
 }
 
+// within() gives the answer of |h(p)| <= bound whichever view it asks first.
+TEST(HullDistance, WithinAgreesWithTheDistance) {
+    const Views views = test::make_box_views(-1.0f, 1.0f, 200);
+    const HullDistance h(views);
+    const double px = h.finest_pixel();
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3d p{std::sin(i * 1.7) * 1.3, std::cos(i * 0.9) * 1.2, std::sin(i * 2.3 + 1) * 1.25};
+        for (double bound : {0.5 * px, 5 * px, 0.3}) {
+            const bool want = std::fabs(h(p)) <= bound;
+            for (std::size_t first : {std::size_t(0), std::size_t(1), std::size_t(2), std::size_t(7)}) {
+                std::size_t f = first;
+                ASSERT_EQ(h.within(p, bound, f), want) << i << " " << bound << " " << first;
+                ASSERT_LT(f, views.views.size());
+            }
+            (want ? inside : outside)++;
+        }
+    }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(outside, 100);
+}
+
 TEST(HullDistance, EmptySilhouetteIsAnErrorNamingTheView) {
     Views views = test::make_box_views(-1.0f, 1.0f, 32);
     std::fill(views.views[1].coverage.begin(), views.views[1].coverage.end(), 0.0f);

@@ -72,8 +72,18 @@ struct Canvas {
     }
     /// Pastes `src` (RGB or RGBA over white), resized by area averaging to fit box w x h, centred.
     void paste(const Image& src, int x0, int y0, int w, int h) {
-        const double f = std::min(double(w) / src.width, double(h) / src.height);
-        const int dw = std::max(1, int(std::lround(src.width * f))), dh = std::max(1, int(std::lround(src.height * f)));
+        paste_pixels(src.width, src.height, x0, y0, w, h, [&](std::size_t i, float rgb[3], float& a) {
+            const float* p = &src.pixels[i * std::size_t(src.channels)];
+            a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
+            for (int k = 0; k < 3; ++k) rgb[k] = src.channels == 1 ? p[0] : p[k];
+        });
+    }
+    /// The same for a sw x sh picture given by pixel(i, rgb, alpha) (i = row-major index),
+    /// which need not be stored as an image.
+    template <typename Pixel>
+    void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel) {
+        const double f = std::min(double(w) / sw, double(h) / sh);
+        const int dw = std::max(1, int(std::lround(sw * f))), dh = std::max(1, int(std::lround(sh * f)));
         const int ox = x0 + (w - dw) / 2, oy = y0 + (h - dh) / 2;
         tbb::parallel_for(0, dh, [&](int y) {
             for (int x = 0; x < dw; ++x) {
@@ -81,20 +91,17 @@ struct Canvas {
                 const double sx0 = x / f, sx1 = (x + 1) / f, sy0 = y / f, sy1 = (y + 1) / f;
                 int i0 = int(std::ceil(sx0 - 0.5)), i1 = int(std::ceil(sx1 - 0.5)) - 1;
                 int j0 = int(std::ceil(sy0 - 0.5)), j1 = int(std::ceil(sy1 - 0.5)) - 1;
-                if (i1 < i0) i0 = i1 = std::min(src.width - 1, int((sx0 + sx1) / 2));
-                if (j1 < j0) j0 = j1 = std::min(src.height - 1, int((sy0 + sy1) / 2));
-                i1 = std::min(i1, src.width - 1);
-                j1 = std::min(j1, src.height - 1);
+                if (i1 < i0) i0 = i1 = std::min(sw - 1, int((sx0 + sx1) / 2));
+                if (j1 < j0) j0 = j1 = std::min(sh - 1, int((sy0 + sy1) / 2));
+                i1 = std::min(i1, sw - 1);
+                j1 = std::min(j1, sh - 1);
                 double acc[3] = {0, 0, 0};
                 int cnt = 0;
                 for (int j = j0; j <= j1; ++j)
                     for (int i = i0; i <= i1; ++i) {
-                        const float* p = &src.pixels[(std::size_t(j) * src.width + i) * src.channels];
-                        const float a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
-                        for (int k = 0; k < 3; ++k) {
-                            const float v = src.channels == 1 ? p[0] : p[k];
-                            acc[k] += std::clamp(v, 0.0f, 1.0f) * a + (1.0f - a);
-                        }
+                        float v[3], a;
+                        pixel(std::size_t(j) * std::size_t(sw) + std::size_t(i), v, a);
+                        for (int k = 0; k < 3; ++k) acc[k] += std::clamp(v[k], 0.0f, 1.0f) * a + (1.0f - a);
                         ++cnt;
                     }
                 float c[3];
@@ -116,7 +123,9 @@ std::string fixed(double v, int digits) {
 Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error) {
     if (views.views.empty()) throw Error("there are no views to preview");
     if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
-    error = silhouette_error(mesh, views);
+    // The error's renders are the overlays' too.
+    std::vector<std::vector<std::uint8_t>> masks;
+    error = silhouette_error(mesh, views, &masks);
     const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
     const int line = 7 * scale + 2 * gap; // a row of text
     const int nviews = int(views.views.size());
@@ -155,19 +164,15 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         sheet.paste(has_colour(mesh) ? render_colour(mesh, small, sw, sh) : render_art(mesh, small, sw, sh, art),
                     2 * gap + P, py, P, P);
         // 3. overlay: both grey, input only and mesh only in their colours
-        const std::vector<std::uint8_t> r = render_mask(mesh, view.camera, view.width, view.height);
-        Image ov;
-        ov.width = view.width;
-        ov.height = view.height;
-        ov.channels = 3;
-        ov.pixels.resize(r.size() * 3);
-        for (std::size_t i = 0; i < r.size(); ++i) {
-            const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
-            const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
-            const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
-            for (int k = 0; k < 3; ++k) ov.pixels[i * 3 + std::size_t(k)] = c[k];
-        }
-        sheet.paste(ov, 3 * gap + 2 * P, py, P, P);
+        const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
+        sheet.paste_pixels(view.width, view.height, 3 * gap + 2 * P, py, P, P,
+                           [&](std::size_t i, float rgb[3], float& a) {
+                               const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
+                               const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
+                               const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
+                               for (int k = 0; k < 3; ++k) rgb[k] = c[k];
+                               a = 1.0f;
+                           });
     }
     // Legend.
     const int ly = 2 * line + nviews * (line + P + gap) + gap / 2;

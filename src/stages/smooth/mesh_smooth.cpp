@@ -54,9 +54,10 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 continue;
             }
             double lo = 0, hi = 1;
+            std::size_t first = 0; // the view that refused the last point
             for (int k = 0; k < kBisections; ++k) {
                 const double mid = 0.5 * (lo + hi);
-                if (std::fabs((*hull)(p0 + s * mid)) <= bound) lo = mid;
+                if (hull->within(p0 + s * mid, bound, first)) lo = mid;
                 else hi = mid;
             }
             dst[v] = p + step * float(lo);

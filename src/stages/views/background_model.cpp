@@ -9,10 +9,7 @@ namespace cm {
 
 namespace {
 
-double dist_rgb(const Rgb& a, const Rgb& b) {
-    const double dr = a[0] - b[0], dg = a[1] - b[1], db = a[2] - b[2];
-    return std::sqrt((dr * dr + dg * dg + db * db) / 3.0);
-}
+double dist_rgb(const Rgb& a, const Rgb& b) { return colour_distance(a, b); }
 
 struct Sample {
     double u, v;
@@ -67,8 +64,6 @@ double median(std::vector<double> v) {
 }
 
 } // namespace
-
-double colour_distance(const Rgb& a, const Rgb& b) { return dist_rgb(a, b); }
 
 void background_from_border(const Image& img, const std::string& option, BackgroundModel& model, double& noise,
                             std::vector<Rgb>& outliers, std::size_t& total) {

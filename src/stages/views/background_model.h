@@ -2,6 +2,7 @@
 // field (per channel a quadratic in the image coordinates) fitted robustly to the border.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -13,7 +14,11 @@ namespace cm {
 using Rgb = std::array<double, 3>;
 
 /// RMS distance over the three channels, so a threshold reads as a fraction of full scale.
-double colour_distance(const Rgb& a, const Rgb& b);
+/// Inline: it runs for every pixel of every drawing.
+inline double colour_distance(const Rgb& a, const Rgb& b) {
+    const double dr = a[0] - b[0], dg = a[1] - b[1], db = a[2] - b[2];
+    return std::sqrt((dr * dr + dg * dg + db * db) / 3.0);
+}
 
 /// A smooth background colour field over the image: per channel a quadratic in the
 /// normalised coordinates (u, v) in [-1, 1], enough for paper tone and vignetting.

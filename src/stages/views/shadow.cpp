@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace cm {
 
 namespace {
@@ -32,9 +34,12 @@ std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     std::vector<char> like(n, 0), core(n, 0);
-    for (std::size_t i = 0; i < n; ++i) like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background[i]);
+    tbb::parallel_for(0, h, [&](int y) {
+        for (std::size_t i = std::size_t(y) * w, e = i + std::size_t(w); i < e; ++i)
+            like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background[i]);
+    });
     // Core: every 8-neighbour is shadow-like or background (not the object's anti-aliased rim).
-    for (int y = 0; y < h; ++y)
+    tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
             bool ok = like[i] != 0;
@@ -46,6 +51,7 @@ std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<
                 }
             core[i] = ok;
         }
+    });
     // The object without the shadow-like cores: its rows.
     int oymin = 1 << 30, oymax = -1;
     for (std::size_t i = 0; i < n; ++i)
@@ -91,7 +97,7 @@ std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<
     std::size_t removed = 0;
     for (int pass = 0; pass < 3; ++pass) {
         std::vector<char> next = shadow;
-        for (int y = 0; y < h; ++y)
+        tbb::parallel_for(0, h, [&](int y) {
             for (int x = 0; x < w; ++x) {
                 const std::size_t i = std::size_t(y) * w + x;
                 if (shadow[i] || !like[i] || pass == 2) continue;
@@ -99,6 +105,7 @@ std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<
                                   (y > 0 && shadow[i - std::size_t(w)]) || (y + 1 < h && shadow[i + std::size_t(w)]);
                 next[i] = near;
             }
+        });
         shadow.swap(next);
     }
     for (std::size_t i = 0; i < n; ++i)

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <tbb/parallel_for.h>
+
 #include "background_model.h"
 #include "border_clusters.h"
 #include "core/error.h"
@@ -63,7 +65,8 @@ public:
         : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
         std::vector<std::vector<char>> reach;
         for (const auto& c : more) reach.push_back(cluster_reach(img, c));
-        for (int y = 0; y < h_; ++y)
+        // Each pixel on its own: rows in parallel.
+        tbb::parallel_for(0, h_, [&](int y) {
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
@@ -78,6 +81,7 @@ public:
                     }
                 }
             }
+        });
     }
 
     // Background: background-coloured pixels 4-connected to the border (so a line drawn
@@ -97,8 +101,8 @@ public:
     // the flood reached: one step, so it cannot pass a bridged break.
     void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& from) {
         const std::vector<char>& closed = closed_;
-        std::vector<int> rim;
-        for (int y = 0; y < h_; ++y)
+        std::vector<char> rim(n_, 0); // found first, set after: `from` may be bg_ itself
+        tbb::parallel_for(0, h_, [&](int y) {
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 if (bg_[i] || ink[i] || !closed[i]) continue;
@@ -108,9 +112,11 @@ public:
                         const int xx = x + dx, yy = y + dy;
                         near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && from[std::size_t(yy) * w_ + xx];
                     }
-                if (near) rim.push_back(int(i));
+                rim[i] = near;
             }
-        for (int p : rim) bg_[std::size_t(p)] = 1;
+        });
+        for (std::size_t i = 0; i < n_; ++i)
+            if (rim[i]) bg_[i] = 1;
     }
 
     // Background-coloured regions the object encloses: holes through a filled drawing, or
@@ -195,12 +201,13 @@ public:
     // background and the nearest interior object colour, which keeps anti-aliasing.
     void coverage(std::vector<float>& cov) const {
         const std::vector<char> edge = boundary();
-        for (int y = 0; y < h_; ++y)
+        tbb::parallel_for(0, h_, [&](int y) {
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
                 cov[i] = edge[i] ? boundary_coverage(x, y, edge) : (bg_[i] ? 0.0f : 1.0f);
                 if (!forced_.empty() && forced_[i]) cov[i] = std::min(cov[i], 0.49f);
             }
+        });
     }
 
 private:
@@ -208,9 +215,18 @@ private:
     std::vector<char> boundary() const {
         const int w = w_, h = h_;
         std::vector<char> edge(n_, 0);
-        for (int y = 0; y < h; ++y)
+        tbb::parallel_for(0, h, [&](int y) {
+            const char* row = bg_.data() + std::size_t(y) * w;
+            const bool inner_row = y > 0 && y + 1 < h;
             for (int x = 0; x < w; ++x) {
                 const std::size_t i = std::size_t(y) * w + x;
+                if (inner_row && x > 0 && x + 1 < w) {
+                    // Away from the frame: the eight neighbours without bounds checks.
+                    const char c = row[x], *up = row - w, *down = row + w;
+                    edge[i] = up[x - 1] != c || up[x] != c || up[x + 1] != c || row[x - 1] != c || row[x + 1] != c ||
+                              down[x - 1] != c || down[x] != c || down[x + 1] != c;
+                    continue;
+                }
                 for (int dy = -1; dy <= 1 && !edge[i]; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
                         const int xx = x + dx, yy = y + dy;
@@ -221,6 +237,7 @@ private:
                         }
                     }
             }
+        });
         return edge;
     }
 
@@ -301,7 +318,7 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
 // belongs to a kept component.
 void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::vector<char>& keep,
                         std::vector<float>& cov) {
-    for (int y = 0; y < h; ++y)
+    tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
             if (cov[i] >= 0.5f || cov[i] == 0.0f) continue;
@@ -318,6 +335,7 @@ void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::ve
                 }
             if (!near_kept) cov[i] = 0.0f;
         }
+    });
 }
 
 // Components: drop specks and separate marks a user would not keep (by `mode`, see
