@@ -3,8 +3,9 @@
 # rendered at 1024 px from front, right and top (binary masks), carved and refined at each
 # resolution, then meshed by each extractor configuration; optionally each mesh reduced by
 # the paper's importance reduction (mesh.reduce) to one face budget. Per run: faces,
-# xor_pct (conceptmesh compare), the extractor's time and peak memory (run report),
-# closed / manifold / self-intersections (conceptmesh check).
+# xor_pct (conceptmesh compare), the extractor's (and reduction's) wall and CPU seconds and
+# peak memory (run report), closed / manifold / self-intersections / coincident vertices
+# (conceptmesh check).
 #
 #   bench/extract/compare.sh [BUILD_DIR] [RESOLUTIONS] [CONFIGS] [BUDGET_PCT] > raw.tsv
 #
@@ -22,7 +23,7 @@ resolutions=${2:-128 256 512}
 configs=${3:-"mc=extract.marching_cubes dmc0=extract.dual_marching_cubes,max_error=0 dmc=extract.dual_marching_cubes vdb=extract.vdb_volume_to_mesh vdb_a=extract.vdb_volume_to_mesh,adaptivity=0.5"}
 budget=${4:-0}
 
-printf 'model\tres\tconfig\treduced\tfaces\txor_pct\tseconds\tpeak_mb\tclosed_manifold\tself_intersections\n'
+printf 'model\tres\tconfig\treduced\tfaces\txor_pct\tseconds\tcpu_s\tpeak_mb\tclosed_manifold\tself_intersections\tcoincident\n'
 echo "$list" | while read -r name file up front; do
     views=$work/$name
     [ -f "$views/views.yaml" ] ||
@@ -65,17 +66,18 @@ c = json.loads(sys.argv[2])
 closed = (c.get("boundary_edges", 1) == 0 and c.get("nonmanifold_edges", 1) == 0 and
           c.get("nonmanifold_vertices", 1) == 0 and c.get("inconsistent_edges", 1) == 0)
 secs = s["seconds"] + (node["seconds"] if node is not s else 0)
+cpu = s["cpu_seconds"] + (node["cpu_seconds"] if node is not s else 0)
 peak = max(s["peak_rss_bytes"], node["peak_rss_bytes"])
 closed = closed and c.get("volume", 0) > 0
-print("%d\t%.3f\t%.1f\t%s\t%d" % (node["metrics"]["faces"], secs, peak / 2**20,
-                                  "yes" if closed else "no", c.get("self_intersections", -1)))
+print("%d\t%.3f\t%.3f\t%.1f\t%s\t%d\t%d" % (node["metrics"]["faces"], secs, cpu, peak / 2**20,
+                                  "yes" if closed else "no", c.get("self_intersections", -1),
+                                  c.get("coincident_vertices", -1)))
 P
 )
                 faces=$(echo "$line" | cut -f1)
                 [ "$cname" = mc ] && [ $reduced = no ] && mc_faces=$faces
-                printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$r" "$cname" "$reduced" "$faces" "$x" \
-                    "$(echo "$line" | cut -f2)" "$(echo "$line" | cut -f3)" "$(echo "$line" | cut -f4)" \
-                    "$(echo "$line" | cut -f5)"
+                printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$r" "$cname" "$reduced" "$faces" "$x" \
+                    "$(echo "$line" | cut -f2-7)"
             done
         done
     done

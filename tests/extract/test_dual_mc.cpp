@@ -12,6 +12,7 @@
 #include "core/mesh.h"
 #include "dual_mc.h"
 #include "geometry/hull_normal.h"
+#include "geometry/mesh_intersect.h"
 #include "marching_cubes.h"
 #include "refine.h"
 #include "sdf_volume.h"
@@ -197,6 +198,55 @@ TEST(DualMarchingCubes, ThinFinAndGenusTwoStayClosedAndManifold) {
             SCOPED_TRACE(e);
             expect_closed(dual_marching_cubes(*vol, options(e)), -2, "genus 2");
         }
+    }
+}
+
+// Two cells whose common face is ambiguous, with its inside corners joined, and whose one
+// loop each holds both of the face's segments (a part one cell thin crossing the face
+// diagonally; seen on camel at resolution 256). Dual contouring straight on the loops would
+// join their two vertices by two edges, one edge of four polygons; one loop is cut in two.
+TEST(DualMarchingCubes, NeighboursSharingBothSegmentsOfAFaceStayManifold) {
+    using openvdb::Coord;
+    Volume v;
+    v.occupancy = openvdb::BoolGrid::create(false);
+    v.occupancy->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    v.crossings = openvdb::Vec3fGrid::create(openvdb::Vec3f(-1.0f));
+    v.crossings->setTransform(v.occupancy->transform().copy());
+    // Cell (0,0,0) has inside corners 0, 2, 4 and 7; cell (0,0,1) has 0 and 3; their face
+    // z = 1 has (0,0,1) and (1,1,1) inside, joined: the crossings lie near its outside corners.
+    const Coord inside[] = {Coord(0, 0, 0), Coord(0, 1, 0), Coord(0, 0, 1), Coord(1, 1, 1)};
+    auto occ = v.occupancy->getAccessor();
+    for (const Coord& c : inside) occ.setValueOn(c, true);
+    // The crossings (from the edge's start point), as on camel; 0.5 elsewhere.
+    const std::pair<std::array<int, 4>, float> at[] = {
+        {{0, 0, 0, 0}, 0.631f}, {{0, 1, 0, 0}, 0.631f}, {{0, 1, 0, 2}, 0.02f}, {{0, 0, 1, 1}, 0.513f},
+        {{0, 1, 1, 0}, 0.353f}, {{1, 1, 0, 2}, 0.98f},  {{1, 0, 1, 1}, 0.98f}, {{0, 0, 1, 0}, 0.909f},
+        {{0, 0, 1, 2}, 0.333f}, {{1, 1, 1, 2}, 0.02f}};
+    auto cacc = v.crossings->getAccessor();
+    for (auto it = openvdb::CoordBBox(Coord(-1), Coord(2)).begin(); it; ++it)
+        for (int a = 0; a < 3; ++a) {
+            Coord q = *it;
+            q[a] += 1;
+            if (occ.isValueOn(*it) == occ.isValueOn(q)) continue;
+            float t = 0.5f;
+            for (const auto& [e, tt] : at)
+                if (Coord(e[0], e[1], e[2]) == *it && e[3] == a) t = tt;
+            openvdb::Vec3f c = cacc.getValue(*it);
+            c[a] = t;
+            cacc.setValueOn(*it, c);
+        }
+    MarchingCubesStats mst;
+    const Mesh mc = marching_cubes(v, {}, &mst);
+    EXPECT_EQ(mst.joined_faces, 2u); // face z = 1, seen from both cells
+    const long euler = check_mesh(mc).euler;
+    for (double e : {0.0, 0.25, 1.0}) {
+        SCOPED_TRACE(e);
+        DualMcStats st;
+        DualMcOptions o = options(e);
+        const Mesh m = dual_marching_cubes(v, o, &st);
+        EXPECT_EQ(st.split_loops, 1u);
+        expect_closed(m, euler, "joined face");
+        EXPECT_EQ(count_self_intersections(m), 0u);
     }
 }
 

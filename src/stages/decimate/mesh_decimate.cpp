@@ -315,7 +315,8 @@ DecimateStats reduce_blocked(Mesh& mesh, const ReduceOptions& opt, const std::ve
 // Runs `once` and, while the result has faces crossing each other, runs it again from
 // the input with the input vertices frozen where those faces cross (the overlap of the two
 // faces' boxes, grown by a quarter). Frozen regions only grow and stay as the input had
-// them, so the loop ends; it also stops when a restart removes nothing.
+// them; a restart that removes no crossing (the crossing faces reach beyond the frozen
+// region) doubles the growth of the next. At most kMaxRestarts restarts.
 template <typename Once>
 DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Once&& once) {
     mesh = input;
@@ -323,14 +324,16 @@ DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Onc
     constexpr std::size_t kMaxRestarts = 6;
     std::vector<char> frozen;
     std::size_t last = SIZE_MAX;
+    float reach = 0.25f;
     for (std::size_t restart = 0;; ++restart) {
         DecimateStats st = once(mesh, restart ? &frozen : nullptr);
         const std::vector<FacePair> pairs = find_self_intersections(mesh);
         st.restarts = restart;
         st.crossings_left = pairs.size();
         st.frozen_vertices = std::size_t(std::count(frozen.begin(), frozen.end(), char(1)));
-        if (pairs.empty() || restart == kMaxRestarts || pairs.size() >= last) return st;
-        last = pairs.size();
+        if (pairs.empty() || restart == kMaxRestarts) return st;
+        if (pairs.size() >= last) reach *= 2;
+        last = std::min(last, pairs.size());
         // The region of each crossing: where the two faces' boxes overlap, grown a little.
         std::vector<std::array<Vec3f, 2>> boxes;
         for (const auto& pr : pairs) {
@@ -342,7 +345,7 @@ DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Onc
             }
             const Vec3f lo = vmax(fb[0][0], fb[1][0]), hi = vmin(fb[0][1], fb[1][1]);
             const float small = std::min(length(fb[0][1] - fb[0][0]), length(fb[1][1] - fb[1][0]));
-            const float grow = 0.25f * std::max(length(hi - lo), 0.25f * small);
+            const float grow = reach * std::max(length(hi - lo), 0.25f * small);
             const Vec3f g(grow, grow, grow);
             boxes.push_back({lo - g, hi + g});
         }

@@ -42,23 +42,31 @@ Qef::Result Qef::solve(const Vec3d& lo, double size, double singular_ratio) cons
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(M);
     const Eigen::Vector3d ev = es.eigenvalues();
     const double top = std::max({ev[0], ev[1], ev[2], 0.0});
-    Eigen::Vector3d y = Eigen::Vector3d::Zero();
-    if (top > 0) {
-        const Eigen::Matrix3d& V = es.eigenvectors();
-        for (int k = 0; k < 3; ++k) {
-            if (ev[k] <= singular_ratio * top) continue;
-            y += V.col(k) * (V.col(k).dot(rhs) / ev[k]);
-            ++r.rank;
-        }
-    }
-    r.x = m + Vec3d(y[0], y[1], y[2]);
     // A hair inside the box, so the vertices of neighbouring boxes never coincide.
     const double margin = 1e-3;
-    for (int a = 0; a < 3; ++a) {
-        const double l = lo[a] + margin, h = lo[a] + size - margin;
-        if (r.x[a] < l || r.x[a] > h) r.clamped = true;
-        r.x[a] = std::clamp(r.x[a], l, h);
+    auto inside = [&](const Vec3d& x) {
+        for (int a = 0; a < 3; ++a)
+            if (x[a] < lo[a] + margin || x[a] > lo[a] + size - margin) return false;
+        return true;
+    };
+    // The eigen-directions kept, strongest first (the solver sorts the eigenvalues up).
+    int keep = 0;
+    if (top > 0)
+        for (int k = 2; k >= 0 && ev[k] > singular_ratio * top; --k) ++keep;
+    // A minimum outside the box (a corner or crease that lies in a neighbour, or beyond
+    // the surface in a thin or concave part) drops the weakest direction until it falls
+    // inside: clamping it onto the box's side instead would pin the vertices of both cells
+    // of a narrow groove to their common face, where their polygons cross.
+    const Eigen::Matrix3d& V = es.eigenvectors();
+    for (int rank = keep; rank >= 0; --rank) {
+        Eigen::Vector3d y = Eigen::Vector3d::Zero();
+        for (int k = 2; k > 2 - rank; --k) y += V.col(k) * (V.col(k).dot(rhs) / ev[k]);
+        r.x = m + Vec3d(y[0], y[1], y[2]);
+        r.rank = rank;
+        if (inside(r.x)) return r;
+        r.clamped = true;
     }
+    for (int a = 0; a < 3; ++a) r.x[a] = std::clamp(r.x[a], lo[a] + margin, lo[a] + size - margin);
     return r;
 }
 
@@ -128,6 +136,9 @@ private:
         const double size = double(1 << L);
         const Vec3d lo(node.x() * size, node.y() * size, node.z() * size);
         const Qef::Result res = q.solve(lo, size, ratio_);
+        // A minimum outside the node: one vertex in it cannot stand for the region (and one
+        // pinned to its side makes long polygons that cut through a sheet nearby).
+        if (res.clamped) return false;
         for (Index r : K)
             for (Index m = r; m != kNoIndex; m = next_[m])
                 for (Index i = D_.loop_first[m]; i < D_.loop_first[m + 1]; ++i) {

@@ -27,7 +27,9 @@ struct Qef {
     void add(const Qef& o);
     double error(const Vec3d& x) const;
     /// The minimum (truncated pseudo-inverse about the mass point, eigenvalues under
-    /// `singular_ratio` of the largest dropped), clamped into the box lo + [0, size]^3.
+    /// `singular_ratio` of the largest dropped) inside the box lo + [0, size]^3: a minimum
+    /// outside drops the weakest remaining direction until it is inside (rank 0: the mass
+    /// point), and is clamped only if even that is not.
     struct Result {
         Vec3d x;
         int rank = 0;

@@ -35,9 +35,10 @@ struct DualMcOptions {
 struct DualMcStats {
     std::size_t cells = 0;              ///< surface discs (one vertex each)
     std::size_t multi_disc_cells = 0;   ///< discs that share their cell with another (manifold DMC)
+    std::size_t split_loops = 0;        ///< discs cut in two: they shared two edges with a neighbour
     std::size_t quads = 0;              ///< crossed edges, one quad each
     std::size_t other_polygons = 0;     ///< edges whose ring of discs is not four (split as a fan)
-    std::size_t clamped = 0;            ///< QEF minima outside their cell, clamped into it
+    std::size_t clamped = 0;            ///< QEF minima outside their cell (weakest directions dropped)
     std::size_t rank[4] = {0, 0, 0, 0}; ///< discs by the QEF's rank: 0 (none), 1 flat, 2 crease, 3 corner
     std::size_t merged = 0;             ///< discs merged into a coarser vertex (adaptive)
     int levels = 0;                     ///< octree levels that merged anything

@@ -73,6 +73,7 @@ public:
         ctx.metric("quads", double(st.quads));
         ctx.metric("other_polygons", double(st.other_polygons));
         ctx.metric("multi_disc_cells", double(st.multi_disc_cells));
+        ctx.metric("split_loops", double(st.split_loops));
         ctx.metric("clamped", double(st.clamped));
         ctx.metric("flat_vertices", double(st.rank[1]));
         ctx.metric("crease_vertices", double(st.rank[2]));
