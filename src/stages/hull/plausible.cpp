@@ -496,6 +496,8 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
     // (coincident vertices). Such a voxel's removed neighbours along that axis come back
     // (only adding: every line of sight keeps what it had).
+    // Two passes: a voxel put back can be such a plate along another axis, and on small or
+    // lacy parts putting its neighbours back in turn would go on growing the volume.
     for (int pass = 0; pass < 2; ++pass) {
         std::vector<std::vector<Coord>> back(nleaf);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
