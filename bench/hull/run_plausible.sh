@@ -41,7 +41,7 @@ echo "$list" | while read -r name file up front; do
         xor=$(python3 -c 'import json,sys
 r = json.load(open(sys.argv[1]))
 print("%.3f" % [n for n in r["nodes"] if n["id"] == "error"][0]["metrics"]["xor_pct"])' "$out.json")
-        if "$cm" check "$out.obj" -q > /dev/null 2>&1; then clean=yes; else clean=no; fi
+        if "$cm" check "$out.obj" > /dev/null 2>&1; then clean=yes; else clean=no; fi
         echo "$name $p $tag $res $err $xor $clean $secs"
     done
 done

@@ -126,6 +126,29 @@ TEST(HullPlausible, SphereFromThreeViewsComesOutRound) {
     EXPECT_LT(uncovered_pct(mh, mp, *views), 0.5);
 }
 
+// The removal leaves no plate one cell thin that it cut on both sides (Marching Cubes
+// would give it two mirrored faces that smoothing draws onto one another).
+TEST(HullPlausible, NoPlateOneCellThinWhereTheRemovalCut) {
+    auto views = sphere_views(1.0);
+    auto hull = carve_and_refine(views, 128);
+    auto out = make_plausible(*hull, nullptr, {});
+    auto grid = out->occupancy->deepCopy();
+    grid->tree().voxelizeActiveTiles();
+    auto now = out->occupancy->getConstAccessor();
+    auto was = hull->occupancy->getConstAccessor();
+    std::size_t plates = 0;
+    for (auto it = grid->cbeginValueOn(); it; ++it)
+        for (int a = 0; a < 3; ++a) {
+            openvdb::Coord lo = it.getCoord(), hi = it.getCoord();
+            lo[a] -= 1;
+            hi[a] += 1;
+            if (!now.isValueOn(lo) && !now.isValueOn(hi) && (was.isValueOn(lo) || was.isValueOn(hi))) ++plates;
+        }
+    EXPECT_EQ(plates, 0u);
+    EXPECT_TRUE(check_mesh(marching_cubes(*out)).closed_manifold());
+    expect_columns_kept(*hull, *out);
+}
+
 // At roundness 0 the cube is the hull, voxel for voxel and crossing for crossing; at any
 // roundness it keeps its three squares.
 TEST(HullPlausible, CubeStaysACubeAtRoundnessZero) {

@@ -53,6 +53,7 @@ public:
         ctx.metric("kept_for_rays", double(st.kept_for_rays));
         ctx.metric("thin_kept", double(st.thin_kept));
         ctx.metric("new_crossings", double(st.new_crossings));
+        ctx.metric("thickened", double(st.thickened));
         ctx.metric("cell_px", st.cell_px);
         if (!vol->crossings)
             ctx.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");

@@ -492,6 +492,43 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (const auto o : off) leaf.setValueOff(o, false);
         }
     });
+    // 5a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
+    // puts its two faces on mirrored crossings, and smoothing draws them onto one another
+    // (coincident vertices). Such a voxel's removed neighbours along that axis come back
+    // (only adding: every line of sight keeps what it had).
+    // Two passes: a voxel put back can be such a plate along another axis, and on small or
+    // lacy parts putting its neighbours back in turn would go on growing the volume.
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<std::vector<Coord>> back(nleaf);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            auto now = occ->getConstAccessor();
+            auto was = in.occupancy->getConstAccessor();
+            for (std::size_t l = r.begin(); l != r.end(); ++l)
+                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) {
+                    const Coord g = it.getCoord();
+                    for (int a = 0; a < 3; ++a) {
+                        Coord lo = g, hi = g;
+                        lo[a] -= 1;
+                        hi[a] += 1;
+                        if (now.isValueOn(lo) || now.isValueOn(hi)) continue;
+                        const bool wl = was.isValueOn(lo), wh = was.isValueOn(hi);
+                        if (!wl && !wh) continue; // thin in the hull itself
+                        if (wl) back[l].push_back(lo);
+                        if (wh) back[l].push_back(hi);
+                    }
+                }
+        });
+        std::size_t added = 0;
+        for (const auto& b : back)
+            for (const Coord& c : b)
+                if (!occ->tree().isValueOn(c)) {
+                    occ->tree().setValueOn(c, true);
+                    ++added;
+                }
+        st.removed -= std::min(st.removed, added);
+        st.thickened += added;
+        if (added == 0) break;
+    }
     {
         std::vector<Coord> full;
         for (std::size_t l = 0; l < nleaf; ++l) {

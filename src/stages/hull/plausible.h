@@ -41,6 +41,7 @@ struct PlausibleStats {
     std::size_t kept_for_rays = 0; ///< candidates kept because a line of sight needs them
     std::size_t thin_kept = 0;     ///< voxels outside the profile kept as thin parts
     std::size_t new_crossings = 0; ///< crossings placed on the score's zero level
+    std::size_t thickened = 0;     ///< removed voxels put back so no plate is one voxel thin
     double cell_px = 0;            ///< line-of-sight raster pitch, pixels of the finest view
 };
 
