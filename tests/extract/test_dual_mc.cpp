@@ -18,6 +18,7 @@
 #include "sdf_volume.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
+#include "support/test_support.h"
 #include "vdb_mesher.h"
 
 using namespace cm;
@@ -395,4 +396,37 @@ TEST(ExtractStages, DualAndVdbReportTheirFigures) {
         h.params("{max_error: -1}").input("volume", v);
         EXPECT_NE(h.error().find("max_error"), std::string::npos);
     }
+}
+
+// Coarse polygons of a merge are checked around their own vertex only, so across a narrow
+// groove they can cut through the other side (man at resolution 256: three crossing pairs);
+// the guard undoes such merges and merges again.
+TEST(DualMarchingCubes, MergesThatWouldCrossANearbySurfaceAreUndone) {
+    const std::filesystem::path model = shared_dir() / "data/models/man.off";
+    CM_SKIP_WITHOUT(model);
+    TempDir dir("dmc_guard");
+    const CommandResult r =
+        run_cli("render-views '" + model.string() + "' --style mask --size 1024 --up +Z --front -Y -o '" +
+                (dir / "v").string() + "' -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    StageHarness load("views.load");
+    load.param("manifest", dir / "v" / "views.yaml");
+    const auto views = load.run<Views>();
+    CarveOptions co;
+    co.resolution = 256;
+    const auto vol = refine(*carve(views, co), views, {});
+    DualMcOptions o; // the stage's defaults
+    o.guard = false;
+    const std::size_t without = count_self_intersections(dual_marching_cubes(*vol, o));
+    o.guard = true;
+    DualMcStats st;
+    const Mesh m = dual_marching_cubes(*vol, o, &st);
+    EXPECT_GT(without, 0u) << "the configuration this test is about no longer arises";
+    EXPECT_GT(st.guard_rounds, 0);
+    EXPECT_EQ(count_self_intersections(m), 0u);
+    const MeshCheck c = check_mesh(m);
+    EXPECT_TRUE(c.closed_manifold());
+    EXPECT_EQ(c.degenerate_faces, 0u);
+    EXPECT_GT(c.signed_volume, 0.0);
+    EXPECT_GT(st.merged, 0u);
 }

@@ -79,13 +79,15 @@ constexpr double kMinFaceCos = 0.3;
 
 class Octree {
 public:
-    Octree(DualMesh& D, double max_error, double ratio, std::vector<Index>& rep)
+    Octree(DualMesh& D, double max_error, double ratio, std::vector<Index>& rep, const std::vector<char>* frozen)
         : D_(D), max_error_(max_error), ratio_(ratio), rep_(rep) {
         const std::size_t n = D.vert.size();
         next_.assign(n, kNoIndex);
         last_.resize(n);
         level_.assign(n, 0);
         stuck_.assign(n, 0);
+        if (frozen && frozen->size() == n)
+            for (std::size_t l = 0; l < n; ++l) stuck_[l] = (*frozen)[l] ? 1 : 0;
         for (std::size_t l = 0; l < n; ++l) last_[l] = Index(l);
         face_stamp_.assign(D.face_first.size(), 0);
         vert_stamp_.assign(n, 0);
@@ -239,8 +241,9 @@ private:
 
 } // namespace
 
-void merge_octree(DualMesh& D, double max_error, double singular_ratio, std::vector<Index>& rep, AdaptiveStats& st) {
-    Octree tree(D, max_error, singular_ratio, rep);
+void merge_octree(DualMesh& D, double max_error, double singular_ratio, std::vector<Index>& rep, AdaptiveStats& st,
+                  const std::vector<char>* frozen) {
+    Octree tree(D, max_error, singular_ratio, rep, frozen);
     for (int L = 1; L <= kMaxLevel; ++L) {
         const std::size_t m = tree.level(L);
         if (m) st.levels = L;

@@ -61,6 +61,9 @@ struct AdaptiveStats {
 /// mesh closed, 2-manifold and of the same topology: the new vertex's ring is one simple
 /// cycle) and no polygon around it turns over. On return rep[l] is the loop whose vertex
 /// (D.vert[rep[l]]) stands for loop l.
-void merge_octree(DualMesh& D, double max_error, double singular_ratio, std::vector<Index>& rep, AdaptiveStats& st);
+/// Loops with `frozen[l]` set (when given) keep their own vertex, and so does every loop of
+/// an octree node that holds one of them.
+void merge_octree(DualMesh& D, double max_error, double singular_ratio, std::vector<Index>& rep, AdaptiveStats& st,
+                  const std::vector<char>* frozen = nullptr);
 
 } // namespace cm

@@ -22,6 +22,8 @@
 // (split_shared_faces).
 #include "dual_mc.h"
 
+#include "geometry/mesh_intersect.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -316,6 +318,47 @@ void split_quad(const std::vector<Vec3f>& x, const Index* q, std::array<Index, 3
 
 } // namespace
 
+namespace {
+
+/// The triangles of the dual mesh on the vertices that remain after merging (rep).
+Mesh dual_triangles(const DualMesh& D, const std::vector<Index>& rep, const openvdb::math::Transform& xf,
+                    std::size_t nv) {
+    Mesh out;
+    const std::size_t nloops = rep.size();
+    std::vector<Index> id(nloops, kNoIndex);
+    for (std::size_t l = 0; l < nloops; ++l) {
+        if (rep[l] != l) continue;
+        id[l] = Index(out.positions.size());
+        const openvdb::Vec3d w = xf.indexToWorld(openvdb::Vec3d(D.vert[l].x, D.vert[l].y, D.vert[l].z));
+        out.positions.emplace_back(float(w.x()), float(w.y()), float(w.z()));
+    }
+    out.triangles.reserve(2 * nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        Index poly[16];
+        int k = 0;
+        for (Index i = D.face_first[v]; i < D.face_first[v + 1]; ++i) {
+            const Index u = id[rep[D.face_loops[i]]];
+            if (k == 0 || poly[k - 1] != u) poly[k++] = u;
+        }
+        while (k > 1 && poly[k - 1] == poly[0]) --k;
+        if (k < 3) continue;
+        if (k == 4) {
+            std::array<Index, 3> t[2];
+            split_quad(out.positions, poly, t);
+            out.triangles.push_back(t[0]);
+            out.triangles.push_back(t[1]);
+        } else {
+            for (int i = 1; i + 1 < k; ++i) out.triangles.push_back({poly[0], poly[i], poly[i + 1]});
+        }
+    }
+    return out;
+}
+
+/// Rounds of the crossing guard of the adaptive merge.
+constexpr int kGuardRounds = 4;
+
+} // namespace
+
 Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt, DualMcStats* stats_out) {
     if (!vol.occupancy) throw Error("the volume has no occupancy grid");
     DualMcStats st;
@@ -444,44 +487,44 @@ Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt, DualMcStat
     }
     progress(0.8);
 
-    // 5. Adaptivity: cells merged up the octree.
+    // 5. Adaptivity: cells merged up the octree. A merge is checked against the polygons
+    // around its own vertex only, so a coarse polygon can still cut through a surface
+    // nearby (a thin part across a groove): the merged mesh is checked for crossing faces,
+    // and the merges that made them are undone (their loops frozen) and the octree merged
+    // again, until none is left or no merged vertex is involved.
+    const std::vector<Vec3d> vert0 = D.vert;
+    std::vector<char> frozen(nloops, 0);
     std::vector<Index> rep(nloops);
-    for (std::size_t l = 0; l < nloops; ++l) rep[l] = Index(l);
-    if (opt.max_error > 0) {
-        AdaptiveStats ast;
-        merge_octree(D, opt.max_error, opt.singular_ratio, rep, ast);
-        st.merged = ast.merged;
-        st.levels = ast.levels;
-    }
-    progress(0.9);
-
-    // 6. The triangles, on the vertices that remain.
     Mesh out;
-    std::vector<Index> id(nloops, kNoIndex);
-    for (std::size_t l = 0; l < nloops; ++l) {
-        if (rep[l] != l) continue;
-        id[l] = Index(out.positions.size());
-        const openvdb::Vec3d w = xf.indexToWorld(openvdb::Vec3d(D.vert[l].x, D.vert[l].y, D.vert[l].z));
-        out.positions.emplace_back(float(w.x()), float(w.y()), float(w.z()));
-    }
-    out.triangles.reserve(2 * nv);
-    for (std::size_t v = 0; v < nv; ++v) {
-        Index poly[16];
-        int k = 0;
-        for (Index i = D.face_first[v]; i < D.face_first[v + 1]; ++i) {
-            const Index u = id[rep[D.face_loops[i]]];
-            if (k == 0 || poly[k - 1] != u) poly[k++] = u;
+    for (int round = 0;; ++round) {
+        for (std::size_t l = 0; l < nloops; ++l) rep[l] = Index(l);
+        D.vert = vert0;
+        if (opt.max_error > 0) {
+            AdaptiveStats ast;
+            merge_octree(D, opt.max_error, opt.singular_ratio, rep, ast, &frozen);
+            st.merged = ast.merged;
+            st.levels = ast.levels;
         }
-        while (k > 1 && poly[k - 1] == poly[0]) --k;
-        if (k < 3) continue;
-        if (k == 4) {
-            std::array<Index, 3> t[2];
-            split_quad(out.positions, poly, t);
-            out.triangles.push_back(t[0]);
-            out.triangles.push_back(t[1]);
-        } else {
-            for (int i = 1; i + 1 < k; ++i) out.triangles.push_back({poly[0], poly[i], poly[i + 1]});
-        }
+        progress(0.9);
+        out = dual_triangles(D, rep, xf, nv);
+        if (!opt.guard || opt.max_error <= 0 || st.merged == 0 || round >= kGuardRounds) break;
+        const std::vector<FacePair> pairs = find_self_intersections(out);
+        if (pairs.empty()) break;
+        // Output vertex -> its root loop; freeze every loop of the roots of crossing faces.
+        std::vector<Index> root_of(out.positions.size(), kNoIndex);
+        for (std::size_t l = 0, k = 0; l < nloops; ++l)
+            if (rep[l] == l) root_of[k++] = Index(l);
+        std::vector<char> hit(nloops, 0);
+        for (const FacePair& fp : pairs)
+            for (std::uint32_t f : fp)
+                for (Index u : out.triangles[f]) hit[root_of[u]] = 1;
+        std::size_t newly = 0;
+        for (std::size_t l = 0; l < nloops; ++l)
+            if (hit[rep[l]] && rep[l] != l) ++newly; // a merged loop (frozen ones never merge)
+        for (std::size_t l = 0; l < nloops; ++l)
+            if (hit[rep[l]]) frozen[l] = 1;
+        if (newly == 0) break; // the crossings do not come from merges
+        ++st.guard_rounds;
     }
     progress(1.0);
     if (stats_out) *stats_out = st;

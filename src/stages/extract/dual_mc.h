@@ -28,6 +28,9 @@ struct DualMcOptions {
     /// lies within this distance of every crossing's tangent plane and the merge keeps the
     /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
     double max_error = 0.25;
+    /// Undo merges whose polygons cross another part of the surface (dual_mc.cpp): on by
+    /// default; off only to see what the merge alone makes.
+    bool guard = true;
     /// Called on the calling thread with the fraction done; may throw to cancel.
     std::function<void(double)> progress;
 };
@@ -42,6 +45,7 @@ struct DualMcStats {
     std::size_t rank[4] = {0, 0, 0, 0}; ///< discs by the QEF's rank: 0 (none), 1 flat, 2 crease, 3 corner
     std::size_t merged = 0;             ///< discs merged into a coarser vertex (adaptive)
     int levels = 0;                     ///< octree levels that merged anything
+    int guard_rounds = 0;               ///< merges undone and redone because the merged mesh crossed itself
     const char* normals = "";           ///< "stored", "views" or "mesh"
     MarchingCubesStats mc;
 };

@@ -81,6 +81,7 @@ public:
         ctx.metric("normals", st.normals);
         ctx.metric("merged", double(st.merged));
         ctx.metric("levels", double(st.levels));
+        ctx.metric("guard_rounds", double(st.guard_rounds));
         ctx.metric("thin_points", double(st.mc.thin_points));
         if (st.mc.missing_crossings)
             ctx.warn(std::to_string(st.mc.missing_crossings) +
