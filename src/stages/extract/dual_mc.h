@@ -27,7 +27,7 @@ struct DualMcOptions {
     /// Adaptivity (in cells): the cells of an octree node are merged into one vertex when it
     /// lies within this distance of every crossing's tangent plane and the merge keeps the
     /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
-    double max_error = 0.25;
+    double max_error = 0.2;
     /// Undo merges whose polygons cross another part of the surface (dual_mc.cpp): on by
     /// default; off only to see what the merge alone makes.
     bool guard = true;

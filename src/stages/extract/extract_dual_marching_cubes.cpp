@@ -36,7 +36,7 @@ public:
                                "normals from the views: the outline's direction averaged over a disc of this "
                                "radius (follows the drawn shape, not a mask's pixel steps); 0: at the point"));
         b.add(opt_.max_error,
-              ParamSpec::Float("max_error", 0.25, 0.0, 16.0, "cell",
+              ParamSpec::Float("max_error", 0.2, 0.0, 16.0, "cell",
                                "adaptivity: cells merge up an octree into one vertex while it stays within this "
                                "distance of every crossing's tangent plane and the topology is kept; 0: one "
                                "vertex per disc of every cell"));
