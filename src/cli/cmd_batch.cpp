@@ -137,7 +137,7 @@ int run_batch(const BatchOptions& o, const GlobalOptions& g) {
         std::cout << "wrote " << out.string() << " (" << n << " assets)\n";
         return 0;
     }
-    if (o.assets.empty()) throw Error("name the ASSETS.yaml to run (or --scan FOLDER, --status DIR)");
+    if (o.assets.empty()) throw UsageError("name the ASSETS.yaml to run (or --scan FOLDER, --status DIR)");
     if (o.engine != "local" && o.engine != "slurm")
         throw Error("--engine must be local or slurm, got \"" + o.engine + "\"");
     print_plugin_diagnostics(g);

@@ -110,6 +110,13 @@ int run_stages(const std::string& name, bool as_json, const GlobalOptions& g) {
     const Registry& reg = Registry::global();
     const std::vector<std::string> names = name.empty() ? reg.names() : std::vector<std::string>{name};
     std::vector<StageInfo> infos;
+    if (!name.empty() && !reg.find(name)) {
+        try {
+            reg.create(name); // its message lists the known stages
+        } catch (const Error& e) {
+            throw UsageError(std::string("--describe: ") + e.what()); // a name mistyped on the command line
+        }
+    }
     for (const auto& n : names) infos.push_back(reg.create(n)->info());
     if (as_json) {
         json all = json::array();

@@ -12,7 +12,11 @@ struct GlobalOptions {
     bool verbose = false;
 };
 
-/// Prints "conceptmesh: error: <text>" on stderr, one line.
+/// `text` with every run of more than 240 non-blank characters (a path or value pasted by
+/// mistake, megabytes long) cut to its first and last 100, saying how long it was.
+std::string shorten_long_words(const std::string& text);
+
+/// Prints "conceptmesh: error: <text>" on stderr, one line (long words shortened).
 void print_error(const std::string& text);
 void print_warning(const std::string& text);
 /// Prints the plugin loader's warnings (unless quiet).

@@ -1,10 +1,13 @@
 // The conceptmesh command: parses the command line and dispatches to a sub-command.
 #include <malloc.h>
 #include <unistd.h>
+#include <cctype>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <regex>
 
 #include <tbb/global_control.h>
 
@@ -17,8 +20,44 @@
 
 namespace cm::cli {
 
-void print_error(const std::string& text) { std::cerr << "conceptmesh: error: " << text << "\n"; }
-void print_warning(const std::string& text) { std::cerr << "conceptmesh: warning: " << text << "\n"; }
+std::string shorten_long_words(const std::string& text) {
+    constexpr std::size_t kLongest = 240, kKeep = 100;
+    std::string out;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        std::size_t j = i;
+        while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+        if (j - i > kLongest)
+            out += text.substr(i, kKeep) + "...(" + std::to_string(j - i) + " characters)..." +
+                   text.substr(j - kKeep, kKeep);
+        else out.append(text, i, j - i);
+        for (i = j; i < text.size() && std::isspace(static_cast<unsigned char>(text[i])); ++i)
+            out += text[i] == '\n' ? ' ' : text[i]; // one line
+    }
+    return out;
+}
+
+void print_error(const std::string& text) { std::cerr << "conceptmesh: error: " << shorten_long_words(text) << "\n"; }
+void print_warning(const std::string& text) {
+    std::cerr << "conceptmesh: warning: " << shorten_long_words(text) << "\n";
+}
+
+// CLI11 says "Value abc not in range 0 to 4096" for a word where a number belongs, and
+// prints the largest double as the bound of a non-negative number: said plainly instead.
+std::string plain_parse_error(std::string text) {
+    static const std::regex range(R"(^(.*): Value (.*) not in range (\S+) to (\S+)$)");
+    std::smatch m;
+    if (!std::regex_match(text, m, range)) return text;
+    char* end = nullptr;
+    const std::string value = m[2];
+    std::strtod(value.c_str(), &end);
+    const bool number = !value.empty() && end && *end == '\0';
+    const double hi = std::strtod(std::string(m[4]).c_str(), nullptr);
+    const std::string bounds = hi > 1e300 ? "a number >= " + std::string(m[3])
+                                          : "a number in [" + std::string(m[3]) + ", " + std::string(m[4]) + "]";
+    return std::string(m[1]) + ": " + (number ? value : "\"" + value + "\" is not a number; ") +
+           (number ? " is out of range; give " : "give ") + bounds;
+}
 
 void print_plugin_diagnostics(const GlobalOptions& g) {
     if (g.quiet) return;
@@ -103,7 +142,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        cm::cli::print_error(e.what() + std::string(" (see conceptmesh --help)"));
+        cm::cli::print_error(cm::cli::plain_parse_error(e.what()) + " (see conceptmesh --help)");
         return 2;
     }
     std::unique_ptr<tbb::global_control> thread_limit;
@@ -112,9 +151,13 @@ int main(int argc, char** argv) {
             std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     try {
         return action ? action() : 2;
-    } catch (const cm::Cancelled&) {
-        cm::cli::print_error("cancelled; no output was written");
+    } catch (const cm::Cancelled& e) {
+        const char* name = g_signal == SIGTERM ? "SIGTERM" : g_signal == SIGINT ? "SIGINT" : "a signal";
+        cm::cli::print_error(std::string(e.what()) + " (" + name + "); no output was written");
         return 128 + int(g_signal);
+    } catch (const cm::UsageError& e) {
+        cm::cli::print_error(e.what());
+        return 2;
     } catch (const std::exception& e) {
         cm::cli::print_error(e.what());
         return 1;

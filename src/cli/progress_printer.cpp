@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "cli/commands.h"
+
 namespace cm::cli {
 
 ProgressPrinter::ProgressPrinter(bool quiet, bool verbose) : tty_(::isatty(2) != 0), quiet_(quiet), verbose_(verbose) {}
@@ -81,7 +83,7 @@ void ProgressPrinter::message(const std::string& node, const std::string& level,
     if (level == "info" && !verbose_) return;
     std::lock_guard<std::mutex> lock(mutex_);
     clear_locked();
-    std::fprintf(stderr, "conceptmesh: %s: [%s] %s\n", level.c_str(), node.c_str(), text.c_str());
+    std::fprintf(stderr, "conceptmesh: %s: [%s] %s\n", level.c_str(), node.c_str(), shorten_long_words(text).c_str());
     redraw_locked();
 }
 

@@ -1,6 +1,10 @@
 #include "core/progress.h"
 
+#include <unistd.h>
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <thread>
 
 #include "core/error.h"
 
@@ -11,29 +15,64 @@ std::atomic<bool>& cancel_requested() {
     return flag;
 }
 
+Interrupter::Interrupter(std::string node, ProgressSink* sink) : node_(std::move(node)), sink_(sink) {
+    // "<node>" or "<node>@<percent>": the node's first look at or past that progress.
+    const char* env = std::getenv("CONCEPTMESH_TEST_HOLD_NODE");
+    if (!env) return;
+    const std::string hold = env;
+    const std::size_t at = hold.find('@');
+    if (hold.substr(0, at) != node_) return;
+    hold_at_ = at == std::string::npos ? 0 : std::atoi(hold.c_str() + at + 1);
+    hold_ = true;
+}
+
+bool Interrupter::held() {
+    if (!hold_.load(std::memory_order_relaxed) || std::max(0, last_percent_.load()) < hold_at_ ||
+        !hold_.exchange(false))
+        return false;
+    const std::string line = "conceptmesh: test hold: node " + node_ + " at " + std::to_string(last_percent_) + "%\n";
+    [[maybe_unused]] auto n = ::write(2, line.data(), line.size());
+    while (!cancel_requested().load()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return true;
+}
+
 void Interrupter::start(const char* name) {
-    if (name) what_ = name;
+    if (!name) return;
+    std::lock_guard<std::mutex> lock(what_mutex_);
+    what_ = name;
 }
 
 void Interrupter::end() {}
 
 bool Interrupter::wasInterrupted(int percent) {
-    if (percent >= 0 && sink_) {
+    if (percent >= 0) {
         int last = last_percent_.load();
-        if (percent != last && last_percent_.compare_exchange_strong(last, percent))
-            sink_->progress(node_, percent, what_);
+        if (percent != last && last_percent_.compare_exchange_strong(last, percent) && sink_) {
+            std::string what;
+            {
+                std::lock_guard<std::mutex> lock(what_mutex_);
+                what = what_;
+            }
+            sink_->progress(node_, percent, what);
+        }
     }
+    if (held()) return false;
     return cancel_requested().load(std::memory_order_relaxed);
 }
 
 void Interrupter::step(double fraction, const std::string& what) {
-    if (!what.empty()) what_ = what;
-    wasInterrupted(int(std::clamp(fraction, 0.0, 1.0) * 100.0));
+    if (!what.empty()) {
+        std::lock_guard<std::mutex> lock(what_mutex_);
+        what_ = what;
+    }
+    if (!wasInterrupted(int(std::clamp(fraction, 0.0, 1.0) * 100.0))) return;
     check();
 }
 
-void Interrupter::check() const {
-    if (cancel_requested().load(std::memory_order_relaxed)) throw Cancelled();
+void Interrupter::check() {
+    if (held() || !cancel_requested().load(std::memory_order_relaxed)) return;
+    const int at = last_percent_.load();
+    throw Cancelled(at >= 0 ? "stopped at " + std::to_string(at) + "%" : std::string("stopped"));
 }
 
 } // namespace cm

@@ -2,6 +2,7 @@
 // openvdb::util::NullInterrupter so it can be handed to OpenVDB tools as is.
 #pragma once
 #include <atomic>
+#include <mutex>
 #include <string>
 
 #include <openvdb/util/NullInterrupter.h>
@@ -21,23 +22,33 @@ public:
 /// The process-wide cancel request (set by the Ctrl-C handler, or by a test).
 std::atomic<bool>& cancel_requested();
 
+/// Test hook: with CONCEPTMESH_TEST_HOLD_NODE=<node id>[@<percent>] in the environment,
+/// that node's first look at its interrupter (at or past that progress) prints
+/// "conceptmesh: test hold: node <id> at <n>%" to stderr and waits there until a stop is
+/// asked for, then goes on as if it had not seen it: the stop must be taken at the node's
+/// next look. A test then knows the stage is running when it signals, and from the
+/// progress in the message ("stopped at 53%") how soon the stage looked again.
 class Interrupter : public openvdb::util::NullInterrupter {
 public:
-    Interrupter(std::string node, ProgressSink* sink) : node_(std::move(node)), sink_(sink) {}
+    Interrupter(std::string node, ProgressSink* sink);
     void start(const char* name = nullptr) override;
     void end() override;
     /// True once a cancel was requested; reports `percent` (0-100, -1 for none).
     bool wasInterrupted(int percent = -1) override;
     /// Fractional progress in [0, 1] of the whole stage; throws cm::Cancelled when cancelled.
     void step(double fraction, const std::string& what = {});
-    /// Throws cm::Cancelled when a cancel was requested.
-    void check() const;
+    /// Throws cm::Cancelled ("stopped at 12%") when a cancel was requested.
+    void check();
 
 private:
+    bool held(); ///< the test hold; true when it just waited for the stop
     std::string node_;
+    std::mutex what_mutex_; ///< step() may be called from worker threads
     std::string what_;
     ProgressSink* sink_;
     std::atomic<int> last_percent_{-1};
+    std::atomic<bool> hold_{false};
+    int hold_at_ = 0;
 };
 
 } // namespace cm

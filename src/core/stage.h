@@ -78,7 +78,7 @@ public:
     Interrupter& interrupter() { return interrupter_; }
     /// Progress in [0,1] of this stage; throws cm::Cancelled when cancelled.
     void progress(double fraction, const std::string& what = {}) { interrupter_.step(fraction, what); }
-    void check_cancel() const { interrupter_.check(); }
+    void check_cancel() { interrupter_.check(); }
 
     void warn(const std::string& text);
     void info(const std::string& text);

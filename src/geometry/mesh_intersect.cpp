@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -192,59 +193,61 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
     return r;
 }
 
-std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p) const {
+std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
+                                                 const std::function<void(double)>& progress) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
     if (runs_.size() < 2) return {};
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, runs_.size() - 1, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-            auto& local = found.local();
-            // Everything the pair tests read, gathered once per face of the cell (the faces of a
-            // cell are scattered in memory; the pairs are many more than the faces).
-            struct Item {
-                Box box, now;
-                std::array<std::uint32_t, 3> low, tri;
-                std::uint32_t face;
-            };
-            std::vector<Item> items;
-            for (std::size_t run = r.begin(); run != r.end(); ++run) {
-                const std::size_t b = runs_[run], e = runs_[run + 1];
-                const std::uint64_t here = entries_[b] >> 32;
-                items.clear();
-                for (std::size_t x = b; x < e; ++x) {
-                    const auto f = std::uint32_t(entries_[x]);
-                    const Box u = box(f);
-                    const Range c = cells(u);
-                    items.push_back({u,
-                                     b_ ? face_box(p, triangles_[f]) : u,
-                                     {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
-                                     triangles_[f],
-                                     f});
-                }
-                // Sweep along x over the cell's faces, sorted by the low end of their boxes.
-                std::sort(items.begin(), items.end(),
-                          [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
-                for (std::size_t x = 0; x < items.size(); ++x) {
-                    const Item& ia = items[x];
-                    for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
-                        const Item& ib = items[y];
-                        if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
-                            ib.box.lo.z > ia.box.hi.z)
-                            continue;
-                        // Each pair once: in the cell holding the low corner of the boxes' overlap,
-                        // whose cell is the larger of the two boxes' low cells on each axis.
-                        if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
-                                std::max(ia.low[2], ib.low[2])) != here)
-                            continue;
-                        if (b_ && !overlap(ia.now, ib.now)) continue;
-                        int shared = 0;
-                        for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
-                        if (shared >= 2) continue; // neighbours across an edge never cross
-                        if (triangles_cross(p, ia.tri, ib.tri))
-                            local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
-                    }
+    std::atomic<std::size_t> done{0};
+    const std::size_t ncells = runs_.size() - 1;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncells, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        if (progress) progress(double(done.fetch_add(r.size())) / double(ncells));
+        auto& local = found.local();
+        // Everything the pair tests read, gathered once per face of the cell (the faces of a
+        // cell are scattered in memory; the pairs are many more than the faces).
+        struct Item {
+            Box box, now;
+            std::array<std::uint32_t, 3> low, tri;
+            std::uint32_t face;
+        };
+        std::vector<Item> items;
+        for (std::size_t run = r.begin(); run != r.end(); ++run) {
+            const std::size_t b = runs_[run], e = runs_[run + 1];
+            const std::uint64_t here = entries_[b] >> 32;
+            items.clear();
+            for (std::size_t x = b; x < e; ++x) {
+                const auto f = std::uint32_t(entries_[x]);
+                const Box u = box(f);
+                const Range c = cells(u);
+                items.push_back({u,
+                                 b_ ? face_box(p, triangles_[f]) : u,
+                                 {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
+                                 triangles_[f],
+                                 f});
+            }
+            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
+            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
+            for (std::size_t x = 0; x < items.size(); ++x) {
+                const Item& ia = items[x];
+                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
+                    const Item& ib = items[y];
+                    if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
+                        ib.box.lo.z > ia.box.hi.z)
+                        continue;
+                    // Each pair once: in the cell holding the low corner of the boxes' overlap,
+                    // whose cell is the larger of the two boxes' low cells on each axis.
+                    if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
+                            std::max(ia.low[2], ib.low[2])) != here)
+                        continue;
+                    if (b_ && !overlap(ia.now, ib.now)) continue;
+                    int shared = 0;
+                    for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
+                    if (shared >= 2) continue; // neighbours across an edge never cross
+                    if (triangles_cross(p, ia.tri, ib.tri))
+                        local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
                 }
             }
-        });
+        }
+    });
     std::vector<FacePair> pairs;
     for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
     std::sort(pairs.begin(), pairs.end());
@@ -363,13 +366,22 @@ std::vector<std::string> OutputCheck::broken() const {
     return out;
 }
 
-OutputCheck check_output(const Mesh& m) {
-    OutputCheck c{check_mesh(m), find_self_intersections(m)};
+OutputCheck check_output(const Mesh& m, const std::function<void(double)>& progress) {
+    auto part = [&](double lo, double hi) -> std::function<void(double)> {
+        if (!progress) return {};
+        return [&progress, lo, hi](double f) { progress(lo + (hi - lo) * f); };
+    };
+    if (progress) progress(0);
+    OutputCheck c{check_mesh(m), {}};
+    if (progress) progress(0.2);
+    c.crossings = SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, part(0.4, 0.9));
     Vec3f lo, hi;
     m.bounds(lo, hi);
     const Vec3f d = hi - lo;
     const double diagonal = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+    if (progress) progress(0.9);
     c.coincident_vertices = count_coincident_vertices(m, kCoincidentTolerance * diagonal);
+    if (progress) progress(1);
     return c;
 }
 

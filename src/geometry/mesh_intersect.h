@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -59,7 +60,9 @@ public:
     SelfIntersectionIndex(const std::vector<std::array<std::uint32_t, 3>>& triangles, const std::vector<Vec3f>& a,
                           const std::vector<Vec3f>* b = nullptr);
     /// Every crossing pair at positions `p` (each pair once, sorted). TBB-parallel.
-    std::vector<FacePair> all(const std::vector<Vec3f>& p) const;
+    /// `progress`, when given, is called per chunk of cells with the fraction done (from the
+    /// worker threads); it may throw to stop.
+    std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {}) const;
     /// The crossing pairs at positions `p` with at least one face in `faces` (sorted, unique).
     std::vector<FacePair> involving(const std::vector<std::uint32_t>& faces, const std::vector<Vec3f>& p) const;
 
@@ -103,7 +106,8 @@ struct OutputCheck {
     /// One phrase per broken rule ("3 boundary edges", ...); empty when clean.
     std::vector<std::string> broken() const;
 };
-OutputCheck check_output(const Mesh& mesh);
+/// `progress`, when given, is called per chunk with the fraction done and may throw to stop.
+OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& progress = {});
 
 /// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).

@@ -27,7 +27,14 @@ SilhouetteField::SilhouetteField(const View& view)
               0,
               0,
               1};
-        if (!(c.scale > 0)) throw Error("view \"" + view.name + "\" has a non-positive scale");
+        if (!(c.scale > 0) || !std::isfinite(c.scale))
+            throw Error("view \"" + view.name + "\": the camera's scale (" + std::to_string(c.scale) +
+                        ") is not a positive finite number of pixels per unit");
+        for (double x : {c.cx, c.cy, c.r.x, c.r.y, c.r.z, c.u.x, c.u.y, c.u.z})
+            if (!std::isfinite(x))
+                throw Error("view \"" + view.name +
+                            "\": the camera's origin or direction is not finite (NaN or "
+                            "infinite angle or origin)");
         for (int a = 0; a < 3; ++a)
             if (m_[a] == 0 && m_[4 + a] == 0) drop_axis_ = a;
     } else {
@@ -35,6 +42,9 @@ SilhouetteField::SilhouetteField(const View& view)
         // Normalise so that points in front of the camera have positive w.
         const double det = m_[0] * (m_[5] * m_[10] - m_[6] * m_[9]) - m_[1] * (m_[4] * m_[10] - m_[6] * m_[8]) +
                            m_[2] * (m_[4] * m_[9] - m_[5] * m_[8]);
+        for (double x : m_)
+            if (!std::isfinite(x))
+                throw Error("view \"" + view.name + "\": the camera matrix has an entry that is not a finite number");
         if (det == 0 || !std::isfinite(det)) throw Error("view \"" + view.name + "\" has a singular camera matrix");
         if (det < 0)
             for (double& v : m_) v = -v;

@@ -85,6 +85,20 @@ std::vector<fs::path> FileCommit::finals() const {
     return out;
 }
 
+std::string FileCommit::with_final_names(std::string text) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto replace_all = [&text](const std::string& from, const std::string& to) {
+        if (from.empty()) return;
+        for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+            text.replace(at, from.size(), to);
+    };
+    for (const auto& [tmp, fin] : staged_) {
+        replace_all(tmp.string(), fin.string());
+        replace_all(tmp.filename().string(), fin.filename().string());
+    }
+    return text;
+}
+
 std::vector<fs::path> FileCommit::commit() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::error_code ec;

@@ -28,6 +28,9 @@ public:
     void add(const std::filesystem::path& tmp, const std::filesystem::path& final_path);
     /// A new temporary name for `final_path`, recorded as by add().
     std::filesystem::path stage(const std::filesystem::path& final_path);
+    /// `text` (an error message) with every staged temporary named by its final path: the
+    /// user knows the path they asked for, not "x.obj.part-4711-0.obj".
+    std::string with_final_names(std::string text) const;
     /// The final paths staged so far, in the order staged.
     std::vector<std::filesystem::path> finals() const;
     /// Moves every staged file into place, in the order staged; returns the final paths.

@@ -63,11 +63,18 @@ std::array<double, 12> read_matrix_file(const fs::path& mf, const std::string& w
     std::ifstream in(mf);
     if (!in) throw Error(where + "cannot read matrix_file \"" + mf.string() + "\"");
     std::vector<double> v;
-    std::string tok;
-    while (in >> tok) {
-        char* end = nullptr;
-        const double x = std::strtod(tok.c_str(), &end);
-        if (end && *end == '\0' && end != tok.c_str()) v.push_back(x);
+    std::string line, tok;
+    for (int ln = 1; std::getline(in, line); ++ln) {
+        std::istringstream words(line);
+        while (words >> tok) {
+            char* end = nullptr;
+            const double x = std::strtod(tok.c_str(), &end);
+            if (!end || *end != '\0' || end == tok.c_str()) continue;
+            if (!std::isfinite(x)) // strtod reads "nan" and "inf" as numbers
+                throw Error(where + "matrix_file \"" + mf.string() + "\" line " + std::to_string(ln) + ": \"" + tok +
+                            "\" is not a finite number");
+            v.push_back(x);
+        }
     }
     if (v.size() != 12)
         throw Error(where + "matrix_file \"" + mf.string() +
@@ -136,6 +143,9 @@ void read_top_level(const fs::path& file, YAML::Node doc, Manifest& m) {
     for (const char* k : {"height", "width", "depth"}) {
         auto& v = std::string(k) == "height" ? m.height : std::string(k) == "width" ? m.width : m.depth;
         if (v && !(*v > 0)) throw Error(at(file, doc[k]) + ": " + k + " must be positive");
+        if (v && (*v < 1e-12 || *v > 1e9))
+            throw Error(at(file, doc[k]) + ": " + k + " " + doc[k].Scalar() +
+                        " is outside [1e-12, 1e9] (metres): a mesh (single precision) cannot hold that size");
     }
 }
 
@@ -253,6 +263,11 @@ void read_view_mapping(const fs::path& file, const fs::path& base, const YAML::N
                 for (int k = 0; k < 3; ++k) x += (*cam.K)[r * 3 + k] * (c < 3 ? (*cam.R)[k * 3 + c] : (*cam.tvec)[k]);
                 P[r * 4 + c] = x;
             }
+        for (double x : P)
+            if (!std::isfinite(x))
+                throw Error(at(file, n) + ": view \"" + v.key +
+                            "\": K [R | t] overflows (an entry of the product is not a finite number): give K, R "
+                            "and t in units nearer the image's size");
         v.matrix = P;
         ++cam.matrix_sources;
     }
@@ -288,6 +303,19 @@ void complete_view(const fs::path& file, const fs::path& base, const YAML::Node&
     if (v.view && !Camera::named(*v.view))
         throw Error(at(file, n) + ": view \"" + v.key + "\": unknown view name \"" + *v.view +
                     "\" (use front, back, right, left, top, bottom, or azimuth/elevation, or matrix)");
+    if (v.matrix) {
+        // A matrix must be a camera: its left 3x3 invertible and its centre a finite point
+        // (entries near 1e300 multiply to infinities).
+        // (A singular one is left to the stages, which name the view: some uses need no centre.)
+        Vec3d c{0, 0, 0};
+        try {
+            c = Camera::perspective(*v.matrix).center();
+        } catch (const Error&) {}
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+            throw Error(at(file, n) + ": view \"" + v.key +
+                        "\": the matrix puts the camera centre at infinity or NaN (entries too large or too "
+                        "small): give it in units nearer the image's size");
+    }
     if (!v.view && !v.matrix) {
         v.azimuth = v.azimuth.value_or(0.0);
         v.elevation = v.elevation.value_or(0.0);

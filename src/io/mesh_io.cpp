@@ -89,17 +89,107 @@ long long declared_triangles(const fs::path& file) {
     return total;
 }
 
+// A text .obj or .off checked line by line before OpenMesh reads it: OpenMesh leaves out a
+// vertex it cannot parse ("nan") and a face with an index out of range, and says nothing.
+// Throws cm::Error naming the file and the line.
+void check_text_mesh(const fs::path& file) {
+    const std::string ext = lower_extension(file);
+    if (ext != ".obj" && ext != ".off") return;
+    std::ifstream in(file);
+    if (!in) return; // the reader says why
+    auto fail = [&](long long line, const std::string& why) {
+        throw Error("cannot read mesh \"" + file.string() + "\": line " + std::to_string(line) + ": " + why);
+    };
+    auto finite_numbers = [&](std::istringstream& ss, int n, long long line) {
+        for (int k = 0; k < n; ++k) {
+            std::string tok;
+            if (!(ss >> tok)) fail(line, "a vertex needs 3 coordinates");
+            char* end = nullptr;
+            const double x = std::strtod(tok.c_str(), &end);
+            if (end == tok.c_str() || *end != '\0') fail(line, "\"" + tok + "\" is not a number");
+            if (!std::isfinite(x)) fail(line, "vertex coordinate \"" + tok + "\" is not a finite number");
+        }
+    };
+    std::string line;
+    long long ln = 0;
+    if (ext == ".obj") {
+        std::vector<std::pair<long long, std::string>> faces; // checked once every vertex is counted
+        long long nv = 0;
+        while (std::getline(in, line)) {
+            ++ln;
+            if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t')) continue;
+            std::istringstream ss(line.substr(2));
+            if (line[0] == 'v') {
+                finite_numbers(ss, 3, ln);
+                ++nv;
+            } else if (line[0] == 'f') {
+                faces.emplace_back(ln, line.substr(2));
+            }
+        }
+        for (const auto& [fl, text] : faces) {
+            std::istringstream ss(text);
+            std::string tok;
+            while (ss >> tok) {
+                char* end = nullptr;
+                const long long i = std::strtoll(tok.c_str(), &end, 10);
+                if (end == tok.c_str()) fail(fl, "face index \"" + tok + "\" is not a number");
+                const long long v = i < 0 ? nv + i + 1 : i; // negative: counted from the last vertex
+                if (v < 1 || v > nv)
+                    fail(fl, "face index " + std::to_string(i) + " is out of range (the file has " +
+                                 std::to_string(nv) + " vertices)");
+            }
+        }
+        return;
+    }
+    // OFF: "OFF", "nv nf ne", nv vertex lines, nf face lines "n i1 ... in" (0-based).
+    long long nv = -1, nf = -1, seen = 0;
+    while (std::getline(in, line)) {
+        ++ln;
+        if (const auto c = line.find('#'); c != std::string::npos) line.erase(c);
+        std::istringstream ss(line);
+        std::string first;
+        if (!(ss >> first)) continue;
+        if (nv < 0) {
+            if (first.find("OFF") != std::string::npos) {
+                if (!(ss >> nv)) nv = -1;
+                else if (!(ss >> nf)) return;
+                continue;
+            }
+            std::istringstream again(line);
+            if (!(again >> nv >> nf)) return; // the reader says why
+            continue;
+        }
+        std::istringstream row(line);
+        if (seen < nv) {
+            finite_numbers(row, 3, ln);
+        } else if (seen < nv + nf) {
+            long long n = 0;
+            row >> n;
+            for (long long k = 0; k < n; ++k) {
+                long long i = -1;
+                if (!(row >> i)) fail(ln, "a face of " + std::to_string(n) + " vertices lists fewer");
+                if (i < 0 || i >= nv)
+                    fail(ln, "face index " + std::to_string(i) + " is out of range (the file has " +
+                                 std::to_string(nv) + " vertices, numbered from 0)");
+            }
+        }
+        ++seen;
+    }
+}
+
 std::uint8_t srgb8(float linear) {
     const float c = std::clamp(linear, 0.0f, 1.0f);
     const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
     return std::uint8_t(std::lround(s * 255.0f));
 }
 
-void write_text(const fs::path& file, const std::string& text) {
-    std::ofstream out(file, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
+// Every this many elements a writer reports its progress (and may be stopped).
+constexpr std::size_t kProgressEvery = 1 << 16;
+
+void write_text(const fs::path& file, const std::string& text, const ChunkProgress& progress = {}) {
+    ProgressFileStream out(file, text.size(), progress);
+    out.write(text.data(), std::streamsize(text.size()));
+    if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
 }
 
 // OBJ with per-corner UVs (v/vt/vn), a material library and its texture, by hand: OpenMesh
@@ -119,22 +209,33 @@ void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteO
     if (with_tex) o += "mtllib " + mtl_name + "\n";
     o += "o " + name + "\n";
     char buf[160];
+    // Building the text takes most of the time; the file then goes out in chunks.
+    const ChunkProgress build = progress_part(wo.progress, 0, 0.7);
+    const double total = double(mesh.positions.size() * 3 + mesh.triangles.size()) + 1;
+    std::size_t done = 0;
+    auto tick = [&] {
+        if (build && ++done % kProgressEvery == 0) build(double(done) / total);
+    };
     for (const auto& p : mesh.positions) {
+        tick();
         std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
         o += buf;
     }
     const auto& uvs = corner ? mesh.corner_uvs : mesh.uvs;
     for (const auto& t : uvs) {
+        tick();
         std::snprintf(buf, sizeof buf, "vt %.7f %.7f\n", double(t[0]), double(t[1]));
         o += buf;
     }
     if (with_normals)
         for (const auto& n : mesh.normals) {
+            tick();
             std::snprintf(buf, sizeof buf, "vn %.6f %.6f %.6f\n", double(n.x), double(n.y), double(n.z));
             o += buf;
         }
     if (with_tex) o += "usemtl " + name + "\n";
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+        tick();
         o += "f";
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = mesh.triangles[f][k] + 1, t = (corner ? 3 * f + std::size_t(k) : v - 1) + 1;
@@ -144,12 +245,12 @@ void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteO
         }
         o += "\n";
     }
-    write_text(file, o);
+    write_text(file, o, progress_part(wo.progress, 0.7, with_tex ? 0.9 : 1.0));
     if (!with_tex) return;
     write_text(mtl_file, "# conceptmesh\nnewmtl " + name +
                              "\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 0\nd 1\nillum 1\nmap_Kd " + tex_name + "\n");
     const std::vector<unsigned char> png = encode_png(*mesh.texture, 3);
-    write_text(tex_file, std::string(png.begin(), png.end()));
+    write_text(tex_file, std::string(png.begin(), png.end()), progress_part(wo.progress, 0.9, 1.0));
 }
 
 } // namespace
@@ -184,6 +285,7 @@ Mesh read_mesh(const fs::path& file) {
     if (!mesh_format_supported(file))
         throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
     if (lower_extension(file) == ".glb") return read_glb(file);
+    check_text_mesh(file);
     quiet_openmesh();
     OMesh om;
     OpenMesh::IO::Options opt;
@@ -224,11 +326,13 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
     if (lower_extension(file) == ".glb") {
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
-        return write_glb(mesh, file, wo.normals, wo.name);
+        return write_glb(mesh, file, wo.normals, wo.name, wo.progress);
     }
     const std::string ext = lower_extension(file);
     if (ext == ".obj" && has_uvs(mesh)) return write_textured_obj(mesh, file, wo);
     quiet_openmesh();
+    // Filling OpenMesh's structure is about a third of the time; the file goes out in chunks.
+    const ChunkProgress build = progress_part(wo.progress, 0, 0.3);
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
     for (const auto& p : mesh.positions) om.add_vertex(OMesh::Point(p.x, p.y, p.z));
@@ -250,7 +354,10 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         }
     }
     std::vector<OMesh::VertexHandle> vh(3);
-    for (const auto& t : mesh.triangles) {
+    const std::size_t nf = mesh.triangles.size();
+    for (std::size_t f = 0; f < nf; ++f) {
+        if (build && f % kProgressEvery == 0) build(double(f) / double(nf));
+        const auto& t = mesh.triangles[f];
         for (int k = 0; k < 3; ++k) vh[k] = OMesh::VertexHandle(int(t[k]));
         if (!om.add_face(vh).is_valid())
             throw Error("cannot write mesh \"" + file.string() +
@@ -266,8 +373,19 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         om.update_face_normals();
         opt += OpenMesh::IO::Options::FaceNormal;
     }
-    if (!OpenMesh::IO::write_mesh(om, file.string(), opt, 9))
-        throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
+    // Through a stream of our own, so a stop takes effect within a chunk of the file.
+    const bool binary = opt.check(OpenMesh::IO::Options::Binary);
+    const std::uint64_t nv = mesh.positions.size();
+    const std::uint64_t expected =
+        e == ".stl" ? (binary ? 84 + 50 * std::uint64_t(nf) : 250 * std::uint64_t(nf))
+        : binary    ? 512 + nv * (12 + (with_normals ? 12 : 0) + (with_colors ? 3 : 0)) + 13 * std::uint64_t(nf)
+                    : nv * (with_normals ? 80 : 40) + 24 * std::uint64_t(nf);
+    ProgressFileStream out(file, expected, progress_part(wo.progress, 0.3, 1.0));
+    if (!out.is_open()) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
+    // OpenMesh's OBJ writer sets fixed notation on the file it opens itself, not on a stream.
+    if (e == ".obj") out.setf(std::ios::fixed, std::ios::floatfield);
+    const bool wrote = OpenMesh::IO::write_mesh(om, out, e, opt, 9);
+    if (!out.finish() || !wrote) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
 }
 
 } // namespace cm

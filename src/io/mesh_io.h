@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "io/progress_stream.h"
 
 namespace cm {
 
@@ -22,6 +23,10 @@ struct MeshWriteOptions {
     /// `<stem>_basecolor.png` beside the OBJ.
     std::filesystem::path mtl_file, texture_file;
     std::string mtl_name, texture_name;
+    /// Called per chunk of elements or bytes with the fraction written (0-1); it may throw
+    /// (cm::Cancelled) to stop the write, which then leaves a partial file for the caller
+    /// (who wrote to a temporary name) to remove.
+    ChunkProgress progress;
 };
 
 /// The names write_mesh() gives an OBJ's material library and texture: `<stem>.mtl`,

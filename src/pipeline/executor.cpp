@@ -7,6 +7,7 @@
 #include <fstream>
 #include <thread>
 
+#include <openvdb/Exceptions.h>
 #include <sys/resource.h>
 #include <tbb/task_group.h>
 #include <unistd.h>
@@ -50,6 +51,29 @@ std::size_t peak_rss() {
         std::getline(in, key);
     }
     return 0;
+}
+
+/// What a library threw, said so that a user can act on it: OpenVDB's "ArithmeticError:
+/// Tried to initialize an affine transform from a nearly singular matrix" and a bare
+/// std::bad_alloc, from a stage that did not catch them itself.
+std::string plain_message(const std::exception& e) {
+    if (dynamic_cast<const Error*>(&e)) return e.what();
+    if (auto* f = dynamic_cast<const fs::filesystem_error*>(&e)) // "filesystem error: status: ... [path]"
+        return "cannot use the path \"" + f->path1().string() + "\": " + f->code().message();
+    if (dynamic_cast<const std::bad_alloc*>(&e))
+        return "out of memory (the machine could not give what the stage needed): lower the resolution or the "
+               "image sizes, or see --max-memory";
+    if (auto* vdb = dynamic_cast<const openvdb::Exception*>(&e)) {
+        std::string text = vdb->what();
+        if (const auto colon = text.find(": "); colon != std::string::npos && text.find("Error") < colon)
+            text.erase(0, colon + 2); // "ArithmeticError: ..." -> "..."
+        if (dynamic_cast<const openvdb::ArithmeticError*>(&e))
+            return "a grid computation went out of range (OpenVDB: " + text +
+                   "): the voxel size or the object's box is too small or too large for its units; check the views' "
+                   "cameras, bounds and the resolution";
+        return "the grid library failed (OpenVDB: " + text + ")";
+    }
+    return e.what();
 }
 
 /// Samples the resident set every few milliseconds and keeps, for each running
@@ -180,10 +204,11 @@ RunResult PipelineRun::run() {
     if (!failed_ && cancel_requested()) {
         failed_ = true;
         cancelled_ = true;
+        first_error_ = p_.file.string() + ": stopped when the last stages had finished";
     }
     if (failed_) {
         files_.discard();
-        if (cancelled_) throw Cancelled();
+        if (cancelled_) throw Cancelled(first_error_);
         throw Error(first_error_);
     }
     return commit();
@@ -231,7 +256,7 @@ bool PipelineRun::run_node(std::size_t i, const Inputs& in, Context& ctx) {
         std::lock_guard<std::mutex> lock(error_mutex_);
         if (!failed_.exchange(true)) {
             cancelled_ = dynamic_cast<const Cancelled*>(&e) != nullptr;
-            first_error_ = p_.where(node) + e.what();
+            first_error_ = p_.where(node) + files_.with_final_names(plain_message(e));
         }
         return false;
     }

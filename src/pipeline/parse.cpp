@@ -192,7 +192,7 @@ void Pipeline::apply_override(const std::string& assignment) {
     const auto eq = assignment.find('=');
     const auto dot = assignment.find('.');
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq)
-        throw Error("--set \"" + assignment + "\": expected NODE.PARAM=VALUE");
+        throw UsageError("--set \"" + assignment + "\": expected NODE.PARAM=VALUE");
     const std::string id = assignment.substr(0, dot), param = assignment.substr(dot + 1, eq - dot - 1),
                       value = assignment.substr(eq + 1);
     for (auto& n : nodes) {
@@ -204,8 +204,8 @@ void Pipeline::apply_override(const std::string& assignment) {
     }
     std::string known;
     for (auto& n : nodes) known += (known.empty() ? "" : ", ") + n.id;
-    throw Error("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known +
-                ")");
+    throw UsageError("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known +
+                     ")");
 }
 
 std::map<std::string, std::size_t> Pipeline::node_index() const {

@@ -27,17 +27,20 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
     for (const auto& [key, raw] : raw_params) {
         const ParamSpec* spec = find_param(info.params, key);
         const std::string src = raw.from_set() ? " (from --set)" : "";
-        if (!spec)
-            throw Error(where(raw.line) + "unknown parameter \"" + key + "\"" + src +
-                        " (parameters: " + param_names(info.params) + ")");
+        // A bad --set value is a command-line mistake (exit status 2); a bad file value is not.
+        auto fail = [&](const std::string& text) {
+            if (raw.from_set()) throw UsageError(where(raw.line) + text);
+            throw Error(where(raw.line) + text);
+        };
+        if (!spec) fail("unknown parameter \"" + key + "\"" + src + " (parameters: " + param_names(info.params) + ")");
         if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue; // null: left unset
         ParamValue v;
         try {
             v = param_value(*spec, raw);
         } catch (const Error& e) {
-            throw Error(where(raw.line) + e.what() + src);
+            fail(e.what() + src);
         }
-        if (auto why = check_param(*spec, v); !why.empty()) throw Error(where(raw.line) + why + src);
+        if (auto why = check_param(*spec, v); !why.empty()) fail(why + src);
         ps.set(key, v);
         ps.mark_explicit(key);
     }

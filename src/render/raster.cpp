@@ -153,13 +153,15 @@ void check_size(int width, int height) {
 
 } // namespace
 
-std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height) {
+std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height,
+                                      const RenderCheck& check) {
     check_size(width, height);
     std::vector<std::uint8_t> mask(std::size_t(width) * height, 0);
     const Projected p = project_vertices(mesh, cam);
     std::uint8_t* out = mask.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+                          if (check) check();
                           for (std::size_t t = r.begin(); t != r.end(); ++t)
                               screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
                                   raster_triangle(a, b, c, width, 0, height, [&](std::size_t i, double) {
@@ -171,7 +173,7 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
     return mask;
 }
 
-DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height) {
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check) {
     check_size(width, height);
     DepthImage img;
     img.width = width;
@@ -212,8 +214,10 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
             for (int b = band_lo[t]; b <= band_hi[t]; ++b) faces[fill[std::size_t(b)]++] = std::uint32_t(t);
     }
 
+    if (check) check();
     std::vector<double> nearness(npx, -std::numeric_limits<double>::infinity());
     tbb::parallel_for(0, nbands, [&](int b) {
+        if (check && b % 16 == 0) check();
         const int row0 = b * kBand, row1 = std::min(height, row0 + kBand);
         for (std::size_t k = start[std::size_t(b)]; k < start[std::size_t(b) + 1]; ++k) {
             const std::uint32_t t = faces[k];
@@ -235,14 +239,15 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
     return img;
 }
 
-SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vector<std::vector<std::uint8_t>>* masks) {
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vector<std::vector<std::uint8_t>>* masks,
+                                 const RenderCheck& check) {
     SilhouetteError res;
     if (masks) masks->clear();
     double sum_xor = 0, sum_input = 0, sum_iou = 0;
     for (const View& v : views.views) {
         if (v.coverage.size() != std::size_t(v.width) * v.height || v.width <= 0 || v.height <= 0)
             throw Error("view \"" + v.name + "\" has no silhouette to compare with");
-        std::vector<std::uint8_t> r = render_mask(mesh, v.camera, v.width, v.height);
+        std::vector<std::uint8_t> r = render_mask(mesh, v.camera, v.width, v.height, check);
         struct Counts {
             std::size_t s = 0, r = 0, both = 0;
         };

@@ -3,6 +3,7 @@
 // shaded pictures, and the silhouette error of a mesh against input views.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,13 +13,18 @@
 
 namespace cm {
 
+/// Called per chunk of triangles or rows (from worker threads, at once); it may throw
+/// (cm::Cancelled) to stop the render. Empty: no checks.
+using RenderCheck = std::function<void()>;
+
 /// @brief Binary silhouette of a mesh seen through `cam`.
 /// @return width*height bytes, row-major, row 0 at the top: 1 where a pixel centre
 ///         (i+0.5, j+0.5) lies inside a projected triangle (orthographic or perspective;
 ///         perspective triangles are clipped at the camera plane), else 0. A centre exactly
 ///         on an edge counts as inside, so triangles sharing an edge leave no gap.
 /// TBB-parallel over triangles; millions of triangles in about a second.
-std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height);
+std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height,
+                                      const RenderCheck& check = {});
 
 /// Nearest surface per pixel (pixel centre sampling, as render_mask).
 struct DepthImage {
@@ -31,7 +37,7 @@ struct DepthImage {
 
 /// @brief Z-buffer render (TBB-parallel over image bands). The covered pixels are exactly
 /// those render_mask() sets.
-DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height);
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check = {});
 
 struct ViewError {
     std::string view;
@@ -49,9 +55,11 @@ struct SilhouetteError {
 
 /// @brief Re-renders the mesh through every view's camera and compares with the view's
 /// silhouette (coverage >= 0.5). With `masks`, the renders (render_mask, one per view) are
-/// kept there for a caller that shows them.
+/// kept there for a caller that shows them; `check` is called per chunk of each render (it
+/// may throw to stop).
 SilhouetteError silhouette_error(const Mesh& mesh, const Views& views,
-                                 std::vector<std::vector<std::uint8_t>>* masks = nullptr);
+                                 std::vector<std::vector<std::uint8_t>>* masks = nullptr,
+                                 const RenderCheck& check = {});
 
 /// @brief Orthographic camera framed as ../shared/conventions/views.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.

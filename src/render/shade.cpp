@@ -214,17 +214,19 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     const Camera hi = resized_camera(cam, ss);
     Mesh mesh = mesh_in;
     if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
-    const DepthImage D = render_depth(mesh, hi, W, H);
+    const DepthImage D = render_depth(mesh, hi, W, H, opt.check);
     const std::size_t N = std::size_t(W) * H;
     ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
     for (std::size_t i = 0; i < N; ++i) scene.empty[i] = D.face[i] == DepthImage::kNoFace;
 
     // Lines: silhouette outline inside the silhouette, and creases / inner contours.
     const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
+    if (opt.check) opt.check();
     const std::vector<float> to_outside = distance_to(scene.empty, W, H, true);
     const std::vector<float> to_crease = opt.lines ? distance_to(crease, W, H, false) : std::vector<float>(N, 1e9f);
-
+    if (opt.check) opt.check();
     const std::vector<float> hires = shade_samples(scene, to_outside, to_crease, opt);
+    if (opt.check) opt.check();
     return average_down(scene, hires, width, height, opt);
 }
 

@@ -3,6 +3,7 @@
 // test views, and the same shading on a plain background for preview sheets.
 #pragma once
 #include <array>
+#include <functional>
 
 #include "core/camera.h"
 #include "core/mesh.h"
@@ -22,6 +23,8 @@ struct ArtOptions {
     bool lines = true;                                  ///< false: shaded fill only
     int supersample = 3;                                ///< samples per pixel along x and y (anti-aliasing)
     unsigned seed = 1;                                  ///< grain pattern
+    /// Called between the steps and per chunk of the render; may throw to stop (RenderCheck).
+    std::function<void()> check;
 };
 
 /// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the

@@ -9,6 +9,7 @@
 #include "core/camera.h"
 #include "core/mesh.h"
 #include "core/views.h"
+#include "render/raster.h"
 
 namespace cm {
 
@@ -19,7 +20,7 @@ bool has_colour(const Mesh& mesh);
 /// the vertex colours interpolated. Alpha 1 where the mesh covers the pixel centre, else
 /// 0 with `background` in RGB.
 Image render_colour(const Mesh& mesh, const Camera& cam, int width, int height,
-                    const std::array<float, 3>& background = {1, 1, 1});
+                    const std::array<float, 3>& background = {1, 1, 1}, const RenderCheck& check = {});
 
 struct ViewColourError {
     std::string view;

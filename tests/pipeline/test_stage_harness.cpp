@@ -41,7 +41,7 @@ std::string harness_message(const std::string& stage, const std::string& params)
 
 TEST(StageHarness, UnknownParameterReadsAsInAPipelineFile) {
     const std::string m = harness_message("test.box", "{size: 2, sise: 3}");
-    EXPECT_EQ(m, "unknown parameter \"sise\" (parameters: size, copies, shape)");
+    EXPECT_EQ(m, "unknown parameter \"sise\" (parameters: size, copies, shape, divisions, textured, fin)");
     EXPECT_EQ(m, pipeline_message("  - {id: box, stage: test.box, params: {size: 2, sise: 3}}\n"));
 }
 

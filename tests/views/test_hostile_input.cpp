@@ -6,8 +6,11 @@
 #include <cmath>
 #include <limits>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
 #include "geometry/hull_distance.h"
+#include "geometry/silhouette_field.h"
 #include "io/image_io.h"
 #include "io/limits.h"
 #include "io/manifest.h"
@@ -293,15 +296,35 @@ TEST(HostileInput, AMemoryEstimateOverTheLimitIsRefusedWithBothFigures) {
 TEST(HostileInput, OneThreadAndTwoGiveTheSameBytes) {
     test::TempDir one("threads_one"), two("threads_two");
     const std::string views = "views: {front: front.png, right: right.png, top: top.png}\n";
-    const auto a = paper_run_on(one, views, " --threads 1 --set hull.resolution=96");
-    const auto b = paper_run_on(two, views, " --threads 2 --set hull.resolution=96");
+    const auto a = paper_run_on(one, views, " --threads 1 --set hull.resolution=96 --report run.json");
+    const auto b = paper_run_on(two, views, " --threads 2 --set hull.resolution=96 --report run.json");
     ASSERT_EQ(a.exit_code, 0) << a.err;
     ASSERT_EQ(b.exit_code, 0) << b.err;
-    for (const char* f : {"out/spot.obj", "out/spot.preview.png"}) {
+    // Every output of pipelines/paper.yaml, whatever it writes: the same files, byte for byte.
+    auto outputs = [](const fs::path& dir) {
+        std::vector<std::string> files;
+        for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
+            if (e.is_regular_file()) files.push_back(fs::relative(e.path(), dir).string());
+        std::sort(files.begin(), files.end());
+        return files;
+    };
+    const std::vector<std::string> files = outputs(one.path());
+    EXPECT_EQ(files, outputs(two.path()));
+    EXPECT_EQ(files, (std::vector<std::string>{"out/spot.obj", "out/spot.preview.png"}));
+    for (const auto& f : files) {
         SCOPED_TRACE(f);
         const std::string x = test::read_text(one / f), y = test::read_text(two / f);
         EXPECT_GT(x.size(), 1000u);
         EXPECT_TRUE(x == y) << "the files differ";
+    }
+    // The run reports differ in their times and memory only: every node's figures agree.
+    const auto ra = nlohmann::json::parse(test::read_text(one / "run.json"));
+    const auto rb = nlohmann::json::parse(test::read_text(two / "run.json"));
+    ASSERT_EQ(ra["nodes"].size(), rb["nodes"].size());
+    for (std::size_t i = 0; i < ra["nodes"].size(); ++i) {
+        SCOPED_TRACE(ra["nodes"][i]["id"].get<std::string>());
+        EXPECT_EQ(ra["nodes"][i]["metrics"], rb["nodes"][i]["metrics"]);
+        EXPECT_EQ(ra["nodes"][i]["warnings"], rb["nodes"][i]["warnings"]);
     }
     const auto bad = paper_run_on(one, views, " --threads -3");
     EXPECT_EQ(bad.exit_code, 2) << bad.err;
@@ -333,4 +356,56 @@ TEST(HostileInput, RenderAndPreviewSizesOverTheMemoryLimitAreRefused) {
     EXPECT_HAS(r.err, "a preview of 4096 px panels would need about ");
     EXPECT_FALSE(fs::exists(dir / "sheet.png"));
     EXPECT_EQ(test::run_cli("render-views t.obj -o views --size 64 -q", dir.path()).exit_code, 0);
+}
+
+// Defect 10: a NaN or an overflow in a camera was reported as "all cameras sit at one
+// point", "the camera matrix is singular" (no view named) or, for a size no mesh can hold,
+// as NaN vertices in the smoothing. Each is now refused where it is written.
+TEST(HostileInput, ANaNOrOverflowingCameraIsNamedWhereItIsWritten) {
+    test::TempDir dir("hostile_nan_camera");
+    test::write_text(dir / "f.txt", "CONTOUR\nnan 0 0 256\n0 -1 0 256\n0 0 0 1\n");
+    const std::string right = "  right: {image: r.png, matrix: [[0, 0, 1, 256], [0, -1, 0, 256], [1, 0, 0, 10]]}\n";
+    EXPECT_HAS(manifest_error(dir,
+                              "views:\n  front: {image: f.png, matrix: [[.nan, 0, 0, 256], [0, -1, 0, 256], "
+                              "[0, 0, 1, 10]]}\n" +
+                                  right),
+               "views.yaml:2: a matrix entry must be a finite number, got .nan");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: {image: f.png, matrix_file: f.txt}\n" + right),
+               "matrix_file \"" + (dir / "f.txt").string() + "\" line 2: \"nan\" is not a finite number");
+    EXPECT_HAS(manifest_error(dir,
+                              "views:\n  front: {image: f.png, K: [[1e300, 0, 256], [0, 1e300, 256], [0, 0, 1]], "
+                              "R: [[1e10, 0, 0], [0, 1e10, 0], [0, 0, 1e10]], t: [0, 0, 5]}\n" +
+                                  right),
+               "views.yaml:2: view \"front\": K [R | t] overflows");
+    EXPECT_HAS(manifest_error(dir,
+                              "views:\n  front: {image: f.png, matrix: [[1e300, 0, 0, 256], [0, -1e300, 0, 256], "
+                              "[0, 0, 1e-300, 1]]}\n" +
+                                  right),
+               "views.yaml:2: view \"front\": the matrix puts the camera centre at infinity or NaN");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: {image: f.png, azimuth: .nan}\n"),
+               "views.yaml:2: azimuth must be a finite number, got .nan");
+    EXPECT_HAS(manifest_error(dir, "views:\n  front: {image: f.png, elevation: .inf}\n"),
+               "views.yaml:2: elevation must be a finite number, got .inf");
+    EXPECT_HAS(manifest_error(dir, "height: .inf\nviews:\n  front: f.png\n"),
+               "views.yaml:1: height must be a finite number, got .inf");
+    EXPECT_HAS(manifest_error(dir, "height: 1e300\nviews:\n  front: f.png\n"),
+               "views.yaml:1: height 1e300 is outside [1e-12, 1e9] (metres)");
+}
+
+TEST(HostileInput, ACameraWithNaNFromCodeIsNamedByTheHull) {
+    // Views made by a program, not read from a manifest: the hull names the view.
+    View v;
+    v.name = "side";
+    v.width = v.height = 8;
+    v.coverage.assign(64, 1.0f);
+    std::array<double, 12> P{1, 0, 0, 4, 0, -1, 0, 4, 0, 0, 1, 10};
+    P[0] = std::numeric_limits<double>::quiet_NaN();
+    v.camera = Camera::perspective(P);
+    EXPECT_HAS(test::error_of([&] { SilhouetteField f(v); }),
+               "view \"side\": the camera matrix has an entry that is not a finite number");
+    Camera ortho = *Camera::named("front");
+    ortho.scale = std::numeric_limits<double>::quiet_NaN();
+    v.camera = ortho;
+    EXPECT_HAS(test::error_of([&] { SilhouetteField f(v); }),
+               "view \"side\": the camera's scale (nan) is not a positive finite number");
 }

@@ -39,8 +39,11 @@ public:
         PreviewOptions opt = opt_;
         if (opt.title.empty()) opt.title = path_.stem().string();
         SilhouetteError err;
-        ctx.progress(0.1, "drawing");
+        ctx.progress(0, "drawing");
+        opt.progress = [&ctx](double f) { ctx.progress(0.9 * f); };
+        opt.check = [&ctx] { ctx.check_cancel(); };
         const Image sheet = make_preview_sheet(*mesh, *views, opt, err);
+        ctx.progress(0.9, "writing");
         write_image(sheet, ctx.output_file(path_));
         ctx.metric("path", path_.string());
         ctx.metric("xor_pct", err.xor_pct);

@@ -71,21 +71,25 @@ struct Canvas {
         }
     }
     /// Pastes `src` (RGB or RGBA over white), resized by area averaging to fit box w x h, centred.
-    void paste(const Image& src, int x0, int y0, int w, int h) {
-        paste_pixels(src.width, src.height, x0, y0, w, h, [&](std::size_t i, float rgb[3], float& a) {
-            const float* p = &src.pixels[i * std::size_t(src.channels)];
-            a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
-            for (int k = 0; k < 3; ++k) rgb[k] = src.channels == 1 ? p[0] : p[k];
-        });
+    void paste(const Image& src, int x0, int y0, int w, int h, const RenderCheck& check = {}) {
+        paste_pixels(
+            src.width, src.height, x0, y0, w, h,
+            [&](std::size_t i, float rgb[3], float& a) {
+                const float* p = &src.pixels[i * std::size_t(src.channels)];
+                a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
+                for (int k = 0; k < 3; ++k) rgb[k] = src.channels == 1 ? p[0] : p[k];
+            },
+            check);
     }
     /// The same for a sw x sh picture given by pixel(i, rgb, alpha) (i = row-major index),
     /// which need not be stored as an image.
     template <typename Pixel>
-    void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel) {
+    void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel, const RenderCheck& check = {}) {
         const double f = std::min(double(w) / sw, double(h) / sh);
         const int dw = std::max(1, int(std::lround(sw * f))), dh = std::max(1, int(std::lround(sh * f)));
         const int ox = x0 + (w - dw) / 2, oy = y0 + (h - dh) / 2;
         tbb::parallel_for(0, dh, [&](int y) {
+            if (check && y % 64 == 0) check();
             for (int x = 0; x < dw; ++x) {
                 // Source pixels whose centres fall in the destination pixel; the nearest when none.
                 const double sx0 = x / f, sx1 = (x + 1) / f, sy0 = y / f, sy1 = (y + 1) / f;
@@ -123,9 +127,14 @@ std::string fixed(double v, int digits) {
 Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error) {
     if (views.views.empty()) throw Error("there are no views to preview");
     if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
+    auto step = [&](double f) {
+        if (opt.progress) opt.progress(f);
+    };
+    step(0);
     // The error's renders are the overlays' too.
     std::vector<std::vector<std::uint8_t>> masks;
-    error = silhouette_error(mesh, views, &masks);
+    error = silhouette_error(mesh, views, &masks, opt.check);
+    step(0.3);
     const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
     const int line = 7 * scale + 2 * gap; // a row of text
     const int nviews = int(views.views.size());
@@ -145,7 +154,9 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
     art.paper = {1.0f, 1.0f, 1.0f};
     art.grain = 0;
     art.vignette = 0;
+    art.check = opt.check;
     for (int v = 0; v < nviews; ++v) {
+        step(0.3 + 0.7 * v / nviews);
         const View& view = views.views[std::size_t(v)];
         const ViewError& e = error.views[std::size_t(v)];
         const int y0 = 2 * line + v * (line + P + gap);
@@ -153,7 +164,7 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
                    ink);
         const int py = y0 + line;
         // 1. the input drawing
-        if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P);
+        if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P, opt.check);
         // 2. the mesh drawn from the view's camera
         // (drawn at about twice the panel's size: enough for the sheet, far cheaper than full size)
         const double f = std::min(1.0, 2.0 * P / std::max(view.width, view.height));
@@ -161,19 +172,23 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
                   sh = std::max(1, int(std::lround(view.height * f)));
         // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
         const Camera small = resized_camera(view.camera, double(sw) / view.width);
-        sheet.paste(has_colour(mesh) ? render_colour(mesh, small, sw, sh) : render_art(mesh, small, sw, sh, art),
-                    2 * gap + P, py, P, P);
+        sheet.paste(has_colour(mesh) ? render_colour(mesh, small, sw, sh, {1, 1, 1}, opt.check)
+                                     : render_art(mesh, small, sw, sh, art),
+                    2 * gap + P, py, P, P, opt.check);
         // 3. overlay: both grey, input only and mesh only in their colours
         const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
-        sheet.paste_pixels(view.width, view.height, 3 * gap + 2 * P, py, P, P,
-                           [&](std::size_t i, float rgb[3], float& a) {
-                               const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
-                               const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
-                               const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
-                               for (int k = 0; k < 3; ++k) rgb[k] = c[k];
-                               a = 1.0f;
-                           });
+        sheet.paste_pixels(
+            view.width, view.height, 3 * gap + 2 * P, py, P, P,
+            [&](std::size_t i, float rgb[3], float& a) {
+                const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
+                const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
+                const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
+                for (int k = 0; k < 3; ++k) rgb[k] = c[k];
+                a = 1.0f;
+            },
+            opt.check);
     }
+    step(1);
     // Legend.
     const int ly = 2 * line + nviews * (line + P + gap) + gap / 2;
     const int box = 7 * scale;

@@ -1,6 +1,7 @@
 // The contact sheet of a mesh against its views: per view the input drawing, the mesh
 // shaded from that view, and an overlay of the two silhouettes.
 #pragma once
+#include <functional>
 #include <string>
 
 #include "core/mesh.h"
@@ -12,6 +13,10 @@ namespace cm {
 struct PreviewOptions {
     int panel = 320;   ///< each panel fits in panel x panel pixels
     std::string title; ///< printed at the top (e.g. the mesh file)
+    /// Called between the steps with the fraction done; may throw (cm::Cancelled) to stop.
+    std::function<void(double)> progress;
+    /// Called per chunk of the renders and pastes, from worker threads; may throw to stop.
+    RenderCheck check;
 };
 
 /// Overlay colours: pixels only in the input silhouette (the mesh misses them) and pixels

@@ -32,7 +32,7 @@ public:
         auto views = in.get<Views>("views");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; there is nothing to compare");
         ctx.progress(0.0, "rendering");
-        const SilhouetteError e = silhouette_error(*mesh, *views);
+        const SilhouetteError e = silhouette_error(*mesh, *views, nullptr, [&ctx] { ctx.check_cancel(); });
         nlohmann::json j;
         j["xor_pct"] = e.xor_pct;
         j["mean_iou"] = e.mean_iou;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <tbb/parallel_for.h>
@@ -212,7 +213,18 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
     if (persp == views.views.size()) {
         Vec3d sum{0, 0, 0};
         std::vector<Vec3d> centres;
-        for (const auto& v : views.views) centres.push_back(v.camera.center()), sum += centres.back();
+        for (const auto& v : views.views) {
+            Vec3d c;
+            try {
+                c = v.camera.center();
+            } catch (const Error& e) {
+                throw Error("view \"" + v.name + "\": " + e.what());
+            }
+            if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+                throw Error("view \"" + v.name +
+                            "\": the camera centre is not a finite point (its matrix has NaN or too large entries)");
+            centres.push_back(c), sum += c;
+        }
         c0 = sum / double(centres.size());
         for (const auto& c : centres) radius = std::max(radius, length(c - c0));
         if (!(radius > 0))
@@ -314,6 +326,14 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
         throw Error("the visual hull is empty at resolution " + std::to_string(res) +
                     ": no grid point is inside every view's silhouette (check the views' cameras and alignment)");
 
+    // OpenVDB refuses (ArithmeticError) a transform it cannot invert.
+    if (!(h > 1e-12) || !(h < 1e12)) {
+        char voxel[32];
+        std::snprintf(voxel, sizeof voxel, "%g", h);
+        throw Error(std::string("the voxel size ") + voxel +
+                    " is outside what a grid can hold ([1e-12, 1e12]): the object's box is too small or too large "
+                    "for its units; check the views' cameras and bounds");
+    }
     auto grid = openvdb::BoolGrid::create(tree);
     auto xform = openvdb::math::Transform::createLinearTransform(h);
     xform->postTranslate(openvdb::Vec3d(lat.origin.x, lat.origin.y, lat.origin.z));

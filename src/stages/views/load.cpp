@@ -64,9 +64,16 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
     SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
     report.notes.insert(report.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
+    // A stop is looked for per view and per step of a view (reading, extracting), from the
+    // workers: one view's image is the chunk.
+    std::atomic<std::size_t> steps{0};
+    auto step = [&] {
+        if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
+    };
     tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
         const ManifestView& mv = man.views[i];
         View& v = views.views[i];
+        step();
         try {
             v.name = mv.key;
             v.source = mv.image;
@@ -74,6 +81,7 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info);
             v.width = v.image.width;
             v.height = v.image.height;
+            step();
             SilhouetteOptions so;
             so.background = mv.background;
             so.threshold = mv.threshold.value_or(-1.0);
@@ -102,6 +110,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
                 v.camera.cx = (*mv.origin)[0];
                 v.camera.cy = (*mv.origin)[1];
             }
+        } catch (const Cancelled&) {
+            throw;
         } catch (const std::exception& e) {
             errors[i] = "view \"" + mv.key + "\": " + e.what();
         }

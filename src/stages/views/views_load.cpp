@@ -55,7 +55,7 @@ public:
     Data run(const Inputs&, Context& ctx) override {
         LoadViewsReport report;
         auto views = std::make_shared<Views>(
-            load_views(manifest_, opt_, report, [&](double f) { ctx.progress(f, "aligning"); }));
+            load_views(manifest_, opt_, report, [&](double f) { ctx.progress(f, f < 0.8 ? "reading" : "aligning"); }));
         for (const auto& n : report.notes) ctx.info(n);
         for (const auto& w : report.warnings) ctx.warn(w);
 

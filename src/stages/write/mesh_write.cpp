@@ -18,7 +18,7 @@ namespace {
 
 // The output rules, measured on what is written; broken rules become one warning.
 void report_check(const Mesh& m, const std::filesystem::path& path, Context& ctx) {
-    const OutputCheck check = check_output(m);
+    const OutputCheck check = check_output(m, [&ctx](double f) { ctx.progress(0.6 + 0.4 * f, "checking"); });
     const MeshCheck& c = check.mesh;
     ctx.metric("boundary_edges", double(c.boundary_edges));
     ctx.metric("nonmanifold_edges", double(c.nonmanifold_edges + c.nonmanifold_vertices));
@@ -94,6 +94,10 @@ public:
             opt.texture_name = tex.filename().string();
         }
         const auto tmp = ctx.output_file(path_);
+        // Writing is about the first 60 % of the time (the check the rest); both look for a
+        // stop per chunk.
+        const double writing = check_ ? 0.6 : 1.0;
+        opt.progress = [&ctx, writing](double f) { ctx.progress(writing * f, "writing"); };
         write_mesh(*m, tmp, opt);
         if (scale != 1) ctx.metric("scale", scale);
         Vec3f lo, hi;
