@@ -28,9 +28,9 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
         const ParamSpec* spec = find_param(info.params, key);
         const std::string src = raw.from_set() ? " (from --set)" : "";
         // A bad --set value is a command-line mistake (exit status 2); a bad file value is not.
-        auto fail = [&](const std::string& text) {
-            if (raw.from_set()) throw UsageError(where(raw.line) + text);
-            throw Error(where(raw.line) + text);
+        auto fail = [&, &r = raw](const std::string& text) { // (a structured binding is not captured by clang 14)
+            if (r.from_set()) throw UsageError(where(r.line) + text);
+            throw Error(where(r.line) + text);
         };
         if (!spec) fail("unknown parameter \"" + key + "\"" + src + " (parameters: " + param_names(info.params) + ")");
         if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue; // null: left unset
