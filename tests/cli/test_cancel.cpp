@@ -17,18 +17,13 @@
 using namespace cm;
 namespace fs = std::filesystem;
 
+using test::listing;
+
 namespace {
 
 const fs::path kFixtures = CM_FIXTURE_ROOT;
 
 #define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-std::vector<std::string> listing(const fs::path& dir) {
-    std::vector<std::string> out;
-    for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
-    std::sort(out.begin(), out.end());
-    return out;
-}
 
 struct Stopped {
     int exit_code = -1;

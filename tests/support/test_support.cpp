@@ -76,4 +76,11 @@ fs::path shared_dir() {
 }
 fs::path source_dir() { return fs::path(CM_SOURCE_DIR); }
 
+std::vector<std::string> listing(const fs::path& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 } // namespace cm::test

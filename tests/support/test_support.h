@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace cm::test {
 
@@ -31,6 +32,9 @@ std::string error_of(const std::function<void()>& f);
 
 void write_text(const std::filesystem::path& file, const std::string& text);
 std::string read_text(const std::filesystem::path& file);
+
+/// Every file and folder below `dir`, as paths relative to it, sorted.
+std::vector<std::string> listing(const std::filesystem::path& dir);
 
 std::filesystem::path shared_dir(); ///< ../shared beside the checkout, or $CONCEPTMESH_SHARED_DIR
 
