@@ -299,14 +299,15 @@ bool OutputCheck::clean() const {
            coincident_vertices == 0;
 }
 
-std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {
-    const std::size_t n = mesh.positions.size();
-    if (n < 2 || !(tolerance > 0)) return 0;
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+    const std::size_t n = positions.size();
+    if (n < 2 || !(tolerance > 0)) return {};
     // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
     // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
     const double cell = 2 * tolerance;
-    Vec3f lo, hi;
-    mesh.bounds(lo, hi);
+    double lo[3] = {positions[0].x, positions[0].y, positions[0].z};
+    for (const Vec3f& p : positions)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a]));
     auto cell_of = [&](const Vec3f& p, int a) { return std::int64_t(std::floor((double(p[a]) - lo[a]) / cell)); };
     auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
         return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
@@ -314,39 +315,44 @@ std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {
     };
     std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        const Vec3f& p = mesh.positions[i];
+        const Vec3f& p = positions[i];
         cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
     });
     tbb::parallel_sort(cells.begin(), cells.end());
     const double tol2 = tolerance * tolerance;
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n), std::size_t(0),
-        [&](const tbb::blocked_range<std::size_t>& r, std::size_t count) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Vec3f& p = mesh.positions[i];
-                std::int64_t c[3], d[3];
-                for (int a = 0; a < 3; ++a) {
-                    const double u = (double(p[a]) - lo[a]) / cell;
-                    c[a] = std::int64_t(std::floor(u));
-                    d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
-                }
-                bool found = false;
-                for (int k = 0; k < 8 && !found; ++k) {
-                    const std::uint64_t want =
-                        key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
-                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-                    for (; it != cells.end() && it->first == want && !found; ++it) {
-                        if (it->second == i) continue;
-                        const Vec3f& q = mesh.positions[it->second];
-                        const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-                        found = dx * dx + dy * dy + dz * dz <= tol2;
-                    }
-                }
-                count += found;
+    std::vector<char> has(n, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Vec3f& p = positions[i];
+            std::int64_t c[3], d[3];
+            for (int a = 0; a < 3; ++a) {
+                const double u = (double(p[a]) - lo[a]) / cell;
+                c[a] = std::int64_t(std::floor(u));
+                d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
             }
-            return count;
-        },
-        std::plus<>());
+            bool found = false;
+            for (int k = 0; k < 8 && !found; ++k) {
+                const std::uint64_t want =
+                    key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
+                auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
+                for (; it != cells.end() && it->first == want && !found; ++it) {
+                    if (it->second == i) continue;
+                    const Vec3f& q = positions[it->second];
+                    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+                    found = dx * dx + dy * dy + dz * dz <= tol2;
+                }
+            }
+            has[i] = found;
+        }
+    });
+    std::vector<std::uint32_t> out;
+    for (std::size_t i = 0; i < n; ++i)
+        if (has[i]) out.push_back(std::uint32_t(i));
+    return out;
+}
+
+std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {
+    return find_coincident_vertices(mesh.positions, tolerance).size();
 }
 
 std::vector<std::string> OutputCheck::broken() const {

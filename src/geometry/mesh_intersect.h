@@ -112,6 +112,8 @@ OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& pr
 /// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).
 constexpr double kCoincidentTolerance = 1e-6;
+/// The vertices (ascending) that have another vertex within `tolerance` (absolute distance).
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance);
 /// Number of vertices that have another vertex within `tolerance` (absolute distance).
 std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance);
 

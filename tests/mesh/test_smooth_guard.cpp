@@ -124,6 +124,27 @@ TEST(SmoothGuard, LeavesNoCrossingTurnedOrCollapsedFace) {
     EXPECT_GT(unguarded_total, 0u) << "plain smoothing of these surfaces should go wrong somewhere";
 }
 
+// The umbrella operator (factor 1) draws two vertices with the same ring of neighbours onto
+// the ring's centroid: the two tips of a part one cell across. Faces neither cross nor turn
+// there, but an importer that merges by distance welds the two and pinches the surface.
+TEST(SmoothGuard, DrawsNoTwoVerticesOntoOneAnother) {
+    std::size_t unguarded_total = 0;
+    for (std::uint32_t seed : {11u, 12u, 13u, 14u, 21u, 22u}) {
+        const Mesh input = random_voxel_surface(seed, 14, seed > 20 ? 0.2 : 0.5);
+        Vec3f lo, hi;
+        input.bounds(lo, hi);
+        const double tol = kCoincidentTolerance * length(Vec3d(hi) - Vec3d(lo));
+        ASSERT_EQ(count_coincident_vertices(input, tol), 0u);
+        unguarded_total += count_coincident_vertices(smoothed(input, false), tol);
+        SmoothStats st;
+        const Mesh guarded = smoothed(input, true, &st);
+        EXPECT_EQ(count_coincident_vertices(guarded, tol), 0u) << "seed " << seed;
+        EXPECT_EQ(count_self_intersections(guarded), 0u) << "seed " << seed;
+        EXPECT_EQ(turned_or_collapsed(input, guarded), 0u) << "seed " << seed;
+    }
+    EXPECT_GT(unguarded_total, 0u) << "plain smoothing of these surfaces should draw vertices together";
+}
+
 TEST(SmoothGuard, ChangesNothingWhereSmoothingIsHarmless) {
     const Mesh box = test::make_grid_box(-1.0f, 1.0f, 12);
     SmoothStats st;

@@ -224,7 +224,7 @@ std::vector<SplitLoop> split_shared_faces(const Mesh& mc, const MarchingCubesPat
             splits.push_back(std::move(s));
         }
         SplitLoop& s = splits[std::size_t(split_of[a])];
-        auto on_f = [&](Index v) { return (face_mask(P.vertex_edge[v], D.loop_cell[a]) >> f) & 1; };
+        auto on_f = [&, a = a, f = f](Index v) { return (face_mask(P.vertex_edge[v], D.loop_cell[a]) >> f) & 1; };
         for (std::size_t k = 0; k < s.pieces.size(); ++k) {
             const std::vector<Index> cyc = s.pieces[k];
             const int n = int(cyc.size());

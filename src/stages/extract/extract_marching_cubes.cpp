@@ -59,6 +59,7 @@ public:
         ctx.metric("joined_faces", double(st.joined_faces / 2));
         ctx.metric("centroid_vertices", double(st.centroid_vertices));
         ctx.metric("thin_points", double(st.thin_points));
+        ctx.metric("thin_put_back", double(st.thin_put_back));
         ctx.metric("refined", vol->crossings && opt.use_crossings ? "yes" : "no");
         if (st.missing_crossings) {
             ctx.metric("missing_crossings", double(st.missing_crossings));

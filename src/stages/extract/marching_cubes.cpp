@@ -20,9 +20,12 @@
 #include <map>
 #include <memory>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "core/error.h"
 #include "mc_blocks.h"
 #include "mc_table.h"
+#include "mc_thin.h"
 
 namespace cm {
 namespace {
@@ -33,6 +36,8 @@ using mc::for_blocks;
 using mc::kNone;
 using mc::mixed_row;
 using mc::popcount64;
+using mc::promote_thin;
+using mc::ShiftedVertex;
 using openvdb::Coord;
 
 /// True when both transforms put the grid points at the same places.
@@ -42,80 +47,6 @@ bool same_lattice(const openvdb::math::Transform& a, const openvdb::math::Transf
          {openvdb::Vec3d(0, 0, 0), openvdb::Vec3d(1, 0, 0), openvdb::Vec3d(0, 1, 0), openvdb::Vec3d(0, 0, 1)})
         if ((a.indexToWorld(p) - b.indexToWorld(p)).length() > tol) return false;
     return true;
-}
-
-/// Points made inside so that thin parts (inside intervals on edges whose ends are both
-/// outside) survive: for each such edge, its end nearer to the interval. The value is the
-/// offset (in cells, per axis) from the point to the near face of its thin part: vertices on
-/// the point's other edges, about which nothing is known, are moved there so the part keeps
-/// its thickness instead of reaching back to the grid point.
-/// An edge next to the resolved solid (a cell around it has an inside corner) is most often
-/// the body's own surface bulging between two grid points, which the body's surface already
-/// covers to within the cell; promoting a point there would raise a spike. Such edges are
-/// promoted only when they link a thin part found away from the solid back to it (26-connected
-/// to a promoted point), so a finger thinner than a cell stays attached to its hand.
-FlipGrid::Ptr promote_thin(const Volume& vol, const openvdb::Vec3fGrid& enter, const openvdb::Vec3fGrid& leave,
-                           std::size_t& count) {
-    auto flips = FlipGrid::create(openvdb::Vec3f(0.0f));
-    flips->setTransform(vol.occupancy->transform().copy());
-    auto facc = flips->getAccessor();
-    auto oacc = vol.occupancy->getConstAccessor();
-    auto lacc = leave.getConstAccessor();
-    auto promote = [&](const Coord& q, const openvdb::Vec3f& offset) {
-        openvdb::Vec3f o = facc.getValue(q);
-        if (!facc.isValueOn(q)) ++count;
-        for (int a = 0; a < 3; ++a)
-            if (offset[a] != 0.0f) o[a] = offset[a];
-        facc.setValueOn(q, o);
-    };
-    std::map<Coord, openvdb::Vec3f> near; // candidate point -> offset, for edges next to the solid
-    std::vector<Coord> frontier;
-    for (auto it = enter.cbeginValueOn(); it; ++it) {
-        if (!it.isVoxelValue()) continue;
-        const Coord p = it.getCoord();
-        const openvdb::Vec3f t0 = *it, t1 = lacc.getValue(p);
-        for (int a = 0; a < 3; ++a) {
-            if (!(t0[a] >= 0.0f && t1[a] <= 1.0f && t0[a] < t1[a])) continue;
-            Coord q = p;
-            openvdb::Vec3f offset(0.0f);
-            if (t0[a] > 1.0f - t1[a]) {
-                q[a] += 1;
-                offset[a] = t1[a] - 1.0f;
-            } else {
-                offset[a] = t0[a];
-            }
-            bool v = false;
-            if (oacc.probeValue(q, v) && v) continue; // inside already (not expected)
-            const int b = (a + 1) % 3, c = (a + 2) % 3;
-            bool near_solid = false;
-            for (int i = 0; i < 18 && !near_solid; ++i) {
-                Coord r = p;
-                r[a] += i & 1;
-                r[b] += (i >> 1) % 3 - 1;
-                r[c] += (i >> 1) / 3 - 1;
-                near_solid = oacc.probeValue(r, v) && v;
-            }
-            if (near_solid) {
-                near[q][a] = offset[a];
-            } else {
-                promote(q, offset);
-                frontier.push_back(q);
-            }
-        }
-    }
-    while (!frontier.empty()) {
-        const Coord q = frontier.back();
-        frontier.pop_back();
-        for (int d = 0; d < 27; ++d) {
-            const Coord r = q.offsetBy(d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
-            const auto it = near.find(r);
-            if (it == near.end()) continue;
-            promote(r, it->second);
-            near.erase(it);
-            frontier.push_back(r);
-        }
-    }
-    return flips;
 }
 
 /// The grids beside the occupancy that place the vertices, each on the occupancy's lattice,
@@ -175,7 +106,8 @@ public:
 
     /// Writes the vertices of `b` into positions[b.vbase...]; returns how many of its edges
     /// had no valid crossing.
-    std::size_t place(const Block& b, std::vector<Vec3f>& positions,
+    /// Vertices moved onto the near face of a thin part are added to `shifted`.
+    std::size_t place(const Block& b, std::vector<Vec3f>& positions, std::vector<ShiftedVertex>& shifted,
                       std::vector<std::array<std::int32_t, 4>>* edges = nullptr) const {
         const openvdb::Vec3fGrid::TreeType::LeafNodeType* cleaf = nullptr;
         std::size_t miss = 0;
@@ -223,6 +155,7 @@ public:
                     }
                     t = std::clamp(t, lo_t_, hi_t_);
                     if (edges) (*edges)[v] = {p.x(), p.y(), p.z(), a};
+                    if (shift != openvdb::Vec3f(0.0f)) shifted.push_back({v, world(p, a, t, openvdb::Vec3f(0.0f))});
                     positions[v++] = world(p, a, t, shift);
                 }
         return miss;
@@ -437,8 +370,10 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     if (patches) patches->vertex_edge.resize(nverts);
     const VertexPlacer placer(src, occ.transform(), opt);
     std::atomic<std::size_t> missing{0};
+    tbb::enumerable_thread_specific<std::vector<ShiftedVertex>> shifted;
     for_blocks(blocks.size(), 0.35, 0.6, opt, [&](std::size_t i) {
-        if (const std::size_t miss = placer.place(blocks[i], mesh.positions, patches ? &patches->vertex_edge : nullptr))
+        if (const std::size_t miss =
+                placer.place(blocks[i], mesh.positions, shifted.local(), patches ? &patches->vertex_edge : nullptr))
             missing += miss;
     });
     stats.missing_crossings = missing;
@@ -468,6 +403,11 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     stats.ambiguous_faces = triangulator.ambiguous_faces();
     stats.joined_faces = triangulator.joined_faces();
     stats.centroid_vertices = nextra;
+    // 4. Shifted thin-part vertices whose faces cross another face go back onto their edges.
+    std::vector<ShiftedVertex> all_shifted;
+    for (auto& l : shifted) all_shifted.insert(all_shifted.end(), l.begin(), l.end());
+    stats.thin_shifted = all_shifted.size();
+    stats.thin_put_back = mc::untangle_thin(mesh, all_shifted, nverts, occ.transform());
     if (stats_out) *stats_out = stats;
     return mesh;
 }

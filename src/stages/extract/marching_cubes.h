@@ -37,6 +37,8 @@ struct MarchingCubesStats {
     std::size_t centroid_vertices = 0; ///< extra vertices for loops with no valid diagonal triangulation
     std::size_t missing_crossings = 0; ///< crossed edges without a valid crossing value (midpoint used)
     std::size_t thin_points = 0;       ///< grid points made inside to keep thin parts
+    std::size_t thin_shifted = 0;      ///< vertices moved onto the near face of a thin part
+    std::size_t thin_put_back = 0;     ///< of those, put back on their edges (their faces crossed another)
 };
 
 /// The cell structure behind a Marching Cubes mesh, for the dual extractors: every loop is

@@ -89,12 +89,26 @@ void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vec
     for (auto& v : found) out.insert(out.end(), v.begin(), v.end());
 }
 
+// Two vertices closer than this fraction of the bounding-box diagonal count as drawn onto
+// one another: ten times the output check's kCoincidentTolerance, so what the guard leaves
+// apart stays apart in `conceptmesh check` and in an importer's merge by distance.
+constexpr double kSeparation = 10 * kCoincidentTolerance;
+
 // The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
-// input positions until no face crosses another, turns over or collapses.
+// input positions until no face crosses another, turns over or collapses, and no two
+// vertices that were apart in the input coincide. The umbrella operator (factor 1) draws
+// two vertices with the same ring of neighbours (the two tips of a thin part, one cell
+// across) onto the ring's centroid: an importer welds them and the mesh is pinched there.
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     const std::vector<Vec3f> smoothed = p; // the index covers every blend of input and this
     const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
-    std::vector<std::uint32_t> bad;
+    Vec3f lo, hi;
+    in.bounds(lo, hi);
+    const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
+    // Vertices the input already has together are left alone (they are the input's own).
+    std::vector<char> together_in_input(p.size(), 0);
+    for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
+    std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
         bad.clear();
         for (const auto& pr : pairs) {
@@ -104,11 +118,15 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         find_bad_shapes(in, p, only, bad);
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+        badv.clear();
+        for (auto v : find_coincident_vertices(p, separation))
+            if (!together_in_input[v]) badv.push_back(v);
         ++st.guard_rounds;
     };
     collect(index.all(p), nullptr);
     st.bad_faces = bad.size();
-    if (bad.empty()) return; // the common case: nothing more to build
+    st.coincident = badv.size();
+    if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
 
     std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
     // Faces around each vertex, to re-check only what moved.
@@ -124,16 +142,18 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     }
     std::vector<std::uint32_t> check, moved; // faces to re-check, vertices moved this round
     std::vector<char> marked(p.size(), 0);
-    while (!bad.empty()) {
+    while (!bad.empty() || !badv.empty()) {
         moved.clear();
+        auto pull_back = [&](std::uint32_t v) {
+            if (marked[v] || weight[v] == 0.0f) return;
+            marked[v] = 1;
+            moved.push_back(v);
+            weight[v] = weight[v] > 0.3f ? weight[v] * 0.5f : 0.0f;
+            p[v] = in.positions[v] + (smoothed[v] - in.positions[v]) * weight[v];
+        };
         for (auto f : bad)
-            for (auto v : in.triangles[f]) {
-                if (marked[v] || weight[v] == 0.0f) continue;
-                marked[v] = 1;
-                moved.push_back(v);
-                weight[v] = weight[v] > 0.3f ? weight[v] * 0.5f : 0.0f;
-                p[v] = in.positions[v] + (smoothed[v] - in.positions[v]) * weight[v];
-            }
+            for (auto v : in.triangles[f]) pull_back(v);
+        for (auto v : badv) pull_back(v);
         if (moved.empty()) {
             st.unresolved = bad.size();
             break;

@@ -36,6 +36,7 @@ struct SmoothStats {
     std::size_t clamped_steps = 0; ///< vertex steps shortened by the hull constraint
     double max_hull_distance = 0;  ///< largest |hull distance| of a vertex at the end (constrained runs)
     std::size_t bad_faces = 0;     ///< guard: faces crossing, turned over or collapsed after smoothing
+    std::size_t coincident = 0;    ///< guard: vertices drawn onto another vertex by smoothing
     std::size_t pulled_back = 0;   ///< guard: vertices moved back towards their input positions
     std::size_t guard_rounds = 0;  ///< guard: checks run (the first covers every face)
     std::size_t unresolved = 0;    ///< guard: bad faces left (only when the input had them)

@@ -45,7 +45,8 @@ void SmoothCommon::declare(ParamBinder& b, std::int64_t default_iterations) {
                                          "the finest view"));
     b.add(guard, ParamSpec::Bool("guard", true,
                                  "keep the surface valid: vertices of faces that would cross another face, turn "
-                                 "over or collapse are moved back towards their input positions"));
+                                 "over or collapse, and vertices drawn onto another vertex, are moved back towards "
+                                 "their input positions"));
 }
 
 std::vector<PortSpec> smooth_ports() {
@@ -78,6 +79,7 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
     if (v0 != 0) ctx.metric("volume_change_pct", 100.0 * (v1 - v0) / v0);
     if (opt.guard) {
         ctx.metric("guard_bad_faces", double(st.bad_faces));
+        ctx.metric("guard_coincident", double(st.coincident));
         ctx.metric("guard_pulled_back", double(st.pulled_back));
         if (st.unresolved)
             ctx.warn(std::to_string(st.unresolved) +

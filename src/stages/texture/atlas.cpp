@@ -97,7 +97,8 @@ void merge_small_islands(const Mesh& mesh, std::vector<int>& face_frame, int min
             std::sort(ranked.begin(), ranked.end(), [](auto& a, auto& b) { return a.second > b.second; });
             for (const auto& [frame, count] : ranked) {
                 (void)count;
-                if (!std::all_of(island.begin(), island.end(), [&](std::uint32_t f) { return allowed(f, frame); }))
+                if (!std::all_of(island.begin(), island.end(),
+                                 [&, frame = frame](std::uint32_t f) { return allowed(f, frame); }))
                     continue;
                 for (std::uint32_t f : island) face_frame[f] = frame;
                 changed = true;
