@@ -104,7 +104,7 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
         Box box;
         double diag = 0;
     };
-    const Sum total = tbb::parallel_reduce(
+    const Sum total = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, nf, 8192), Sum{box(0), 0.0},
         [&](const tbb::blocked_range<std::size_t>& r, Sum s) {
             for (std::size_t f = r.begin(); f != r.end(); ++f) {

@@ -114,7 +114,7 @@ Sum mean_distance(const Mesh& a, const Target& t, int n, unsigned seed) {
         const VVec r(a.positions[f[2]].x, a.positions[f[2]].y, a.positions[f[2]].z);
         x = p + (q - p) * s + (r - p) * w;
     }
-    return tbb::parallel_reduce(
+    return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, pts.size(), 512), Sum{},
         [&](const tbb::blocked_range<std::size_t>& r, Sum s) {
             openvdb::Int32Grid::ConstAccessor acc[3] = {t.level[0].prim->getConstAccessor(),
