@@ -18,16 +18,11 @@ bool visible_in(const ViewSampler& v, const Vec3d& p, double c) {
     const int ix = int(std::floor(q.x)), iy = int(std::floor(q.y));
     const DepthImage& d = v.depth;
     if (ix < 0 || iy < 0 || ix >= d.width || iy >= d.height) return false;
-    // The nearest surface around the pixel: a point just beside an occluder's edge counts
-    // as hidden rather than painted with the occluder's colour.
-    float nearest = std::numeric_limits<float>::infinity();
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-            const int x = ix + dx, y = iy + dy;
-            if (x < 0 || y < 0 || x >= d.width || y >= d.height || !d.covered(x, y)) continue;
-            nearest = std::min(nearest, d.depth[std::size_t(y) * d.width + x]);
-        }
-    if (!std::isfinite(nearest)) return false;
+    // The nearest surface at the pixel itself. (Near an occluder's edge the view's say is
+    // small anyway, view_colours.h; a wider window would take from a view the pixels of
+    // its own drawing just beside every occluder, which only it may see.)
+    if (!d.covered(ix, iy)) return false;
+    const float nearest = d.depth[std::size_t(iy) * d.width + ix];
     const double cc = std::clamp(c, 0.1, 1.0);
     const double tan_angle = std::sqrt(1 - cc * cc) / cc;
     const double tol = v.pixel_world * (2.0 + 1.5 * tan_angle);

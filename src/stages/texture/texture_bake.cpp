@@ -126,7 +126,7 @@ Mesh project_texture(const Mesh& in, const Views& views, const TextureOptions& o
     }
     if (samplers.empty()) throw Error("no view has a drawing to take colours from");
     const SurfaceColourOptions sco{opt.angle_power, opt.conflict_de};
-    const ViewBalance balance = balance_views(mesh, samplers, sco, opt.balance_rounds);
+    const ViewBalance balance = balance_views(mesh, samplers, sco, opt.balance_rounds, opt.balance_target);
     for (std::size_t i = 0; i < samplers.size(); ++i) samplers[i].weight = balance.weight[i];
     stats.view_weight = balance.weight;
     stats.view_error = balance.error;

@@ -19,9 +19,10 @@ struct TextureOptions {
     int padding = 4; ///< texels around each chart
     CleanOptions clean;
     double angle_power = 2;
-    double conflict_de = 0;   ///< SurfaceColourOptions::conflict_de (0: the weighted mean of the views)
-    int balance_rounds = 0;   ///< rounds of view weighting against the worst view's error (0: every weight 1)
-    int min_island_faces = 8; ///< smaller chart islands join a neighbouring chart where they can
+    double conflict_de = 0;    ///< SurfaceColourOptions::conflict_de (0: the weighted mean of the views)
+    int balance_rounds = 0;    ///< rounds of view weighting against the worst view's error (0: every weight 1)
+    double balance_target = 3; ///< views' mean delta E the weighting holds them to (view_balance.h)
+    int min_island_faces = 8;  ///< smaller chart islands join a neighbouring chart where they can
 };
 
 struct TextureStats {

@@ -57,10 +57,15 @@ public:
                                "in CIELAB); 0: the weighted mean of the views"));
         b.add(opt_.balance_rounds,
               ParamSpec::Int("balance_rounds", 16, 0, 100, "",
-                             "rounds of weighting the views, each view's pixels counting alike and then the views "
-                             "with more colour error weighing more, keeping the weights whose worst view is best "
-                             "(the error: at each view's pixels, the colour given to the surface point there "
-                             "against the drawing's, ink left out); 0: every view weighs 1"));
+                             "rounds of weighting the views against their colour error (each view's mean delta E "
+                             "at its own pixels, ink left out, of the colour the mesh gets there): every view's "
+                             "pixels count alike, and a view over balance_target weighs more; 0: every view "
+                             "weighs 1"));
+        b.add(opt_.balance_target,
+              ParamSpec::Float("balance_target", 3, 0, 100, "delta E",
+                               "the mean colour error a view is held to: views over it weigh more until they are "
+                               "at it, or as far over it as each other; under it, the sum of the views' errors is "
+                               "what is made small. 0: the worst view's error alone"));
         b.add(opt_.min_island_faces,
               ParamSpec::Int("min_island_faces", 8, 1, 1000000, "faces",
                              "chart islands with fewer faces join a neighbouring chart where its projection allows"));

@@ -11,6 +11,10 @@
 namespace cm {
 namespace {
 
+// Pixels this close to the silhouette's border are not judged (as `compare` leaves them
+// out): the drawing's outline and a hull's rim meet there to within a pixel or two.
+constexpr float kJudgedInside = 3.0f;
+
 // A pixel of a view: the surface point it shows, what every view that sees the point says
 // of it, and which of those samples is its own view's.
 struct PixelPoint {
@@ -29,6 +33,7 @@ std::vector<double> view_errors(const std::vector<PixelPoint>& pts, std::vector<
     std::vector<double> de(pts.size(), 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pts.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            if (pts[i].count == 1) continue; // seen by its own view alone: its own colour
             const ViewSample* s = &vs[std::size_t(pts[i].first)];
             de[i] = lab_distance(srgb_to_lab(combine_samples(s, pts[i].count, opt)), s[pts[i].own].lab);
         }
@@ -46,7 +51,7 @@ std::vector<double> view_errors(const std::vector<PixelPoint>& pts, std::vector<
 } // namespace
 
 ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& views, const SurfaceColourOptions& opt,
-                          int rounds, std::size_t samples) {
+                          int rounds, double target, std::size_t samples) {
     const std::size_t nv = views.size();
     ViewBalance out;
     out.weight.assign(nv, 1.0);
@@ -66,7 +71,8 @@ ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& view
         const DepthImage& d = views[v].depth;
         for (int y = stride / 2; y < d.height; y += stride)
             for (int x = stride / 2; x < d.width; x += stride)
-                if (d.covered(x, y) && views[v].colours.drawn[std::size_t(y) * d.width + x])
+                if (d.covered(x, y) && views[v].colours.drawn[std::size_t(y) * d.width + x] &&
+                    views[v].colours.border_px[std::size_t(y) * d.width + x] > kJudgedInside)
                     pts.push_back({int(v), x, y, 0, 0, -1});
     }
     const int per_point = int(std::min<std::size_t>(nv, kMaxViewSamples));
@@ -106,10 +112,9 @@ ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& view
     out.error = out.error_before;
     if (rounds <= 0) return out;
 
-    // Round 1: every view's pixels count alike: a view's weight is its pixel density (pixels
-    // per unit area facing it) over its pixel count, so what a point's colour makes small
-    // is the sum of the views' mean errors. Then the views with more error than the mean
-    // weigh more; the weights whose worst view is best are kept.
+    // First every view's pixels count alike: a view's weight is its pixel density (pixels per
+    // unit area facing it) over its pixel count, so what a point's colour makes small is the
+    // sum of the views' mean errors. Then the views' factors on that weight are searched.
     std::vector<double> npix(nv, 0.0);
     for (const PixelPoint& p : pts) npix[std::size_t(p.view)] += 1;
     std::vector<double> base(nv, 0.0);
@@ -123,29 +128,69 @@ ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& view
         }
     if (seen == 0) return out;
     mean_base /= seen;
-    std::vector<double> lambda(nv, 1.0), weight(nv, 1.0);
-    double best = *std::max_element(out.error.begin(), out.error.end());
-    for (int r = 0; r < rounds; ++r) {
-        for (std::size_t v = 0; v < nv; ++v) weight[v] = npix[v] > 0 ? lambda[v] * base[v] / mean_base : 1.0;
-        const std::vector<double> err = view_errors(pts, vs, weight, opt);
-        const double worst = *std::max_element(err.begin(), err.end());
-        if (worst < best) {
-            best = worst;
-            out.weight = weight;
-            out.error = err;
-        }
-        double mean_err = 0;
-        for (std::size_t v = 0; v < nv; ++v) mean_err += npix[v] > 0 ? err[v] : 0.0;
-        mean_err /= seen;
-        if (!(mean_err > 0)) break;
-        double norm = 0;
+    // The score of a set of errors: the worst view's error above the target, then the sum.
+    auto better = [&](const std::vector<double>& a, const std::vector<double>& b) {
+        double wa = target, wb = target, sa = 0, sb = 0;
         for (std::size_t v = 0; v < nv; ++v) {
-            if (npix[v] > 0)
-                lambda[v] *= std::pow(std::max(err[v], 0.05 * mean_err) / mean_err, 1.0 / std::sqrt(r + 1.0));
-            norm += npix[v] > 0 ? lambda[v] : 0.0;
+            wa = std::max(wa, a[v]);
+            wb = std::max(wb, b[v]);
+            sa += a[v];
+            sb += b[v];
         }
-        for (double& l : lambda) l *= seen / norm;
+        if (std::abs(wa - wb) > 1e-3 * std::max(1.0, wb)) return wa < wb;
+        return sa < sb - 1e-9;
+    };
+    // Each view's factor on its pixel-count weight, found by a pattern search in powers of
+    // two (the errors change in steps as regions of the surface go from one view's colour to
+    // another's, so there is no slope to follow): the views in order of their error, the
+    // worst first, each tried with more weight (or less, for a view under the target) and
+    // then the other way; the first change that scores better is kept and the search starts
+    // again from the worst view; when none does, the step halves.
+    std::vector<double> factor(nv, 1.0);
+    auto weights_of = [&](const std::vector<double>& f) {
+        std::vector<double> w(nv, 1.0);
+        for (std::size_t v = 0; v < nv; ++v)
+            if (npix[v] > 0) w[v] = f[v] * base[v] / mean_base;
+        return w;
+    };
+    out.weight = weights_of(factor);
+    out.error = view_errors(pts, vs, out.weight, opt);
+    int evaluations = 1;
+    double step = 2.0; // log2 of the change
+    while (evaluations < rounds && step >= 0.125) {
+        std::vector<std::size_t> order;
+        for (std::size_t v = 0; v < nv; ++v)
+            if (npix[v] > 0) order.push_back(v);
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t x, std::size_t y) { return out.error[x] > out.error[y]; });
+        bool improved = false;
+        for (std::size_t v : order) {
+            const double first = out.error[v] > target ? 1.0 : -1.0;
+            for (double dir : {first, -first}) {
+                if (evaluations >= rounds) break;
+                std::vector<double> f = factor;
+                f[v] *= std::exp2(dir * step);
+                double least = 1e300;
+                for (std::size_t k : order) least = std::min(least, f[k]);
+                for (std::size_t k : order) f[k] /= least;
+                const std::vector<double> w = weights_of(f);
+                const std::vector<double> err = view_errors(pts, vs, w, opt);
+                ++evaluations;
+                if (better(err, out.error)) {
+                    factor = f;
+                    out.weight = w;
+                    out.error = err;
+                    improved = true;
+                    break;
+                }
+            }
+            if (improved) break;
+        }
+        if (!improved) step *= 0.5;
     }
+    double mean_weight = 0;
+    for (double w : out.weight) mean_weight += w / double(nv);
+    for (double& w : out.weight) w /= mean_weight;
     return out;
 }
 

@@ -1,9 +1,10 @@
 // How far the textured mesh, seen through each view's camera, is from that view's drawing,
 // measured at the view's own pixels (where the mesh shows and the drawing has a colour:
-// ink and the eroded border left out), and the views' weights that make the worst view's
-// error smallest. Where the drawings disagree about a point (a hull surface the real
-// object does not have, seen by two views that each show something else there), every
-// colour costs some view; balancing spends that cost where a view can afford it.
+// ink and the border left out), and the views' weights that hold every view's error to a
+// target, or make the worst view's error smallest where that cannot be. Where the drawings
+// disagree about a point (a hull surface the real object does not have, seen by two views
+// that each show something else there), every colour costs some view; balancing spends
+// that cost where a view can afford it.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -21,12 +22,14 @@ struct ViewBalance {
 
 /// @brief Mean CIE76 delta E per view between the colours `surface_colour` gives the
 /// surface points the view's pixels show (with the views' weights) and the drawing there,
-/// over the pixels where the drawing has a colour (confidence > 0); with `rounds` > 0 also
-/// weights, found in that many rounds (first every view's pixels counting alike, then the
-/// views with more error weighing more), that make the largest of them smallest. With
-/// `rounds` 0, `weight` is all 1. `samples`: about how many pixels of all views are taken
-/// (every pixel when the views have fewer, else a regular grid of them).
+/// over the pixels where the drawing has a colour (not ink, not within 3 px of the
+/// silhouette's border, as `compare` judges), on a grid of about `samples` pixels of all
+/// views; with `rounds` > 0 also the views' weights, from that many evaluations: first
+/// every view's pixels counting alike (the sum of the views' errors made small), then a
+/// search for the weights that keep every view's error at most `target`, or, where that
+/// cannot be, the worst view's as small as it can be, and then the sum. With `rounds` 0,
+/// `weight` is all 1. The weights are scaled to a mean of 1.
 ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& views, const SurfaceColourOptions& opt,
-                          int rounds, std::size_t samples = 300000);
+                          int rounds, double target, std::size_t samples = 300000);
 
 } // namespace cm

@@ -66,6 +66,8 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
         vc.confidence[i] =
             drawn[i] ? std::clamp((std::sqrt(d_weak[i]) - 0.5f) / std::max(opt.blend_px, 0.5f), 0.0f, 1.0f) : 0.0f;
     vc.drawn = std::move(drawn);
+    vc.border_px.resize(n);
+    for (std::size_t i = 0; i < n; ++i) vc.border_px[i] = std::sqrt(d_out[i]);
     // Every other pixel takes the colour of the nearest valid one (breadth first, 8-connected).
     std::vector<std::uint32_t> queue;
     queue.reserve(n);

@@ -27,6 +27,7 @@ struct ViewColours {
     std::vector<std::array<float, 3>> rgb; ///< every pixel: its own colour where valid, else the nearest valid one
     std::vector<float> confidence;         ///< [0,1]
     std::vector<char> drawn;               ///< the drawing's own colour (not ink, not the eroded border)
+    std::vector<float> border_px;          ///< distance to the outside of the silhouette, px
     std::size_t line_pixels = 0;           ///< pixels taken for ink inside the silhouette
     bool any_valid = false;
     /// Bilinear colour and confidence at continuous pixel coordinates (clamped to the image).
