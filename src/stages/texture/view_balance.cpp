@@ -155,7 +155,9 @@ ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& view
     };
     out.weight = weights_of(factor);
     out.error = view_errors(pts, vs, out.weight, opt);
-    int evaluations = 1;
+    // With every view under the target already, the weights stay as they are: the search
+    // would only trade one view's error for another's by what the estimate says.
+    int evaluations = *std::max_element(out.error.begin(), out.error.end()) > target ? 1 : rounds;
     double step = 2.0; // log2 of the change
     while (evaluations < rounds && step >= 0.125) {
         std::vector<std::size_t> order;

@@ -25,9 +25,10 @@ struct ViewBalance {
 /// over the pixels where the drawing has a colour (not ink, not within 3 px of the
 /// silhouette's border, as `compare` judges), on a grid of about `samples` pixels of all
 /// views; with `rounds` > 0 also the views' weights, from that many evaluations: first
-/// every view's pixels counting alike (the sum of the views' errors made small), then a
-/// search for the weights that keep every view's error at most `target`, or, where that
-/// cannot be, the worst view's as small as it can be, and then the sum. With `rounds` 0,
+/// every view's pixels counting alike (the sum of the views' errors made small), then, when
+/// a view's error is over `target`, a search for the weights that bring every view's error
+/// to at most `target`, or, where that cannot be, the worst view's as low as it goes, and
+/// then the sum. With `rounds` 0,
 /// `weight` is all 1. The weights are scaled to a mean of 1.
 ViewBalance balance_views(const Mesh& mesh, const std::vector<ViewSampler>& views, const SurfaceColourOptions& opt,
                           int rounds, double target, std::size_t samples = 300000);
