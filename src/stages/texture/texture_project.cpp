@@ -57,10 +57,10 @@ public:
                                "in CIELAB); 0: the weighted mean of the views"));
         b.add(opt_.balance_rounds,
               ParamSpec::Int("balance_rounds", 16, 0, 100, "",
-                             "rounds of weighting the views against their colour error (each view's mean delta E "
-                             "at its own pixels, ink left out, of the colour the mesh gets there): every view's "
-                             "pixels count alike, and a view over balance_target weighs more; 0: every view "
-                             "weighs 1"));
+                             "evaluations of the views' colour errors (each view's mean delta E at its own pixels, "
+                             "ink left out, of the colour the mesh gets there) while weighting the views: every "
+                             "view's pixels count alike, and when a view is over balance_target the weights are "
+                             "searched; 0: every view weighs 1"));
         b.add(opt_.balance_target,
               ParamSpec::Float("balance_target", 3, 0, 100, "delta E",
                                "the mean colour error a view is held to: views over it weigh more until they are "
