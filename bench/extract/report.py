@@ -21,18 +21,25 @@ def mean(xs):
 
 
 if len(sys.argv) > 2 and sys.argv[1] == "--pipelines":
-    # bench/extract/pipelines.sh: paper.yaml against dmc.yaml, per model.
+    # bench/extract/pipelines.sh: paper.yaml against dmc.yaml, per model, as shipped (target
+    # 0) and, when it ran them, both stopped at matched face counts (target > 0).
     rows = list(csv.DictReader(open(sys.argv[2]), delimiter="\t"))
+    for r in rows:
+        r.setdefault("target", "0")
+    models = list(dict.fromkeys(r["model"] for r in rows))
+
+    def pick(m, p, t):
+        sel = [r for r in rows if r["model"] == m and r["pipeline"] == p and r["target"] == t]
+        return sel[0] if sel else None
+
     print("| model | paper.yaml faces / xor_pct | dmc.yaml faces / xor_pct | faces dmc / paper | "
           "xor_pct dmc - paper | CPU s paper / dmc | all clean |")
     print("|---|---:|---:|---:|---:|---:|---:|")
     pairs = []
-    for m in dict.fromkeys(r["model"] for r in rows):
-        p = [r for r in rows if r["model"] == m and r["pipeline"] == "paper"]
-        d = [r for r in rows if r["model"] == m and r["pipeline"] == "dmc"]
+    for m in models:
+        p, d = pick(m, "paper", "0"), pick(m, "dmc", "0")
         if not p or not d:
             continue
-        p, d = p[0], d[0]
         pairs.append((p, d))
         clean = all(r["closed_manifold"] == "yes" and r["self_intersections"] == "0" for r in (p, d))
         print("| %s | %s / %.3f | %s / %.3f | %.2f | %+.3f | %s / %s | %s |" % (
@@ -45,6 +52,44 @@ if len(sys.argv) > 2 and sys.argv[1] == "--pipelines":
         mean([float(d["faces"]) / float(p["faces"]) for p, d in pairs]),
         mean([float(d["xor_pct"]) - float(p["xor_pct"]) for p, d in pairs]),
         mean([float(p["cpu_s"]) for p, _ in pairs]), mean([float(d["cpu_s"]) for _, d in pairs])))
+    # Matched face counts: per factor of paper.yaml's shipped count, both stopped there.
+    factors = sorted({round(float(r["target"]) / float(pick(r["model"], "paper", "0")["faces"]), 2)
+                      for r in rows if r["target"] != "0" and pick(r["model"], "paper", "0")})
+    if factors:
+        print("\nBoth stopped by `mesh.reduce`'s `target_faces` at a factor of the faces paper.yaml writes "
+              "(a pipeline whose own end comes first stops there): faces / xor_pct; the last column is "
+              "dmc.yaml's xor_pct minus paper.yaml's, and `<=` marks dmc.yaml with no more faces and a "
+              "lower xor_pct.\n")
+        head = "| model |"
+        for f in factors:
+            head += " %.2fx: paper.yaml | dmc.yaml | dmc - paper |" % f
+        print(head)
+        print("|---|" + "---:|---:|---:|" * len(factors))
+        diffs = {f: [] for f in factors}
+        wins = {f: 0 for f in factors}
+        for m in models:
+            p0 = pick(m, "paper", "0")
+            if not p0:
+                continue
+            line = "| %s |" % m
+            for f in factors:
+                t = [r["target"] for r in rows if r["model"] == m and r["target"] != "0" and
+                     round(float(r["target"]) / float(p0["faces"]), 2) == f]
+                p, d = (pick(m, "paper", t[0]), pick(m, "dmc", t[0])) if t else (None, None)
+                if not p or not d:
+                    line += " | | |"
+                    continue
+                dx = float(d["xor_pct"]) - float(p["xor_pct"])
+                dom = int(d["faces"]) <= int(p["faces"]) and dx < 0
+                diffs[f].append(dx)
+                wins[f] += dom
+                line += " %s / %.3f | %s / %.3f | %+.3f%s |" % (p["faces"], float(p["xor_pct"]), d["faces"],
+                                                               float(d["xor_pct"]), dx, " <=" if dom else "")
+            print(line)
+        line = "| mean, dmc.yaml <= |"
+        for f in factors:
+            line += " | | %+.3f, %d / %d |" % (mean(diffs[f]), wins[f], len(diffs[f]))
+        print(line)
     sys.exit(0)
 
 if len(sys.argv) > 2 and sys.argv[1] == "--speed":
