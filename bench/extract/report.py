@@ -3,7 +3,7 @@
 docs/results/extract.md, from the raw table bench/extract/compare.sh prints.
 
     report.py RAW_TSV [PLOT_PNG]
-    report.py --pipelines RAW_TSV     (bench/extract/pipelines.sh: bar 2)
+    report.py --pipelines RAW_TSV...  (bench/extract/pipelines.sh outputs: bar 2)
     report.py --speed RAW_TSV         (bench/extract/speed.sh outputs concatenated: bar 3)
 
 RAW_TSV may hold several resolutions (compare.sh's outputs concatenated, one header).
@@ -23,9 +23,15 @@ def mean(xs):
 if len(sys.argv) > 2 and sys.argv[1] == "--pipelines":
     # bench/extract/pipelines.sh: paper.yaml against dmc.yaml, per model, as shipped (target
     # 0) and, when it ran them, both stopped at matched face counts (target > 0).
-    rows = list(csv.DictReader(open(sys.argv[2]), delimiter="\t"))
-    for r in rows:
-        r.setdefault("target", "0")
+    # Several TSVs (runs with different factors) are merged; a run repeated keeps its first.
+    rows, seen = [], set()
+    for path in sys.argv[2:]:
+        for r in csv.DictReader(open(path), delimiter="\t"):
+            r.setdefault("target", "0")
+            key = (r["model"], r["pipeline"], r["target"])
+            if key not in seen:
+                seen.add(key)
+                rows.append(r)
     models = list(dict.fromkeys(r["model"] for r in rows))
 
     def pick(m, p, t):
@@ -53,43 +59,42 @@ if len(sys.argv) > 2 and sys.argv[1] == "--pipelines":
         mean([float(d["xor_pct"]) - float(p["xor_pct"]) for p, d in pairs]),
         mean([float(p["cpu_s"]) for p, _ in pairs]), mean([float(d["cpu_s"]) for _, d in pairs])))
     # Matched face counts: per factor of paper.yaml's shipped count, both stopped there.
-    factors = sorted({round(float(r["target"]) / float(pick(r["model"], "paper", "0")["faces"]), 2)
-                      for r in rows if r["target"] != "0" and pick(r["model"], "paper", "0")})
+    def factor(r):
+        p0 = pick(r["model"], "paper", "0")
+        return round(float(r["target"]) / float(p0["faces"]), 2) if p0 and r["target"] != "0" else None
+
+    factors = sorted({factor(r) for r in rows} - {None})
     if factors:
-        print("\nBoth stopped by `mesh.reduce`'s `target_faces` at a factor of the faces paper.yaml writes "
-              "(a pipeline whose own end comes first stops there): faces / xor_pct; the last column is "
-              "dmc.yaml's xor_pct minus paper.yaml's, and `<=` marks dmc.yaml with no more faces and a "
-              "lower xor_pct.\n")
-        head = "| model |"
-        for f in factors:
-            head += " %.2fx: paper.yaml | dmc.yaml | dmc - paper |" % f
-        print(head)
-        print("|---|" + "---:|---:|---:|" * len(factors))
-        diffs = {f: [] for f in factors}
-        wins = {f: 0 for f in factors}
+        cell = {}
         for m in models:
-            p0 = pick(m, "paper", "0")
-            if not p0:
-                continue
-            line = "| %s |" % m
             for f in factors:
-                t = [r["target"] for r in rows if r["model"] == m and r["target"] != "0" and
-                     round(float(r["target"]) / float(p0["faces"]), 2) == f]
-                p, d = (pick(m, "paper", t[0]), pick(m, "dmc", t[0])) if t else (None, None)
-                if not p or not d:
-                    line += " | | |"
-                    continue
-                dx = float(d["xor_pct"]) - float(p["xor_pct"])
-                dom = int(d["faces"]) <= int(p["faces"]) and dx < 0
-                diffs[f].append(dx)
-                wins[f] += dom
-                line += " %s / %.3f | %s / %.3f | %+.3f%s |" % (p["faces"], float(p["xor_pct"]), d["faces"],
-                                                               float(d["xor_pct"]), dx, " <=" if dom else "")
-            print(line)
-        line = "| mean, dmc.yaml <= |"
-        for f in factors:
-            line += " | | %+.3f, %d / %d |" % (mean(diffs[f]), wins[f], len(diffs[f]))
-        print(line)
+                sel = [r for r in rows if r["model"] == m and factor(r) == f]
+                p = [r for r in sel if r["pipeline"] == "paper"]
+                d = [r for r in sel if r["pipeline"] == "dmc"]
+                if p and d:
+                    cell[m, f] = (p[0], d[0], float(d[0]["xor_pct"]) - float(p[0]["xor_pct"]),
+                                  int(d[0]["faces"]) <= int(p[0]["faces"]) and float(d[0]["xor_pct"]) < float(p[0]["xor_pct"]))
+        print("\nBoth stopped by `mesh.reduce`'s `target_faces` at a factor of the faces paper.yaml writes "
+              "as shipped (a pipeline whose own end comes first stops there): dmc.yaml's `xor_pct` minus "
+              "paper.yaml's; `<=` marks dmc.yaml with no more faces and a lower `xor_pct`.\n")
+        print("| model | " + " | ".join("%.2fx" % f for f in factors) + " |")
+        print("|---|" + "---:|" * len(factors))
+        for m in models:
+            print("| %s | %s |" % (m, " | ".join("%+.3f%s" % (cell[m, f][2], " <=" if cell[m, f][3] else "")
+                                               if (m, f) in cell else "" for f in factors)))
+        ds = {f: [cell[m, f] for m in models if (m, f) in cell] for f in factors}
+        print("| mean, dmc.yaml <= | %s |" % " | ".join(
+            "%+.3f, %d / %d" % (mean([c[2] for c in ds[f]]), sum(c[3] for c in ds[f]), len(ds[f])) for f in factors))
+        print("\n<details><summary>faces and xor_pct of each run</summary>\n")
+        print("| model | factor | paper.yaml faces / xor_pct | dmc.yaml faces / xor_pct | dmc - paper |")
+        print("|---|---:|---:|---:|---:|")
+        for m in models:
+            for f in factors:
+                if (m, f) in cell:
+                    p, d, dx, dom = cell[m, f]
+                    print("| %s | %.2fx | %s / %.3f | %s / %.3f | %+.3f%s |" % (
+                        m, f, p["faces"], float(p["xor_pct"]), d["faces"], float(d["xor_pct"]), dx, " <=" if dom else ""))
+        print("\n</details>")
     sys.exit(0)
 
 if len(sys.argv) > 2 and sys.argv[1] == "--speed":
