@@ -89,6 +89,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             so.holes = mv.holes;
             so.close_gaps = mv.close_gaps.value_or(-1.0);
             so.shadow = mv.shadow;
+            // A calibrated camera is a photograph's (drawings are not calibrated).
+            so.photo = mv.photo != "auto" ? mv.photo : mv.matrix ? "on" : "auto";
             SilhouetteResult s =
                 mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
