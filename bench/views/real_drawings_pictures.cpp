@@ -3,7 +3,7 @@
 // ground shadow and a photograph with shadows on the object, the input beside the
 // silhouette without and with the handling (PNG, 3 panels of 200 x 200 px each). With
 // PHOTO (a photograph, e.g. one of bench/views/dino_cloth's), also views-photo-real.png: the
-// photograph segmented as a drawing and as a photograph, at its own size.
+// photograph segmented as a drawing and as a photograph, at half its size.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -47,24 +47,33 @@ Image render(const std::function<Colour(double, double)>& f) {
     return img;
 }
 
-// The input, then the silhouette under `before` and under `after`, side by side.
-void sheet(const Image& in, const SilhouetteOptions& before, const SilhouetteOptions& after, const fs::path& file) {
+// The input, then the silhouette under `before` and under `after`, side by side; each panel
+// `shrink` times smaller than the input (the mean of shrink x shrink pixels).
+void sheet(const Image& in, const SilhouetteOptions& before, const SilhouetteOptions& after, const fs::path& file,
+           int shrink = 1) {
     const ImageInfo info;
     const std::vector<float> a = extract_silhouette(in, info, before).coverage;
     const std::vector<float> b = extract_silhouette(in, info, after).coverage;
-    const int w = in.width, h = in.height;
+    const int w = in.width / shrink, h = in.height / shrink;
     Image out;
     out.width = 3 * w + 8;
     out.height = h;
     out.channels = 3;
     out.pixels.assign(std::size_t(out.width) * h * 3, 0.55f);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            for (int k = 0; k < 3; ++k) {
-                out.pixels[(std::size_t(y) * out.width + x) * 3 + k] = in.pixels[i * 4 + k];
-                out.pixels[(std::size_t(y) * out.width + x + w + 4) * 3 + k] = a[i];
-                out.pixels[(std::size_t(y) * out.width + x + 2 * w + 8) * 3 + k] = b[i];
+    for (int y = 0; y < h; ++y) // the panels start black: their pixels are sums
+        for (int p = 0; p < 3; ++p)
+            for (int x = 0; x < w; ++x)
+                for (std::size_t k = 0; k < 3; ++k)
+                    out.pixels[(std::size_t(y) * out.width + p * (w + 4) + x) * 3 + k] = 0;
+    const float share = 1.0f / float(shrink * shrink);
+    for (int y = 0; y < h * shrink; ++y)
+        for (int x = 0; x < w * shrink; ++x) {
+            const std::size_t i = std::size_t(y) * in.width + x;
+            const std::size_t o = std::size_t(y / shrink) * out.width + std::size_t(x / shrink);
+            for (std::size_t k = 0; k < 3; ++k) {
+                out.pixels[o * 3 + k] += share * in.pixels[i * 4 + k];
+                out.pixels[(o + std::size_t(w) + 4) * 3 + k] += share * a[i];
+                out.pixels[(o + 2 * std::size_t(w) + 8) * 3 + k] += share * b[i];
             }
         }
     write_image(out, file);
@@ -144,7 +153,7 @@ int main(int argc, char** argv) {
     sheet(plaster_photo(), as_drawing, as_photo, dir / "views-photo.png");
     if (argc == 3) {
         as_drawing.threshold = as_photo.threshold = 0.19; // the dinoSparseRing authors' value
-        sheet(read_image(argv[2]), as_drawing, as_photo, dir / "views-photo-real.png");
+        sheet(read_image(argv[2]), as_drawing, as_photo, dir / "views-photo-real.png", 2);
     }
     return 0;
 }

@@ -98,7 +98,12 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             if (s.components_dropped)
                 note += "dropped " + std::to_string(s.components_dropped) +
                         " separate mark(s) away from the object (keep: all keeps them)";
-            if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+            if (s.photo) {
+                if (!note.empty()) note += "; ";
+                note += "segmented as a photograph: " + std::to_string(s.grown) +
+                        " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
+                        " enclosed region(s) filled (photo: off segments it as a drawing)";
+            } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
                 if (!note.empty()) note += "; ";
                 note += "filled " + std::to_string(s.regions_filled) +
                         " blank region(s) enclosed by the drawing (holes: keep keeps them open)";

@@ -184,6 +184,11 @@ double MinCut::solve() {
                 activate(u);
             } else if (m.tree != nodes_[std::size_t(v)].tree) {
                 across = toward;
+            } else if (m.stamp <= nodes_[std::size_t(v)].stamp && m.depth > nodes_[std::size_t(v)].depth) {
+                // A shorter way to the terminal through v (the paths augmented stay short).
+                m.parent = sister(a);
+                m.stamp = nodes_[std::size_t(v)].stamp;
+                m.depth = nodes_[std::size_t(v)].depth + 1;
             }
         }
         if (across < 0) continue;
