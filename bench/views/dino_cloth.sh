@@ -3,6 +3,9 @@
 # the frame, carved and extracted (bench/views/dino_carve.yaml) from each manifest that
 # bench/views/dino_cloth writes (and variants of auto.yaml), each mesh compared against the
 # two references: the authors' masks (mask.yaml) and masks traced along the edge (traced.yaml).
+# With oiiotool on the path, also WORK_DIR/auto-vs-traced.png (docs/images/dino-photo-vs-traced.png):
+# per view, auto.yaml's silhouette against the traced mask (white both, red the traced mask
+# only, cyan auto only), 320 x 240 each.
 # Usage: bench/views/dino_cloth.sh BUILD_DIR [WORK_DIR]
 set -euo pipefail
 build=${1:?usage: dino_cloth.sh BUILD_DIR [WORK_DIR]}
@@ -27,3 +30,15 @@ for m in mask traced auto auto_estimated drawing drawing_closed black black_draw
     "$exe" run "$here/dino_carve.yaml" --set views.manifest="$work/$m.yaml" --set write.path="$work/$m.obj" >/dev/null 2>&1
     echo "| $m | $(xor "$work/$m.obj" "$work/mask.yaml") | $(xor "$work/$m.obj" "$work/traced.yaml") | $(xor "$work/$m.obj" "$work/$m.yaml") |"
 done
+command -v oiiotool >/dev/null || exit 0
+mkdir -p "$work/auto-silhouettes"
+"$exe" run "$here/dino_carve.yaml" --set views.manifest="$work/auto.yaml" --set write.path="$work/auto.obj" \
+    --set views.save_silhouettes=true --report "$work/auto-silhouettes/report.json" >/dev/null 2>&1
+tiles=()
+for f in "$work"/traced/*.png; do
+    k=$(basename "$f" .png)
+    oiiotool "$f" --ch 0 "$work/auto-silhouettes/$k.silhouette.png" --ch 0 --dup --chappend --chappend \
+        --resize 320x240 -o "$work/auto-silhouettes/$k.tile.png"
+    tiles+=("$work/auto-silhouettes/$k.tile.png")
+done
+oiiotool "${tiles[@]}" --mosaic:pad=4 5x3 -d uint8 -o "$work/auto-vs-traced.png"
