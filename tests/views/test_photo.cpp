@@ -137,6 +137,23 @@ TEST(Photo, AClearSilhouetteStaysAsItIs) {
     EXPECT_GE(iou(photo.coverage), iou(drawing.coverage));
 }
 
+TEST(Photo, TinyAndBlankImagesGiveASilhouetteOrNothing) {
+    // Images of a pixel or a row, blank or not: a silhouette (maybe empty), never a crash.
+    for (const auto& [w, h] : {std::pair{1, 1}, std::pair{2, 3}, std::pair{3, 1}, std::pair{1, 5}, std::pair{9, 9}})
+        for (float level : {0.0f, 0.5f}) {
+            Image img;
+            img.width = w;
+            img.height = h;
+            img.channels = 4;
+            img.pixels.assign(std::size_t(w) * h * 4, 1.0f);
+            for (int i = 0; i < w * h; ++i)
+                for (int k = 0; k < 3; ++k) img.pixels[std::size_t(i) * 4 + std::size_t(k)] = i % 3 ? level : 1.0f;
+            const SilhouetteResult r = extract(img, "on");
+            EXPECT_EQ(r.coverage.size(), std::size_t(w) * h) << w << "x" << h;
+            for (float c : r.coverage) EXPECT_TRUE(c >= 0.0f && c <= 1.0f) << w << "x" << h;
+        }
+}
+
 TEST(Photo, CalibratedViewsAreSegmentedAsPhotographs) {
     test::TempDir dir("photo_views");
     write_image(photograph({}), dir / "p.png");

@@ -31,9 +31,10 @@ struct PhotoCut {
 ///    distances, kept within [t / 4, t / 2]. The region growth may reach: pixels at least
 ///    that far from their backdrop, 8-connected to the growing seeds through such pixels.
 /// 3. Colour models in chromaticity (R and G over R + G + B, which shading leaves alone),
-///    from pixels whose R + G + B is at least 50 x the noise: the object's from the seeds'
-///    interior, each backdrop's from its pixels away from the seeds (beyond 3 % of the
-///    larger side), each a median with a MAD spread.
+///    each a median with a MAD spread: the object's from the seeds' interior (R + G + B at
+///    least 50 x the noise), each backdrop's from its pixels away from the seeds (beyond 3 %
+///    of the larger side), the brightest of them when few reach 50 x the noise (at least the
+///    90th percentile's R + G + B, and 10 x the noise).
 /// 4. The region's weak pixels are labelled by a minimum cut (MinCut) of an energy with a
 ///    colour term per pixel (squared chromaticity distances to the two models over twice
 ///    their common variance, widened by the noise of a ratio of small numbers; within +-4;
