@@ -330,7 +330,6 @@ PhotoCut segment_photo(const Image& img, const std::vector<double>& dist, const 
     const std::vector<double> tw = weak_thresholds(f);
     cut.weak_threshold = tw[0];
     ColourModels models = fit_models(f, seed, grows);
-    cut.colour_model = models.object.valid;
     const std::vector<char> region = growth_region(f, seed, grows, tw);
     // Two rounds: the second with the backdrops as the first cut found them.
     cut.grown = cut_region(f, seed, region, models, cut.object);

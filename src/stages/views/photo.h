@@ -16,7 +16,6 @@ namespace cm {
 struct PhotoCut {
     std::vector<char> object;             ///< w*h, row-major: 1 = object
     double weak_threshold = 0;            ///< distance from the border's field a grown pixel needs
-    bool colour_model = false;            ///< the seeds gave the object's chromaticity
     std::size_t seeds = 0, grown = 0;     ///< pixels beyond the threshold; pixels the cut added to them
     int holes_filled = 0, holes_kept = 0; ///< enclosed regions (see segment_photo)
 };
