@@ -302,44 +302,63 @@ bool OutputCheck::clean() const {
 std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
     const std::size_t n = positions.size();
     if (n < 2 || !(tolerance > 0)) return {};
-    // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
-    // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
-    const double cell = 2 * tolerance;
+    // Cells of 32 tolerances, sorted by a hash of their index: a vertex within the
+    // tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or,
+    // when p is within the tolerance of a side of its cell (one vertex in about ten), in
+    // the cells across those sides, looked up by their key. Two cells whose keys collide
+    // share a run; their vertices are only compared, so the search stays complete.
+    const double cell = 32 * tolerance;
+    const double reach = 1.01 * tolerance / cell; // in cells, with room for rounding
     double lo[3] = {positions[0].x, positions[0].y, positions[0].z};
     for (const Vec3f& p : positions)
         for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a]));
-    auto cell_of = [&](const Vec3f& p, int a) { return std::int64_t(std::floor((double(p[a]) - lo[a]) / cell)); };
     auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
         return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
                (std::uint64_t(z) * 0x165667B19E3779F9ull);
     };
+    auto cell_of = [&](const Vec3f& p, std::int64_t c[3], double u[3]) {
+        for (int a = 0; a < 3; ++a) {
+            const double x = (double(p[a]) - lo[a]) / cell;
+            c[a] = std::int64_t(std::floor(x));
+            u[a] = x - double(c[a]);
+        }
+    };
     std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        const Vec3f& p = positions[i];
-        cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            std::int64_t c[3];
+            double u[3];
+            cell_of(positions[i], c, u);
+            cells[i] = {key(c[0], c[1], c[2]), std::uint32_t(i)};
+        }
     });
     tbb::parallel_sort(cells.begin(), cells.end());
     const double tol2 = tolerance * tolerance;
+    auto near = [&](std::uint32_t i, std::uint32_t j) {
+        const Vec3f &p = positions[i], &q = positions[j];
+        const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+        return dx * dx + dy * dy + dz * dz <= tol2;
+    };
     std::vector<char> has(n, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const Vec3f& p = positions[i];
-            std::int64_t c[3], d[3];
-            for (int a = 0; a < 3; ++a) {
-                const double u = (double(p[a]) - lo[a]) / cell;
-                c[a] = std::int64_t(std::floor(u));
-                d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
-            }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+            const auto [k, i] = cells[s];
             bool found = false;
-            for (int k = 0; k < 8 && !found; ++k) {
-                const std::uint64_t want =
-                    key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
-                auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-                for (; it != cells.end() && it->first == want && !found; ++it) {
-                    if (it->second == i) continue;
-                    const Vec3f& q = positions[it->second];
-                    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-                    found = dx * dx + dy * dy + dz * dz <= tol2;
+            for (std::size_t t = s; t-- > 0 && cells[t].first == k && !found;) found = near(i, cells[t].second);
+            for (std::size_t t = s + 1; t < n && cells[t].first == k && !found; ++t) found = near(i, cells[t].second);
+            if (!found) {
+                std::int64_t c[3];
+                double u[3];
+                cell_of(positions[i], c, u);
+                int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
+                for (int a = 0; a < 3; ++a) side[a] = u[a] < reach ? -1 : (u[a] > 1 - reach ? 1 : 0);
+                for (int m = 1; m < 8 && !found; ++m) {
+                    if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
+                    const std::uint64_t want =
+                        key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0));
+                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
+                    for (; it != cells.end() && it->first == want && !found; ++it)
+                        found = it->second != i && near(i, it->second);
                 }
             }
             has[i] = found;
