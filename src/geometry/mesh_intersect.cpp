@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -299,75 +300,134 @@ bool OutputCheck::clean() const {
            coincident_vertices == 0;
 }
 
-std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+namespace {
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
+           (std::uint64_t(z) * 0x165667B19E3779F9ull);
+}
+
+} // namespace
+
+// Cells of 32 tolerances, sorted by a hash of their index: a vertex within the tolerance of
+// p lies in p's own cell (the entries beside p's in the sorted order) or, when p is within
+// the tolerance of a side of its cell (one vertex in about ten), in the cells across those
+// sides, looked up by their key. Two cells whose keys collide share a run; their vertices
+// are only compared, so the search stays complete.
+CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
+    : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
-    if (n < 2 || !(tolerance > 0)) return {};
-    // Cells of 32 tolerances, sorted by a hash of their index: a vertex within the
-    // tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or,
-    // when p is within the tolerance of a side of its cell (one vertex in about ten), in
-    // the cells across those sides, looked up by their key. Two cells whose keys collide
-    // share a run; their vertices are only compared, so the search stays complete.
-    const double cell = 32 * tolerance;
-    const double reach = 1.01 * tolerance / cell; // in cells, with room for rounding
-    double lo[3] = {positions[0].x, positions[0].y, positions[0].z};
+    if (n < 2 || !(tolerance > 0)) return;
+    cell_ = 32 * tolerance;
+    reach_ = 1.01 * tolerance / cell_; // in cells, with room for rounding
+    lo_ = Vec3d(positions[0]);
     for (const Vec3f& p : positions)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a]));
-    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-        return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
-               (std::uint64_t(z) * 0x165667B19E3779F9ull);
-    };
-    auto cell_of = [&](const Vec3f& p, std::int64_t c[3], double u[3]) {
-        for (int a = 0; a < 3; ++a) {
-            const double x = (double(p[a]) - lo[a]) / cell;
-            c[a] = std::int64_t(std::floor(x));
-            u[a] = x - double(c[a]);
-        }
-    };
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
+        for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(p[a]));
+    sorted_.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            std::int64_t c[3];
-            double u[3];
-            cell_of(positions[i], c, u);
-            cells[i] = {key(c[0], c[1], c[2]), std::uint32_t(i)};
-        }
+        for (std::size_t i = r.begin(); i != r.end(); ++i) sorted_[i] = {key_of(positions[i]), std::uint32_t(i)};
     });
-    tbb::parallel_sort(cells.begin(), cells.end());
-    const double tol2 = tolerance * tolerance;
-    auto near = [&](std::uint32_t i, std::uint32_t j) {
-        const Vec3f &p = positions[i], &q = positions[j];
-        const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-        return dx * dx + dy * dy + dz * dz <= tol2;
-    };
-    std::vector<char> has(n, 0);
+    tbb::parallel_sort(sorted_.begin(), sorted_.end());
+    stale_.assign(n, 0);
+}
+
+std::uint64_t CoincidenceIndex::key_of(const Vec3f& p) const {
+    std::int64_t c[3];
+    for (int a = 0; a < 3; ++a) c[a] = std::int64_t(std::floor((double(p[a]) - lo_[a]) / cell_));
+    return cell_key(c[0], c[1], c[2]);
+}
+
+bool CoincidenceIndex::close(std::uint32_t i, std::uint32_t j) const {
+    const Vec3f &p = positions_[i], &q = positions_[j];
+    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+    return dx * dx + dy * dy + dz * dz <= tol2_;
+}
+
+bool CoincidenceIndex::in_cell(std::uint32_t v, std::uint64_t key, bool own, std::size_t from,
+                               const std::function<bool(std::uint32_t)>& f) const {
+    // Entries of moved vertices are stale in the sorted array: those are asked in moved_.
+    auto visit = [&](std::uint32_t j) { return j == v || stale_[j] || !close(v, j) || f(j); };
+    if (own && from < sorted_.size()) { // v's own entry is at `from`: its run is around it
+        for (std::size_t t = from; t-- > 0 && sorted_[t].first == key;)
+            if (!visit(sorted_[t].second)) return false;
+        for (std::size_t t = from + 1; t < sorted_.size() && sorted_[t].first == key; ++t)
+            if (!visit(sorted_[t].second)) return false;
+    } else {
+        auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, std::uint32_t(0)));
+        for (; it != sorted_.end() && it->first == key; ++it)
+            if (!visit(it->second)) return false;
+    }
+    const auto [a, b] = moved_.equal_range(key);
+    for (auto it = a; it != b; ++it)
+        if (it->second != v && close(v, it->second) && !f(it->second)) return false;
+    return true;
+}
+
+void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const {
+    if (sorted_.empty()) return;
+    const Vec3f& p = positions_[v];
+    std::int64_t c[3];
+    int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
+    for (int a = 0; a < 3; ++a) {
+        const double x = (double(p[a]) - lo_[a]) / cell_;
+        c[a] = std::int64_t(std::floor(x));
+        const double u = x - double(c[a]);
+        side[a] = u < reach_ ? -1 : (u > 1 - reach_ ? 1 : 0);
+    }
+    for (int m = 0; m < 8; ++m) {
+        if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
+        const std::uint64_t key =
+            cell_key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0));
+        if (!in_cell(v, key, m == 0, m == 0 ? slot : sorted_.size(), f)) return;
+    }
+}
+
+bool CoincidenceIndex::has_near(std::uint32_t v) const {
+    bool found = false;
+    visit(v, sorted_.size(), [&](std::uint32_t) { return !(found = true); });
+    return found;
+}
+
+void CoincidenceIndex::near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const {
+    visit(v, sorted_.size(), [&](std::uint32_t j) {
+        f(j);
+        return true;
+    });
+}
+
+void CoincidenceIndex::moved(std::uint32_t v) {
+    if (sorted_.empty()) return;
+    if (stale_[v])
+        for (auto [a, b] = moved_.equal_range(moved_key_[v]); a != b; ++a)
+            if (a->second == v) {
+                moved_.erase(a);
+                break;
+            }
+    stale_[v] = 1;
+    moved_key_[v] = key_of(positions_[v]);
+    moved_.emplace(moved_key_[v], v);
+}
+
+std::vector<std::uint32_t> CoincidenceIndex::all() const {
+    const std::size_t n = sorted_.size();
+    std::vector<char> has(positions_.size(), 0);
+    // In the sorted order, each vertex's own cell is the run around its entry.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
-            const auto [k, i] = cells[s];
+            const std::uint32_t v = sorted_[s].second;
             bool found = false;
-            for (std::size_t t = s; t-- > 0 && cells[t].first == k && !found;) found = near(i, cells[t].second);
-            for (std::size_t t = s + 1; t < n && cells[t].first == k && !found; ++t) found = near(i, cells[t].second);
-            if (!found) {
-                std::int64_t c[3];
-                double u[3];
-                cell_of(positions[i], c, u);
-                int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
-                for (int a = 0; a < 3; ++a) side[a] = u[a] < reach ? -1 : (u[a] > 1 - reach ? 1 : 0);
-                for (int m = 1; m < 8 && !found; ++m) {
-                    if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
-                    const std::uint64_t want =
-                        key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0));
-                    auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-                    for (; it != cells.end() && it->first == want && !found; ++it)
-                        found = it->second != i && near(i, it->second);
-                }
-            }
-            has[i] = found;
+            visit(v, stale_[v] ? n : s, [&](std::uint32_t) { return !(found = true); });
+            has[v] = found;
         }
     });
     std::vector<std::uint32_t> out;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < has.size(); ++i)
         if (has[i]) out.push_back(std::uint32_t(i));
     return out;
+}
+
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+    return CoincidenceIndex(positions, tolerance).all();
 }
 
 std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {

@@ -108,6 +108,10 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     // Vertices the input already has together are left alone (they are the input's own).
     std::vector<char> together_in_input(p.size(), 0);
     for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
+    // Vertices within the separation of another at p, kept up to date as vertices move: a
+    // vertex's answer changes only when it or a vertex near it (before or after) moves.
+    CoincidenceIndex coincidence(p, separation);
+    std::vector<std::uint32_t> together = coincidence.all(), recheck;
     std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
         bad.clear();
@@ -119,7 +123,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
-        for (auto v : find_coincident_vertices(p, separation))
+        for (auto v : together)
             if (!together_in_input[v]) badv.push_back(v);
         ++st.guard_rounds;
     };
@@ -159,6 +163,17 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
             break;
         } // the input's own faces
         st.pulled_back += moved.size();
+        recheck = together; // those together before, those moved and those they now meet
+        for (auto v : moved) coincidence.moved(v);
+        for (auto v : moved) {
+            recheck.push_back(v);
+            coincidence.near(v, [&](std::uint32_t w) { recheck.push_back(w); });
+        }
+        std::sort(recheck.begin(), recheck.end());
+        recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
+        together.clear();
+        for (auto v : recheck)
+            if (coincidence.has_near(v)) together.push_back(v);
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
