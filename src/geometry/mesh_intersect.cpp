@@ -307,27 +307,51 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
            (std::uint64_t(z) * 0x165667B19E3779F9ull);
 }
 
+// A slot of the table of runs for a cell key (the key's bits mixed again: the cell key's low
+// bits depend on the cell indices' low bits only).
+std::size_t slot_of(std::uint64_t key, std::size_t mask) {
+    key ^= key >> 31;
+    key *= 0xBF58476D1CE4E5B9ull;
+    key ^= key >> 29;
+    return std::size_t(key) & mask;
+}
+
 } // namespace
 
-// Cells of 32 tolerances, sorted by a hash of their index: a vertex within the tolerance of
-// p lies in p's own cell (the entries beside p's in the sorted order) or, when p is within
-// the tolerance of a side of its cell (one vertex in about ten), in the cells across those
-// sides, looked up by their key. Two cells whose keys collide share a run; their vertices
-// are only compared, so the search stays complete.
+// Cells of 64 tolerances, sorted by a hash of their index, each entry with its vertex's
+// position (the comparisons in a cell read one stretch of memory): a vertex within the
+// tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or, when
+// p is within the tolerance of a side of its cell (about one vertex in ten), in the cells
+// across those sides, found through a hash table of the runs. Two cells whose keys collide
+// share a run; their vertices are only compared, so the search stays complete.
 CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
     : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
     if (n < 2 || !(tolerance > 0)) return;
-    cell_ = 32 * tolerance;
+    cell_ = 256 * tolerance;
     reach_ = 1.01 * tolerance / cell_; // in cells, with room for rounding
     lo_ = Vec3d(positions[0]);
     for (const Vec3f& p : positions)
         for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(p[a]));
     sorted_.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) sorted_[i] = {key_of(positions[i]), std::uint32_t(i)};
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+            sorted_[i] = {key_of(positions[i]), positions[i], std::uint32_t(i)};
     });
-    tbb::parallel_sort(sorted_.begin(), sorted_.end());
+    tbb::parallel_sort(sorted_.begin(), sorted_.end(),
+                       [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.v < b.v); });
+    std::size_t runs = 0;
+    for (std::size_t i = 0; i < n; ++i) runs += i == 0 || sorted_[i].key != sorted_[i - 1].key;
+    std::size_t size = 16;
+    while (size < 2 * runs) size *= 2;
+    table_.assign(size, kNone);
+    const std::size_t mask = size - 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i != 0 && sorted_[i].key == sorted_[i - 1].key) continue;
+        std::size_t s = slot_of(sorted_[i].key, mask);
+        while (table_[s] != kNone) s = (s + 1) & mask;
+        table_[s] = std::uint32_t(i);
+    }
     stale_.assign(n, 0);
 }
 
@@ -337,35 +361,43 @@ std::uint64_t CoincidenceIndex::key_of(const Vec3f& p) const {
     return cell_key(c[0], c[1], c[2]);
 }
 
-bool CoincidenceIndex::close(std::uint32_t i, std::uint32_t j) const {
-    const Vec3f &p = positions_[i], &q = positions_[j];
+bool CoincidenceIndex::close(const Vec3f& p, const Vec3f& q) const {
     const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
     return dx * dx + dy * dy + dz * dz <= tol2_;
 }
 
-bool CoincidenceIndex::in_cell(std::uint32_t v, std::uint64_t key, bool own, std::size_t from,
+std::size_t CoincidenceIndex::run_of(std::uint64_t key) const {
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t s = slot_of(key, mask);; s = (s + 1) & mask) {
+        if (table_[s] == kNone) return sorted_.size();
+        if (sorted_[table_[s]].key == key) return table_[s];
+    }
+}
+
+bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint64_t key, std::size_t from,
                                const std::function<bool(std::uint32_t)>& f) const {
     // Entries of moved vertices are stale in the sorted array: those are asked in moved_.
-    auto visit = [&](std::uint32_t j) { return j == v || stale_[j] || !close(v, j) || f(j); };
-    if (own && from < sorted_.size()) { // v's own entry is at `from`: its run is around it
-        for (std::size_t t = from; t-- > 0 && sorted_[t].first == key;)
-            if (!visit(sorted_[t].second)) return false;
-        for (std::size_t t = from + 1; t < sorted_.size() && sorted_[t].first == key; ++t)
-            if (!visit(sorted_[t].second)) return false;
+    auto visit = [&](const Entry& e) { return e.v == v || stale_[e.v] || !close(p, e.p) || f(e.v); };
+    if (from < sorted_.size()) { // v's own entry is at `from`: its run is around it
+        for (std::size_t t = from; t-- > 0 && sorted_[t].key == key;)
+            if (!visit(sorted_[t])) return false;
+        for (std::size_t t = from + 1; t < sorted_.size() && sorted_[t].key == key; ++t)
+            if (!visit(sorted_[t])) return false;
     } else {
-        auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, std::uint32_t(0)));
-        for (; it != sorted_.end() && it->first == key; ++it)
-            if (!visit(it->second)) return false;
+        for (std::size_t t = run_of(key); t < sorted_.size() && sorted_[t].key == key; ++t)
+            if (!visit(sorted_[t])) return false;
     }
-    const auto [a, b] = moved_.equal_range(key);
-    for (auto it = a; it != b; ++it)
-        if (it->second != v && close(v, it->second) && !f(it->second)) return false;
+    if (!moved_.empty()) {
+        const auto [a, b] = moved_.equal_range(key);
+        for (auto it = a; it != b; ++it)
+            if (it->second != v && close(p, positions_[it->second]) && !f(it->second)) return false;
+    }
     return true;
 }
 
 void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const {
     if (sorted_.empty()) return;
-    const Vec3f& p = positions_[v];
+    const Vec3f p = positions_[v];
     std::int64_t c[3];
     int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
     for (int a = 0; a < 3; ++a) {
@@ -378,7 +410,7 @@ void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::funct
         if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
         const std::uint64_t key =
             cell_key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0));
-        if (!in_cell(v, key, m == 0, m == 0 ? slot : sorted_.size(), f)) return;
+        if (!in_cell(v, p, key, m == 0 ? slot : sorted_.size(), f)) return;
     }
 }
 
@@ -414,7 +446,7 @@ std::vector<std::uint32_t> CoincidenceIndex::all() const {
     // In the sorted order, each vertex's own cell is the run around its entry.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
-            const std::uint32_t v = sorted_[s].second;
+            const std::uint32_t v = sorted_[s].v;
             bool found = false;
             visit(v, stale_[v] ? n : s, [&](std::uint32_t) { return !(found = true); });
             has[v] = found;

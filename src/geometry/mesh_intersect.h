@@ -130,18 +130,27 @@ public:
     void moved(std::uint32_t v);
 
 private:
+    struct Entry {
+        std::uint64_t key; ///< the cell's
+        Vec3f p;           ///< the vertex's position when the index was built
+        std::uint32_t v;
+    };
+    static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
     std::uint64_t key_of(const Vec3f& p) const;
-    bool close(std::uint32_t i, std::uint32_t j) const;
-    // Calls f for the vertices of the cell `key` close to v until f returns false (then
-    // returns false); `own` with `from` the index of v's entry in sorted_ (or its size).
-    bool in_cell(std::uint32_t v, std::uint64_t key, bool own, std::size_t from,
+    bool close(const Vec3f& p, const Vec3f& q) const;
+    std::size_t run_of(std::uint64_t key) const; ///< first entry of the cell, or sorted_.size()
+    // Calls f for the vertices of the cell `key` within the tolerance of p (v's position)
+    // until f returns false (then returns false); `from` is the index of v's own entry when
+    // `key` is its cell, else sorted_.size().
+    bool in_cell(std::uint32_t v, const Vec3f& p, std::uint64_t key, std::size_t from,
                  const std::function<bool(std::uint32_t)>& f) const;
     void visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const;
 
     const std::vector<Vec3f>& positions_;
     double tol2_ = 0, cell_ = 1, reach_ = 0;
     Vec3d lo_;
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted_; ///< (cell key, vertex) at build time
+    std::vector<Entry> sorted_;                                   ///< by cell key, at build time
+    std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
     std::vector<char> stale_;                                     ///< moved since: its entry is stale
     std::unordered_multimap<std::uint64_t, std::uint32_t> moved_; ///< moved vertices by their cell key
     std::unordered_map<std::uint32_t, std::uint64_t> moved_key_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -106,8 +107,17 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     in.bounds(lo, hi);
     const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
     // Vertices the input already has together are left alone (they are the input's own).
-    std::vector<char> together_in_input(p.size(), 0);
-    for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
+    // Asked only about vertices together at p (few, often none): the input's index is built
+    // on the first such question. 0: not asked yet, 1: together in the input, 2: apart.
+    std::vector<char> input_answer(p.size(), 0);
+    std::optional<CoincidenceIndex> input_index;
+    auto together_in_input = [&](std::uint32_t v) {
+        if (!input_answer[v]) {
+            if (!input_index) input_index.emplace(in.positions, separation);
+            input_answer[v] = input_index->has_near(v) ? 1 : 2;
+        }
+        return input_answer[v] == 1;
+    };
     // Vertices within the separation of another at p, kept up to date as vertices move: a
     // vertex's answer changes only when it or a vertex near it (before or after) moves.
     CoincidenceIndex coincidence(p, separation);
@@ -124,7 +134,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
         for (auto v : together)
-            if (!together_in_input[v]) badv.push_back(v);
+            if (!together_in_input(v)) badv.push_back(v);
         ++st.guard_rounds;
     };
     collect(index.all(p), nullptr);
