@@ -32,9 +32,9 @@ public:
     std::size_t locked() const { return locked_; }
     bool usable(std::uint32_t v) const { return !vdead_[v] && !lock_[v]; }
     const Vec3f& point(std::uint32_t v) const { return P_[v]; }
-    /// Unit normal of face f, from the positions (not stored: the positions are read
-    /// anyway, and one array less keeps the random accesses of the queue in cache).
-    Vec3f normal(std::uint32_t f) const { return face_normal(f); }
+    /// Unit normal of face f (kept per face: the importance of a vertex reads those of
+    /// its faces, and a face's normal changes only when a collapse moves its corner).
+    Vec3f normal(std::uint32_t f) const { return normals_[f]; }
     const std::array<std::uint32_t, 3>& tri(std::uint32_t f) const { return T_[f]; }
 
     template <typename F>
@@ -85,6 +85,7 @@ private:
     std::vector<std::array<std::uint32_t, 3>>& T_;
     std::vector<char> vdead_, lock_;
     std::vector<std::uint32_t> vstart_, vcount_, refs_;
+    std::vector<Vec3f> normals_; ///< face_normal() of each face, kept up to date
     std::vector<std::uint32_t> rw_;
     std::size_t alive_faces_ = 0, initial_refs_ = 0, locked_ = 0;
 };
