@@ -307,21 +307,19 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
            (std::uint64_t(z) * 0x165667B19E3779F9ull);
 }
 
-// A slot of the table of runs for a cell key (the key's bits mixed again: the cell key's low
-// bits depend on the cell indices' low bits only).
-std::size_t slot_of(std::uint64_t key, std::size_t mask) {
-    key ^= key >> 31;
-    key *= 0xBF58476D1CE4E5B9ull;
-    key ^= key >> 29;
-    return std::size_t(key) & mask;
+// A slot of the table of runs for a cell key.
+std::size_t slot_of(std::uint32_t key, std::size_t mask) {
+    std::uint64_t k = key;
+    k *= 0xBF58476D1CE4E5B9ull;
+    k ^= k >> 29;
+    return std::size_t(k) & mask;
 }
 
 } // namespace
 
-// Cells of 64 tolerances, sorted by a hash of their index, each entry with its vertex's
-// position (the comparisons in a cell read one stretch of memory): a vertex within the
+// Cells of 256 tolerances, sorted by a 32-bit hash of their index: a vertex within the
 // tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or, when
-// p is within the tolerance of a side of its cell (about one vertex in ten), in the cells
+// p is within the tolerance of a side of its cell (about one vertex in forty), in the cells
 // across those sides, found through a hash table of the runs. Two cells whose keys collide
 // share a run; their vertices are only compared, so the search stays complete.
 CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
@@ -335,8 +333,7 @@ CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double t
         for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(p[a]));
     sorted_.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-            sorted_[i] = {key_of(positions[i]), positions[i], std::uint32_t(i)};
+        for (std::size_t i = r.begin(); i != r.end(); ++i) sorted_[i] = {key_of(positions[i]), std::uint32_t(i)};
     });
     tbb::parallel_sort(sorted_.begin(), sorted_.end(),
                        [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.v < b.v); });
@@ -355,10 +352,10 @@ CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double t
     stale_.assign(n, 0);
 }
 
-std::uint64_t CoincidenceIndex::key_of(const Vec3f& p) const {
+std::uint32_t CoincidenceIndex::key_of(const Vec3f& p) const {
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a) c[a] = std::int64_t(std::floor((double(p[a]) - lo_[a]) / cell_));
-    return cell_key(c[0], c[1], c[2]);
+    return std::uint32_t(cell_key(c[0], c[1], c[2]) >> 32);
 }
 
 bool CoincidenceIndex::close(const Vec3f& p, const Vec3f& q) const {
@@ -366,7 +363,7 @@ bool CoincidenceIndex::close(const Vec3f& p, const Vec3f& q) const {
     return dx * dx + dy * dy + dz * dz <= tol2_;
 }
 
-std::size_t CoincidenceIndex::run_of(std::uint64_t key) const {
+std::size_t CoincidenceIndex::run_of(std::uint32_t key) const {
     const std::size_t mask = table_.size() - 1;
     for (std::size_t s = slot_of(key, mask);; s = (s + 1) & mask) {
         if (table_[s] == kNone) return sorted_.size();
@@ -374,10 +371,10 @@ std::size_t CoincidenceIndex::run_of(std::uint64_t key) const {
     }
 }
 
-bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint64_t key, std::size_t from,
+bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
                                const std::function<bool(std::uint32_t)>& f) const {
     // Entries of moved vertices are stale in the sorted array: those are asked in moved_.
-    auto visit = [&](const Entry& e) { return e.v == v || stale_[e.v] || !close(p, e.p) || f(e.v); };
+    auto visit = [&](const Entry& e) { return e.v == v || stale_[e.v] || !close(p, positions_[e.v]) || f(e.v); };
     if (from < sorted_.size()) { // v's own entry is at `from`: its run is around it
         for (std::size_t t = from; t-- > 0 && sorted_[t].key == key;)
             if (!visit(sorted_[t])) return false;
@@ -408,8 +405,8 @@ void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::funct
     }
     for (int m = 0; m < 8; ++m) {
         if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
-        const std::uint64_t key =
-            cell_key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0));
+        const auto key = std::uint32_t(
+            cell_key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0)) >> 32);
         if (!in_cell(v, p, key, m == 0 ? slot : sorted_.size(), f)) return;
     }
 }

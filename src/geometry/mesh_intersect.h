@@ -131,18 +131,17 @@ public:
 
 private:
     struct Entry {
-        std::uint64_t key; ///< the cell's
-        Vec3f p;           ///< the vertex's position when the index was built
+        std::uint32_t key; ///< the cell's
         std::uint32_t v;
     };
     static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-    std::uint64_t key_of(const Vec3f& p) const;
+    std::uint32_t key_of(const Vec3f& p) const;
     bool close(const Vec3f& p, const Vec3f& q) const;
-    std::size_t run_of(std::uint64_t key) const; ///< first entry of the cell, or sorted_.size()
+    std::size_t run_of(std::uint32_t key) const; ///< first entry of the cell, or sorted_.size()
     // Calls f for the vertices of the cell `key` within the tolerance of p (v's position)
     // until f returns false (then returns false); `from` is the index of v's own entry when
     // `key` is its cell, else sorted_.size().
-    bool in_cell(std::uint32_t v, const Vec3f& p, std::uint64_t key, std::size_t from,
+    bool in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
                  const std::function<bool(std::uint32_t)>& f) const;
     void visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const;
 
@@ -152,8 +151,8 @@ private:
     std::vector<Entry> sorted_;                                   ///< by cell key, at build time
     std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
     std::vector<char> stale_;                                     ///< moved since: its entry is stale
-    std::unordered_multimap<std::uint64_t, std::uint32_t> moved_; ///< moved vertices by their cell key
-    std::unordered_map<std::uint32_t, std::uint64_t> moved_key_;
+    std::unordered_multimap<std::uint32_t, std::uint32_t> moved_; ///< moved vertices by their cell key
+    std::unordered_map<std::uint32_t, std::uint32_t> moved_key_;
 };
 
 /// The vertices (ascending) that have another vertex within `tolerance` (absolute distance).

@@ -29,7 +29,9 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
     std::atomic<std::size_t> clamped{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         std::size_t local = 0;
+        constexpr std::size_t kAhead = 8; // vertices between a prefetch and its use
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            if (hull && v + kAhead < r.end()) hull->prefetch(Vec3d(src[v + kAhead]));
             const std::uint32_t b = adj.offsets[v], e = adj.offsets[v + 1];
             const Vec3f p = src[v];
             if (b == e) {
@@ -201,18 +203,25 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
 SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
     SmoothStats stats;
     if (mesh.positions.empty() || opt.iterations <= 0) return stats;
-    const VertexAdjacency adj = build_vertex_adjacency(mesh);
-    std::vector<Vec3f> a = mesh.positions, b(a.size());
-    const double tol = opt.tolerance;
-    for (int it = 0; it < opt.iterations; ++it) {
-        if (opt.method == SmoothOptions::Method::Laplacian) {
-            stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
-            a.swap(b);
-        } else {
-            stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
-            stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+    std::vector<Vec3f> a = mesh.positions;
+    std::vector<char> used(a.size(), 0); // vertices with neighbours (on a face)
+    {
+        // The adjacency and the second buffer are let go before the guard, the largest user
+        // of memory, builds its indices.
+        const VertexAdjacency adj = build_vertex_adjacency(mesh);
+        std::vector<Vec3f> b(a.size());
+        const double tol = opt.tolerance;
+        for (int it = 0; it < opt.iterations; ++it) {
+            if (opt.method == SmoothOptions::Method::Laplacian) {
+                stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
+                a.swap(b);
+            } else {
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+            }
+            if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
         }
-        if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
+        for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
     }
     if (opt.guard) guard_surface(mesh, a, stats);
     mesh.positions = std::move(a);
@@ -221,8 +230,7 @@ SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
             tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), 0.0,
             [&](const tbb::blocked_range<std::size_t>& r, double m) {
                 for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    if (adj.degree(std::uint32_t(v)) > 0)
-                        m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
+                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
                 return m;
             },
             [](double x, double y) { return std::max(x, y); });
