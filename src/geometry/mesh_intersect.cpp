@@ -14,9 +14,9 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include "core/error.h"
+#include "geometry/radix_sort.h"
 
 namespace cm {
 
@@ -163,7 +163,11 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
                     for (auto k = c.lo[2]; k <= c.hi[2]; ++k) entries_[o++] = (key(i, j, k) << 32) | f;
         }
     });
-    tbb::parallel_sort(entries_.begin(), entries_.end());
+    // Filled face by face, so sorted by cell alone (stably) they are sorted by (cell, face).
+    int cell_bits = 0;
+    while (cell_bits < 64 && (dims_[0] * dims_[1] * dims_[2] - 1) >> cell_bits) ++cell_bits;
+    radix_sort(
+        entries_, [](std::uint64_t e) { return e >> 32; }, cell_bits);
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
     runs_.push_back(entries_.size());
@@ -317,26 +321,34 @@ std::size_t slot_of(std::uint32_t key, std::size_t mask) {
 
 } // namespace
 
-// Cells of 256 tolerances, sorted by a 32-bit hash of their index: a vertex within the
+// Cells of 16 to 256 tolerances, sorted by a 32-bit hash of their index: a vertex within the
 // tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or, when
-// p is within the tolerance of a side of its cell (about one vertex in forty), in the cells
-// across those sides, found through a hash table of the runs. Two cells whose keys collide
+// p is within the tolerance of a side of its cell (one vertex in three to forty), in the
+// cells across those sides, found through a hash table of the runs. Two cells whose keys collide
 // share a run; their vertices are only compared, so the search stays complete.
 CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
     : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
     if (n < 2 || !(tolerance > 0)) return;
-    cell_ = 256 * tolerance;
-    reach_ = 1.01 * tolerance / cell_; // in cells, with room for rounding
     lo_ = Vec3d(positions[0]);
+    Vec3d hi = lo_;
     for (const Vec3f& p : positions)
-        for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(p[a]));
+        for (int a = 0; a < 3; ++a) {
+            lo_[a] = std::min(lo_[a], double(p[a]));
+            hi[a] = std::max(hi[a], double(p[a]));
+        }
+    // About two vertex spacings of a surface through the box (its diagonal over the square
+    // root of the count), so that a cell holds a few vertices, but between 16 and 256
+    // tolerances: a cell many tolerances wide sends few vertices to its neighbours.
+    const double spacing = length(hi - lo_) / std::sqrt(double(n));
+    cell_ = std::clamp(2 * spacing, 16 * tolerance, 256 * tolerance);
+    reach_ = 1.01 * tolerance / cell_; // in cells, with room for rounding
     sorted_.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) sorted_[i] = {key_of(positions[i]), std::uint32_t(i)};
     });
-    tbb::parallel_sort(sorted_.begin(), sorted_.end(),
-                       [](const Entry& a, const Entry& b) { return a.key < b.key || (a.key == b.key && a.v < b.v); });
+    radix_sort(
+        sorted_, [](const Entry& e) { return e.key; }, 32); // stable: by (key, vertex)
     std::size_t runs = 0;
     for (std::size_t i = 0; i < n; ++i) runs += i == 0 || sorted_[i].key != sorted_[i - 1].key;
     std::size_t size = 16;
