@@ -8,13 +8,13 @@
 #include <set>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
 #include <openssl/evp.h>
 #include <nlohmann/json.hpp>
 
 #include "cli/batch.h"
 #include "core/error.h"
 #include "io/file_commit.h"
+#include "io/image_io.h"
 #include "io/manifest.h"
 #include "pipeline/pipeline.h"
 
@@ -70,8 +70,8 @@ double manifest_pixels(const fs::path& manifest) {
         for (const auto& v : m.views) {
             if (std::find(seen.begin(), seen.end(), v.image) != seen.end()) continue;
             seen.push_back(v.image);
-            auto in = OIIO::ImageInput::open(v.image.string());
-            if (in) px += double(in->spec().width) * in->spec().height;
+            int w = 0, h = 0;
+            if (image_size(v.image, w, h)) px += double(w) * h;
         }
     } catch (const std::exception&) {}
     return px;

@@ -108,6 +108,19 @@ double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
     return px * pixel_size;
 }
 
+void HullDistance::prefetch(const Vec3d& p) const {
+    for (const auto& e : views_) {
+        const Vec2d q = e.camera.project(p);
+        if (!(q.x >= 1.5 && q.y >= 1.5 && q.x < e.sdf.width - 2.5 && q.y < e.sdf.height - 2.5)) continue;
+        const std::size_t i = std::size_t(q.y - 0.5) * std::size_t(e.sdf.width) + std::size_t(q.x - 0.5);
+        const float* row = e.sdf.sdf.data() + i;
+        __builtin_prefetch(row - e.sdf.width);
+        __builtin_prefetch(row);
+        __builtin_prefetch(row + e.sdf.width);
+        __builtin_prefetch(row + 2 * e.sdf.width);
+    }
+}
+
 double HullDistance::operator()(const Vec3d& p) const {
     double best = -std::numeric_limits<double>::infinity();
     for (const auto& e : views_) best = std::max(best, view_distance(e, p));

@@ -44,6 +44,10 @@ public:
     /// `first` is asked first, and `first` becomes the view that said no: a caller asking
     /// about nearby points in turn (a bisection) meets the binding view at once.
     bool within(const Vec3d& p, double bound, std::size_t& first) const;
+    /// Asks the memory for the distance samples near p's projections (no effect on any
+    /// answer): a caller going through points in turn names one a few points ahead, so the
+    /// fields' rows are in cache when they are read.
+    void prefetch(const Vec3d& p) const;
     /// Pixel size of the finest view, world units.
     double finest_pixel() const { return finest_pixel_; }
 

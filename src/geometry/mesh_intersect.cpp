@@ -7,15 +7,16 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include "core/error.h"
+#include "geometry/radix_sort.h"
 
 namespace cm {
 
@@ -162,7 +163,11 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
                     for (auto k = c.lo[2]; k <= c.hi[2]; ++k) entries_[o++] = (key(i, j, k) << 32) | f;
         }
     });
-    tbb::parallel_sort(entries_.begin(), entries_.end());
+    // Filled face by face, so sorted by cell alone (stably) they are sorted by (cell, face).
+    int cell_bits = 0;
+    while (cell_bits < 64 && (dims_[0] * dims_[1] * dims_[2] - 1) >> cell_bits) ++cell_bits;
+    radix_sort(
+        entries_, [](std::uint64_t e) { return e >> 32; }, cell_bits);
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
     runs_.push_back(entries_.size());
@@ -299,56 +304,171 @@ bool OutputCheck::clean() const {
            coincident_vertices == 0;
 }
 
-std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+namespace {
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
+           (std::uint64_t(z) * 0x165667B19E3779F9ull);
+}
+
+// A slot of the table of runs for a cell key.
+std::size_t slot_of(std::uint32_t key, std::size_t mask) {
+    std::uint64_t k = key;
+    k *= 0xBF58476D1CE4E5B9ull;
+    k ^= k >> 29;
+    return std::size_t(k) & mask;
+}
+
+} // namespace
+
+// Cells of 16 to 256 tolerances, sorted by a 32-bit hash of their index: a vertex within the
+// tolerance of p lies in p's own cell (the entries beside p's in the sorted order) or, when
+// p is within the tolerance of a side of its cell (one vertex in three to forty), in the
+// cells across those sides, found through a hash table of the runs. Two cells whose keys collide
+// share a run; their vertices are only compared, so the search stays complete.
+CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
+    : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
-    if (n < 2 || !(tolerance > 0)) return {};
-    // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
-    // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
-    const double cell = 2 * tolerance;
-    double lo[3] = {positions[0].x, positions[0].y, positions[0].z};
+    if (n < 2 || !(tolerance > 0)) return;
+    lo_ = Vec3d(positions[0]);
+    Vec3d hi = lo_;
     for (const Vec3f& p : positions)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a]));
-    auto cell_of = [&](const Vec3f& p, int a) { return std::int64_t(std::floor((double(p[a]) - lo[a]) / cell)); };
-    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-        return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
-               (std::uint64_t(z) * 0x165667B19E3779F9ull);
-    };
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        const Vec3f& p = positions[i];
-        cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
+        for (int a = 0; a < 3; ++a) {
+            lo_[a] = std::min(lo_[a], double(p[a]));
+            hi[a] = std::max(hi[a], double(p[a]));
+        }
+    // About two vertex spacings of a surface through the box (its diagonal over the square
+    // root of the count), so that a cell holds a few vertices, but between 16 and 256
+    // tolerances: a cell many tolerances wide sends few vertices to its neighbours.
+    const double spacing = length(hi - lo_) / std::sqrt(double(n));
+    cell_ = std::clamp(2 * spacing, 16 * tolerance, 256 * tolerance);
+    reach_ = 1.01 * tolerance / cell_; // in cells, with room for rounding
+    sorted_.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) sorted_[i] = {key_of(positions[i]), std::uint32_t(i)};
     });
-    tbb::parallel_sort(cells.begin(), cells.end());
-    const double tol2 = tolerance * tolerance;
-    std::vector<char> has(n, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const Vec3f& p = positions[i];
-            std::int64_t c[3], d[3];
-            for (int a = 0; a < 3; ++a) {
-                const double u = (double(p[a]) - lo[a]) / cell;
-                c[a] = std::int64_t(std::floor(u));
-                d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
+    radix_sort(
+        sorted_, [](const Entry& e) { return e.key; }, 32); // stable: by (key, vertex)
+    std::size_t runs = 0;
+    for (std::size_t i = 0; i < n; ++i) runs += i == 0 || sorted_[i].key != sorted_[i - 1].key;
+    std::size_t size = 16;
+    while (size < 2 * runs) size *= 2;
+    table_.assign(size, kNone);
+    const std::size_t mask = size - 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i != 0 && sorted_[i].key == sorted_[i - 1].key) continue;
+        std::size_t s = slot_of(sorted_[i].key, mask);
+        while (table_[s] != kNone) s = (s + 1) & mask;
+        table_[s] = std::uint32_t(i);
+    }
+    stale_.assign(n, 0);
+}
+
+std::uint32_t CoincidenceIndex::key_of(const Vec3f& p) const {
+    std::int64_t c[3];
+    for (int a = 0; a < 3; ++a) c[a] = std::int64_t(std::floor((double(p[a]) - lo_[a]) / cell_));
+    return std::uint32_t(cell_key(c[0], c[1], c[2]) >> 32);
+}
+
+bool CoincidenceIndex::close(const Vec3f& p, const Vec3f& q) const {
+    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+    return dx * dx + dy * dy + dz * dz <= tol2_;
+}
+
+std::size_t CoincidenceIndex::run_of(std::uint32_t key) const {
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t s = slot_of(key, mask);; s = (s + 1) & mask) {
+        if (table_[s] == kNone) return sorted_.size();
+        if (sorted_[table_[s]].key == key) return table_[s];
+    }
+}
+
+bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
+                               const std::function<bool(std::uint32_t)>& f) const {
+    // Entries of moved vertices are stale in the sorted array: those are asked in moved_.
+    auto visit = [&](const Entry& e) { return e.v == v || stale_[e.v] || !close(p, positions_[e.v]) || f(e.v); };
+    if (from < sorted_.size()) { // v's own entry is at `from`: its run is around it
+        for (std::size_t t = from; t-- > 0 && sorted_[t].key == key;)
+            if (!visit(sorted_[t])) return false;
+        for (std::size_t t = from + 1; t < sorted_.size() && sorted_[t].key == key; ++t)
+            if (!visit(sorted_[t])) return false;
+    } else {
+        for (std::size_t t = run_of(key); t < sorted_.size() && sorted_[t].key == key; ++t)
+            if (!visit(sorted_[t])) return false;
+    }
+    if (!moved_.empty()) {
+        const auto [a, b] = moved_.equal_range(key);
+        for (auto it = a; it != b; ++it)
+            if (it->second != v && close(p, positions_[it->second]) && !f(it->second)) return false;
+    }
+    return true;
+}
+
+void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const {
+    if (sorted_.empty()) return;
+    const Vec3f p = positions_[v];
+    std::int64_t c[3];
+    int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
+    for (int a = 0; a < 3; ++a) {
+        const double x = (double(p[a]) - lo_[a]) / cell_;
+        c[a] = std::int64_t(std::floor(x));
+        const double u = x - double(c[a]);
+        side[a] = u < reach_ ? -1 : (u > 1 - reach_ ? 1 : 0);
+    }
+    for (int m = 0; m < 8; ++m) {
+        if ((m & 1 && !side[0]) || (m & 2 && !side[1]) || (m & 4 && !side[2])) continue;
+        const auto key = std::uint32_t(
+            cell_key(c[0] + (m & 1 ? side[0] : 0), c[1] + (m & 2 ? side[1] : 0), c[2] + (m & 4 ? side[2] : 0)) >> 32);
+        if (!in_cell(v, p, key, m == 0 ? slot : sorted_.size(), f)) return;
+    }
+}
+
+bool CoincidenceIndex::has_near(std::uint32_t v) const {
+    bool found = false;
+    visit(v, sorted_.size(), [&](std::uint32_t) { return !(found = true); });
+    return found;
+}
+
+void CoincidenceIndex::near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const {
+    visit(v, sorted_.size(), [&](std::uint32_t j) {
+        f(j);
+        return true;
+    });
+}
+
+void CoincidenceIndex::moved(std::uint32_t v) {
+    if (sorted_.empty()) return;
+    if (stale_[v])
+        for (auto [a, b] = moved_.equal_range(moved_key_[v]); a != b; ++a)
+            if (a->second == v) {
+                moved_.erase(a);
+                break;
             }
+    stale_[v] = 1;
+    moved_key_[v] = key_of(positions_[v]);
+    moved_.emplace(moved_key_[v], v);
+}
+
+std::vector<std::uint32_t> CoincidenceIndex::all() const {
+    const std::size_t n = sorted_.size();
+    std::vector<char> has(positions_.size(), 0);
+    // In the sorted order, each vertex's own cell is the run around its entry.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t s = r.begin(); s != r.end(); ++s) {
+            const std::uint32_t v = sorted_[s].v;
             bool found = false;
-            for (int k = 0; k < 8 && !found; ++k) {
-                const std::uint64_t want =
-                    key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
-                auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-                for (; it != cells.end() && it->first == want && !found; ++it) {
-                    if (it->second == i) continue;
-                    const Vec3f& q = positions[it->second];
-                    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-                    found = dx * dx + dy * dy + dz * dz <= tol2;
-                }
-            }
-            has[i] = found;
+            visit(v, stale_[v] ? n : s, [&](std::uint32_t) { return !(found = true); });
+            has[v] = found;
         }
     });
     std::vector<std::uint32_t> out;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < has.size(); ++i)
         if (has[i]) out.push_back(std::uint32_t(i));
     return out;
+}
+
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+    return CoincidenceIndex(positions, tolerance).all();
 }
 
 std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance) {

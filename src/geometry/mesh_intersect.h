@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -112,6 +113,48 @@ OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& pr
 /// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).
 constexpr double kCoincidentTolerance = 1e-6;
+/// @brief Which vertices lie within a distance of another, asked again as a few vertices
+/// move: a stage that moves vertices back one by one (the smoothing guard) re-asks only
+/// about those and their neighbours instead of the whole mesh. Keeps a reference to
+/// `positions`; call moved(v) after changing positions[v].
+class CoincidenceIndex {
+public:
+    CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance);
+    /// The vertices (ascending) with another vertex within the tolerance. TBB-parallel.
+    std::vector<std::uint32_t> all() const;
+    /// Whether another vertex lies within the tolerance of v.
+    bool has_near(std::uint32_t v) const;
+    /// Calls f(j) for each vertex j != v within the tolerance of v.
+    void near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const;
+    /// positions[v] has changed.
+    void moved(std::uint32_t v);
+
+private:
+    struct Entry {
+        std::uint32_t key; ///< the cell's
+        std::uint32_t v;
+    };
+    static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+    std::uint32_t key_of(const Vec3f& p) const;
+    bool close(const Vec3f& p, const Vec3f& q) const;
+    std::size_t run_of(std::uint32_t key) const; ///< first entry of the cell, or sorted_.size()
+    // Calls f for the vertices of the cell `key` within the tolerance of p (v's position)
+    // until f returns false (then returns false); `from` is the index of v's own entry when
+    // `key` is its cell, else sorted_.size().
+    bool in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
+                 const std::function<bool(std::uint32_t)>& f) const;
+    void visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const;
+
+    const std::vector<Vec3f>& positions_;
+    double tol2_ = 0, cell_ = 1, reach_ = 0;
+    Vec3d lo_;
+    std::vector<Entry> sorted_;                                   ///< by cell key, at build time
+    std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
+    std::vector<char> stale_;                                     ///< moved since: its entry is stale
+    std::unordered_multimap<std::uint32_t, std::uint32_t> moved_; ///< moved vertices by their cell key
+    std::unordered_map<std::uint32_t, std::uint32_t> moved_key_;
+};
+
 /// The vertices (ascending) that have another vertex within `tolerance` (absolute distance).
 std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance);
 /// Number of vertices that have another vertex within `tolerance` (absolute distance).

@@ -1,70 +1,75 @@
 #include "io/image_io.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
 
 #include <cstdint>
 #include <cstring>
 
 #include "core/data.h"
 #include "core/error.h"
+#include "io/image_backend.h"
 #include "io/limits.h"
+#include "io/png_codec.h"
 
 namespace fs = std::filesystem;
 
 namespace cm {
 
-Image read_image(const fs::path& file, ImageInfo* info) {
-    std::error_code ec;
-    if (!fs::exists(file, ec)) throw Error("cannot read image \"" + file.string() + "\": no such file");
-    auto in = OIIO::ImageInput::open(file.string());
-    if (!in) throw Error("cannot read image \"" + file.string() + "\": " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw Error("cannot read image \"" + file.string() + "\": it is empty");
-    // The size is in the header: refuse a huge image before a pixel of it is allocated (a
-    // few hundred bytes of PNG can claim 20000 x 20000).
-    const std::uint64_t pixels = std::uint64_t(spec.width) * std::uint64_t(spec.height);
-    const std::uint64_t limit = resource_limits().max_image_pixels;
-    if (limit != 0 && pixels > limit)
-        throw Error("cannot read image \"" + file.string() + "\": it is " + std::to_string(spec.width) + " x " +
-                    std::to_string(spec.height) + " pixels (" + std::to_string(pixels / 1'000'000) +
-                    " megapixels), over the limit of " + std::to_string(limit / 1'000'000) +
-                    " megapixels (--max-image-pixels)");
-    const int nc = spec.nchannels;
-    if (nc > 64) throw Error("cannot read image \"" + file.string() + "\": it has " + std::to_string(nc) + " channels");
-    // Decoded at the file's own depth (8 or 16 bits, float otherwise), not widened to float
-    // first: the buffer is a quarter or half of a float one.
-    const OIIO::TypeDesc src = spec.format.basetype == OIIO::TypeDesc::UINT8    ? OIIO::TypeDesc::UINT8
-                               : spec.format.basetype == OIIO::TypeDesc::UINT16 ? OIIO::TypeDesc::UINT16
-                                                                                : OIIO::TypeDesc::FLOAT;
-    const std::size_t values = std::size_t(pixels) * std::size_t(nc);
-    std::vector<unsigned char> raw(values * src.size());
-    if (!in->read_image(0, 0, 0, nc, src, raw.data()))
-        throw Error("cannot read image \"" + file.string() + "\": " + in->geterror());
-    // A reader may fill what it could not decode (a truncated JPEG comes back grey at the
-    // bottom) and still say it succeeded; the error it recorded says so.
-    if (in->has_error()) {
-        std::string why = in->geterror();
-        if (const auto at = why.find(" (\""); at != std::string::npos) why.erase(at); // the path, said already
-        throw Error("cannot read image \"" + file.string() + "\": " + why + " (is the file complete?)");
+namespace {
+
+struct Loaded {
+    const ImageBackend* backend = nullptr;
+    std::string why;
+};
+
+// OpenImageIO's library, beside this one (the build tree and an installed tree alike), else
+// wherever the dynamic loader finds it. Opened once, on the first image that is not PNG.
+Loaded load_backend() {
+    constexpr const char* name = "libconceptmesh_image_oiio.so";
+    Loaded l;
+    Dl_info self{};
+    void* h = nullptr;
+    if (::dladdr(reinterpret_cast<void*>(&load_backend), &self) && self.dli_fname)
+        h = ::dlopen((fs::path(self.dli_fname).parent_path() / name).c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+    if (!h) h = ::dlopen(name, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+    if (!h) {
+        const char* e = ::dlerror();
+        l.why = std::string("the OpenImageIO library of conceptmesh (") + name + ") cannot be opened: " + (e ? e : "");
+        return l;
     }
-    in->close();
+    using Entry = const ImageBackend* (*)();
+    auto entry = reinterpret_cast<Entry>(::dlsym(h, "conceptmesh_image_backend"));
+    const ImageBackend* b = entry ? entry() : nullptr;
+    if (!b || b->abi != kImageBackendAbi) l.why = std::string(name) + " is not the one this conceptmesh was built with";
+    else l.backend = b;
+    return l;
+}
+
+// Throws `prefix` + why when the backend is missing.
+const ImageBackend& backend(const std::string& prefix) {
+    static const Loaded loaded = load_backend();
+    if (!loaded.backend) throw Error(prefix + loaded.why);
+    return *loaded.backend;
+}
+
+// Float RGBA in [0,1] from pixels at their own depth: grey is replicated, missing alpha
+// becomes 1.
+Image to_rgba(const RawImage& raw) {
     Image img;
-    img.width = spec.width;
-    img.height = spec.height;
+    img.width = raw.width;
+    img.height = raw.height;
     img.channels = 4;
     img.pixels.resize(std::size_t(img.width) * img.height * 4);
-    const int alpha = spec.alpha_channel >= 0 ? spec.alpha_channel : (nc == 4 ? 3 : (nc == 2 ? 1 : -1));
+    const int nc = raw.channels, alpha = raw.alpha;
     auto value = [&](std::size_t k) -> float {
-        if (src == OIIO::TypeDesc::UINT8) return float(raw[k]) * (1.0f / 255.0f);
-        if (src == OIIO::TypeDesc::UINT16) {
+        if (raw.bits == 8) return float(raw.data[k]) * (1.0f / 255.0f);
+        if (raw.bits == 16) {
             std::uint16_t v;
-            std::memcpy(&v, &raw[k * 2], 2);
+            std::memcpy(&v, &raw.data[k * 2], 2);
             return float(v) * (1.0f / 65535.0f);
         }
         float v;
-        std::memcpy(&v, &raw[k * 4], 4);
+        std::memcpy(&v, &raw.data[k * 4], 4);
         return v;
     };
     for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
@@ -79,72 +84,67 @@ Image read_image(const fs::path& file, ImageInfo* info) {
         }
         d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : 1.0f;
     }
+    return img;
+}
+
+} // namespace
+
+Image read_image(const fs::path& file, ImageInfo* info) {
+    std::error_code ec;
+    const std::string prefix = "cannot read image \"" + file.string() + "\": ";
+    if (!fs::exists(file, ec)) throw Error(prefix + "no such file");
+    const std::uint64_t limit = resource_limits().max_image_pixels;
+    RawImage raw;
+    std::string why;
+    // PNG by its signature (whatever the extension says) through libpng; the rest through
+    // OpenImageIO, loaded for it.
+    const bool ok = png::is_png_file(file.string()) ? png::read(file.string(), nullptr, 0, limit, raw, why)
+                                                    : backend(prefix).read(file.string(), limit, raw, why);
+    if (!ok) throw Error(prefix + why);
+    Image img = to_rgba(raw);
     if (info) {
-        info->has_alpha = alpha >= 0;
-        info->bits = int(spec.format.size() * 8);
+        info->has_alpha = raw.alpha >= 0;
+        info->bits = raw.file_bits;
     }
     return img;
 }
 
 void write_image(const Image& img, const fs::path& file) {
-    const std::string ext = lower_extension(file);
-    auto out = OIIO::ImageOutput::create(file.string());
-    if (!out) throw Error("cannot write image \"" + file.string() + "\": " + OIIO::geterror());
-    const bool eight = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
-    OIIO::ImageSpec spec(img.width, img.height, img.channels, eight ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (!out->open(file.string(), spec))
-        throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        throw Error("cannot write image \"" + file.string() + "\": " + out->geterror());
-    out->close();
+    const std::string prefix = "cannot write image \"" + file.string() + "\": ";
+    std::string why;
+    const bool ok = lower_extension(file) == ".png" ? png::write(img, img.channels, file.string(), nullptr, why)
+                                                    : backend(prefix).write(img, file.string(), why);
+    if (!ok) throw Error(prefix + why);
 }
 
 std::vector<unsigned char> encode_png(const Image& img, int channels) {
     if (img.empty() || channels < 1 || channels > img.channels) throw Error("cannot encode an empty image as PNG");
     std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput proxy(bytes);
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out) throw Error("cannot encode PNG: " + OIIO::geterror());
-    out->set_ioproxy(&proxy);
-    OIIO::ImageSpec spec(img.width, img.height, channels, OIIO::TypeDesc::UINT8);
-    if (!out->open("memory.png", spec)) throw Error("cannot encode PNG: " + out->geterror());
-    const OIIO::stride_t xstride = OIIO::stride_t(img.channels * sizeof(float));
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data(), xstride))
-        throw Error("cannot encode PNG: " + out->geterror());
-    out->close();
+    std::string why;
+    if (!png::write(img, channels, {}, &bytes, why)) throw Error("cannot encode PNG: " + why);
     return bytes;
 }
 
 Image decode_image(const unsigned char* data, std::size_t size, const std::string& what) {
-    OIIO::Filesystem::IOMemReader proxy(const_cast<unsigned char*>(data), size);
-    OIIO::ImageSpec config;
-    void* ptr = &proxy;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
-    const bool png = size >= 4 && data[0] == 0x89 && data[1] == 'P' && data[2] == 'N' && data[3] == 'G';
-    const bool jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
+    RawImage raw;
+    std::string why;
+    const bool png = png::is_png(data, size), jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
     if (!png && !jpeg) throw Error(what + ": the image is neither PNG nor JPEG");
-    auto in = OIIO::ImageInput::create(png ? "png" : "jpeg");
-    if (!in) throw Error(what + ": " + OIIO::geterror());
-    in->set_ioproxy(&proxy);
-    if (!in->open("memory", config)) throw Error(what + ": " + in->geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    const int nc = spec.nchannels;
-    if (spec.width <= 0 || spec.height <= 0 || nc <= 0) throw Error(what + ": the image is empty");
-    std::vector<float> raw(std::size_t(spec.width) * spec.height * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data()) || in->has_error())
-        throw Error(what + ": " + in->geterror());
-    Image img;
-    img.width = spec.width;
-    img.height = spec.height;
-    img.channels = 4;
-    img.pixels.resize(std::size_t(img.width) * img.height * 4);
-    for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
-        const float* s = &raw[i * nc];
-        float* d = &img.pixels[i * 4];
-        for (int k = 0; k < 3; ++k) d[k] = s[nc >= 3 ? k : 0];
-        d[3] = nc == 4 ? s[3] : (nc == 2 ? s[1] : 1.0f);
+    const bool ok = png ? png::read({}, data, size, 0, raw, why) : backend(what + ": ").decode(data, size, raw, why);
+    if (!ok) throw Error(what + ": " + why);
+    if (raw.width <= 0 || raw.height <= 0 || raw.channels <= 0) throw Error(what + ": the image is empty");
+    return to_rgba(raw);
+}
+
+bool image_size(const fs::path& file, int& width, int& height) {
+    if (png::size(file.string(), width, height)) return true;
+    std::error_code ec;
+    if (!fs::exists(file, ec)) return false;
+    try {
+        return backend("").size(file.string(), width, height);
+    } catch (const Error&) {
+        return false;
     }
-    return img;
 }
 
 } // namespace cm

@@ -1,4 +1,5 @@
-// Reading and writing images through OpenImageIO.
+// Reading and writing images: PNG through libpng, every other format OpenImageIO reads
+// through OpenImageIO, whose library is opened on the first such image.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -30,5 +31,7 @@ std::vector<unsigned char> encode_png(const Image& img, int channels);
 /// Decodes image bytes of any format OpenImageIO reads from memory (PNG, JPEG) into
 /// float RGBA as read_image(). Throws cm::Error starting with `what`.
 Image decode_image(const unsigned char* data, std::size_t size, const std::string& what);
+/// Width and height from the header of an image file; false when it cannot be read.
+bool image_size(const std::filesystem::path& file, int& width, int& height);
 
 } // namespace cm

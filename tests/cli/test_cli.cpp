@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/image_io.h"
 #include "io/mesh_io.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
@@ -224,4 +225,27 @@ TEST(Cli, CheckedInSchemasMatchTheBinary) {
         }
     }
     EXPECT_TRUE(generated.count("pipeline.schema.json"));
+}
+
+TEST(Cli, OpenImageIOIsLoadedOnlyForAnImageThatIsNotPng) {
+    // PNG goes through libpng; OpenImageIO and the libraries it needs are opened only when a
+    // view is in another format (the loader's own log says what it opened).
+    test::TempDir dir("cli_lazy_oiio");
+    for (const char* f : {"front.png", "right.png", "top.png"})
+        fs::copy_file(test::source_dir() / "examples" / "spot" / f, dir / f);
+    test::write_text(dir / "p.yaml",
+                     "pipeline: p\nnodes:\n  - {id: views, stage: views.load, params: {manifest: "
+                     "views.yaml}}\n");
+    auto run = [&](const std::string& front) {
+        test::write_text(dir / "views.yaml", "views: {front: " + front + ", right: right.png, top: top.png}\n");
+        ::setenv("LD_DEBUG", "files", 1);
+        auto r = test::run_cli("run p.yaml -q", dir.path());
+        ::unsetenv("LD_DEBUG");
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.err.find("libconceptmesh_io.so"), std::string::npos) << "no loader log";
+        return r.err.find("libOpenImageIO") != std::string::npos;
+    };
+    EXPECT_FALSE(run("front.png"));
+    write_image(read_image(dir / "front.png"), dir / "front.jpg");
+    EXPECT_TRUE(run("front.jpg"));
 }

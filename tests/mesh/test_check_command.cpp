@@ -1,6 +1,8 @@
 // conceptmesh check: the table, the JSON, and the exit code a script gates on.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "geometry/mesh_intersect.h"
@@ -103,6 +105,33 @@ TEST(CheckCommand, CoincidentVerticesAgreeWithTheBruteForceCount) {
             }
         }
     EXPECT_GT(brute, 100u);
+    EXPECT_EQ(count_coincident_vertices(m, tol), brute);
+}
+
+TEST(CheckCommand, CoincidentVerticesAcrossCellSidesAreFound) {
+    // Chains of vertices in every direction, spaced just under and just over the tolerance:
+    // the search's cells are far larger than the tolerance, so most close pairs of a chain
+    // that crosses a cell's side or corner lie in different cells.
+    Mesh m;
+    const double tol = 1e-3;
+    const Vec3f dirs[] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+    for (int d = 0; d < 7; ++d)
+        for (int chain = 0; chain < 2; ++chain) {
+            const Vec3f dir = dirs[d] * float(1.0 / std::sqrt(double(dot(dirs[d], dirs[d]))));
+            const float step = float(tol * (chain ? 1.02 : 0.98));
+            const Vec3f start{0.5f * float(d), 0.5f * float(chain), 0.05f};
+            for (int i = 0; i < 300; ++i) m.positions.push_back(start + dir * (step * float(i)));
+        }
+    std::size_t brute = 0;
+    for (std::size_t i = 0; i < m.positions.size(); ++i)
+        for (std::size_t k = 0; k < m.positions.size(); ++k) {
+            const Vec3f d = m.positions[i] - m.positions[k];
+            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
+                ++brute;
+                break;
+            }
+        }
+    EXPECT_EQ(brute, 7u * 300u); // the close chains, every vertex of them
     EXPECT_EQ(count_coincident_vertices(m, tol), brute);
 }
 

@@ -99,6 +99,60 @@ TEST(SelfIntersections, TwoPoseIndexAnswersForBlendsAndSubsets) {
     EXPECT_TRUE(find_self_intersections(a).empty()) << "Marching Cubes itself gives an embedded surface";
 }
 
+TEST(Coincidence, IndexFollowsMovedVerticesAsBruteForceDoes) {
+    // Points on a coarse lattice (many within the tolerance of a cell side), some moved onto
+    // others, onto fresh places and back again; the index must answer as brute force does.
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> cellpick(0, 9);
+    const double tol = 0.01;
+    std::vector<Vec3f> p;
+    for (int i = 0; i < 600; ++i)
+        p.push_back(Vec3f{float(cellpick(rng)), float(cellpick(rng)), float(cellpick(rng))} * 0.05f +
+                    Vec3f{float(i % 7) * 0.3f, 0, 0});
+    auto brute = [&] {
+        std::vector<std::uint32_t> out;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            for (std::size_t k = 0; k < p.size(); ++k) {
+                const Vec3f d = p[i] - p[k];
+                if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
+                    out.push_back(std::uint32_t(i));
+                    break;
+                }
+            }
+        return out;
+    };
+    CoincidenceIndex index(p, tol);
+    ASSERT_EQ(index.all(), brute());
+    std::uniform_int_distribution<std::uint32_t> pick(0, std::uint32_t(p.size() - 1));
+    std::uniform_real_distribution<float> jitter(-0.008f, 0.008f);
+    for (int round = 0; round < 30; ++round) {
+        for (int k = 0; k < 20; ++k) {
+            const std::uint32_t v = pick(rng);
+            p[v] = k % 2 ? p[pick(rng)] + Vec3f{jitter(rng), jitter(rng), 0} // onto another
+                         : Vec3f{jitter(rng), jitter(rng), jitter(rng)} * 100.0f;
+            index.moved(v);
+        }
+        const auto want = brute();
+        ASSERT_EQ(index.all(), want) << "round " << round;
+        std::vector<std::uint32_t> asked;
+        for (std::uint32_t v = 0; v < p.size(); ++v)
+            if (index.has_near(v)) asked.push_back(v);
+        ASSERT_EQ(asked, want) << "round " << round;
+        for (std::uint32_t v = 0; v < p.size(); v += 37) {
+            std::vector<std::uint32_t> near;
+            index.near(v, [&](std::uint32_t w) { near.push_back(w); });
+            std::sort(near.begin(), near.end());
+            std::vector<std::uint32_t> expect;
+            for (std::uint32_t w = 0; w < p.size(); ++w) {
+                const Vec3f d = p[v] - p[w];
+                if (w != v && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol)
+                    expect.push_back(w);
+            }
+            ASSERT_EQ(near, expect) << "vertex " << v << " round " << round;
+        }
+    }
+}
+
 TEST(SmoothGuard, LeavesNoCrossingTurnedOrCollapsedFace) {
     std::size_t unguarded_total = 0;
     for (std::uint32_t seed : {11u, 12u, 13u, 14u}) {

@@ -56,7 +56,8 @@ bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
 // `target_faces` (0: until no vertex can go) or to the first vertex more important than
 // `stop_key`; returns the collapses made.
 std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
-                         float stop_key, const std::function<void(double)>& progress) {
+                         float stop_key, const std::function<void(double)>& progress,
+                         decimate::StartScores* start = nullptr) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
     auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
@@ -86,8 +87,8 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
             }
         return false;
     };
-    return run_queue(c, nv, target_faces, stop_key, progress, score, choose,
-                     [](std::uint32_t, std::uint32_t, float) {});
+    return run_queue(
+        c, nv, target_faces, stop_key, progress, score, choose, [](std::uint32_t, std::uint32_t, float) {}, start);
 }
 
 // One reduction run over the whole mesh (see reduce_mesh).
@@ -174,7 +175,8 @@ std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>
         std::vector<std::uint32_t> input; ///< input vertex of each block vertex
         std::vector<char> frozen;
         std::unique_ptr<Collapser> collapser;
-        std::vector<float> keys; ///< starting importance of a sample of the candidates
+        decimate::StartScores start; ///< the candidates and their importance
+        std::vector<float> keys;     ///< starting importance of a sample of the candidates
         std::size_t collapses = 0;
     };
     std::vector<std::unique_ptr<Block>> parts(blocks.size());
@@ -206,10 +208,13 @@ std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>
                 for (auto g : global) blk->frozen.push_back((*frozen)[g]);
             for (auto g : global) local[g] = decimate::kNone;
             blk->collapser = std::make_unique<Collapser>(sub, frozen ? &blk->frozen : nullptr);
-            for (std::uint32_t v = 0; v < global.size(); v += 4) { // a sample is enough for a quantile
-                float key;
-                if (blk->collapser->usable(v) && importance(*blk->collapser, v, limit, key)) blk->keys.push_back(key);
-            }
+            // The queue's starting scores, computed here once: a sample of them (every fourth
+            // vertex: enough for a quantile) sets where the blocks stop.
+            const Collapser& c = *blk->collapser;
+            blk->start = decimate::start_scores(
+                c, global.size(), [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit, key); });
+            for (std::uint32_t v = 0; v < global.size(); v += 4)
+                if (blk->start.cand[v]) blk->keys.push_back(blk->start.keys[v]);
             parts[i] = std::move(blk);
         }
     });
@@ -231,7 +236,8 @@ std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             Block& blk = *parts[i];
-            collapses[i] = reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr);
+            collapses[i] =
+                reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr, &blk.start);
             auto& out = kept[i];
             for (const auto& t : blk.mesh.triangles)
                 if (t[0] != decimate::kNone) out.push_back({blk.input[t[0]], blk.input[t[1]], blk.input[t[2]]});

@@ -27,6 +27,10 @@ Collapser::Collapser(Mesh& m, const std::vector<char>* frozen) : mesh_(m), P_(m.
     vdead_.assign(nv, 0);
     alive_faces_ = nf;
     build_lists();
+    normals_.resize(nf);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 4096), [&](const auto& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) normals_[f] = face_normal(std::uint32_t(f));
+    });
     // Lock every vertex whose faces do not form one consistently oriented closed fan
     // (boundary, non-manifold edge or vertex, flipped neighbour, huge valence).
     lock_.assign(nv, 0);
@@ -116,6 +120,7 @@ void Collapser::collapse(std::uint32_t v, std::uint32_t w) {
         auto& t = T_[f];
         for (int k = 0; k < 3; ++k)
             if (t[k] == v) t[k] = w;
+        normals_[f] = face_normal(f);
         refs_.push_back(f);
     });
     vstart_[w] = start;

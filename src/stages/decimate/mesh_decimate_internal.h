@@ -32,9 +32,9 @@ public:
     std::size_t locked() const { return locked_; }
     bool usable(std::uint32_t v) const { return !vdead_[v] && !lock_[v]; }
     const Vec3f& point(std::uint32_t v) const { return P_[v]; }
-    /// Unit normal of face f, from the positions (not stored: the positions are read
-    /// anyway, and one array less keeps the random accesses of the queue in cache).
-    Vec3f normal(std::uint32_t f) const { return face_normal(f); }
+    /// Unit normal of face f (kept per face: the importance of a vertex reads those of
+    /// its faces, and a face's normal changes only when a collapse moves its corner).
+    Vec3f normal(std::uint32_t f) const { return normals_[f]; }
     const std::array<std::uint32_t, 3>& tri(std::uint32_t f) const { return T_[f]; }
 
     template <typename F>
@@ -85,6 +85,7 @@ private:
     std::vector<std::array<std::uint32_t, 3>>& T_;
     std::vector<char> vdead_, lock_;
     std::vector<std::uint32_t> vstart_, vcount_, refs_;
+    std::vector<Vec3f> normals_; ///< face_normal() of each face, kept up to date
     std::vector<std::uint32_t> rw_;
     std::size_t alive_faces_ = 0, initial_refs_ = 0, locked_ = 0;
 };
@@ -125,21 +126,38 @@ private:
 // `choose(v, ring, w, key)` picks the target of v's collapse (false: none now, the
 // vertex waits until a neighbour changes), and may raise the key (then the vertex
 // is queued again instead). `after(v, w, key)` follows each collapse.
-template <typename Score, typename Choose, typename After>
-std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key,
-                      const std::function<void(double)>& progress, Score&& score, Choose&& choose, After&& after) {
-    std::vector<float> keys(nv);
-    std::vector<char> cand(nv, 0);
+/// The starting scores of run_queue: per vertex whether it is a candidate and its key.
+struct StartScores {
+    std::vector<float> keys;
+    std::vector<char> cand;
+};
+template <typename Score>
+StartScores start_scores(const Collapser& c, std::size_t nv, Score&& score) {
+    StartScores s{std::vector<float>(nv), std::vector<char>(nv, 0)};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const auto& r) {
         std::vector<std::uint32_t> ring;
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
             float k;
             if (c.usable(std::uint32_t(v)) && score(std::uint32_t(v), ring, k)) {
-                keys[v] = k;
-                cand[v] = 1;
+                s.keys[v] = k;
+                s.cand[v] = 1;
             }
         }
     });
+    return s;
+}
+
+template <typename Score, typename Choose, typename After>
+std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key,
+                      const std::function<void(double)>& progress, Score&& score, Choose&& choose, After&& after,
+                      StartScores* start = nullptr) {
+    StartScores own;
+    if (!start) {
+        own = start_scores(c, nv, score);
+        start = &own;
+    }
+    const std::vector<float>& keys = start->keys;
+    const std::vector<char>& cand = start->cand;
     std::vector<std::uint32_t> init;
     init.reserve(nv);
     for (std::size_t v = 0; v < nv; ++v)

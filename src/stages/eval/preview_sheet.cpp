@@ -154,6 +154,8 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
     art.paper = {1.0f, 1.0f, 1.0f};
     art.grain = 0;
     art.vignette = 0;
+    art.outline_px = 1.0f;
+    art.crease_px = 0.6f;
     art.check = opt.check;
     for (int v = 0; v < nviews; ++v) {
         step(0.3 + 0.7 * v / nviews);
@@ -165,9 +167,9 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         const int py = y0 + line;
         // 1. the input drawing
         if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P, opt.check);
-        // 2. the mesh drawn from the view's camera
-        // (drawn at about twice the panel's size: enough for the sheet, far cheaper than full size)
-        const double f = std::min(1.0, 2.0 * P / std::max(view.width, view.height));
+        // 2. the mesh drawn from the view's camera, at the panel's size (its samples give the
+        // anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk)
+        const double f = std::min(1.0, double(P) / std::max(view.width, view.height));
         const int sw = std::max(1, int(std::lround(view.width * f))),
                   sh = std::max(1, int(std::lround(view.height * f)));
         // (a coloured mesh in its own colours, unlit, to hold beside the drawing)

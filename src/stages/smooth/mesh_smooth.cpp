@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -28,7 +29,9 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
     std::atomic<std::size_t> clamped{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
         std::size_t local = 0;
+        constexpr std::size_t kAhead = 8; // vertices between a prefetch and its use
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            if (hull && v + kAhead < r.end()) hull->prefetch(Vec3d(src[v + kAhead]));
             const std::uint32_t b = adj.offsets[v], e = adj.offsets[v + 1];
             const Vec3f p = src[v];
             if (b == e) {
@@ -106,8 +109,21 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     in.bounds(lo, hi);
     const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
     // Vertices the input already has together are left alone (they are the input's own).
-    std::vector<char> together_in_input(p.size(), 0);
-    for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
+    // Asked only about vertices together at p (few, often none): the input's index is built
+    // on the first such question. 0: not asked yet, 1: together in the input, 2: apart.
+    std::vector<char> input_answer(p.size(), 0);
+    std::optional<CoincidenceIndex> input_index;
+    auto together_in_input = [&](std::uint32_t v) {
+        if (!input_answer[v]) {
+            if (!input_index) input_index.emplace(in.positions, separation);
+            input_answer[v] = input_index->has_near(v) ? 1 : 2;
+        }
+        return input_answer[v] == 1;
+    };
+    // Vertices within the separation of another at p, kept up to date as vertices move: a
+    // vertex's answer changes only when it or a vertex near it (before or after) moves.
+    CoincidenceIndex coincidence(p, separation);
+    std::vector<std::uint32_t> together = coincidence.all(), recheck;
     std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
         bad.clear();
@@ -119,8 +135,8 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
-        for (auto v : find_coincident_vertices(p, separation))
-            if (!together_in_input[v]) badv.push_back(v);
+        for (auto v : together)
+            if (!together_in_input(v)) badv.push_back(v);
         ++st.guard_rounds;
     };
     collect(index.all(p), nullptr);
@@ -159,6 +175,17 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
             break;
         } // the input's own faces
         st.pulled_back += moved.size();
+        recheck = together; // those together before, those moved and those they now meet
+        for (auto v : moved) coincidence.moved(v);
+        for (auto v : moved) {
+            recheck.push_back(v);
+            coincidence.near(v, [&](std::uint32_t w) { recheck.push_back(w); });
+        }
+        std::sort(recheck.begin(), recheck.end());
+        recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
+        together.clear();
+        for (auto v : recheck)
+            if (coincidence.has_near(v)) together.push_back(v);
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
@@ -176,18 +203,25 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
 SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
     SmoothStats stats;
     if (mesh.positions.empty() || opt.iterations <= 0) return stats;
-    const VertexAdjacency adj = build_vertex_adjacency(mesh);
-    std::vector<Vec3f> a = mesh.positions, b(a.size());
-    const double tol = opt.tolerance;
-    for (int it = 0; it < opt.iterations; ++it) {
-        if (opt.method == SmoothOptions::Method::Laplacian) {
-            stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
-            a.swap(b);
-        } else {
-            stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
-            stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+    std::vector<Vec3f> a = mesh.positions;
+    std::vector<char> used(a.size(), 0); // vertices with neighbours (on a face)
+    {
+        // The adjacency and the second buffer are let go before the guard, the largest user
+        // of memory, builds its indices.
+        const VertexAdjacency adj = build_vertex_adjacency(mesh);
+        std::vector<Vec3f> b(a.size());
+        const double tol = opt.tolerance;
+        for (int it = 0; it < opt.iterations; ++it) {
+            if (opt.method == SmoothOptions::Method::Laplacian) {
+                stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
+                a.swap(b);
+            } else {
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+            }
+            if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
         }
-        if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
+        for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
     }
     if (opt.guard) guard_surface(mesh, a, stats);
     mesh.positions = std::move(a);
@@ -196,8 +230,7 @@ SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
             tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), 0.0,
             [&](const tbb::blocked_range<std::size_t>& r, double m) {
                 for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    if (adj.degree(std::uint32_t(v)) > 0)
-                        m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
+                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
                 return m;
             },
             [](double x, double y) { return std::max(x, y); });

@@ -22,23 +22,49 @@ std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double g
     if (gap <= 0) return ink;
     const double radius = gap_radius(gap);
     const float r2 = float(radius * radius) + 1e-4f;
-    // Padded by more than the radius, so the image border behaves as blank paper.
+    // The frame is padded by more than the radius, so the image border behaves as blank
+    // paper; the transforms run on the part of it around the ink only. The part reaches
+    // 2 radii + 3 px beyond the ink's box: a pixel within the dilation lies within a radius
+    // of the box, so what lies beyond the part (blank, outside the dilation) is farther
+    // from it than the erosion's reach, and the result is the same as over the whole frame.
     const int pad = int(std::ceil(radius)) + 1;
     const int pw = w + 2 * pad, ph = h + 2 * pad;
-    std::vector<char> seed = padded(ink, w, h, pad, 0);
+    int x0 = w, x1 = -1, y0 = h, y1 = -1;
+    for (int y = 0; y < h; ++y) {
+        const char* row = ink.data() + std::size_t(y) * w;
+        const char* first = std::find_if(row, row + w, [](char c) { return c != 0; });
+        if (first == row + w) continue;
+        int last = w - 1;
+        while (!row[last]) --last;
+        x0 = std::min(x0, int(first - row));
+        x1 = std::max(x1, last);
+        y0 = std::min(y0, y);
+        y1 = y;
+    }
+    std::vector<char> closed(ink);
+    if (x1 < 0) return closed; // no ink: nothing to close
+    const int margin = 2 * pad + 3;
+    const int cx0 = std::max(0, x0 + pad - margin), cx1 = std::min(pw - 1, x1 + pad + margin);
+    const int cy0 = std::max(0, y0 + pad - margin), cy1 = std::min(ph - 1, y1 + pad + margin);
+    const int cw = cx1 - cx0 + 1, ch = cy1 - cy0 + 1;
+    std::vector<char> seed(std::size_t(cw) * ch, 0);
+    for (int y = 0; y < ch; ++y)
+        for (int x = 0; x < cw; ++x) {
+            const int ix = cx0 + x - pad, iy = cy0 + y - pad; // image pixel
+            if (ix >= 0 && iy >= 0 && ix < w && iy < h) seed[std::size_t(y) * cw + x] = ink[std::size_t(iy) * w + ix];
+        }
     // Dilation: within the radius of the ink.
-    const std::vector<float> to_ink = squared_edt(seed, pw, ph);
+    const std::vector<float> to_ink = squared_edt(seed, cw, ch);
     for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_ink[i] > r2; // outside the dilation
     // Erosion of the dilation, by one pixel less than the radius: a disc's tip is one pixel,
     // and on the grid the full radius would let it reach through a break in a thin stroke.
     // The barrier is so up to one pixel thicker than the ink; the caller gives that back.
     const float e2 = float((radius - 1.0) * (radius - 1.0)) + 1e-4f;
-    const std::vector<float> to_outside = squared_edt(seed, pw, ph);
-    std::vector<char> closed(std::size_t(w) * h, 0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
+    const std::vector<float> to_outside = squared_edt(seed, cw, ch);
+    for (int y = std::max(0, cy0 - pad); y <= std::min(h - 1, cy1 - pad); ++y)
+        for (int x = std::max(0, cx0 - pad); x <= std::min(w - 1, cx1 - pad); ++x) {
             const std::size_t i = std::size_t(y) * w + x;
-            closed[i] = ink[i] || to_outside[std::size_t(y + pad) * pw + x + pad] > e2;
+            closed[i] = ink[i] || to_outside[std::size_t(y + pad - cy0) * cw + x + pad - cx0] > e2;
         }
     return closed;
 }
