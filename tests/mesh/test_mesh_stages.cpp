@@ -51,6 +51,25 @@ TEST(MeshStages, ReduceRefusesTwoTargetsAndMeetsARatio) {
     EXPECT_TRUE(check_mesh(*out).closed_manifold());
 }
 
+TEST(MeshStages, ReduceSilhouetteConstraintNeedsTheViewsAndKeepsTheBoxOutline) {
+    test::StageHarness bare("mesh.reduce");
+    bare.params("{constrain: silhouette}");
+    bare.input("mesh", test::make_grid_box(-1.0f, 1.0f, 8));
+    const std::string e = bare.error();
+    EXPECT_NE(e.find("views input"), std::string::npos) << e;
+
+    // A box drawn from three sides: its outline is its faces' edges, which every collapse
+    // of the flat sides keeps, so the constraint leaves the paper's result as it is.
+    test::StageHarness free("mesh.reduce"), kept("mesh.reduce");
+    free.params("{max_angle_deg: 30}");
+    kept.params("{max_angle_deg: 30, constrain: silhouette}");
+    for (auto* h : {&free, &kept}) h->input("mesh", test::make_grid_box(-1.0f, 1.0f, 8));
+    kept.input("views", test::make_box_views(-1.0f, 1.0f, 128));
+    auto a = free.run<Mesh>(), b = kept.run<Mesh>();
+    EXPECT_TRUE(check_mesh(*b).closed_manifold());
+    EXPECT_EQ(a->face_count(), b->face_count());
+}
+
 TEST(MeshStages, QuadricNeedsATarget) {
     test::StageHarness h("mesh.quadric_decimate");
     h.params("{target_ratio: 0}");

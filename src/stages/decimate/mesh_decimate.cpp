@@ -13,6 +13,7 @@
 
 #include "geometry/mesh_intersect.h"
 #include "mesh_decimate_internal.h"
+#include "outline_guard.h"
 
 namespace cm {
 
@@ -62,7 +63,8 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
     const double cos_limit = std::cos(limit);
     auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
     // The target: among the neighbours whose collapse passes the geometric guards, the one
-    // that turns the faces least (then the nearest); topology is checked in that order.
+    // that turns the faces least (then the nearest); topology (and the outline guard, when
+    // given) is checked in that order.
     struct Option {
         double cos, len;
         std::uint32_t w;
@@ -81,7 +83,7 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
             return a.len < b.len;
         });
         for (const auto& o : options)
-            if (c.topology_ok(v, o.w, rv)) {
+            if (c.topology_ok(v, o.w, rv) && (!opt.outline || opt.outline->keeps(c, v, o.w))) {
                 w = o.w;
                 return true;
             }

@@ -15,6 +15,8 @@
 
 namespace cm {
 
+class OutlineGuard;
+
 struct ReduceOptions {
     /// A vertex is a candidate while the largest angle between the normals of its
     /// faces is under this (the paper: 5 to 40 degrees); a collapse may not turn a
@@ -23,6 +25,9 @@ struct ReduceOptions {
     std::size_t target_faces = 0;  ///< stop at or below this many faces; 0: until no vertex can go
     double max_aspect_ratio = 0.0; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
     bool no_crossings = true;      ///< see DecimateStats::restarts
+    /// Optional: collapses that would move an outline away from the drawn silhouettes are
+    /// refused (outline_guard.h); it must outlive the call.
+    const OutlineGuard* outline = nullptr;
     std::function<void(double)> progress; ///< fraction done; may throw to cancel
 };
 

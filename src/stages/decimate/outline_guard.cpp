@@ -1,0 +1,148 @@
+#include "outline_guard.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "mesh_decimate_internal.h"
+
+namespace cm {
+
+namespace {
+
+double cross2(const Vec2d& a, const Vec2d& b, const Vec2d& c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// Whether p lies in the triangle (either orientation; a triangle seen edge-on covers nothing).
+bool in_triangle(const Vec2d& p, const std::array<Vec2d, 3>& t) {
+    const double d0 = cross2(t[0], t[1], p), d1 = cross2(t[1], t[2], p), d2 = cross2(t[2], t[0], p);
+    if (cross2(t[0], t[1], t[2]) == 0) return false;
+    return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+// The point of segment [a, b] nearest p, and its squared distance.
+double nearest_on_segment(const Vec2d& p, const Vec2d& a, const Vec2d& b, Vec2d& q) {
+    const Vec2d ab{b.x - a.x, b.y - a.y};
+    const double len2 = ab.x * ab.x + ab.y * ab.y;
+    double t = len2 > 0 ? ((p.x - a.x) * ab.x + (p.y - a.y) * ab.y) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    q = {a.x + t * ab.x, a.y + t * ab.y};
+    return (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
+}
+
+} // namespace
+
+OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : tol_(tolerance_px) {
+    views_.resize(views.views.size());
+    std::vector<std::string> errors(views.views.size());
+    tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
+        const View& v = views.views[i];
+        try {
+            views_[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
+        } catch (const std::exception& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (const auto& e : errors)
+        if (!e.empty()) throw Error(e);
+}
+
+bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const {
+    // v's ring (each neighbour follows v in one face), the new faces as indices into it
+    // (v replaced by w), and how far the ring reaches from v.
+    constexpr int kMax = 64;
+    std::uint32_t ring[kMax];
+    std::array<int, 3> tris[kMax];
+    int nr = 0, nt = 0, iw = -1;
+    const Vec3d p(c.point(v));
+    double reach3 = 0;
+    c.for_faces(v, [&](std::uint32_t f) {
+        if (nr == kMax) return;
+        const auto& t = c.tri(f);
+        const std::uint32_t x = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
+        if (x == w) iw = nr;
+        reach3 = std::max(reach3, length(Vec3d(c.point(x)) - p));
+        ring[nr++] = x;
+    });
+    if (nr == kMax || iw < 0) return false;
+    auto index = [&](std::uint32_t x) { return int(std::find(ring, ring + nr, x) - ring); };
+    c.for_faces(v, [&](std::uint32_t f) {
+        const auto& t = c.tri(f);
+        if (t[0] == w || t[1] == w || t[2] == w) return;
+        auto& n = tris[nt++];
+        for (int k = 0; k < 3; ++k) n[std::size_t(k)] = t[std::size_t(k)] == v ? iw : index(t[std::size_t(k)]);
+    });
+    Vec2d pr[kMax];
+    double sr[kMax];
+    for (const Entry& e : views_) {
+        const Vec2d pv = e.camera.project(p);
+        const double sv = e.sdf.sample(pv.x, pv.y);
+        // Every point of the old and the new faces lies within the ring's reach of v, and the
+        // distance is 1-Lipschitz: far inside the drawing the view sees no outline move, and
+        // well inside it nothing can reach out.
+        const bool ortho = e.camera.orthographic();
+        if (ortho && sv + e.camera.scale * reach3 < -tol_) continue;
+        double reach = 0;
+        for (int i = 0; i < nr; ++i) {
+            pr[i] = e.camera.project(Vec3d(c.point(ring[i])));
+            reach = std::max(reach, std::hypot(pr[i].x - pv.x, pr[i].y - pv.y));
+        }
+        if (sv + reach < -tol_) continue;
+        // Recession: v's projection left uncovered by the new faces.
+        bool covered = nt == 0;
+        double best = std::numeric_limits<double>::infinity();
+        Vec2d q = pv;
+        for (int i = 0; i < nt && !covered; ++i) {
+            const std::array<Vec2d, 3> t{pr[tris[i][0]], pr[tris[i][1]], pr[tris[i][2]]};
+            if (in_triangle(pv, t)) {
+                covered = true;
+                break;
+            }
+            for (int k = 0; k < 3; ++k) {
+                Vec2d n;
+                const double d = nearest_on_segment(pv, t[std::size_t(k)], t[std::size_t((k + 1) % 3)], n);
+                if (d < best) best = d, q = n;
+            }
+        }
+        const bool may_grow = sv + reach > tol_;
+        if (covered && !may_grow) continue;
+        for (int i = 0; i < nr; ++i) sr[i] = e.sdf.sample(pr[i].x, pr[i].y);
+        const Vec2d pw = pr[iw];
+        const double sw = sr[iw];
+        auto along = [&](int i, double s) {
+            return e.sdf.sample(pw.x + s * (pr[i].x - pw.x), pw.y + s * (pr[i].y - pw.y));
+        };
+        if (!covered) {
+            const double sq = e.sdf.sample(q.x, q.y);
+            if (sq < -tol_ && sq < sv) return false;
+            // The outline now runs along the new edges between w and the ring's vertices
+            // on the outline: none may sag deeper than the tolerance.
+            if (sw >= -tol_)
+                for (int i = 0; i < nr; ++i) {
+                    if (i == iw || sr[i] < -tol_) continue;
+                    for (double t : {0.25, 0.5, 0.75})
+                        if (along(i, t) < -tol_) return false;
+                }
+        }
+        // Growth: the new edges from w may not leave the drawing, nor go farther out than their ends.
+        if (may_grow)
+            for (int i = 0; i < nr; ++i) {
+                if (i == iw) continue;
+                const double limit = std::max({tol_, sw, sr[i]});
+                // No point of the edge is farther out than (sw + sx + length) / 2.
+                if (sw + sr[i] + std::hypot(pr[i].x - pw.x, pr[i].y - pw.y) <= 2 * limit) continue;
+                for (double t : {0.25, 0.5, 0.75})
+                    if (along(i, t) > limit) return false;
+            }
+    }
+    return true;
+}
+
+} // namespace cm

@@ -1,0 +1,44 @@
+// The outline guard of mesh.reduce (`constrain: silhouette`): a collapse may not move the
+// mesh's outline in any view more than a tolerance away from the drawn silhouette.
+//
+// A half-edge collapse of v into w keeps every other vertex where it is, so what a view sees
+// changes only around v: the region its old faces covered and its new faces (v replaced by
+// w) do not cover is lost, and the new faces may reach beyond the old. Per view:
+//  - recession: when v's projection is not covered by the new faces' projections, the
+//    outline there moves to the nearest covered point q; refused when q lies more than the
+//    tolerance inside the drawn silhouette and deeper than v does;
+//  - growth: points along the new edges (w to each vertex of v's ring) must not lie more
+//    than the tolerance outside the drawn silhouette, nor farther out than their ends.
+// Distances are read from each view's signed distance field (src/geometry/hull_distance.h),
+// in that view's pixels, against the drawing itself, so the steps do not add up.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/views.h"
+#include "geometry/hull_distance.h"
+
+namespace cm {
+
+namespace decimate {
+class Collapser;
+}
+
+class OutlineGuard {
+public:
+    /// @throw cm::Error naming the view when a view has an empty silhouette.
+    OutlineGuard(const Views& views, double tolerance_px);
+    /// Whether collapsing v into its neighbour w keeps every view's outline within the
+    /// tolerance of the drawing (see above).
+    bool keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const;
+
+private:
+    struct Entry {
+        Camera camera;
+        SilhouetteSdf sdf;
+    };
+    std::vector<Entry> views_;
+    double tol_;
+};
+
+} // namespace cm
