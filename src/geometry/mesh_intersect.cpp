@@ -210,8 +210,8 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
         // Everything the pair tests read, gathered once per face of the cell (the faces of a
         // cell are scattered in memory; the pairs are many more than the faces).
         struct Item {
-            Box box, now;
-            std::array<std::uint32_t, 3> low, tri;
+            Box now;                               ///< the face's box at p
+            std::array<std::uint32_t, 3> low, tri; ///< the cell of its indexed box's low corner
             std::uint32_t face;
         };
         std::vector<Item> items;
@@ -222,28 +222,29 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
             for (std::size_t x = b; x < e; ++x) {
                 const auto f = std::uint32_t(entries_[x]);
                 const Box u = box(f);
-                const Range c = cells(u);
-                items.push_back({u,
-                                 b_ ? face_box(p, triangles_[f]) : u,
+                const Range c = cells({u.lo, u.lo});
+                items.push_back({b_ ? face_box(p, triangles_[f]) : u,
                                  {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
                                  triangles_[f],
                                  f});
             }
-            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
-            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
+            // Sweep along x over the cell's faces, sorted by the low end of their boxes at p
+            // (only faces whose boxes at p overlap can cross there; within the boxes of both
+            // poses, those are fewer).
+            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.now.lo.x < v.now.lo.x; });
             for (std::size_t x = 0; x < items.size(); ++x) {
                 const Item& ia = items[x];
-                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
+                for (std::size_t y = x + 1; y < items.size() && items[y].now.lo.x <= ia.now.hi.x; ++y) {
                     const Item& ib = items[y];
-                    if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
-                        ib.box.lo.z > ia.box.hi.z)
+                    if (ia.now.lo.y > ib.now.hi.y || ib.now.lo.y > ia.now.hi.y || ia.now.lo.z > ib.now.hi.z ||
+                        ib.now.lo.z > ia.now.hi.z)
                         continue;
-                    // Each pair once: in the cell holding the low corner of the boxes' overlap,
-                    // whose cell is the larger of the two boxes' low cells on each axis.
+                    // Each pair once: in the cell holding the low corner of the boxes' overlap
+                    // (the boxes the index holds, of both poses), whose cell is the larger of the
+                    // two boxes' low cells on each axis.
                     if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
                             std::max(ia.low[2], ib.low[2])) != here)
                         continue;
-                    if (b_ && !overlap(ia.now, ib.now)) continue;
                     int shared = 0;
                     for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
                     if (shared >= 2) continue; // neighbours across an edge never cross
