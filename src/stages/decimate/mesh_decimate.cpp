@@ -68,12 +68,14 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
         std::uint32_t w;
     };
     std::vector<Option> options;
+    std::vector<Collapser::OldFace> old; // v's faces before the collapse, the same for every target
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
         options.clear();
         const Vec3d p(c.point(v));
+        c.old_faces(v, old);
         for (auto x : rv) {
             double mc;
-            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc)) continue;
+            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old)) continue;
             options.push_back({mc, length(Vec3d(c.point(x)) - p), x});
         }
         std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) {
