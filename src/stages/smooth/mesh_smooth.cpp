@@ -198,17 +198,14 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     }
 }
 
-} // namespace
-
-SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
+// The smoothing of `in`'s positions: `a` holds them on entry and the result on return.
+SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const SmoothOptions& opt) {
     SmoothStats stats;
-    if (mesh.positions.empty() || opt.iterations <= 0) return stats;
-    std::vector<Vec3f> a = mesh.positions;
     std::vector<char> used(a.size(), 0); // vertices with neighbours (on a face)
     {
         // The adjacency and the second buffer are let go before the guard, the largest user
         // of memory, builds its indices.
-        const VertexAdjacency adj = build_vertex_adjacency(mesh);
+        const VertexAdjacency adj = build_vertex_adjacency(in);
         std::vector<Vec3f> b(a.size());
         const double tol = opt.tolerance;
         for (int it = 0; it < opt.iterations; ++it) {
@@ -223,19 +220,46 @@ SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
         }
         for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
     }
-    if (opt.guard) guard_surface(mesh, a, stats);
-    mesh.positions = std::move(a);
+    if (opt.guard) guard_surface(in, a, stats);
     if (opt.hull) {
         stats.max_hull_distance = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), 0.0,
+            tbb::blocked_range<std::size_t>(0, a.size(), 4096), 0.0,
             [&](const tbb::blocked_range<std::size_t>& r, double m) {
                 for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
+                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(a[v]))));
                 return m;
             },
             [](double x, double y) { return std::max(x, y); });
     }
+    return stats;
+}
+
+} // namespace
+
+SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
+    if (mesh.positions.empty() || opt.iterations <= 0) return {};
+    std::vector<Vec3f> a = mesh.positions;
+    const SmoothStats stats = smooth_positions(mesh, a, opt);
+    mesh.positions = std::move(a);
     if (!mesh.normals.empty()) mesh.compute_normals();
+    return stats;
+}
+
+SmoothStats smooth_mesh(const Mesh& in, Mesh& out, const SmoothOptions& opt) {
+    if (in.positions.empty() || opt.iterations <= 0) {
+        out = in;
+        return {};
+    }
+    std::vector<Vec3f> a = in.positions;
+    const SmoothStats stats = smooth_positions(in, a, opt);
+    out.positions = std::move(a);
+    out.triangles = in.triangles;
+    out.uvs = in.uvs;
+    out.colors = in.colors;
+    out.corner_uvs = in.corner_uvs;
+    out.texture = in.texture;
+    out.normals.clear();
+    if (!in.normals.empty()) out.compute_normals();
     return stats;
 }
 
