@@ -294,12 +294,11 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
 }
 
 // reduce_once for large meshes, from `input` into `mesh`: rounds of reduce_round (the first
-// reading the input, not a copy of it), the grid shifted by half a block
-// each time so that a round's block borders lie inside the next round's blocks, while the
-// mesh is large and a round removes a good share of it; then one queue over the whole,
-// now much lighter mesh, in the order of the paper, which takes whatever the rounds left
-// (borders included) and runs until no vertex can go. So the rounds apply only without a
-// face target.
+// reading the input, not a copy of it), the grid shifted by half a block each time so that
+// a round's block borders lie inside the next round's blocks, while the mesh is large and a
+// round removes a good share of it; then one queue over the whole, now much lighter mesh, in
+// the order of the paper, which takes whatever the rounds left (borders included) and runs
+// until no vertex can go. So the rounds apply only without a face target.
 DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
     const std::size_t nf = input.face_count();
     if (opt.target_faces > 0 || nf < kBlockedFrom) {
