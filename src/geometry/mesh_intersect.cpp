@@ -329,9 +329,10 @@ std::size_t slot_of(std::uint32_t key, std::size_t mask) {
 CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
     : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
-    if (n < 2 || !(tolerance > 0)) return;
+    if (n == 0 || !(tolerance > 0)) return;
     lo_ = Vec3d(positions[0]);
-    Vec3d hi = lo_;
+    Vec3d& hi = hi_;
+    hi = lo_;
     for (const Vec3f& p : positions)
         for (int a = 0; a < 3; ++a) {
             lo_[a] = std::min(lo_[a], double(p[a]));
@@ -405,8 +406,11 @@ bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t ke
 }
 
 void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const {
-    if (sorted_.empty()) return;
-    const Vec3f p = positions_[v];
+    if (!sorted_.empty()) visit_at(positions_[v], v, slot, f);
+}
+
+void CoincidenceIndex::visit_at(const Vec3f& p, std::uint32_t v, std::size_t slot,
+                                const std::function<bool(std::uint32_t)>& f) const {
     std::int64_t c[3];
     int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
     for (int a = 0; a < 3; ++a) {
@@ -427,6 +431,17 @@ bool CoincidenceIndex::has_near(std::uint32_t v) const {
     bool found = false;
     visit(v, sorted_.size(), [&](std::uint32_t) { return !(found = true); });
     return found;
+}
+
+void CoincidenceIndex::near_point(const Vec3f& p, const std::function<void(std::uint32_t)>& f) const {
+    if (sorted_.empty()) return;
+    const double reach = 1.01 * std::sqrt(tol2_);
+    for (int a = 0; a < 3; ++a) // beyond the box of the vertices (or not finite): none is near
+        if (!(double(p[a]) >= lo_[a] - reach && double(p[a]) <= hi_[a] + reach)) return;
+    visit_at(p, kNone, sorted_.size(), [&](std::uint32_t j) {
+        f(j);
+        return true;
+    });
 }
 
 void CoincidenceIndex::near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const {

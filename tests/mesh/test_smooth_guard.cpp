@@ -151,6 +151,22 @@ TEST(Coincidence, IndexFollowsMovedVerticesAsBruteForceDoes) {
             ASSERT_EQ(near, expect) << "vertex " << v << " round " << round;
         }
     }
+    // Arbitrary points (on the vertices and beside them, and far away) against a fresh index.
+    const CoincidenceIndex fresh(p, tol);
+    for (std::uint32_t v = 0; v < p.size(); v += 7) {
+        const Vec3f q = v % 2 ? p[v] : p[v] + Vec3f{jitter(rng), jitter(rng), jitter(rng)};
+        std::vector<std::uint32_t> near, expect;
+        fresh.near_point(q, [&](std::uint32_t w) { near.push_back(w); });
+        std::sort(near.begin(), near.end());
+        for (std::uint32_t w = 0; w < p.size(); ++w) {
+            const Vec3f d = q - p[w];
+            if (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) expect.push_back(w);
+        }
+        ASSERT_EQ(near, expect) << "point near vertex " << v;
+    }
+    std::size_t far = 0;
+    fresh.near_point({1e30f, 0, 0}, [&](std::uint32_t) { ++far; });
+    EXPECT_EQ(far, 0u);
 }
 
 TEST(SmoothGuard, LeavesNoCrossingTurnedOrCollapsedFace) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -109,16 +108,29 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     in.bounds(lo, hi);
     const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
     // Vertices the input already has together are left alone (they are the input's own).
-    // Asked only about vertices together at p (few, often none): the input's index is built
-    // on the first such question. 0: not asked yet, 1: together in the input, 2: apart.
+    // Asked only about vertices together at p (few, often none), in one pass over the input
+    // per batch of new questions: an index of the asked vertices' input positions, which each
+    // input vertex looks itself up in (no index of the whole input beside the one of p).
+    // 0: not asked yet, 1: together in the input, 2: apart.
     std::vector<char> input_answer(p.size(), 0);
-    std::optional<CoincidenceIndex> input_index;
-    auto together_in_input = [&](std::uint32_t v) {
-        if (!input_answer[v]) {
-            if (!input_index) input_index.emplace(in.positions, separation);
-            input_answer[v] = input_index->has_near(v) ? 1 : 2;
-        }
-        return input_answer[v] == 1;
+    auto ask_input = [&](const std::vector<std::uint32_t>& vs) {
+        std::vector<std::uint32_t> asked;
+        std::vector<Vec3f> where;
+        for (auto v : vs)
+            if (!input_answer[v]) {
+                asked.push_back(v);
+                where.push_back(in.positions[v]);
+            }
+        if (asked.empty()) return;
+        const CoincidenceIndex index_of_asked(where, separation);
+        std::vector<char> hit(asked.size(), 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.positions.size(), 1 << 14), [&](const auto& r) {
+            for (std::size_t w = r.begin(); w != r.end(); ++w)
+                index_of_asked.near_point(in.positions[w], [&](std::uint32_t k) {
+                    if (asked[k] != w) std::atomic_ref<char>(hit[k]).store(1, std::memory_order_relaxed);
+                });
+        });
+        for (std::size_t k = 0; k < asked.size(); ++k) input_answer[asked[k]] = hit[k] ? 1 : 2;
     };
     // Vertices within the separation of another at p, kept up to date as vertices move: a
     // vertex's answer changes only when it or a vertex near it (before or after) moves.
@@ -135,8 +147,9 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
+        ask_input(together);
         for (auto v : together)
-            if (!together_in_input(v)) badv.push_back(v);
+            if (input_answer[v] == 2) badv.push_back(v);
         ++st.guard_rounds;
     };
     collect(index.all(p), nullptr);
