@@ -259,6 +259,16 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
     return pairs;
 }
 
+void SelfIntersectionIndex::faces_near(const Vec3f& point, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (entries_.empty()) return;
+    const Range c = cells({point, point});
+    const std::uint64_t cell = key(c.lo[0], c.lo[1], c.lo[2]);
+    for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
+         it != entries_.end() && (*it >> 32) == cell; ++it)
+        out.push_back(std::uint32_t(*it));
+}
+
 std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::uint32_t>& faces,
                                                        const std::vector<Vec3f>& p) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;

@@ -66,6 +66,9 @@ public:
     std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {}) const;
     /// The crossing pairs at positions `p` with at least one face in `faces` (sorted, unique).
     std::vector<FacePair> involving(const std::vector<std::uint32_t>& faces, const std::vector<Vec3f>& p) const;
+    /// The faces whose boxes reach the cell holding `point` (into `out`, replacing it): among
+    /// them every face with a corner at `point` in either pose.
+    void faces_near(const Vec3f& point, std::vector<std::uint32_t>& out) const;
 
 private:
     struct Range {
@@ -151,7 +154,7 @@ private:
 
     const std::vector<Vec3f>& positions_;
     double tol2_ = 0, cell_ = 1, reach_ = 0;
-    Vec3d lo_, hi_; ///< the box of the positions at build time
+    Vec3d lo_, hi_;                                               ///< the box of the positions at build time
     std::vector<Entry> sorted_;                                   ///< by cell key, at build time
     std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
     std::vector<char> stale_;                                     ///< moved since: its entry is stale

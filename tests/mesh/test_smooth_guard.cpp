@@ -97,6 +97,17 @@ TEST(SelfIntersections, TwoPoseIndexAnswersForBlendsAndSubsets) {
         EXPECT_EQ(index.involving(some, blend.positions), want) << "blend " << w;
     }
     EXPECT_TRUE(find_self_intersections(a).empty()) << "Marching Cubes itself gives an embedded surface";
+    // faces_near(): every face around a vertex, from the vertex's position in either pose.
+    std::vector<std::vector<std::uint32_t>> around(a.positions.size());
+    for (std::uint32_t f = 0; f < a.face_count(); ++f)
+        for (auto v : a.triangles[f]) around[v].push_back(f);
+    std::vector<std::uint32_t> near;
+    for (std::uint32_t v = 0; v < a.positions.size(); ++v)
+        for (const auto* pose : {&a.positions, &b.positions}) {
+            index.faces_near((*pose)[v], near);
+            for (auto f : around[v])
+                ASSERT_NE(std::find(near.begin(), near.end(), f), near.end()) << "vertex " << v << " face " << f;
+        }
 }
 
 TEST(Coincidence, IndexFollowsMovedVerticesAsBruteForceDoes) {

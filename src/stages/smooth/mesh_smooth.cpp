@@ -158,18 +158,10 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
 
     std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
-    // Faces around each vertex, to re-check only what moved.
-    std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
-    for (const auto& t : in.triangles)
-        for (auto v : t) ++face_offsets[v + 1];
-    for (std::size_t v = 0; v < p.size(); ++v) face_offsets[v + 1] += face_offsets[v];
-    vertex_faces.resize(face_offsets.back());
-    {
-        std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
-        for (std::size_t f = 0; f < in.triangles.size(); ++f)
-            for (auto v : in.triangles[f]) vertex_faces[fill[v]++] = std::uint32_t(f);
-    }
-    std::vector<std::uint32_t> check, moved; // faces to re-check, vertices moved this round
+    // Faces to re-check, vertices moved this round, and the faces the index holds at a moved
+    // vertex's input position (those around the vertex among them: no table of the faces
+    // around every vertex is built for the few that move).
+    std::vector<std::uint32_t> check, moved, near_faces;
     std::vector<char> marked(p.size(), 0);
     while (!bad.empty() || !badv.empty()) {
         moved.clear();
@@ -202,8 +194,11 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
-            check.insert(check.end(), vertex_faces.begin() + face_offsets[v],
-                         vertex_faces.begin() + face_offsets[v + 1]);
+            index.faces_near(in.positions[v], near_faces);
+            for (auto f : near_faces) {
+                const auto& t = in.triangles[f];
+                if (t[0] == v || t[1] == v || t[2] == v) check.push_back(f);
+            }
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());
