@@ -2,7 +2,8 @@
 // coloured mesh against the drawings it was coloured from. One row per view of a manifest
 // with fixed cameras (scale and origin, as render-views and flat_art write them): the
 // drawing, the mesh's colour seen through the same camera (unlit), and the CIE76 delta E
-// per pixel (black 0, white 20 and over) inside the silhouette. The last row shows the
+// per pixel (black 0, white 20 and over) inside the silhouette, the drawing's ink strokes
+// left grey as the outside is (they have no fill colour to hold the mesh to). The last row shows the
 // model lit from a three-quarter view (azimuth 35, elevation 25). With --turntable the
 // three-quarter picture is also written on its own; VIEWS "-" gives that picture alone.
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include "io/manifest.h"
 #include "io/mesh_io.h"
 #include "render/colour.h"
+#include "render/ink.h"
 #include "render/raster.h"
 #include "render/textured.h"
 
@@ -89,11 +91,13 @@ int main(int argc, char** argv) {
             cam.cy = (*mv.origin)[1];
             const Image drawing = read_image(mv.image);
             const Image rendered = render_colour(mesh, cam, drawing.width, drawing.height);
+            std::vector<char> all(std::size_t(drawing.width) * drawing.height, 1);
+            const std::vector<char> ink = find_ink(drawing, all, 4, 0.12f, false);
             Image de = rendered;
             for (int y = 0; y < de.height; ++y)
                 for (int x = 0; x < de.width; ++x) {
                     float v = 1.0f;
-                    if (rendered.at(x, y, 3) > 0.5f) {
+                    if (rendered.at(x, y, 3) > 0.5f && !ink[std::size_t(y) * drawing.width + x]) {
                         const double e = delta_e76({rendered.at(x, y, 0), rendered.at(x, y, 1), rendered.at(x, y, 2)},
                                                    {drawing.at(x, y, 0), drawing.at(x, y, 1), drawing.at(x, y, 2)});
                         v = float(std::min(1.0, e / 20.0));

@@ -1,12 +1,15 @@
 // dino_cloth DINO_DIR OUT_DIR: the Middlebury dinoSparseRing photographs (white plaster on
 // black) with a textured dark cloth composited into the lower part of each frame, touching
 // the border and kept clear of the object, for docs/results/real-drawings.md (bar 3). Writes
-//   OUT_DIR/masks/<view>.png  hand-made masks the data set's authors' way: grey above 0.19,
-//                             dilated by 10 px, eroded by 7 px
-//   OUT_DIR/cloth/<view>.png  the photographs with the cloth
-//   OUT_DIR/auto.yaml         the cloth photographs, background: auto (threshold 0.19)
-//   OUT_DIR/black.yaml        the cloth photographs, background: black (threshold 0.19)
-//   OUT_DIR/mask.yaml         the cloth photographs with mask: masks/<view>.png
+//   OUT_DIR/masks/<view>.png   hand-made masks the data set's authors' way: grey above 0.19,
+//                              dilated by 10 px, eroded by 7 px (3 px beyond the plaster)
+//   OUT_DIR/traced/<view>.png  masks traced along the plaster's edge: grey above 0.19,
+//                              closed (dilated by 10 px, eroded by 10), enclosed regions filled
+//   OUT_DIR/cloth/<view>.png   the photographs with the cloth
+//   OUT_DIR/auto.yaml          the cloth photographs, background: auto (threshold 0.19)
+//   OUT_DIR/black.yaml         the cloth photographs, background: black (threshold 0.19)
+//   OUT_DIR/mask.yaml          the cloth photographs with mask: masks/<view>.png
+//   OUT_DIR/traced.yaml        the cloth photographs with mask: traced/<view>.png
 // Views as in dinoSR_par.txt (P = K [R | t]), the images of dinoSR_good_silhouette_images.txt.
 #include <algorithm>
 #include <array>
@@ -29,8 +32,8 @@ using namespace cm;
 
 namespace {
 
-// Grey above 0.19, dilated by 10 px and eroded by 7 (exact Euclidean discs).
-std::vector<char> hand_mask(const Image& img) {
+// Grey above 0.19, dilated by 10 px and eroded by `erode` (exact Euclidean discs).
+std::vector<char> hand_mask(const Image& img, double erode) {
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     std::vector<char> m(n);
@@ -40,8 +43,37 @@ std::vector<char> hand_mask(const Image& img) {
     std::vector<char> out(n);
     for (std::size_t i = 0; i < n; ++i) out[i] = to_obj[i] > 100.0f; // outside the dilation
     const std::vector<float> to_out = squared_edt(out, w, h);
-    for (std::size_t i = 0; i < n; ++i) m[i] = to_out[i] > 49.0f;
+    for (std::size_t i = 0; i < n; ++i) m[i] = to_out[i] > float(erode * erode);
     return m;
+}
+
+// What the border does not reach (4-connected) through the rest is object.
+std::vector<char> fill_enclosed(const std::vector<char>& m, int w, int h) {
+    std::vector<char> out(m.size(), 1);
+    std::vector<int> stack;
+    auto reach = [&](int x, int y) {
+        const std::size_t i = std::size_t(y) * w + x;
+        if (m[i] || !out[i]) return;
+        out[i] = 0;
+        stack.push_back(int(i));
+    };
+    for (int x = 0; x < w; ++x) {
+        reach(x, 0);
+        reach(x, h - 1);
+    }
+    for (int y = 0; y < h; ++y) {
+        reach(0, y);
+        reach(w - 1, y);
+    }
+    while (!stack.empty()) {
+        const int p = stack.back(), x = p % w, y = p / w;
+        stack.pop_back();
+        if (x > 0) reach(x - 1, y);
+        if (x + 1 < w) reach(x + 1, y);
+        if (y > 0) reach(x, y - 1);
+        if (y + 1 < h) reach(x, y + 1);
+    }
+    return out;
 }
 
 // A woven brown-grey cloth with folds, over the rows below a wavy line, kept 12 px clear of
@@ -120,18 +152,23 @@ int main(int argc, char** argv) {
         const fs::path dir = argv[1], out = fs::absolute(argv[2]);
         fs::create_directories(out / "masks");
         fs::create_directories(out / "cloth");
+        fs::create_directories(out / "traced");
         std::mt19937 rng(5);
-        Manifest automatic, black, masked;
-        automatic.bounds = black.bounds =
-            masked.bounds = {-0.061897, -0.018874, -0.057845, 0.010897, 0.068227, 0.015495};
+        Manifest automatic, black, masked, traced;
+        automatic.bounds = black.bounds = masked.bounds =
+            traced.bounds = {-0.061897, -0.018874, -0.057845, 0.010897, 0.068227, 0.015495};
         automatic.comment = "dinoSparseRing photographs with a cloth, background: auto (bench/views/dino_cloth).";
         black.comment = "dinoSparseRing photographs with a cloth, background: black (bench/views/dino_cloth).";
         masked.comment = "dinoSparseRing photographs with a cloth, hand-made masks (bench/views/dino_cloth).";
+        traced.comment =
+            "dinoSparseRing photographs with a cloth, masks traced along the edge (bench/views/dino_cloth).";
         for (const auto& c : read_cameras(dir)) {
             Image img = read_image(dir / c.file);
-            const std::vector<char> m = hand_mask(img);
+            const std::vector<char> m = hand_mask(img, 7);
             const std::string key = fs::path(c.file).stem().string();
             write_image(grey(m, img.width, img.height), out / "masks" / (key + ".png"));
+            write_image(grey(fill_enclosed(hand_mask(img, 10), img.width, img.height), img.width, img.height),
+                        out / "traced" / (key + ".png"));
             add_cloth(img, m, rng);
             write_image(img, out / "cloth" / (key + ".png"));
             ManifestView v;
@@ -145,10 +182,13 @@ int main(int argc, char** argv) {
             v.background = "auto";
             v.mask = out / "masks" / (key + ".png");
             masked.views.push_back(v);
+            v.mask = out / "traced" / (key + ".png");
+            traced.views.push_back(v);
         }
         write_manifest(out / "auto.yaml", automatic);
         write_manifest(out / "black.yaml", black);
         write_manifest(out / "mask.yaml", masked);
+        write_manifest(out / "traced.yaml", traced);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "dino_cloth: %s\n", e.what());
         return 1;

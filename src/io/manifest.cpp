@@ -157,8 +157,8 @@ struct CameraKeys {
     int matrix_sources = 0;
 };
 
-// The keys for drawings as they are handed over (close_gaps, mask, shadow); false when `k`
-// is none of them.
+// The keys for drawings as they are handed over (close_gaps, mask, shadow, photo); false when
+// `k` is none of them.
 bool read_real_drawing_key(const fs::path& file, const fs::path& base, const std::string& k, const YAML::Node& val,
                            ManifestView& v) {
     const std::string where = at(file, val) + ": view \"" + v.key + "\": ";
@@ -186,6 +186,10 @@ bool read_real_drawing_key(const fs::path& file, const fs::path& base, const std
         v.shadow = scalar(file, val, v.key, k);
         if (v.shadow != "auto" && v.shadow != "keep")
             throw Error(where + "shadow must be auto or keep, got \"" + v.shadow + "\"");
+    } else if (k == "photo") {
+        v.photo = scalar(file, val, v.key, k);
+        if (v.photo != "auto" && v.photo != "on" && v.photo != "off")
+            throw Error(where + "photo must be auto, on or off, got \"" + v.photo + "\"");
     } else {
         return false;
     }
@@ -242,7 +246,7 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
     else
         throw Error(at(file, key) + ": view \"" + v.key + "\": unknown key \"" + k +
                     "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
-                    "background, threshold, keep, holes, close_gaps, mask, shadow)");
+                    "background, threshold, keep, holes, close_gaps, mask, shadow, photo)");
 }
 
 // A view given as a mapping (node n): its keys, then the camera they give, given once and

@@ -25,10 +25,11 @@ struct ManifestView {
     std::string keep = "auto";       ///< auto | largest | all ("auto" defers to the stage's keep)
     std::string holes = "auto";      ///< auto | fill | keep
     int line = 0;
-    // Real drawings: gap closing, mask, shadow.
+    // Real drawings: gap closing, mask, shadow, photographs.
     std::optional<double> close_gaps; ///< px of ink gap closed before flooding; none: scaled to the image; 0: off
     std::filesystem::path mask;       ///< a mask image used instead of segmentation (resolved); empty: none
     std::string shadow = "auto";      ///< auto (a ground shadow is background) | keep
+    std::string photo = "auto";       ///< auto (calibrated views are photographs) | on | off
 };
 
 // Turnaround sheets.

@@ -67,11 +67,12 @@ std::string image_text(const fs::path& image, const fs::path& folder) {
     return scalar_text((inside ? rel : abs).generic_string());
 }
 
-// The keys for drawings as they are handed over (close_gaps, mask, shadow).
+// The keys for drawings as they are handed over (close_gaps, mask, shadow, photo).
 void real_drawing_fields(const ManifestView& v, const fs::path& folder, std::vector<std::string>& f) {
     if (v.close_gaps) f.push_back("close_gaps: " + number_text(*v.close_gaps, "view \"" + v.key + "\": close_gaps"));
     if (!v.mask.empty()) f.push_back("mask: " + image_text(v.mask, folder));
     if (v.shadow != "auto") f.push_back("shadow: " + scalar_text(v.shadow));
+    if (v.photo != "auto") f.push_back("photo: " + scalar_text(v.photo));
 }
 
 std::vector<std::string> view_fields(const ManifestView& v, const fs::path& folder) {

@@ -26,6 +26,16 @@ std::array<double, 3> srgb_to_lab(const std::array<float, 3>& srgb) {
     return {116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)};
 }
 
+std::array<float, 3> lab_to_srgb(const std::array<double, 3>& lab) {
+    const double fy = (lab[0] + 16.0) / 116.0, fx = fy + lab[1] / 500.0, fz = fy - lab[2] / 200.0;
+    auto inv = [](double f) { return f > 6.0 / 29.0 ? f * f * f : (116.0 * f - 16.0) * 27.0 / 24389.0; };
+    const double x = inv(fx) * 0.95047, y = inv(fy), z = inv(fz) * 1.08883;
+    const double r = 3.2404542 * x - 1.5371385 * y - 0.4985314 * z;
+    const double g = -0.9692660 * x + 1.8760108 * y + 0.0415560 * z;
+    const double b = 0.0556434 * x - 0.2040259 * y + 1.0572252 * z;
+    return {linear_to_srgb(float(r)), linear_to_srgb(float(g)), linear_to_srgb(float(b))};
+}
+
 double delta_e76(const std::array<float, 3>& a, const std::array<float, 3>& b) {
     const auto la = srgb_to_lab(a), lb = srgb_to_lab(b);
     return std::sqrt((la[0] - lb[0]) * (la[0] - lb[0]) + (la[1] - lb[1]) * (la[1] - lb[1]) +

@@ -1,5 +1,5 @@
 // Arbitrary bytes as a drawing: decoded (PNG, JPEG, TIFF... whatever the bytes claim) and
-// turned into a silhouette, or cm::Error; nothing else.
+// turned into a silhouette as a drawing and as a photograph, or cm::Error; nothing else.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -21,6 +21,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         cm::ImageInfo info;
         const cm::Image img = cm::read_image(file, &info);
         (void)cm::extract_silhouette(img, info, cm::SilhouetteOptions{});
+        cm::SilhouetteOptions photo;
+        photo.photo = "on";
+        (void)cm::extract_silhouette(img, info, photo);
     } catch (const cm::Error&) {}
     return 0;
 }

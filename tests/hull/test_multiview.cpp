@@ -89,7 +89,7 @@ TEST(HullMultiview, DinoThinPartsLeaveNoCrossingFaces) {
     const fs::path data = photo_set("middlebury_dinoSparseRing");
     CM_SKIP_WITHOUT(data);
     const auto views = load_photo_set(data, write_dino_manifest);
-    for (int resolution : {128, 192}) {
+    for (int resolution : {160, 192}) {
         CarveOptions opt;
         opt.resolution = resolution;
         auto ref = refine(*carve(views, opt), nullptr, {}, {});

@@ -30,6 +30,13 @@ void expect_same_manifest(const Manifest& a, const Manifest& b) {
         EXPECT_EQ(x.threshold, y.threshold);
         EXPECT_EQ(x.keep, y.keep);
         EXPECT_EQ(x.holes, y.holes);
+        EXPECT_EQ(x.close_gaps, y.close_gaps);
+        EXPECT_EQ(x.mask.empty(), y.mask.empty());
+        if (!x.mask.empty() && !y.mask.empty()) {
+            EXPECT_EQ(normal(x.mask), normal(y.mask));
+        }
+        EXPECT_EQ(x.shadow, y.shadow);
+        EXPECT_EQ(x.photo, y.photo);
     }
     ASSERT_EQ(a.sheets.size(), b.sheets.size());
     for (std::size_t i = 0; i < a.sheets.size(); ++i) {

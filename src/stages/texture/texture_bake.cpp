@@ -15,6 +15,7 @@
 #include "render/colour.h"
 #include "render/raster.h"
 #include "surface_colour.h"
+#include "view_balance.h"
 
 namespace cm {
 namespace {
@@ -124,7 +125,12 @@ Mesh project_texture(const Mesh& in, const Views& views, const TextureOptions& o
         step(0.05 + 0.25 * double(samplers.size()) / double(views.views.size()));
     }
     if (samplers.empty()) throw Error("no view has a drawing to take colours from");
-    const SurfaceColourOptions sco{opt.angle_power};
+    const SurfaceColourOptions sco{opt.angle_power, opt.conflict_de};
+    const ViewBalance balance = balance_views(mesh, samplers, sco, opt.balance_rounds, opt.balance_target);
+    for (std::size_t i = 0; i < samplers.size(); ++i) samplers[i].weight = balance.weight[i];
+    stats.view_weight = balance.weight;
+    stats.view_error = balance.error;
+    stats.view_error_unbalanced = balance.error_before;
 
     // Vertex colours; the unseen ones from the nearest seen vertex.
     const std::size_t nv = mesh.positions.size();

@@ -45,10 +45,27 @@ public:
         b.add(erode_px_, ParamSpec::Float("erode", 2, 0, 64, "px",
                                           "silhouette border not sampled (the background bleeds in there)"));
         b.add(blend_px_, ParamSpec::Float("blend", 3, 0.5, 64, "px",
-                                          "width over which a view's say fades out at what it cannot colour (ink, "
-                                          "border, occlusion edges), so views blend across seams"));
+                                          "width over which a view's say fades out towards the eroded border and "
+                                          "the mesh's occlusion edges in it, so views blend across seams (under ink "
+                                          "a view has no say; beside it, full say)"));
         b.add(opt_.angle_power, ParamSpec::Float("angle_power", 2, 0, 16, "",
                                                  "a view's weight is cos(angle between normal and view)^angle_power"));
+        b.add(opt_.conflict_de,
+              ParamSpec::Float("conflict_de", 4, 0, 100, "delta E",
+                               "views whose colours for a point differ by much more than this are not averaged: "
+                               "the point takes the colour that costs the views least (a robust weighted median "
+                               "in CIELAB); 0: the weighted mean of the views"));
+        b.add(opt_.balance_rounds,
+              ParamSpec::Int("balance_rounds", 16, 0, 100, "",
+                             "evaluations of the views' colour errors (each view's mean delta E at its own pixels, "
+                             "ink left out, of the colour the mesh gets there) while weighting the views: every "
+                             "view's pixels count alike, and when a view is over balance_target the weights are "
+                             "searched; 0: every view weighs 1"));
+        b.add(opt_.balance_target,
+              ParamSpec::Float("balance_target", 3, 0, 100, "delta E",
+                               "the mean colour error a view is held to: views over it weigh more until they are "
+                               "at it, or as far over it as each other; under it, the sum of the views' errors is "
+                               "what is made small. 0: the worst view's error alone"));
         b.add(opt_.min_island_faces,
               ParamSpec::Int("min_island_faces", 8, 1, 1000000, "faces",
                              "chart islands with fewer faces join a neighbouring chart where its projection allows"));
@@ -74,6 +91,18 @@ public:
         nlohmann::json lines = nlohmann::json::object(); // view names escaped as JSON needs
         for (std::size_t i = 0; i < stats.line_pixels.size(); ++i) lines[stats.views[i]] = stats.line_pixels[i];
         if (opt.clean.strip_lines) ctx.metric_json("ink_pixels", lines.dump());
+        nlohmann::json weight = nlohmann::json::object(), err = nlohmann::json::object(),
+                       before = nlohmann::json::object();
+        for (std::size_t i = 0; i < stats.views.size(); ++i) {
+            weight[stats.views[i]] = stats.view_weight[i];
+            err[stats.views[i]] = stats.view_error[i];
+            before[stats.views[i]] = stats.view_error_unbalanced[i];
+        }
+        ctx.metric_json("view_delta_e", err.dump());
+        if (opt.balance_rounds > 0) {
+            ctx.metric_json("view_weight", weight.dump());
+            ctx.metric_json("view_delta_e_unbalanced", before.dump());
+        }
         if (stats.seen_vertices < 0.5)
             ctx.warn("the views see only " + std::to_string(int(stats.seen_vertices * 100)) +
                      " % of the vertices; the rest take the nearest seen colour");

@@ -4,74 +4,10 @@
 #include <cmath>
 #include <cstdint>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "geometry/distance_transform.h"
+#include "render/ink.h"
 
 namespace cm {
-namespace {
-
-// Running max (or min) over a window of 2r+1 along rows, then along columns.
-std::vector<float> box_filter(const std::vector<float>& in, int w, int h, int r, bool take_max) {
-    std::vector<float> tmp(in.size()), out(in.size());
-    auto pick = [take_max](float a, float b) { return take_max ? std::max(a, b) : std::min(a, b); };
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-            for (int x = 0; x < w; ++x) {
-                float v = in[std::size_t(y) * w + x];
-                for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k)
-                    v = pick(v, in[std::size_t(y) * w + k]);
-                tmp[std::size_t(y) * w + x] = v;
-            }
-    });
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-            for (int x = 0; x < w; ++x) {
-                float v = tmp[std::size_t(y) * w + x];
-                for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k)
-                    v = pick(v, tmp[std::size_t(k) * w + x]);
-                out[std::size_t(y) * w + x] = v;
-            }
-    });
-    return out;
-}
-
-float luminance(const Image& img, int x, int y) {
-    if (img.channels < 3) return img.at(x, y, 0);
-    return 0.2126f * img.at(x, y, 0) + 0.7152f * img.at(x, y, 1) + 0.0722f * img.at(x, y, 2);
-}
-
-} // namespace
-
-std::vector<char> find_ink(const Image& img, const std::vector<char>& inside, float line_width, float line_contrast) {
-    const int w = img.width, h = img.height;
-    std::vector<float> lum(std::size_t(w) * h);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) lum[std::size_t(y) * w + x] = luminance(img, x, y);
-    const int r = std::max(1, int(std::ceil(line_width * 0.5f)));
-    // Black top-hat: the closing (max then min) fills every dark feature narrower than the
-    // window with the fill around it; what it raised by more than the contrast is ink.
-    const std::vector<float> closed = box_filter(box_filter(lum, w, h, r, true), w, h, r, false);
-    std::vector<char> ink(lum.size(), 0);
-    for (std::size_t i = 0; i < lum.size(); ++i) ink[i] = inside[i] && closed[i] - lum[i] > line_contrast;
-    std::vector<char> grown = ink;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            if (ink[i] || !inside[i]) continue;
-            for (int dy = -1; dy <= 1 && !grown[i]; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx >= 0 && yy >= 0 && xx < w && yy < h && ink[std::size_t(yy) * w + xx]) {
-                        grown[i] = 1;
-                        break;
-                    }
-                }
-        }
-    return grown;
-}
-
 ViewColours clean_view_colours(const View& view, const DepthImage* depth, double depth_jump, const CleanOptions& opt) {
     const Image& img = view.image;
     const int w = img.width, h = img.height;
@@ -87,17 +23,27 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
         outside[i] = !inside[i];
     }
     const std::vector<float> d_out = squared_edt(outside, w, h);
+    // valid: the pixel's own colour is taken. drawn: the drawing gives a colour there, the
+    // pixel's own or, on the one-pixel fringe of an ink stroke (anti-aliased, part ink), the
+    // fill's beside it. Ink proper gives none; the view's say there is 0, and near it full
+    // (the fill beside a stroke is as sure as any), so a view keeps its colours up to its
+    // own lines and other views fill in only under them.
     std::vector<char> valid(n), weak(n);
     for (std::size_t i = 0; i < n; ++i) valid[i] = inside[i] && d_out[i] > opt.erode_px * opt.erode_px;
+    std::vector<char> drawn = valid;
     if (opt.strip_lines) {
-        const std::vector<char> ink = find_ink(img, inside, opt.line_width, opt.line_contrast);
-        for (std::size_t i = 0; i < n; ++i)
+        const std::vector<char> ink = find_ink(img, inside, opt.line_width, opt.line_contrast, false);
+        const std::vector<char> fringed = grow_ink(ink, inside, w, h);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (fringed[i]) valid[i] = 0;
             if (ink[i]) {
                 vc.line_pixels += inside[i] ? 1 : 0;
-                valid[i] = 0;
+                drawn[i] = 0;
             }
+        }
     }
-    for (std::size_t i = 0; i < n; ++i) weak[i] = !valid[i];
+    // The say ramps up from the eroded border and from occlusion edges.
+    for (std::size_t i = 0; i < n; ++i) weak[i] = !inside[i] || d_out[i] <= opt.erode_px * opt.erode_px;
     // Occlusion edges of the mesh in this view: a surface behind another one ends there,
     // so the view's say fades out before it.
     if (depth && depth->width == w && depth->height == h)
@@ -118,7 +64,10 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
     const std::vector<float> d_weak = squared_edt(weak, w, h);
     for (std::size_t i = 0; i < n; ++i)
         vc.confidence[i] =
-            valid[i] ? std::clamp((std::sqrt(d_weak[i]) - 0.5f) / std::max(opt.blend_px, 0.5f), 0.0f, 1.0f) : 0.0f;
+            drawn[i] ? std::clamp((std::sqrt(d_weak[i]) - 0.5f) / std::max(opt.blend_px, 0.5f), 0.0f, 1.0f) : 0.0f;
+    vc.drawn = std::move(drawn);
+    vc.border_px.resize(n);
+    for (std::size_t i = 0; i < n; ++i) vc.border_px[i] = std::sqrt(d_out[i]);
     // Every other pixel takes the colour of the nearest valid one (breadth first, 8-connected).
     std::vector<std::uint32_t> queue;
     queue.reserve(n);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/views.h"
+#include "render/ink.h"
 #include "render/raster.h"
 
 namespace cm {
@@ -25,16 +26,18 @@ struct ViewColours {
     int width = 0, height = 0;
     std::vector<std::array<float, 3>> rgb; ///< every pixel: its own colour where valid, else the nearest valid one
     std::vector<float> confidence;         ///< [0,1]
+    std::vector<char> drawn;               ///< the drawing's own colour (not ink, not the eroded border)
+    std::vector<float> border_px;          ///< distance to the outside of the silhouette, px
     std::size_t line_pixels = 0;           ///< pixels taken for ink inside the silhouette
     bool any_valid = false;
     /// Bilinear colour and confidence at continuous pixel coordinates (clamped to the image).
     void sample(double x, double y, std::array<float, 3>& c, float& conf) const;
+    /// True when the pixel at continuous coordinates (x, y) is drawn (inside the image).
+    bool drawn_at(double x, double y) const {
+        const int ix = int(x), iy = int(y);
+        return x >= 0 && y >= 0 && ix < width && iy < height && drawn[std::size_t(iy) * width + ix];
+    }
 };
-
-/// @brief Ink mask of an image: 1 where a pixel is a thin dark stroke (black top-hat of
-/// the luminance over a square of side about `line_width` above `line_contrast`), grown by
-/// one pixel for the anti-aliased fringe. Only pixels where `inside` is set are tested.
-std::vector<char> find_ink(const Image& img, const std::vector<char>& inside, float line_width, float line_contrast);
 
 /// @brief The cleaned colours of `view`; `depth` (the mesh rendered through the view's
 /// camera, may be empty) marks occlusion edges where the confidence ramps down.

@@ -89,6 +89,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             so.holes = mv.holes;
             so.close_gaps = mv.close_gaps.value_or(-1.0);
             so.shadow = mv.shadow;
+            // A calibrated camera is a photograph's (drawings are not calibrated).
+            so.photo = mv.photo != "auto" ? mv.photo : mv.matrix ? "on" : "auto";
             SilhouetteResult s =
                 mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
@@ -96,7 +98,12 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             if (s.components_dropped)
                 note += "dropped " + std::to_string(s.components_dropped) +
                         " separate mark(s) away from the object (keep: all keeps them)";
-            if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+            if (s.photo) {
+                if (!note.empty()) note += "; ";
+                note += "segmented as a photograph: " + std::to_string(s.grown) +
+                        " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
+                        " enclosed region(s) filled (photo: off segments it as a drawing)";
+            } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
                 if (!note.empty()) note += "; ";
                 note += "filled " + std::to_string(s.regions_filled) +
                         " blank region(s) enclosed by the drawing (holes: keep keeps them open)";

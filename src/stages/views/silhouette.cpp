@@ -13,6 +13,7 @@
 #include "gaps.h"
 #include "io/manifest.h"
 #include "line_holes.h"
+#include "photo.h"
 #include "pixel_flood.h"
 #include "shadow.h"
 
@@ -62,7 +63,15 @@ public:
     // reaches from the border: there a pixel's distance is to the nearest background, in
     // units of that background's threshold.
     BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
-        : img_(img), w_(img.width), h_(img.height), n_(std::size_t(w_) * h_), t_(t), bgc_(n_), d_(n_), bg_(n_, 0) {
+        : img_(img),
+          w_(img.width),
+          h_(img.height),
+          n_(std::size_t(w_) * h_),
+          t_(t),
+          bgc_(n_),
+          d_(n_),
+          source_(n_, 0),
+          bg_(n_, 0) {
         std::vector<std::vector<char>> reach;
         for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         // Each pixel on its own: rows in parallel.
@@ -74,10 +83,11 @@ public:
                 d_[i] = colour_distance({p[0], p[1], p[2]}, bgc_[i]);
                 for (std::size_t k = 0; k < more.size(); ++k) {
                     if (!reach[k][i]) continue; // only where that background reaches from the border
-                    const double dc = colour_distance({p[0], p[1], p[2]}, more[k].colour) * t_ / more[k].threshold;
+                    const double dc = more[k].distance({p[0], p[1], p[2]}) * t_ / more[k].threshold;
                     if (dc < d_[i]) {
                         d_[i] = dc;
                         bgc_[i] = more[k].colour;
+                        source_[i] = static_cast<unsigned char>(k + 1);
                     }
                 }
             }
@@ -169,6 +179,13 @@ public:
         for (std::size_t i = 0; i < n_; ++i)
             if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) hole[i] = bg_[i] = 1;
         if (res.holes_kept) give_back_barrier_rim(ink, hole);
+    }
+
+    // A photograph (see segment_photo): the background is all but the object it finds.
+    PhotoCut segment_as_photo(double noise, int backgrounds, const std::string& holes, double close_gaps) {
+        PhotoCut cut = segment_photo(img_, d_, source_, backgrounds, t_, noise, holes, close_gaps);
+        for (std::size_t i = 0; i < n_; ++i) bg_[i] = !cut.object[i];
+        return cut;
     }
 
     // Overshooting strokes of a line drawing (see remove_thin_spurs).
@@ -283,9 +300,10 @@ private:
     const int w_, h_;
     const std::size_t n_;
     const double t_;
-    std::vector<Rgb> bgc_;  ///< the background colour the model gives each pixel
-    std::vector<double> d_; ///< each pixel's colour distance to it
-    std::vector<char> bg_;  ///< background pixels
+    std::vector<Rgb> bgc_;              ///< the background colour the model gives each pixel
+    std::vector<double> d_;             ///< each pixel's colour distance to it
+    std::vector<unsigned char> source_; ///< which background: 0 the border's field, k + 1 the k-th further colour
+    std::vector<char> bg_;              ///< background pixels
     bool line_drawing_ = false;
     std::vector<char> closed_; ///< the ink with its gaps closed (see close_ink)
     std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
@@ -306,6 +324,19 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
     res.border_colours = 1 + int(more.size());
     BackgroundCut cut(img, model, t, more);
+    if (opt.photo == "on") {
+        // A photograph: no gap closing unless asked for (its outline is not drawn).
+        res.photo = true;
+        res.close_gaps = std::max(0.0, opt.close_gaps);
+        const PhotoCut photo = cut.segment_as_photo(noise, res.border_colours, opt.holes, res.close_gaps);
+        res.weak_threshold = photo.weak_threshold;
+        res.grown = photo.grown;
+        res.holes_kept = photo.holes_kept;
+        res.regions_filled = photo.holes_filled;
+        if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
+        cut.coverage(res.coverage);
+        return;
+    }
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
     cut.flood_from_border(res.close_gaps);
     if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
@@ -379,6 +410,8 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         throw Error("holes must be auto, fill or keep, got \"" + opt.holes + "\"");
     if (opt.shadow != "auto" && opt.shadow != "keep")
         throw Error("shadow must be auto or keep, got \"" + opt.shadow + "\"");
+    if (opt.photo != "auto" && opt.photo != "on" && opt.photo != "off")
+        throw Error("photo must be auto, on or off, got \"" + opt.photo + "\"");
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     if (w <= 0 || h <= 0 || img.channels != 4 || img.pixels.size() != n * 4)

@@ -24,6 +24,10 @@ struct SilhouetteOptions {
     double close_gaps = -1;
     /// auto: a soft ground shadow under the object is background; keep: it stays object.
     std::string shadow = "auto";
+    /// on: segment as a photograph (seeds beyond the threshold grown through the object's
+    /// shaded parts, see segment_photo); off: as a drawing; auto: as a drawing (views.load
+    /// turns calibrated views to on).
+    std::string photo = "auto";
 };
 
 struct SilhouetteResult {
@@ -37,6 +41,9 @@ struct SilhouetteResult {
     int border_colours = 0;                 ///< background colours found along the border
     std::size_t shadow_removed = 0;         ///< ground-shadow pixels made background
     std::size_t spurs_removed = 0;          ///< overshooting-stroke pixels made background
+    bool photo = false;                     ///< segmented as a photograph
+    double weak_threshold = 0;              ///< photograph: the colour distance growth needs
+    std::size_t grown = 0;                  ///< photograph: pixels joined to the seeds by growth
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.
