@@ -10,7 +10,6 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       libmeshoptimizer-dev libpng-dev
       libssl-dev libjs-three)
 pkgs+=(libeigen3-dev) # the 3x3 QEF of extract.dual_marching_cubes
-pkgs+=(libpng-dev)    # PNG read and written directly (OpenImageIO is opened for the other formats)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
