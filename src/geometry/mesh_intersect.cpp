@@ -14,6 +14,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 #include "core/error.h"
 #include "geometry/radix_sort.h"
@@ -163,11 +164,9 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
                     for (auto k = c.lo[2]; k <= c.hi[2]; ++k) entries_[o++] = (key(i, j, k) << 32) | f;
         }
     });
-    // Filled face by face, so sorted by cell alone (stably) they are sorted by (cell, face).
-    int cell_bits = 0;
-    while (cell_bits < 64 && (dims_[0] * dims_[1] * dims_[2] - 1) >> cell_bits) ++cell_bits;
-    radix_sort(
-        entries_, [](std::uint64_t e) { return e >> 32; }, cell_bits);
+    // In place: a radix sort's second array of entries would be the largest allocation of a
+    // smoothing guard on a large mesh (camel at 2048: 264 MB, the run's peak).
+    tbb::parallel_sort(entries_.begin(), entries_.end());
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
     runs_.push_back(entries_.size());
@@ -210,8 +209,8 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
         // Everything the pair tests read, gathered once per face of the cell (the faces of a
         // cell are scattered in memory; the pairs are many more than the faces).
         struct Item {
-            Box box, now;
-            std::array<std::uint32_t, 3> low, tri;
+            Box now;                               ///< the face's box at p
+            std::array<std::uint32_t, 3> low, tri; ///< the cell of its indexed box's low corner
             std::uint32_t face;
         };
         std::vector<Item> items;
@@ -222,28 +221,29 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
             for (std::size_t x = b; x < e; ++x) {
                 const auto f = std::uint32_t(entries_[x]);
                 const Box u = box(f);
-                const Range c = cells(u);
-                items.push_back({u,
-                                 b_ ? face_box(p, triangles_[f]) : u,
+                const Range c = cells({u.lo, u.lo});
+                items.push_back({b_ ? face_box(p, triangles_[f]) : u,
                                  {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
                                  triangles_[f],
                                  f});
             }
-            // Sweep along x over the cell's faces, sorted by the low end of their boxes.
-            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.box.lo.x < v.box.lo.x; });
+            // Sweep along x over the cell's faces, sorted by the low end of their boxes at p
+            // (only faces whose boxes at p overlap can cross there; within the boxes of both
+            // poses, those are fewer).
+            std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.now.lo.x < v.now.lo.x; });
             for (std::size_t x = 0; x < items.size(); ++x) {
                 const Item& ia = items[x];
-                for (std::size_t y = x + 1; y < items.size() && items[y].box.lo.x <= ia.box.hi.x; ++y) {
+                for (std::size_t y = x + 1; y < items.size() && items[y].now.lo.x <= ia.now.hi.x; ++y) {
                     const Item& ib = items[y];
-                    if (ia.box.lo.y > ib.box.hi.y || ib.box.lo.y > ia.box.hi.y || ia.box.lo.z > ib.box.hi.z ||
-                        ib.box.lo.z > ia.box.hi.z)
+                    if (ia.now.lo.y > ib.now.hi.y || ib.now.lo.y > ia.now.hi.y || ia.now.lo.z > ib.now.hi.z ||
+                        ib.now.lo.z > ia.now.hi.z)
                         continue;
-                    // Each pair once: in the cell holding the low corner of the boxes' overlap,
-                    // whose cell is the larger of the two boxes' low cells on each axis.
+                    // Each pair once: in the cell holding the low corner of the boxes' overlap
+                    // (the boxes the index holds, of both poses), whose cell is the larger of the
+                    // two boxes' low cells on each axis.
                     if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
                             std::max(ia.low[2], ib.low[2])) != here)
                         continue;
-                    if (b_ && !overlap(ia.now, ib.now)) continue;
                     int shared = 0;
                     for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
                     if (shared >= 2) continue; // neighbours across an edge never cross
@@ -257,6 +257,16 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
     for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
     std::sort(pairs.begin(), pairs.end());
     return pairs;
+}
+
+void SelfIntersectionIndex::faces_near(const Vec3f& point, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (entries_.empty()) return;
+    const Range c = cells({point, point});
+    const std::uint64_t cell = key(c.lo[0], c.lo[1], c.lo[2]);
+    for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
+         it != entries_.end() && (*it >> 32) == cell; ++it)
+        out.push_back(std::uint32_t(*it));
 }
 
 std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::uint32_t>& faces,
@@ -329,9 +339,10 @@ std::size_t slot_of(std::uint32_t key, std::size_t mask) {
 CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance)
     : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
-    if (n < 2 || !(tolerance > 0)) return;
+    if (n == 0 || !(tolerance > 0)) return;
     lo_ = Vec3d(positions[0]);
-    Vec3d hi = lo_;
+    Vec3d& hi = hi_;
+    hi = lo_;
     for (const Vec3f& p : positions)
         for (int a = 0; a < 3; ++a) {
             lo_[a] = std::min(lo_[a], double(p[a]));
@@ -405,8 +416,11 @@ bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t ke
 }
 
 void CoincidenceIndex::visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const {
-    if (sorted_.empty()) return;
-    const Vec3f p = positions_[v];
+    if (!sorted_.empty()) visit_at(positions_[v], v, slot, f);
+}
+
+void CoincidenceIndex::visit_at(const Vec3f& p, std::uint32_t v, std::size_t slot,
+                                const std::function<bool(std::uint32_t)>& f) const {
     std::int64_t c[3];
     int side[3]; // -1, 0 or +1: the neighbouring cell within reach along each axis
     for (int a = 0; a < 3; ++a) {
@@ -427,6 +441,17 @@ bool CoincidenceIndex::has_near(std::uint32_t v) const {
     bool found = false;
     visit(v, sorted_.size(), [&](std::uint32_t) { return !(found = true); });
     return found;
+}
+
+void CoincidenceIndex::near_point(const Vec3f& p, const std::function<void(std::uint32_t)>& f) const {
+    if (sorted_.empty()) return;
+    const double reach = 1.01 * std::sqrt(tol2_);
+    for (int a = 0; a < 3; ++a) // beyond the box of the vertices (or not finite): none is near
+        if (!(double(p[a]) >= lo_[a] - reach && double(p[a]) <= hi_[a] + reach)) return;
+    visit_at(p, kNone, sorted_.size(), [&](std::uint32_t j) {
+        f(j);
+        return true;
+    });
 }
 
 void CoincidenceIndex::near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const {

@@ -66,6 +66,9 @@ public:
     std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {}) const;
     /// The crossing pairs at positions `p` with at least one face in `faces` (sorted, unique).
     std::vector<FacePair> involving(const std::vector<std::uint32_t>& faces, const std::vector<Vec3f>& p) const;
+    /// The faces whose boxes reach the cell holding `point` (into `out`, replacing it): among
+    /// them every face with a corner at `point` in either pose.
+    void faces_near(const Vec3f& point, std::vector<std::uint32_t>& out) const;
 
 private:
     struct Range {
@@ -126,6 +129,8 @@ public:
     bool has_near(std::uint32_t v) const;
     /// Calls f(j) for each vertex j != v within the tolerance of v.
     void near(std::uint32_t v, const std::function<void(std::uint32_t)>& f) const;
+    /// Calls f(j) for each vertex j within the tolerance of the point p.
+    void near_point(const Vec3f& p, const std::function<void(std::uint32_t)>& f) const;
     /// positions[v] has changed.
     void moved(std::uint32_t v);
 
@@ -144,10 +149,12 @@ private:
     bool in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
                  const std::function<bool(std::uint32_t)>& f) const;
     void visit(std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const;
+    // The same about the point p, leaving out vertex v (kNone: none).
+    void visit_at(const Vec3f& p, std::uint32_t v, std::size_t slot, const std::function<bool(std::uint32_t)>& f) const;
 
     const std::vector<Vec3f>& positions_;
     double tol2_ = 0, cell_ = 1, reach_ = 0;
-    Vec3d lo_;
+    Vec3d lo_, hi_;                                               ///< the box of the positions at build time
     std::vector<Entry> sorted_;                                   ///< by cell key, at build time
     std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
     std::vector<char> stale_;                                     ///< moved since: its entry is stale

@@ -55,6 +55,25 @@ TEST(Smooth, LaplacianReducesNoiseOfASphere) {
     EXPECT_TRUE(check_mesh(m).closed_manifold());
 }
 
+TEST(Smooth, IntoAnotherMeshGivesWhatSmoothingInPlaceGives) {
+    Mesh in = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    test::add_radial_noise(in, {0, 0, 0}, 0.03f);
+    in.compute_normals();
+    in.colors.assign(in.positions.size(), {0.1f, 0.2f, 0.3f, 1.0f});
+    for (int iterations : {0, 4}) {
+        SmoothOptions opt;
+        opt.iterations = iterations;
+        Mesh in_place = in, out;
+        const SmoothStats a = smooth_mesh(in_place, opt), b = smooth_mesh(in, out, opt);
+        EXPECT_EQ(out.positions, in_place.positions);
+        EXPECT_EQ(out.normals, in_place.normals);
+        EXPECT_EQ(out.triangles, in_place.triangles);
+        EXPECT_EQ(out.colors, in_place.colors);
+        EXPECT_EQ(a.pulled_back, b.pulled_back);
+        EXPECT_EQ(iterations == 0, out.positions == in.positions);
+    }
+}
+
 TEST(Smooth, TaubinReducesNoiseAndKeepsVolumeWhereLaplacianShrinks) {
     Mesh noisy = test::make_sphere({0, 0, 0}, 1.0f, 4);
     test::add_radial_noise(noisy, {0, 0, 0}, 0.03f);

@@ -97,6 +97,17 @@ TEST(SelfIntersections, TwoPoseIndexAnswersForBlendsAndSubsets) {
         EXPECT_EQ(index.involving(some, blend.positions), want) << "blend " << w;
     }
     EXPECT_TRUE(find_self_intersections(a).empty()) << "Marching Cubes itself gives an embedded surface";
+    // faces_near(): every face around a vertex, from the vertex's position in either pose.
+    std::vector<std::vector<std::uint32_t>> around(a.positions.size());
+    for (std::uint32_t f = 0; f < a.face_count(); ++f)
+        for (auto v : a.triangles[f]) around[v].push_back(f);
+    std::vector<std::uint32_t> near;
+    for (std::uint32_t v = 0; v < a.positions.size(); ++v)
+        for (const auto* pose : {&a.positions, &b.positions}) {
+            index.faces_near((*pose)[v], near);
+            for (auto f : around[v])
+                ASSERT_NE(std::find(near.begin(), near.end(), f), near.end()) << "vertex " << v << " face " << f;
+        }
 }
 
 TEST(Coincidence, IndexFollowsMovedVerticesAsBruteForceDoes) {
@@ -151,6 +162,22 @@ TEST(Coincidence, IndexFollowsMovedVerticesAsBruteForceDoes) {
             ASSERT_EQ(near, expect) << "vertex " << v << " round " << round;
         }
     }
+    // Arbitrary points (on the vertices and beside them, and far away) against a fresh index.
+    const CoincidenceIndex fresh(p, tol);
+    for (std::uint32_t v = 0; v < p.size(); v += 7) {
+        const Vec3f q = v % 2 ? p[v] : p[v] + Vec3f{jitter(rng), jitter(rng), jitter(rng)};
+        std::vector<std::uint32_t> near, expect;
+        fresh.near_point(q, [&](std::uint32_t w) { near.push_back(w); });
+        std::sort(near.begin(), near.end());
+        for (std::uint32_t w = 0; w < p.size(); ++w) {
+            const Vec3f d = q - p[w];
+            if (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) expect.push_back(w);
+        }
+        ASSERT_EQ(near, expect) << "point near vertex " << v;
+    }
+    std::size_t far = 0;
+    fresh.near_point({1e30f, 0, 0}, [&](std::uint32_t) { ++far; });
+    EXPECT_EQ(far, 0u);
 }
 
 TEST(SmoothGuard, LeavesNoCrossingTurnedOrCollapsedFace) {

@@ -70,12 +70,14 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
         std::uint32_t w;
     };
     std::vector<Option> options;
+    std::vector<Collapser::OldFace> old; // v's faces before the collapse, the same for every target
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
         options.clear();
         const Vec3d p(c.point(v));
+        c.old_faces(v, old);
         for (auto x : rv) {
             double mc;
-            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc)) continue;
+            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old)) continue;
             options.push_back({mc, length(Vec3d(c.point(x)) - p), x});
         }
         std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) {
@@ -150,10 +152,11 @@ int block_cells(const Mesh& mesh, float shift, std::vector<std::uint32_t>& cell)
 // its first vertex's cell) and every block is reduced on its own, in parallel, removing
 // only the vertices less important than the q-quantile of the starting importances (in
 // that range the order hardly matters). A vertex with faces in two blocks is on the open
-// border of both, so it stays. The blocks' faces then replace the mesh's, over the vertices
-// they still use (in input order, attributes kept: surviving vertices do not move);
-// `frozen` follows. Returns the collapses made.
-std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>* frozen, float shift, double q) {
+// border of both, so it stays. The blocks' faces then make `out` (which may be `mesh`), over
+// the vertices they still use (in input order, attributes kept: surviving vertices do not
+// move); `frozen` follows. Returns the collapses made.
+std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, std::vector<char>* frozen, float shift,
+                         double q) {
     const std::size_t nf = mesh.face_count(), nv = mesh.positions.size();
     std::vector<std::uint32_t> cell;
     const int k = block_cells(mesh, shift, cell);
@@ -286,30 +289,37 @@ std::size_t reduce_round(Mesh& mesh, const ReduceOptions& opt, std::vector<char>
         for (auto v : input_of) f.push_back((*frozen)[v]);
         *frozen = std::move(f);
     }
-    mesh = std::move(merged);
+    out = std::move(merged); // `out` may be `mesh`: nothing reads it from here
     std::size_t n = 0;
     for (auto c : collapses) n += c;
     return n;
 }
 
-// reduce_once for large meshes: rounds of reduce_round, the grid shifted by half a block
-// each time so that a round's block borders lie inside the next round's blocks, while the
-// mesh is large and a round removes a good share of it; then one queue over the whole,
-// now much lighter mesh, in the order of the paper, which takes whatever the rounds left
-// (borders included) and runs until no vertex can go. So the rounds apply only without a
-// face target.
-DecimateStats reduce_blocked(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
-    const std::size_t nf = mesh.face_count();
-    if (opt.target_faces > 0 || nf < kBlockedFrom) return reduce_once(mesh, opt, frozen);
+// reduce_once for large meshes, from `input` into `mesh`: rounds of reduce_round (the first
+// reading the input, not a copy of it), the grid shifted by half a block each time so that
+// a round's block borders lie inside the next round's blocks, while the mesh is large and a
+// round removes a good share of it; then one queue over the whole, now much lighter mesh, in
+// the order of the paper, which takes whatever the rounds left (borders included) and runs
+// until no vertex can go. So the rounds apply only without a face target.
+DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
+    const std::size_t nf = input.face_count();
+    if (opt.target_faces > 0 || nf < kBlockedFrom) {
+        mesh = input;
+        return reduce_once(mesh, opt, frozen);
+    }
     std::vector<char> fz;
     if (frozen) fz = *frozen;
     std::size_t collapses = 0;
     ReduceOptions round_opt = opt;
-    for (int round = 0; mesh.face_count() >= kBlockedFrom; ++round) {
-        const std::size_t before = mesh.face_count();
+    // The first round reads the input itself (its blocks are copies already), the next ones
+    // the mesh the round before made.
+    for (int round = 0; (round == 0 ? input : mesh).face_count() >= kBlockedFrom; ++round) {
+        const Mesh& from = round == 0 ? input : mesh;
+        const std::size_t before = from.face_count();
         if (opt.progress)
             round_opt.progress = [&opt, round](double f) { opt.progress(std::min(0.8, 0.4 * (round + f))); };
-        collapses += reduce_round(mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f, kBlockQuantile);
+        collapses +=
+            reduce_round(from, mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f, kBlockQuantile);
         if (mesh.face_count() > before - before / 8) break; // under an eighth: the rest in one queue
     }
     ReduceOptions last = opt;
@@ -320,21 +330,21 @@ DecimateStats reduce_blocked(Mesh& mesh, const ReduceOptions& opt, const std::ve
     return st;
 }
 
-// Runs `once` and, while the result has faces crossing each other, runs it again from
-// the input with the input vertices frozen where those faces cross (the overlap of the two
-// faces' boxes, grown by a quarter). Frozen regions only grow and stay as the input had
-// them; a restart that removes no crossing (the crossing faces reach beyond the frozen
-// region) doubles the growth of the next. At most kMaxRestarts restarts.
+// Runs `once` (from the input into `mesh`) and, while the result has faces crossing each
+// other, runs it again from the input with the input vertices frozen where those faces
+// cross (the overlap of the two faces' boxes, grown by a quarter). Frozen regions only grow
+// and stay as the input had them; a restart that removes no crossing (the crossing faces
+// reach beyond the frozen region) doubles the growth of the next. At most kMaxRestarts
+// restarts.
 template <typename Once>
 DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Once&& once) {
-    mesh = input;
-    if (!enabled) return once(mesh, nullptr);
+    if (!enabled) return once(input, mesh, nullptr);
     constexpr std::size_t kMaxRestarts = 6;
     std::vector<char> frozen;
     std::size_t last = SIZE_MAX;
     float reach = 0.25f;
     for (std::size_t restart = 0;; ++restart) {
-        DecimateStats st = once(mesh, restart ? &frozen : nullptr);
+        DecimateStats st = once(input, mesh, restart ? &frozen : nullptr);
         const std::vector<FacePair> pairs = find_self_intersections(mesh);
         st.restarts = restart;
         st.crossings_left = pairs.size();
@@ -369,15 +379,15 @@ DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Onc
                     }
             }
         });
-        mesh = input;
     }
 }
 
 } // namespace
 
 DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt) {
-    return without_crossings(input, out, opt.no_crossings,
-                             [&](Mesh& m, const std::vector<char>* frozen) { return reduce_blocked(m, opt, frozen); });
+    return without_crossings(
+        input, out, opt.no_crossings,
+        [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) { return reduce_blocked(in, m, opt, frozen); });
 }
 
 DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
@@ -386,9 +396,11 @@ DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
 }
 
 DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt) {
-    return without_crossings(input, out, opt.no_crossings, [&](Mesh& m, const std::vector<char>* frozen) {
-        return decimate::quadric_once(m, opt, frozen);
-    });
+    return without_crossings(input, out, opt.no_crossings,
+                             [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) {
+                                 m = in;
+                                 return decimate::quadric_once(m, opt, frozen);
+                             });
 }
 
 DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {

@@ -69,17 +69,28 @@ bool Collapser::topology_ok(std::uint32_t v, std::uint32_t w, const std::vector<
     return true;
 }
 
-bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect,
-                            double& min_cos) const {
+void Collapser::old_faces(std::uint32_t v, std::vector<OldFace>& out) const {
+    out.clear();
+    for_faces(v, [&](std::uint32_t f) {
+        const auto& t = T_[f];
+        const Vec3d n = cross_of(Vec3d(P_[t[0]]), Vec3d(P_[t[1]]), Vec3d(P_[t[2]]));
+        out.push_back({n, length(n)});
+    });
+}
+
+bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos,
+                            const std::vector<OldFace>& old) const {
     min_cos = 1.0;
     const Vec3d pw(P_[w]);
     bool ok = true;
+    std::size_t k = 0; // v's face, in for_faces order
     for_faces(v, [&](std::uint32_t f) {
+        const OldFace& o = old[k++];
         if (!ok) return;
         const auto& t = T_[f];
         if (t[0] == w || t[1] == w || t[2] == w) return;
         Vec3d q[3];
-        for (int k = 0; k < 3; ++k) q[k] = t[k] == v ? pw : Vec3d(P_[t[k]]);
+        for (int i = 0; i < 3; ++i) q[i] = t[i] == v ? pw : Vec3d(P_[t[i]]);
         const Vec3d n = cross_of(q[0], q[1], q[2]);
         const double len = length(n);
         const double scale = std::max({dot(q[1] - q[0], q[1] - q[0]), dot(q[2] - q[0], q[2] - q[0])});
@@ -87,8 +98,7 @@ bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, 
             ok = false;
             return;
         }
-        const Vec3d n_old = cross_of(Vec3d(P_[t[0]]), Vec3d(P_[t[1]]), Vec3d(P_[t[2]]));
-        const double c = dot(n, n_old) / (len * length(n_old));
+        const double c = dot(n, o.n) / (len * o.len);
         min_cos = std::min(min_cos, c);
         if (c < cos_limit) {
             ok = false;

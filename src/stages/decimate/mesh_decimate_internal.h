@@ -58,10 +58,19 @@ public:
     /// faces, the link condition holds, and no tetrahedron-like pocket folds shut.
     bool topology_ok(std::uint32_t v, std::uint32_t w, const std::vector<std::uint32_t>& rv);
 
+    /// The faces of v (in for_faces order) as they are before a collapse: their normals
+    /// (unnormalised) and those normals' lengths, the same for every target of v.
+    struct OldFace {
+        Vec3d n;
+        double len;
+    };
+    void old_faces(std::uint32_t v, std::vector<OldFace>& out) const;
     /// Geometry of collapsing v into w: no changed face may lose its area, turn by more
     /// than acos(cos_limit) or become thinner than max_aspect (unless it was already).
     /// On success `min_cos` is the smallest cosine between a changed face's old and new normal.
-    bool geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos) const;
+    /// `old` is old_faces(v).
+    bool geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos,
+                     const std::vector<OldFace>& old) const;
 
     /// Collapses v into w (checked before). Returns nothing; w's face list is rewritten.
     void collapse(std::uint32_t v, std::uint32_t w);

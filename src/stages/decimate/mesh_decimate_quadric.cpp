@@ -73,14 +73,16 @@ DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vec
     };
     // The cheapest neighbour that passes the guards; costs first (cheap), checks in order.
     std::vector<std::pair<double, std::uint32_t>> options;
+    std::vector<Collapser::OldFace> old;
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float& key) {
         options.clear();
         for (auto x : rv)
             if (c.usable(x)) options.push_back({cost(v, x) / area_of(v, x), x});
         std::sort(options.begin(), options.end());
+        if (!options.empty()) c.old_faces(v, old);
         for (const auto& [e, x] : options) {
             double mc;
-            if (!c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc) || !c.topology_ok(v, x, rv)) continue;
+            if (!c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old) || !c.topology_ok(v, x, rv)) continue;
             w = x;
             key = std::max(key, float(e));
             return true;

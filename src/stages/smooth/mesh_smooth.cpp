@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -109,16 +108,29 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     in.bounds(lo, hi);
     const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
     // Vertices the input already has together are left alone (they are the input's own).
-    // Asked only about vertices together at p (few, often none): the input's index is built
-    // on the first such question. 0: not asked yet, 1: together in the input, 2: apart.
+    // Asked only about vertices together at p (few, often none), in one pass over the input
+    // per batch of new questions: an index of the asked vertices' input positions, which each
+    // input vertex looks itself up in (no index of the whole input beside the one of p).
+    // 0: not asked yet, 1: together in the input, 2: apart.
     std::vector<char> input_answer(p.size(), 0);
-    std::optional<CoincidenceIndex> input_index;
-    auto together_in_input = [&](std::uint32_t v) {
-        if (!input_answer[v]) {
-            if (!input_index) input_index.emplace(in.positions, separation);
-            input_answer[v] = input_index->has_near(v) ? 1 : 2;
-        }
-        return input_answer[v] == 1;
+    auto ask_input = [&](const std::vector<std::uint32_t>& vs) {
+        std::vector<std::uint32_t> asked;
+        std::vector<Vec3f> where;
+        for (auto v : vs)
+            if (!input_answer[v]) {
+                asked.push_back(v);
+                where.push_back(in.positions[v]);
+            }
+        if (asked.empty()) return;
+        const CoincidenceIndex index_of_asked(where, separation);
+        std::vector<char> hit(asked.size(), 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.positions.size(), 1 << 14), [&](const auto& r) {
+            for (std::size_t w = r.begin(); w != r.end(); ++w)
+                index_of_asked.near_point(in.positions[w], [&](std::uint32_t k) {
+                    if (asked[k] != w) std::atomic_ref<char>(hit[k]).store(1, std::memory_order_relaxed);
+                });
+        });
+        for (std::size_t k = 0; k < asked.size(); ++k) input_answer[asked[k]] = hit[k] ? 1 : 2;
     };
     // Vertices within the separation of another at p, kept up to date as vertices move: a
     // vertex's answer changes only when it or a vertex near it (before or after) moves.
@@ -135,8 +147,9 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
+        ask_input(together);
         for (auto v : together)
-            if (!together_in_input(v)) badv.push_back(v);
+            if (input_answer[v] == 2) badv.push_back(v);
         ++st.guard_rounds;
     };
     collect(index.all(p), nullptr);
@@ -145,18 +158,10 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
 
     std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
-    // Faces around each vertex, to re-check only what moved.
-    std::vector<std::uint32_t> face_offsets(p.size() + 1, 0), vertex_faces;
-    for (const auto& t : in.triangles)
-        for (auto v : t) ++face_offsets[v + 1];
-    for (std::size_t v = 0; v < p.size(); ++v) face_offsets[v + 1] += face_offsets[v];
-    vertex_faces.resize(face_offsets.back());
-    {
-        std::vector<std::uint32_t> fill(face_offsets.begin(), face_offsets.end() - 1);
-        for (std::size_t f = 0; f < in.triangles.size(); ++f)
-            for (auto v : in.triangles[f]) vertex_faces[fill[v]++] = std::uint32_t(f);
-    }
-    std::vector<std::uint32_t> check, moved; // faces to re-check, vertices moved this round
+    // Faces to re-check, vertices moved this round, and the faces the index holds at a moved
+    // vertex's input position (those around the vertex among them: no table of the faces
+    // around every vertex is built for the few that move).
+    std::vector<std::uint32_t> check, moved, near_faces;
     std::vector<char> marked(p.size(), 0);
     while (!bad.empty() || !badv.empty()) {
         moved.clear();
@@ -189,8 +194,11 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
-            check.insert(check.end(), vertex_faces.begin() + face_offsets[v],
-                         vertex_faces.begin() + face_offsets[v + 1]);
+            index.faces_near(in.positions[v], near_faces);
+            for (auto f : near_faces) {
+                const auto& t = in.triangles[f];
+                if (t[0] == v || t[1] == v || t[2] == v) check.push_back(f);
+            }
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());
@@ -198,17 +206,14 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     }
 }
 
-} // namespace
-
-SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
+// The smoothing of `in`'s positions: `a` holds them on entry and the result on return.
+SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const SmoothOptions& opt) {
     SmoothStats stats;
-    if (mesh.positions.empty() || opt.iterations <= 0) return stats;
-    std::vector<Vec3f> a = mesh.positions;
     std::vector<char> used(a.size(), 0); // vertices with neighbours (on a face)
     {
         // The adjacency and the second buffer are let go before the guard, the largest user
         // of memory, builds its indices.
-        const VertexAdjacency adj = build_vertex_adjacency(mesh);
+        const VertexAdjacency adj = build_vertex_adjacency(in);
         std::vector<Vec3f> b(a.size());
         const double tol = opt.tolerance;
         for (int it = 0; it < opt.iterations; ++it) {
@@ -223,19 +228,46 @@ SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
         }
         for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
     }
-    if (opt.guard) guard_surface(mesh, a, stats);
-    mesh.positions = std::move(a);
+    if (opt.guard) guard_surface(in, a, stats);
     if (opt.hull) {
         stats.max_hull_distance = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 4096), 0.0,
+            tbb::blocked_range<std::size_t>(0, a.size(), 4096), 0.0,
             [&](const tbb::blocked_range<std::size_t>& r, double m) {
                 for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(mesh.positions[v]))));
+                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(a[v]))));
                 return m;
             },
             [](double x, double y) { return std::max(x, y); });
     }
+    return stats;
+}
+
+} // namespace
+
+SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
+    if (mesh.positions.empty() || opt.iterations <= 0) return {};
+    std::vector<Vec3f> a = mesh.positions;
+    const SmoothStats stats = smooth_positions(mesh, a, opt);
+    mesh.positions = std::move(a);
     if (!mesh.normals.empty()) mesh.compute_normals();
+    return stats;
+}
+
+SmoothStats smooth_mesh(const Mesh& in, Mesh& out, const SmoothOptions& opt) {
+    if (in.positions.empty() || opt.iterations <= 0) {
+        out = in;
+        return {};
+    }
+    std::vector<Vec3f> a = in.positions;
+    const SmoothStats stats = smooth_positions(in, a, opt);
+    out.positions = std::move(a);
+    out.triangles = in.triangles;
+    out.uvs = in.uvs;
+    out.colors = in.colors;
+    out.corner_uvs = in.corner_uvs;
+    out.texture = in.texture;
+    out.normals.clear();
+    if (!in.normals.empty()) out.compute_normals();
     return stats;
 }
 

@@ -45,5 +45,8 @@ struct SmoothStats {
 /// @brief Smooths `mesh` in place (positions; normals are recomputed when present).
 /// Vertices without neighbours do not move.
 SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt);
+/// @brief The same from `in` into `out` (the rest of `in` copied as it is), without a copy
+/// of the input positions beside the ones being smoothed.
+SmoothStats smooth_mesh(const Mesh& in, Mesh& out, const SmoothOptions& opt);
 
 } // namespace cm

@@ -69,9 +69,9 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
     }
     opt.guard = guard;
     opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
-    auto out = std::make_shared<Mesh>(*src);
+    auto out = std::make_shared<Mesh>();
     const double v0 = signed_volume(*src);
-    const SmoothStats st = smooth_mesh(*out, opt);
+    const SmoothStats st = smooth_mesh(*src, *out, opt);
     const double v1 = signed_volume(*out);
     ctx.metric("vertices", double(out->vertex_count()));
     ctx.metric("faces", double(out->face_count()));
