@@ -299,9 +299,10 @@ bool OutputCheck::clean() const {
            coincident_vertices == 0;
 }
 
-std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance) {
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance,
+                                                    const std::vector<std::uint32_t>* near) {
     const std::size_t n = positions.size();
-    if (n < 2 || !(tolerance > 0)) return {};
+    if (n < 2 || !(tolerance > 0) || (near && near->empty())) return {};
     // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
     // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
     const double cell = 2 * tolerance;
@@ -320,32 +321,56 @@ std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& po
     });
     tbb::parallel_sort(cells.begin(), cells.end());
     const double tol2 = tolerance * tolerance;
+    // Calls `found(j)` for the vertices j != i within the tolerance of vertex i, until it
+    // returns false.
+    auto each_near = [&](std::size_t i, auto&& found) {
+        const Vec3f& p = positions[i];
+        std::int64_t c[3], d[3];
+        for (int a = 0; a < 3; ++a) {
+            const double u = (double(p[a]) - lo[a]) / cell;
+            c[a] = std::int64_t(std::floor(u));
+            d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
+        }
+        for (int k = 0; k < 8; ++k) {
+            const std::uint64_t want =
+                key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
+            for (; it != cells.end() && it->first == want; ++it) {
+                if (it->second == i) continue;
+                const Vec3f& q = positions[it->second];
+                const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+                if (dx * dx + dy * dy + dz * dz <= tol2 && !found(it->second)) return;
+            }
+        }
+    };
+    std::vector<std::uint32_t> out;
+    if (near) {
+        tbb::enumerable_thread_specific<std::vector<std::uint32_t>> hits;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, near->size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              auto& local = hits.local();
+                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                                  const std::uint32_t i = (*near)[k];
+                                  each_near(i, [&](std::uint32_t j) {
+                                      local.push_back(i);
+                                      local.push_back(j);
+                                      return true;
+                                  });
+                              }
+                          });
+        for (const auto& h : hits) out.insert(out.end(), h.begin(), h.end());
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    }
     std::vector<char> has(n, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const Vec3f& p = positions[i];
-            std::int64_t c[3], d[3];
-            for (int a = 0; a < 3; ++a) {
-                const double u = (double(p[a]) - lo[a]) / cell;
-                c[a] = std::int64_t(std::floor(u));
-                d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
-            }
-            bool found = false;
-            for (int k = 0; k < 8 && !found; ++k) {
-                const std::uint64_t want =
-                    key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
-                auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-                for (; it != cells.end() && it->first == want && !found; ++it) {
-                    if (it->second == i) continue;
-                    const Vec3f& q = positions[it->second];
-                    const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-                    found = dx * dx + dy * dy + dz * dz <= tol2;
-                }
-            }
-            has[i] = found;
-        }
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+            each_near(i, [&](std::uint32_t) {
+                has[i] = 1;
+                return false;
+            });
     });
-    std::vector<std::uint32_t> out;
     for (std::size_t i = 0; i < n; ++i)
         if (has[i]) out.push_back(std::uint32_t(i));
     return out;

@@ -113,7 +113,10 @@ OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& pr
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).
 constexpr double kCoincidentTolerance = 1e-6;
 /// The vertices (ascending) that have another vertex within `tolerance` (absolute distance).
-std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance);
+/// With `near`, only pairs with at least one vertex in `near` are looked for (both of each
+/// such pair are returned): what a caller that moved only those vertices needs to re-check.
+std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance,
+                                                    const std::vector<std::uint32_t>* near = nullptr);
 /// Number of vertices that have another vertex within `tolerance` (absolute distance).
 std::size_t count_coincident_vertices(const Mesh& mesh, double tolerance);
 

@@ -1,6 +1,8 @@
 // conceptmesh check: the table, the JSON, and the exit code a script gates on.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <nlohmann/json.hpp>
 
 #include "geometry/mesh_intersect.h"
@@ -93,17 +95,30 @@ TEST(CheckCommand, CoincidentVerticesAgreeWithTheBruteForceCount) {
         m.positions.push_back({p.x + off * next(), p.y, p.z});
     }
     const double tol = 1e-3;
+    auto close = [&](std::size_t i, std::size_t k) {
+        const Vec3f d = m.positions[i] - m.positions[k];
+        return i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol;
+    };
     std::size_t brute = 0;
     for (std::size_t i = 0; i < m.positions.size(); ++i)
-        for (std::size_t k = 0; k < m.positions.size(); ++k) {
-            const Vec3f d = m.positions[i] - m.positions[k];
-            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
+        for (std::size_t k = 0; k < m.positions.size(); ++k)
+            if (close(i, k)) {
                 ++brute;
                 break;
             }
-        }
     EXPECT_GT(brute, 100u);
     EXPECT_EQ(count_coincident_vertices(m, tol), brute);
+
+    // Only the pairs with a vertex among `near` (every third vertex): both of each pair.
+    std::vector<std::uint32_t> near;
+    for (std::uint32_t i = 0; i < m.positions.size(); i += 3) near.push_back(i);
+    std::set<std::uint32_t> want;
+    for (auto i : near)
+        for (std::uint32_t k = 0; k < m.positions.size(); ++k)
+            if (close(i, k)) want.insert({i, k});
+    EXPECT_GT(want.size(), 30u);
+    const auto got = find_coincident_vertices(m.positions, tol, &near);
+    EXPECT_EQ(std::vector<std::uint32_t>(want.begin(), want.end()), got);
 }
 
 TEST(CheckCommand, FacesTheReaderCannotTakeAreAnErrorNotDroppedInSilence) {

@@ -109,7 +109,10 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     std::vector<char> together_in_input(p.size(), 0);
     for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
     std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
-    auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
+    // `only`: the faces to re-check for shape, `near`: the vertices that moved (a pair of
+    // vertices drawn together has one of them, the others were checked before); null: all.
+    auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only,
+                       const std::vector<std::uint32_t>* near) {
         bad.clear();
         for (const auto& pr : pairs) {
             bad.push_back(pr[0]);
@@ -119,11 +122,11 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
-        for (auto v : find_coincident_vertices(p, separation))
+        for (auto v : find_coincident_vertices(p, separation, near))
             if (!together_in_input[v]) badv.push_back(v);
         ++st.guard_rounds;
     };
-    collect(index.all(p), nullptr);
+    collect(index.all(p), nullptr, nullptr);
     st.bad_faces = bad.size();
     st.coincident = badv.size();
     if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
@@ -167,7 +170,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());
-        collect(index.involving(check, p), &check);
+        collect(index.involving(check, p), &check, &moved);
     }
 }
 
