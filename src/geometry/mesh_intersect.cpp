@@ -320,6 +320,16 @@ std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& po
         cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
     });
     tbb::parallel_sort(cells.begin(), cells.end());
+    // Almost every cell around a vertex is empty: a bit per hashed cell (8 bits a vertex)
+    // answers most lookups from a few megabytes instead of a binary search over them all.
+    int bits_log = 16;
+    while (bits_log < 40 && (std::size_t(1) << bits_log) < 8 * n) ++bits_log;
+    std::vector<std::uint64_t> occupied((std::size_t(1) << bits_log) / 64, 0);
+    auto bit_of = [bits_log](std::uint64_t k) { return (k * 0xD6E8FEB86659FD93ull) >> (64 - bits_log); };
+    for (const auto& c : cells) {
+        const std::uint64_t b = bit_of(c.first);
+        occupied[b >> 6] |= std::uint64_t(1) << (b & 63);
+    }
     const double tol2 = tolerance * tolerance;
     // Calls `found(j)` for the vertices j != i within the tolerance of vertex i, until it
     // returns false.
@@ -334,6 +344,8 @@ std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& po
         for (int k = 0; k < 8; ++k) {
             const std::uint64_t want =
                 key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
+            const std::uint64_t b = bit_of(want);
+            if (!(occupied[b >> 6] >> (b & 63) & 1)) continue;
             auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
             for (; it != cells.end() && it->first == want; ++it) {
                 if (it->second == i) continue;
