@@ -54,6 +54,10 @@ public:
         ctx.metric("thin_kept", double(st.thin_kept));
         ctx.metric("new_crossings", double(st.new_crossings));
         ctx.metric("thickened", double(st.thickened));
+        ctx.metric("short_rays", double(st.short_rays));
+        ctx.metric("thin_dropped", double(st.thin_dropped));
+        ctx.metric("loose_dropped", double(st.loose_dropped));
+        ctx.metric("ball_rays", double(st.ball_rays));
         ctx.metric("cell_px", st.cell_px);
         if (!vol->crossings)
             ctx.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");

@@ -1,8 +1,10 @@
 // hull.plausible: see plausible.h. Steps: the hull's voxels are listed (tiles voxelized);
-// per view they are binned into line-of-sight cells and sorted by depth, which gives each
-// voxel its place in its run along the ray; the drawing's inflated profile on the same
-// raster says how much of the run is plausible; the score (worst over views) is smoothed
-// and voxels are removed in decreasing score while every ray keeps `ray_keep` voxels.
+// per view they are binned into line-of-sight cells in depth order (two counting sorts),
+// which gives each voxel its run along the ray; the drawing's inflated profile on the same
+// raster says how much of the run is plausible. A voxel's field value is its distance (in
+// cells, along the ray) outside that allowance, the worst over views, smoothed; where a line
+// of sight would keep no voxel, the field is lowered around its best voxels by a smooth
+// swelling until it keeps one; the volume keeps the voxels where the field is <= 0.
 #include "plausible.h"
 
 #include "plausible_steps.h"
@@ -11,6 +13,7 @@
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -18,6 +21,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "core/error.h"
 #include "geometry/hull_distance.h"
@@ -92,7 +96,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (progress) progress(f);
     };
     PlausibleStats st;
-    const auto& xf = in.transform();
+    const Lattice lat(in.transform());
     const double voxel = in.voxel_size();
 
     // 1. The hull's voxels, tiles voxelized; index = leaf base + rank of the on voxel.
@@ -106,42 +110,41 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     st.hull_voxels = n;
     if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
         throw Error("the hull has too many voxels (" + std::to_string(n) + ") for hull.plausible");
-    std::vector<Coord> coord(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t l = r.begin(); l != r.end(); ++l) {
-            std::size_t i = base[l];
-            for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) coord[i++] = it.getCoord();
-        }
-    });
+    // body(i, coord) for every voxel, in parallel over leaves.
+    auto for_voxels = [&](auto&& body) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                std::size_t i = base[l];
+                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) body(i++, it.getCoord());
+            }
+        });
+    };
     openvdb::CoordBBox box;
     occ->tree().evalActiveVoxelBoundingBox(box);
     step(0.05);
 
-    // 2. Per view: lines of sight, runs along them, the profile, the score.
-    std::vector<float> score(n, -std::numeric_limits<float>::infinity());
-    std::vector<float> total(n, 0.0f); // sum over views: orders the candidates within a tie
+    // 2. Per view: lines of sight, runs along them in depth order, the profile, the field.
+    // phi: how far (cells, along the ray) a voxel lies outside the view's allowance, the
+    // worst over views; thin: in a short run of a thin part of some drawing.
+    std::vector<float> phi(n, -std::numeric_limits<float>::infinity());
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
-    std::vector<std::vector<std::uint32_t>> ray_count, ray_start, ray_order;
+    std::vector<std::vector<std::uint32_t>> cells;     // per view, each voxel's line of sight
+    std::vector<std::vector<std::uint32_t>> ray_total; // per view, voxels per line of sight
     const std::size_t nv = views->views.size();
     for (std::size_t v = 0; v < nv; ++v) {
-        const RayRaster R = make_raster(views->views[v], xf, box, voxel);
+        const View& view = views->views[v];
+        const RayRaster R = make_raster(view, lat, box, voxel);
         const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
-        std::vector<std::uint32_t> cell(n);
-        std::vector<float> depth(n);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Vec3d p = world_of(xf, coord[i]);
-                cell[i] = R.cell(p);
-                depth[i] = R.depth(p);
-            }
+        std::vector<std::uint32_t> cell(n), key(n);
+        for_voxels([&](std::size_t i, const Coord& c) {
+            cell[i] = R.cell(c);
+            key[i] = R.depth_key(c);
         });
-        std::vector<std::uint32_t> start(ncell + 1, 0);
-        for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];
-        for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-        std::vector<std::uint32_t> order(n), fill(start.begin(), start.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = std::uint32_t(i);
-        fill = {};
+        std::vector<std::uint32_t> by_depth, order, start;
+        stable_bucket_order(key, R.dkeys, {}, by_depth);
+        stable_bucket_order(cell, std::uint32_t(ncell), by_depth, order, &start);
+        by_depth = {};
 
         // The drawing as these lines of sight see it (a cell is inside when a voxel of the
         // hull projects into it), its distance to the outline and local inscribed radius.
@@ -153,7 +156,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         }
         // Distance to the outline from the drawing itself (sub-pixel), in cells; cells the
         // hull reaches although their centre is outside the drawing get 0.
-        const View& view = views->views[v];
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
         std::vector<float> dist(ncell, 0.0f);
         tbb::parallel_for(tbb::blocked_range<int>(0, R.h), [&](const tbb::blocked_range<int>& rows) {
@@ -175,152 +177,351 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             tbb::blocked_range<std::size_t>(0, ncell, 256), [&](const tbb::blocked_range<std::size_t>& r) {
                 for (std::size_t c = r.begin(); c != r.end(); ++c) {
                     if (count[c] == 0) continue;
-                    auto* b = order.data() + start[c];
-                    auto* e = order.data() + start[c + 1];
-                    std::sort(b, e, [&](std::uint32_t a, std::uint32_t q) { return depth[a] < depth[q]; });
+                    const std::uint32_t* b = order.data() + start[c];
+                    const std::uint32_t* e = order.data() + start[c + 1];
                     const double frac = profile_fraction(radius[c] > 0 ? dist[c] / radius[c] : 0.0,
                                                          opt.profile_exponent, opt.roundness);
                     // The inflated cross-section's own half-depth (radius R in world units), so a
-                    // round drawing is a round solid even where the run is short.
+                    // round drawing is a round solid even where the run is long.
                     const double inflated = frac * double(radius[c]) * voxel;
-                    for (auto* rb = b; rb != e;) {
-                        auto* re = rb + 1;
-                        while (re != e && double(depth[*re]) - double(depth[*(re - 1)]) <= R.gap) ++re;
-                        const double front = double(depth[*rb]) - 0.5 * voxel,
-                                     back = double(depth[*(re - 1)]) + 0.5 * voxel;
-                        const bool is_thin = re - rb <= opt.thin_cells;
+                    // A short run well inside the drawing is a thin part seen face-on (an
+                    // ear, a fin); near the outline short runs are the rim of any body.
+                    const bool thin_part = dist[c] >= 1.5f && radius[c] <= 2.0f * float(opt.thin_cells);
+                    for (const std::uint32_t* rb = b; rb != e;) {
+                        const std::uint32_t* re = rb + 1;
+                        while (re != e && int(key[*re]) - int(key[*(re - 1)]) <= R.gap_keys) ++re;
+                        const double front = R.depth_of_key(key[*rb]) - 0.5 * voxel,
+                                     back = R.depth_of_key(key[*(re - 1)]) + 0.5 * voxel;
+                        const double half = 0.5 * (back - front), mid = 0.5 * (back + front);
                         // Allowed half-depth: the larger of the profile's share of the run and the
                         // inflated cross-section (within the run).
-                        const double half = 0.5 * (back - front);
-                        const double allow = std::max(frac, std::min(1.0, inflated / half));
-                        for (auto* it = rb; it != re; ++it) {
-                            const double a = double(depth[*it]) - front, z = back - double(depth[*it]);
-                            const double off = std::abs(a - z) / std::max(a + z, 1e-30);
-                            const float sv = float(off - allow);
-                            score[*it] = std::max(score[*it], sv);
-                            total[*it] += sv;
+                        const double allow = std::max(frac * half, std::min(half, inflated));
+                        const bool is_thin = thin_part && re - rb <= opt.thin_cells;
+                        for (const std::uint32_t* it = rb; it != re; ++it) {
+                            const float sv = float((std::abs(R.depth_of_key(key[*it]) - mid) - allow) / voxel);
+                            phi[*it] = std::max(phi[*it], sv);
                             if (is_thin) thin[*it] = 1;
                         }
                         rb = re;
                     }
                 }
             });
-        ray_count.push_back(std::move(count));
-        ray_start.push_back(std::move(start));
-        ray_order.push_back(std::move(order));
+        ray_total.push_back(std::move(count));
+        cells.push_back(std::move(cell));
         rasters.push_back(R);
-        step(0.05 + 0.45 * double(v + 1) / double(nv));
+        step(0.05 + 0.4 * double(v + 1) / double(nv));
     }
 
-    // 3. The score smoothed over the hull's voxels (a normalised Gaussian, so the outside
-    // does not pull it), giving a smooth zero level for the new surface.
+    // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
+    // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
+    // all lie farther from 0 than the kernel can carry them keep their values.
     auto sgrid = openvdb::FloatGrid::create(0.0f);
-    sgrid->setTransform(xf.copy());
+    sgrid->setTransform(in.transform().copy());
     sgrid->tree().topologyUnion(occ->tree());
     // Same topology, so the leaves come in the occupancy's order (checked).
     auto for_leaves = [&](auto& grid, auto&& body) {
         openvdb::tree::LeafManager<openvdb::FloatTree> lm(grid.tree());
-        if (lm.leafCount() != nleaf) throw Error("internal: score grid topology differs from the occupancy");
+        if (lm.leafCount() != nleaf) throw Error("internal: field grid topology differs from the occupancy");
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t l = r.begin(); l != r.end(); ++l) {
                 auto& leaf = lm.leaf(l);
                 if (leaf.origin() != leaves.leaf(l).origin())
-                    throw Error("internal: score grid leaves out of the occupancy's order");
+                    throw Error("internal: field grid leaves out of the occupancy's order");
                 std::size_t i = base[l];
                 for (auto it = leaf.beginValueOn(); it; ++it) body(i++, it);
             }
         });
     };
-    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
     if (opt.smooth_cells > 0) {
         // Binomial passes ([1 2 1] along each axis, variance 1/2 each) normalised by the
         // weight of the hull's voxels under the kernel.
         const int passes = std::max(1, int(std::lround(2.0 * opt.smooth_cells * opt.smooth_cells)));
+        const float reach = 3.0f * float(passes);
+        std::vector<char> active(nleaf, 0);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            for (std::size_t i = base[l]; i < base[l + 1] && !active[l]; ++i) active[l] = std::abs(phi[i]) <= reach;
+        });
+        for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(phi[i]); });
         auto other = sgrid->deepCopy();
         for (int k = 0; k < passes; ++k) {
-            binomial_pass(*sgrid, *other);
+            binomial_pass(*sgrid, *other, active);
             std::swap(sgrid, other);
         }
-        for_leaves(*sgrid, [&](std::size_t i, auto& it) { score[i] = it.getValue(); });
+        for_leaves(*sgrid, [&](std::size_t i, auto& it) { phi[i] = it.getValue(); });
     }
-
-    // 3b. Coverage repair: a line of sight whose voxels all lie outside the profile gets
-    // its scores lowered until its best voxel, and a band of a few cells around it, is
-    // plausible; the lowering is smoothed over the image plane, so what a ray needs is a
-    // smooth layer joined to its neighbours rather than a voxel of its own.
-    for (std::size_t v = 0; v < nv; ++v) {
-        const RayRaster& R = rasters[v];
-        const auto& start = ray_start[v];
-        const auto& order = ray_order[v];
-        const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
-        std::vector<float> need(ncell, 0.0f);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                                  const std::uint32_t k = start[c + 1] - start[c];
-                                  if (k == 0) continue;
-                                  float m = std::numeric_limits<float>::infinity();
-                                  for (std::uint32_t q = start[c]; q < start[c + 1] && m > 0; ++q)
-                                      m = std::min(m, thin[order[q]] ? -1.0f : score[order[q]]);
-                                  if (m > 0) need[c] = m + std::min(0.3f, 4.0f / float(k));
-                              }
-                          });
-        std::vector<float> lower = need;
-        dilate(lower, R.w, R.h, 2);
-        box_blur(lower, nullptr, R.w, R.h, 6);
-        for (std::size_t c = 0; c < ncell; ++c) lower[c] = std::max(lower[c], need[c]);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t c = r.begin(); c != r.end(); ++c)
-                                  if (lower[c] > 0)
-                                      for (std::uint32_t q = start[c]; q < start[c + 1]; ++q)
-                                          score[order[q]] -= lower[c];
-                          });
-    }
-    ray_start = {};
-    ray_order = {};
-    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
-    step(0.6);
-
-    // 4. Removal, most implausible first, while every ray keeps `ray_keep` voxels.
-    std::vector<std::pair<float, std::uint32_t>> cand;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!(score[i] > 0)) continue;
-        if (thin[i]) {
-            ++st.thin_kept;
-            continue;
-        }
-        // Where one view decides the score (a flat stretch of it), the others' sum picks
-        // the voxels that go first, so what stays on neighbouring rays stays together.
-        cand.emplace_back(score[i] + 0.5f * total[i] / float(nv), std::uint32_t(i));
+    // Thin parts have no volume to spare.
+    {
+        std::atomic<std::size_t> kept{0}, cand{0};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::size_t k = 0, c = 0;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                if (!(phi[i] > 0)) continue;
+                if (thin[i]) {
+                    ++k;
+                    phi[i] = -0.5f;
+                } else {
+                    ++c;
+                }
+            }
+            kept += k;
+            cand += c;
+        });
+        st.thin_kept = kept;
+        st.candidates = cand;
     }
     thin = {};
-    st.candidates = cand.size();
-    tbb::parallel_sort(cand.begin(), cand.end(), [](const auto& a, const auto& b) {
-        return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    std::vector<std::uint8_t> removed(n, 0);
-    std::vector<std::uint32_t> cells(nv);
-    const std::uint32_t keep = std::uint32_t(std::max(1, opt.ray_keep));
-    for (const auto& [s, i] : cand) {
-        const Vec3d p = world_of(xf, coord[i]);
-        bool ok = true;
-        for (std::size_t v = 0; v < nv && ok; ++v) {
-            cells[v] = rasters[v].cell(p);
-            ok = ray_count[v][cells[v]] > keep;
-        }
-        if (!ok) {
-            ++st.kept_for_rays;
-            continue;
-        }
-        for (std::size_t v = 0; v < nv; ++v) --ray_count[v][cells[v]];
-        removed[i] = 1;
-        ++st.removed;
-    }
-    cand = {};
-    step(0.7);
+    step(0.55);
 
-    // 5. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
+    // 4. Every line of sight keeps min(ray_keep, its voxels) voxels with field <= 0. Where the
+    // profiles leave one short, (a) the field is lowered about the ray's best voxels by a
+    // smooth swelling; (b) what that keeps apart from the profiles' volume would float free,
+    // so it goes; (c) the volume itself swells to the lines of sight still short: a ball about
+    // its kept voxel nearest to each (in the nearest covered line of sight of that view, at the
+    // depth the field prefers) reaching the ray's nearest voxel, joined to the field by a
+    // smooth minimum. So the volume bulges out, in one piece, instead of keeping loose strands
+    // along the rays. The field only goes down from (a) on, so no line of sight loses a voxel;
+    // (d) keeps the best voxels of any line of sight the coarsely sampled swellings still miss.
+    const std::uint32_t keep = std::uint32_t(std::max(1, opt.ray_keep));
+    constexpr float kMargin = 0.75f; // cells of field below 0 a needed voxel gets
+    constexpr float kBlend = 1.5f;   // cells over which a swelling blends into the field
+    const int coarse =
+        std::clamp(int(std::lround(double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 128.0)), 1, 4);
+    BallField balls(box, coarse);
+    std::vector<float> cur = phi;
+    struct Vox {
+        std::uint32_t cell, i;
+        Coord c;
+    };
+    // Lines of sight of view v short of voxels with field <= 0 (flags per cell); none: empty.
+    auto short_rays_of = [&](std::size_t v) {
+        const std::size_t ncell = ray_total[v].size();
+        std::unique_ptr<std::atomic<std::uint32_t>[]> kept(new std::atomic<std::uint32_t>[ncell]);
+        for (std::size_t c = 0; c < ncell; ++c) kept[c].store(0, std::memory_order_relaxed);
+        const auto& cell = cells[v];
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i)
+                if (cur[i] <= 0) kept[cell[i]].fetch_add(1, std::memory_order_relaxed);
+        });
+        std::vector<char> flag(ncell, 0); // 1: short, 2: covered (holds a kept voxel)
+        bool any = false;
+        for (std::size_t c = 0; c < ncell; ++c) {
+            const std::uint32_t k = kept[c].load(std::memory_order_relaxed);
+            if (k < std::min(keep, ray_total[v][c])) flag[c] = 1, any = true;
+            else if (k > 0) flag[c] = 2;
+        }
+        if (!any) flag.clear();
+        return flag;
+    };
+    // The voxels of the cells with `want[cell]` set (and field <= 0 when `kept_only`), by cell.
+    auto voxels_of = [&](std::size_t v, const std::vector<char>& want, bool kept_only) {
+        tbb::enumerable_thread_specific<std::vector<Vox>> found;
+        const auto& cell = cells[v];
+        for_voxels([&](std::size_t i, const Coord& c) {
+            if (want[cell[i]] && (!kept_only || cur[i] <= 0)) found.local().push_back({cell[i], std::uint32_t(i), c});
+        });
+        std::vector<Vox> all;
+        for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+        std::sort(all.begin(), all.end(),
+                  [](const Vox& a, const Vox& b) { return a.cell < b.cell || (a.cell == b.cell && a.i < b.i); });
+        return all;
+    };
+    auto dist2 = [](const Coord& a, const Coord& b) {
+        const double dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
+        return dx * dx + dy * dy + dz * dz;
+    };
+    // 4a. The swelling about the best voxels of each short line of sight (those within a cell
+    // of the best: where the profiles least object), in rounds since its smoothing takes some
+    // of its height.
+    std::size_t short_rays = 0;
+    {
+        const int sc =
+            std::clamp(int(std::lround(double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 96.0)), 1, 8);
+        SwellField swell(box, sc);
+        std::vector<std::vector<Vox>> lists(nv);
+        for (std::size_t v = 0; v < nv; ++v) {
+            const std::vector<char> flag = short_rays_of(v);
+            if (flag.empty()) continue;
+            std::vector<char> is_short(flag.size(), 0);
+            for (std::size_t c = 0; c < flag.size(); ++c) is_short[c] = flag[c] == 1;
+            lists[v] = voxels_of(v, is_short, false);
+        }
+        for (int round = 0; round < 4; ++round) {
+            bool seeded = false;
+            for (std::size_t v = 0; v < nv; ++v) {
+                std::vector<Vox> still;
+                const auto& list = lists[v];
+                std::vector<float> vals;
+                for (std::size_t b = 0; b < list.size();) {
+                    std::size_t e = b + 1;
+                    while (e < list.size() && list[e].cell == list[b].cell) ++e;
+                    vals.clear();
+                    std::uint32_t have = 0;
+                    for (std::size_t k = b; k < e; ++k) {
+                        vals.push_back(cur[list[k].i]);
+                        have += cur[list[k].i] <= 0;
+                    }
+                    const std::size_t want = std::min<std::size_t>(keep, vals.size());
+                    if (have < want) {
+                        if (round == 0) ++short_rays;
+                        std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
+                        const float t = vals[want - 1];
+                        for (std::size_t k = b; k < e; ++k)
+                            if (cur[list[k].i] <= t + 1.0f) swell.seed(list[k].c, t + kMargin);
+                        still.insert(still.end(), list.begin() + std::ptrdiff_t(b), list.begin() + std::ptrdiff_t(e));
+                        seeded = true;
+                    }
+                    b = e;
+                }
+                lists[v].swap(still);
+            }
+            if (!seeded) break;
+            swell.settle();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                    std::size_t i = base[l];
+                    for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i)
+                        if (phi[i] > 0) cur[i] = std::min(cur[i], phi[i] - swell.at(it.getCoord()));
+                }
+            });
+        }
+    }
+    // 4b. What the swelling kept apart from the profiles' volume goes.
+    {
+        std::vector<char> member(n), anchor(n), loose;
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            member[i] = phi[i] > 0 && cur[i] <= 0;
+            anchor[i] = phi[i] <= 0;
+        });
+        loose_pieces(leaves, base, member, anchor, loose);
+        std::size_t dropped = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (loose[i]) cur[i] = phi[i], ++dropped;
+        st.loose_dropped = dropped;
+    }
+    // 4c. Balls about the volume to the lines of sight still short.
+    for (std::size_t v = 0; v < nv; ++v) {
+        const std::vector<char> flag = short_rays_of(v);
+        if (flag.empty()) continue;
+        const RayRaster& R = rasters[v];
+        const std::size_t ncell = flag.size();
+        // The nearest covered cell of every cell (8-neighbour breadth-first search).
+        std::vector<std::uint32_t> near(ncell, std::numeric_limits<std::uint32_t>::max());
+        std::vector<std::uint32_t> queue;
+        for (std::size_t c = 0; c < ncell; ++c)
+            if (flag[c] == 2) near[c] = std::uint32_t(c), queue.push_back(std::uint32_t(c));
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t c = queue[h];
+            const int i = int(c % std::uint32_t(R.w)), j = int(c / std::uint32_t(R.w));
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const int x = i + di, y = j + dj;
+                    if (x < 0 || y < 0 || x >= R.w || y >= R.h) continue;
+                    const std::size_t q = std::size_t(y) * std::size_t(R.w) + std::size_t(x);
+                    if (near[q] != std::numeric_limits<std::uint32_t>::max()) continue;
+                    near[q] = near[c];
+                    queue.push_back(std::uint32_t(q));
+                }
+        }
+        queue = {};
+        std::vector<char> is_short(ncell, 0), anchor(ncell, 0);
+        for (std::size_t c = 0; c < ncell; ++c)
+            if (flag[c] == 1) {
+                is_short[c] = 1;
+                ++st.ball_rays;
+                if (near[c] != std::numeric_limits<std::uint32_t>::max()) anchor[near[c]] = 1;
+            }
+        const std::vector<Vox> rays = voxels_of(v, is_short, false), anchors = voxels_of(v, anchor, true);
+        auto range_of = [](const std::vector<Vox>& list, std::uint32_t c) {
+            auto lo =
+                std::lower_bound(list.begin(), list.end(), c, [](const Vox& a, std::uint32_t x) { return a.cell < x; });
+            auto hi = lo;
+            while (hi != list.end() && hi->cell == c) ++hi;
+            return std::pair{lo, hi};
+        };
+        std::vector<std::size_t> starts;
+        for (std::size_t k = 0; k < rays.size(); ++k)
+            if (k == 0 || rays[k].cell != rays[k - 1].cell) starts.push_back(k);
+        starts.push_back(rays.size());
+        tbb::enumerable_thread_specific<std::vector<std::pair<openvdb::Vec3d, double>>> found;
+        tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t s) {
+            const auto rb = rays.begin() + std::ptrdiff_t(starts[s]), re = rays.begin() + std::ptrdiff_t(starts[s + 1]);
+            const std::uint32_t c = rb->cell;
+            // The depth the field prefers: the ray's best voxel.
+            auto best = std::min_element(rb, re, [&](const Vox& a, const Vox& b) { return cur[a.i] < cur[b.i]; });
+            if (near[c] == std::numeric_limits<std::uint32_t>::max()) return; // nothing kept in this view
+            const auto [ab, ae] = range_of(anchors, near[c]);
+            if (ab == ae) return;
+            auto centre = std::min_element(
+                ab, ae, [&](const Vox& a, const Vox& b) { return dist2(a.c, best->c) < dist2(b.c, best->c); });
+            // The ray's `want` voxels nearest to the centre: the ball reaches the farthest.
+            std::vector<double> d;
+            for (auto it = rb; it != re; ++it) d.push_back(dist2(it->c, centre->c));
+            const std::size_t want = std::min<std::size_t>(keep, d.size());
+            std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(want - 1), d.end());
+            const auto& o = centre->c;
+            found.local().push_back(
+                {openvdb::Vec3d(o.x(), o.y(), o.z()), std::sqrt(d[want - 1]) + kMargin + 0.5 * coarse});
+        });
+        for (auto& f : found)
+            for (const auto& [centre, radius] : f) balls.add(centre, radius);
+        balls.settle(kBlend + 2.0 * coarse);
+        // Smooth minimum of the field and the swellings (never above either).
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                std::size_t i = base[l];
+                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
+                    const float b = balls.at(it.getCoord()), a = cur[i];
+                    if (!(b < a + kBlend)) continue;
+                    const float h = std::clamp(0.5f + 0.5f * (a - b) / kBlend, 0.0f, 1.0f);
+                    cur[i] = std::min(a, a + (b - a) * h - kBlend * h * (1.0f - h));
+                }
+            }
+        });
+    }
+    st.short_rays = short_rays;
+    // 4d. Any line of sight still short keeps its best voxels.
+    for (std::size_t v = 0; v < nv; ++v) {
+        const std::vector<char> flag = short_rays_of(v);
+        if (flag.empty()) continue;
+        std::vector<char> is_short(flag.size(), 0);
+        for (std::size_t c = 0; c < flag.size(); ++c) is_short[c] = flag[c] == 1;
+        const std::vector<Vox> rays = voxels_of(v, is_short, false);
+        for (std::size_t b = 0; b < rays.size();) {
+            std::size_t e = b + 1;
+            while (e < rays.size() && rays[e].cell == rays[b].cell) ++e;
+            std::vector<float> vals;
+            for (std::size_t k = b; k < e; ++k) vals.push_back(cur[rays[k].i]);
+            const std::size_t want = std::min<std::size_t>(keep, vals.size());
+            std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
+            const float t = vals[want - 1];
+            for (std::size_t k = b; k < e; ++k)
+                if (cur[rays[k].i] <= t) cur[rays[k].i] = std::min(cur[rays[k].i], -kMargin);
+            b = e;
+        }
+    }
+    cells = {};
+    step(0.65);
+
+    // 5. Removal: the voxels where the field is above 0.
+    std::vector<std::uint8_t> removed(n, 0);
+    {
+        std::atomic<std::size_t> count{0};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::size_t k = 0;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                removed[i] = cur[i] > 0;
+                k += removed[i];
+            }
+            count += k;
+        });
+        st.removed = count;
+        st.kept_for_rays = st.candidates > st.removed ? st.candidates - st.removed : 0;
+    }
+    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(cur[i]); });
+    phi = {};
+    cur = {};
+    step(0.7);
+    // 6. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
     // to tiles (so every inside point next to the outside stays a leaf voxel, volume.h).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
@@ -332,7 +533,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (const auto o : off) leaf.setValueOff(o, false);
         }
     });
-    // 5a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
+    // 6a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
     // (coincident vertices). Such a voxel's removed neighbours along that axis come back
     // (only adding: every line of sight keeps what it had).
@@ -387,12 +588,65 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     }
     step(0.8);
 
-    // 6. Crossings: unchanged where an edge still runs from an inside point to a point
+    // 7. Crossings: unchanged where an edge still runs from an inside point to a point
     // outside the hull; the smoothed score's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
     out->views = in.views;
-    out->extra = in.extra;
     out->occupancy = occ;
+    // Thin parts between grid points hang on the hull's surface next to them: where the
+    // removal took any grid point around one, it would float free, so it goes.
+    {
+        auto enter = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in.find_extra("thin_enter"));
+        auto leave = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in.find_extra("thin_leave"));
+        std::size_t dropped = 0;
+        for (const auto& g : in.extra) {
+            if (g == enter || g == leave) continue;
+            out->extra.push_back(g);
+        }
+        if (enter && leave) {
+            auto e2 = enter->deepCopy(), l2 = leave->deepCopy();
+            auto was = in.occupancy->getConstAccessor();
+            auto now = occ->getConstAccessor();
+            auto la = l2->getAccessor();
+            std::vector<Coord> off;
+            for (auto it = e2->beginValueOn(); it; ++it) {
+                const Coord p = it.getCoord();
+                openvdb::Vec3f te = *it, tl = la.getValue(p);
+                bool any = false;
+                for (int a = 0; a < 3; ++a) {
+                    if (te[a] < 0) continue;
+                    Coord q = p;
+                    q[a] += 1;
+                    bool cut = false;
+                    for (int k = 0; k < 27 * 2 && !cut; ++k) {
+                        const Coord g = (k < 27 ? p : q).offsetBy(k % 27 / 9 - 1, k % 9 / 3 - 1, k % 3 - 1);
+                        cut = was.isValueOn(g) && !now.isValueOn(g);
+                    }
+                    if (cut) {
+                        te[a] = tl[a] = -1.0f;
+                        ++dropped;
+                    } else {
+                        any = true;
+                    }
+                }
+                if (any) {
+                    it.setValue(te);
+                    la.setValue(p, tl);
+                } else {
+                    off.push_back(p);
+                }
+            }
+            for (const Coord& p : off) {
+                e2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
+                l2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
+            }
+            if (e2->activeVoxelCount() > 0) {
+                out->extra.push_back(e2);
+                out->extra.push_back(l2);
+            }
+        }
+        st.thin_dropped = dropped;
+    }
     if (in.crossings) {
         auto cross = in.crossings->deepCopy();
         // The leaves to revisit: those holding removed voxels, and the ones just below in
@@ -437,12 +691,11 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                         if (ig == iq) {
                             val[a] = -1.0f;
                         } else if (rg || rq) {
-                            // One end kept (inside), the other removed: the score's zero level.
+                            // One end kept (inside), the other removed: the field's zero level
+                            // (half-way from a voxel the plate repair put back).
                             const float sk = sc.getValue(ig ? g : q), sr = sc.getValue(ig ? q : g);
-                            // A voxel kept only for a line of sight reaches almost to its
-                            // removed neighbours, so it covers its whole cell of that line.
-                            float f = 0.95f;
-                            if (sk < 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
+                            float f = 0.5f;
+                            if (sk <= 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
                             val[a] = ig ? f : 1.0f - f;
                             ++mine;
                         }
