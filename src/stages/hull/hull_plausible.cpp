@@ -32,12 +32,16 @@ public:
         b.add(opt_.ray_keep, ParamSpec::Int("ray_keep", 1, 1, 64, "cells",
                                             "occupied cells every line of sight keeps (1: one is enough for the "
                                             "silhouette; more keeps a minimum thickness)"));
-        b.add(opt_.thin_cells, ParamSpec::Int("thin_cells", 3, 0, 64, "cells",
-                                              "voxels in a run of at most this many cells along any view's line of "
-                                              "sight are kept (thin parts: fins, blades, wings)"));
-        b.add(opt_.smooth_cells, ParamSpec::Float("smooth", 1.5, 0.0, 4.0, "cells",
-                                                  "standard deviation of the Gaussian smoothing of the score (a "
-                                                  "smoother new surface), 0 for none"));
+        b.add(opt_.thin_cells,
+              ParamSpec::Int("thin_cells", 3, 0, 64, "cells",
+                             "voxels in a run of at most this many cells along a view's line of sight, "
+                             "well inside a thin part of that view's drawing, are kept (fins, blades, "
+                             "ears seen face-on)"));
+        b.add(opt_.smooth_cells,
+              ParamSpec::Float("smooth", 2.5, 0.0, 8.0, "cells at 256",
+                               "standard deviation of the Gaussian smoothing of the field (a smoother "
+                               "new surface), in cells of a grid of 256 along the object's longest "
+                               "side, 0 for none"));
     }
 
     Data run(const Inputs& in, Context& ctx) override {

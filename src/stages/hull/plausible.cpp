@@ -22,6 +22,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 
 #include "core/error.h"
 #include "geometry/hull_distance.h"
@@ -110,6 +111,22 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     st.hull_voxels = n;
     if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
         throw Error("the hull has too many voxels (" + std::to_string(n) + ") for hull.plausible");
+    // The grid point of voxel i.
+    auto coord_of = [&](std::size_t i) {
+        const std::size_t l = std::size_t(std::upper_bound(base.begin(), base.end(), i) - base.begin()) - 1;
+        const auto& mask = leaves.leaf(l).getValueMask();
+        std::size_t r = i - base[l];
+        for (openvdb::Index w = 0;; ++w) {
+            std::uint64_t word = mask.getWord<std::uint64_t>(w);
+            const std::size_t cnt = std::size_t(__builtin_popcountll(word));
+            if (r >= cnt) {
+                r -= cnt;
+                continue;
+            }
+            for (; r > 0; --r) word &= word - 1; // drop the lowest set bits
+            return leaves.leaf(l).offsetToGlobalCoord(openvdb::Index(w * 64 + unsigned(__builtin_ctzll(word))));
+        }
+    };
     // body(i, coord) for every voxel, in parallel over leaves.
     auto for_voxels = [&](auto&& body) {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -129,31 +146,69 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     std::vector<float> phi(n, -std::numeric_limits<float>::infinity());
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
-    std::vector<std::vector<std::uint32_t>> cells;     // per view, each voxel's line of sight
+    // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).
+    std::vector<std::vector<std::uint32_t>> orders, starts;
     std::vector<std::vector<std::uint32_t>> ray_total; // per view, voxels per line of sight
     const std::size_t nv = views->views.size();
+    const LeafColumns columns(leaves, base);
+    // body(cell, voxel indices in depth order, count, coord(k)) for every line of sight of
+    // view v that holds a voxel, in parallel: the grid's columns for a view along an axis,
+    // else the voxels sorted by cell and depth. coord(k) is the grid point of voxel k.
+    auto for_rays = [&](std::size_t v, auto&& body) {
+        const RayRaster& R = rasters[v];
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis,
+                                [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+                                    body(R.cell(first), idx, cnt, [&](std::size_t k) {
+                                        Coord c = first;
+                                        c[R.axis] = along[k];
+                                        return c;
+                                    });
+                                });
+            return;
+        }
+        const auto& order = orders[v];
+        const auto& start = starts[v];
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, start.size() - 1, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c)
+                                  if (start[c + 1] > start[c]) {
+                                      const std::uint32_t* idx = order.data() + start[c];
+                                      body(std::uint32_t(c), idx, std::size_t(start[c + 1] - start[c]),
+                                           [&](std::size_t k) { return coord_of(idx[k]); });
+                                  }
+                          });
+    };
     for (std::size_t v = 0; v < nv; ++v) {
         const View& view = views->views[v];
-        const RayRaster R = make_raster(view, lat, box, voxel);
+        rasters.push_back(make_raster(view, lat, box, voxel));
+        const RayRaster& R = rasters.back();
         const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
-        std::vector<std::uint32_t> cell(n), key(n);
-        for_voxels([&](std::size_t i, const Coord& c) {
-            cell[i] = R.cell(c);
-            key[i] = R.depth_key(c);
-        });
-        std::vector<std::uint32_t> by_depth, order, start;
-        stable_bucket_order(key, R.dkeys, {}, by_depth);
-        stable_bucket_order(cell, std::uint32_t(ncell), by_depth, order, &start);
-        by_depth = {};
+        // Each line of sight's voxels in depth order (increasing or, along a negative axis,
+        // decreasing: the runs are the same), with their depths in cells.
+        std::vector<std::uint32_t> count(ncell, 0), key;
+        orders.emplace_back();
+        starts.emplace_back();
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis, [&](const Coord& first, const std::uint32_t*, const int*, std::size_t cnt) {
+                count[R.cell(first)] = std::uint32_t(cnt);
+            });
+        } else {
+            std::vector<std::uint32_t> cell(n), by_depth;
+            key.resize(n);
+            for_voxels([&](std::size_t i, const Coord& c) {
+                cell[i] = R.cell(c);
+                key[i] = R.depth_key(c);
+            });
+            stable_bucket_order(key, R.dkeys, {}, by_depth);
+            stable_bucket_order(cell, std::uint32_t(ncell), by_depth, orders[v], &starts[v]);
+            for (std::size_t c = 0; c < ncell; ++c) count[c] = starts[v][c + 1] - starts[v][c];
+        }
 
         // The drawing as these lines of sight see it (a cell is inside when a voxel of the
         // hull projects into it), its distance to the outline and local inscribed radius.
-        std::vector<std::uint32_t> count(ncell);
         std::vector<char> outside(ncell);
-        for (std::size_t c = 0; c < ncell; ++c) {
-            count[c] = start[c + 1] - start[c];
-            outside[c] = count[c] == 0;
-        }
+        for (std::size_t c = 0; c < ncell; ++c) outside[c] = count[c] == 0;
         // Distance to the outline from the drawing itself (sub-pixel), in cells; cells the
         // hull reaches although their centre is outside the drawing get 0.
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
@@ -173,42 +228,48 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         box_blur(radius, &outside, R.w, R.h, 4);
         for (std::size_t c = 0; c < ncell; ++c) radius[c] = std::max(radius[c], dist[c]);
 
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, ncell, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                    if (count[c] == 0) continue;
-                    const std::uint32_t* b = order.data() + start[c];
-                    const std::uint32_t* e = order.data() + start[c + 1];
-                    const double frac = profile_fraction(radius[c] > 0 ? dist[c] / radius[c] : 0.0,
-                                                         opt.profile_exponent, opt.roundness);
-                    // The inflated cross-section's own half-depth (radius R in world units), so a
-                    // round drawing is a round solid even where the run is long.
-                    const double inflated = frac * double(radius[c]) * voxel;
-                    // A short run well inside the drawing is a thin part seen face-on (an
-                    // ear, a fin); near the outline short runs are the rim of any body.
-                    const bool thin_part = dist[c] >= 1.5f && radius[c] <= 2.0f * float(opt.thin_cells);
-                    for (const std::uint32_t* rb = b; rb != e;) {
-                        const std::uint32_t* re = rb + 1;
-                        while (re != e && int(key[*re]) - int(key[*(re - 1)]) <= R.gap_keys) ++re;
-                        const double front = R.depth_of_key(key[*rb]) - 0.5 * voxel,
-                                     back = R.depth_of_key(key[*(re - 1)]) + 0.5 * voxel;
-                        const double half = 0.5 * (back - front), mid = 0.5 * (back + front);
-                        // Allowed half-depth: the larger of the profile's share of the run and the
-                        // inflated cross-section (within the run).
-                        const double allow = std::max(frac * half, std::min(half, inflated));
-                        const bool is_thin = thin_part && re - rb <= opt.thin_cells;
-                        for (const std::uint32_t* it = rb; it != re; ++it) {
-                            const float sv = float((std::abs(R.depth_of_key(key[*it]) - mid) - allow) / voxel);
-                            phi[*it] = std::max(phi[*it], sv);
-                            if (is_thin) thin[*it] = 1;
-                        }
-                        rb = re;
-                    }
+        // The field of one line of sight: `dep` the depths (cells) of its voxels `idx`.
+        const double gap = R.gap_keys * R.dq / voxel;
+        auto score = [&](std::uint32_t c, const std::uint32_t* idx, const double* dep, std::size_t cnt) {
+            const double frac =
+                profile_fraction(radius[c] > 0 ? dist[c] / radius[c] : 0.0, opt.profile_exponent, opt.roundness);
+            // The inflated cross-section's own half-depth (radius R), so a round drawing is a
+            // round solid even where the run is long.
+            const double inflated = frac * double(radius[c]);
+            // A short run well inside the drawing is a thin part seen face-on (an ear, a fin);
+            // near the outline short runs are the rim of any body.
+            const bool thin_part = dist[c] >= 1.5f && radius[c] <= 2.0f * float(opt.thin_cells);
+            for (std::size_t rb = 0; rb != cnt;) {
+                std::size_t re = rb + 1;
+                while (re != cnt && std::abs(dep[re] - dep[re - 1]) <= gap) ++re;
+                const double front = std::min(dep[rb], dep[re - 1]) - 0.5, back = std::max(dep[rb], dep[re - 1]) + 0.5;
+                const double half = 0.5 * (back - front), mid = 0.5 * (back + front);
+                // Allowed half-depth: the larger of the profile's share of the run and the
+                // inflated cross-section (within the run).
+                const double allow = std::max(frac * half, std::min(half, inflated));
+                const bool is_thin = thin_part && re - rb <= std::size_t(opt.thin_cells);
+                for (std::size_t k = rb; k != re; ++k) {
+                    const float sv = float(std::abs(dep[k] - mid) - allow);
+                    phi[idx[k]] = std::max(phi[idx[k]], sv);
+                    if (is_thin) thin[idx[k]] = 1;
                 }
+                rb = re;
+            }
+        };
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis,
+                                [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+                                    std::vector<double> dep(along, along + cnt);
+                                    score(R.cell(first), idx, dep.data(), cnt);
+                                });
+        } else {
+            for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&&) {
+                std::vector<double> dep(cnt);
+                for (std::size_t k = 0; k < cnt; ++k) dep[k] = R.depth_of_key(key[idx[k]]) / voxel;
+                score(c, idx, dep.data(), cnt);
             });
+        }
         ray_total.push_back(std::move(count));
-        cells.push_back(std::move(cell));
-        rasters.push_back(R);
         step(0.05 + 0.4 * double(v + 1) / double(nv));
     }
 
@@ -232,22 +293,12 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         });
     };
-    if (opt.smooth_cells > 0) {
-        // Binomial passes ([1 2 1] along each axis, variance 1/2 each) normalised by the
-        // weight of the hull's voxels under the kernel.
-        const int passes = std::max(1, int(std::lround(2.0 * opt.smooth_cells * opt.smooth_cells)));
-        const float reach = 3.0f * float(passes);
-        std::vector<char> active(nleaf, 0);
-        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
-            for (std::size_t i = base[l]; i < base[l + 1] && !active[l]; ++i) active[l] = std::abs(phi[i]) <= reach;
-        });
-        for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(phi[i]); });
-        auto other = sgrid->deepCopy();
-        for (int k = 0; k < passes; ++k) {
-            binomial_pass(*sgrid, *other, active);
-            std::swap(sgrid, other);
-        }
-        for_leaves(*sgrid, [&](std::size_t i, auto& it) { phi[i] = it.getValue(); });
+    // The smoothing is given in cells of a grid of 256 along the object's longest side, so
+    // the surface is as smooth at any resolution; voxels farther from the zero level than
+    // four standard deviations keep their values (their side of it is not in doubt).
+    {
+        const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
+        smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
     }
     // Thin parts have no volume to spare.
     {
@@ -283,103 +334,97 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // (d) keeps the best voxels of any line of sight the coarsely sampled swellings still miss.
     const std::uint32_t keep = std::uint32_t(std::max(1, opt.ray_keep));
     constexpr float kMargin = 0.75f; // cells of field below 0 a needed voxel gets
-    constexpr float kBlend = 1.5f;   // cells over which a swelling blends into the field
-    const int coarse =
-        std::clamp(int(std::lround(double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 128.0)), 1, 4);
-    BallField balls(box, coarse);
+    constexpr float kBlend = 1.5f;   // cells over which a ball blends into the field
+    const int maxdim = std::max({box.dim().x(), box.dim().y(), box.dim().z()});
     std::vector<float> cur = phi;
     struct Vox {
         std::uint32_t cell, i;
         Coord c;
     };
-    // Lines of sight of view v short of voxels with field <= 0 (flags per cell); none: empty.
-    auto short_rays_of = [&](std::size_t v) {
-        const std::size_t ncell = ray_total[v].size();
-        std::unique_ptr<std::atomic<std::uint32_t>[]> kept(new std::atomic<std::uint32_t>[ncell]);
-        for (std::size_t c = 0; c < ncell; ++c) kept[c].store(0, std::memory_order_relaxed);
-        const auto& cell = cells[v];
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i)
-                if (cur[i] <= 0) kept[cell[i]].fetch_add(1, std::memory_order_relaxed);
-        });
-        std::vector<char> flag(ncell, 0); // 1: short, 2: covered (holds a kept voxel)
-        bool any = false;
-        for (std::size_t c = 0; c < ncell; ++c) {
-            const std::uint32_t k = kept[c].load(std::memory_order_relaxed);
-            if (k < std::min(keep, ray_total[v][c])) flag[c] = 1, any = true;
-            else if (k > 0) flag[c] = 2;
-        }
-        if (!any) flag.clear();
-        return flag;
-    };
-    // The voxels of the cells with `want[cell]` set (and field <= 0 when `kept_only`), by cell.
-    auto voxels_of = [&](std::size_t v, const std::vector<char>& want, bool kept_only) {
+    // The voxels with field <= 0 of the cells with `want[cell]` set, by cell, in depth order.
+    auto kept_voxels_of = [&](std::size_t v, const std::vector<char>& want) {
         tbb::enumerable_thread_specific<std::vector<Vox>> found;
-        const auto& cell = cells[v];
-        for_voxels([&](std::size_t i, const Coord& c) {
-            if (want[cell[i]] && (!kept_only || cur[i] <= 0)) found.local().push_back({cell[i], std::uint32_t(i), c});
+        for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+            if (!want[c]) return;
+            auto& local = found.local();
+            for (std::size_t k = 0; k < cnt; ++k)
+                if (cur[idx[k]] <= 0) local.push_back({c, idx[k], coord(k)});
         });
         std::vector<Vox> all;
         for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
-        std::sort(all.begin(), all.end(),
-                  [](const Vox& a, const Vox& b) { return a.cell < b.cell || (a.cell == b.cell && a.i < b.i); });
+        // A cell's voxels come whole from one call of the body.
+        std::stable_sort(all.begin(), all.end(), [](const Vox& a, const Vox& b) { return a.cell < b.cell; });
         return all;
     };
-    auto dist2 = [](const Coord& a, const Coord& b) {
-        const double dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
-        return dx * dx + dy * dy + dz * dz;
+    // Per view, the voxels of its lines of sight the profiles leave short, by line of sight
+    // (the field only goes down from here, and what 4b drops was never the profiles', so no
+    // other line of sight can become short): those within 8 cells of field of the best, where
+    // a swelling can reach (a voxel left out only makes a line of sight look shorter than
+    // it is: more swelling, never less coverage).
+    std::vector<std::vector<Vox>> lists(nv);
+    std::vector<std::vector<std::size_t>> groups(nv); // start of each line of sight in lists[v]
+    for (std::size_t v = 0; v < nv; ++v) {
+        tbb::enumerable_thread_specific<std::vector<Vox>> found;
+        for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+            std::uint32_t kept = 0;
+            const std::uint32_t want = std::min(keep, std::uint32_t(cnt));
+            float best = std::numeric_limits<float>::infinity();
+            for (std::size_t k = 0; k < cnt; ++k) {
+                kept += cur[idx[k]] <= 0;
+                best = std::min(best, cur[idx[k]]);
+            }
+            if (kept >= want) return;
+            auto& local = found.local();
+            for (std::size_t k = 0; k < cnt; ++k)
+                if (cur[idx[k]] <= best + 8.0f) local.push_back({c, idx[k], coord(k)});
+        });
+        for (auto& f : found) lists[v].insert(lists[v].end(), f.begin(), f.end());
+        for (std::size_t k = 0; k < lists[v].size(); ++k)
+            if (k == 0 || lists[v][k].cell != lists[v][k - 1].cell) groups[v].push_back(k);
+        if (lists[v].empty()) continue;
+        groups[v].push_back(lists[v].size());
+        st.short_rays += groups[v].size() - 1;
+    }
+    // Whether line of sight g of view v is short, and the field value its `want`-th best voxel has.
+    auto shortfall = [&](std::size_t v, std::size_t g, float* t) {
+        const auto& list = lists[v];
+        const std::size_t b = groups[v][g], e = groups[v][g + 1];
+        std::vector<float> vals;
+        std::uint32_t have = 0;
+        for (std::size_t k = b; k < e; ++k) {
+            vals.push_back(cur[list[k].i]);
+            have += cur[list[k].i] <= 0;
+        }
+        const std::size_t want = std::min<std::size_t>(keep, vals.size());
+        if (have >= want) return false;
+        std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
+        *t = vals[want - 1];
+        return true;
     };
+
     // 4a. The swelling about the best voxels of each short line of sight (those within a cell
     // of the best: where the profiles least object), in rounds since its smoothing takes some
     // of its height.
-    std::size_t short_rays = 0;
     {
-        const int sc =
-            std::clamp(int(std::lround(double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 96.0)), 1, 8);
-        SwellField swell(box, sc);
-        std::vector<std::vector<Vox>> lists(nv);
-        for (std::size_t v = 0; v < nv; ++v) {
-            const std::vector<char> flag = short_rays_of(v);
-            if (flag.empty()) continue;
-            std::vector<char> is_short(flag.size(), 0);
-            for (std::size_t c = 0; c < flag.size(); ++c) is_short[c] = flag[c] == 1;
-            lists[v] = voxels_of(v, is_short, false);
-        }
+        SwellField swell(box, std::clamp(int(std::lround(double(maxdim) / 96.0)), 1, 8));
         for (int round = 0; round < 4; ++round) {
             bool seeded = false;
-            for (std::size_t v = 0; v < nv; ++v) {
-                std::vector<Vox> still;
-                const auto& list = lists[v];
-                std::vector<float> vals;
-                for (std::size_t b = 0; b < list.size();) {
-                    std::size_t e = b + 1;
-                    while (e < list.size() && list[e].cell == list[b].cell) ++e;
-                    vals.clear();
-                    std::uint32_t have = 0;
-                    for (std::size_t k = b; k < e; ++k) {
-                        vals.push_back(cur[list[k].i]);
-                        have += cur[list[k].i] <= 0;
-                    }
-                    const std::size_t want = std::min<std::size_t>(keep, vals.size());
-                    if (have < want) {
-                        if (round == 0) ++short_rays;
-                        std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
-                        const float t = vals[want - 1];
-                        for (std::size_t k = b; k < e; ++k)
-                            if (cur[list[k].i] <= t + 1.0f) swell.seed(list[k].c, t + kMargin);
-                        still.insert(still.end(), list.begin() + std::ptrdiff_t(b), list.begin() + std::ptrdiff_t(e));
-                        seeded = true;
-                    }
-                    b = e;
+            for (std::size_t v = 0; v < nv; ++v)
+                for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+                    float t = 0;
+                    if (!shortfall(v, g, &t)) continue;
+                    for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                        if (cur[lists[v][k].i] <= t + 1.0f) swell.seed(lists[v][k].c, t + kMargin);
+                    seeded = true;
                 }
-                lists[v].swap(still);
-            }
             if (!seeded) break;
             swell.settle();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
                 for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                    const auto& leaf = leaves.leaf(l);
+                    if (!swell.raised_in(openvdb::CoordBBox::createCube(leaf.origin(), LeafT::DIM))) continue;
                     std::size_t i = base[l];
-                    for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i)
+                    for (auto it = leaf.cbeginValueOn(); it; ++it, ++i)
                         if (phi[i] > 0) cur[i] = std::min(cur[i], phi[i] - swell.at(it.getCoord()));
                 }
             });
@@ -399,13 +444,34 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.loose_dropped = dropped;
     }
     // 4c. Balls about the volume to the lines of sight still short.
+    BallField balls(box, std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
+    const double coarse = double(std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
+    auto dist2 = [](const Coord& a, const Coord& b) {
+        const double dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
+        return dx * dx + dy * dy + dz * dz;
+    };
     for (std::size_t v = 0; v < nv; ++v) {
-        const std::vector<char> flag = short_rays_of(v);
-        if (flag.empty()) continue;
         const RayRaster& R = rasters[v];
-        const std::size_t ncell = flag.size();
+        const std::size_t ncell = ray_total[v].size();
+        // 1: short, 2: covered (holds a kept voxel).
+        std::vector<char> flag(ncell, 0);
+        for (std::size_t c = 0; c < ncell; ++c) flag[c] = ray_total[v][c] > 0 ? 2 : 0;
+        bool any = false;
+        std::vector<std::size_t> short_groups;
+        for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+            const std::uint32_t c = lists[v][groups[v][g]].cell;
+            float t = 0;
+            bool kept_one = false;
+            for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                kept_one = kept_one || cur[lists[v][k].i] <= 0;
+            flag[c] = kept_one ? 2 : 0;
+            if (shortfall(v, g, &t)) flag[c] = 1, any = true, short_groups.push_back(g);
+        }
+        if (!any) continue;
+        st.ball_rays += short_groups.size();
         // The nearest covered cell of every cell (8-neighbour breadth-first search).
-        std::vector<std::uint32_t> near(ncell, std::numeric_limits<std::uint32_t>::max());
+        constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+        std::vector<std::uint32_t> near(ncell, none);
         std::vector<std::uint32_t> queue;
         for (std::size_t c = 0; c < ncell; ++c)
             if (flag[c] == 2) near[c] = std::uint32_t(c), queue.push_back(std::uint32_t(c));
@@ -417,41 +483,33 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                     const int x = i + di, y = j + dj;
                     if (x < 0 || y < 0 || x >= R.w || y >= R.h) continue;
                     const std::size_t q = std::size_t(y) * std::size_t(R.w) + std::size_t(x);
-                    if (near[q] != std::numeric_limits<std::uint32_t>::max()) continue;
+                    if (near[q] != none) continue;
                     near[q] = near[c];
                     queue.push_back(std::uint32_t(q));
                 }
         }
         queue = {};
-        std::vector<char> is_short(ncell, 0), anchor(ncell, 0);
-        for (std::size_t c = 0; c < ncell; ++c)
-            if (flag[c] == 1) {
-                is_short[c] = 1;
-                ++st.ball_rays;
-                if (near[c] != std::numeric_limits<std::uint32_t>::max()) anchor[near[c]] = 1;
-            }
-        const std::vector<Vox> rays = voxels_of(v, is_short, false), anchors = voxels_of(v, anchor, true);
-        auto range_of = [](const std::vector<Vox>& list, std::uint32_t c) {
-            auto lo =
-                std::lower_bound(list.begin(), list.end(), c, [](const Vox& a, std::uint32_t x) { return a.cell < x; });
-            auto hi = lo;
-            while (hi != list.end() && hi->cell == c) ++hi;
-            return std::pair{lo, hi};
-        };
-        std::vector<std::size_t> starts;
-        for (std::size_t k = 0; k < rays.size(); ++k)
-            if (k == 0 || rays[k].cell != rays[k - 1].cell) starts.push_back(k);
-        starts.push_back(rays.size());
+        std::vector<char> anchor(ncell, 0);
+        for (std::size_t g : short_groups) {
+            const std::uint32_t c = lists[v][groups[v][g]].cell;
+            if (near[c] != none) anchor[near[c]] = 1;
+        }
+        const std::vector<Vox> anchors = kept_voxels_of(v, anchor);
         tbb::enumerable_thread_specific<std::vector<std::pair<openvdb::Vec3d, double>>> found;
-        tbb::parallel_for(std::size_t(0), starts.size() - 1, [&](std::size_t s) {
-            const auto rb = rays.begin() + std::ptrdiff_t(starts[s]), re = rays.begin() + std::ptrdiff_t(starts[s + 1]);
+        tbb::parallel_for(std::size_t(0), short_groups.size(), [&](std::size_t s) {
+            const std::size_t g = short_groups[s];
+            const auto rb = lists[v].begin() + std::ptrdiff_t(groups[v][g]),
+                       re = lists[v].begin() + std::ptrdiff_t(groups[v][g + 1]);
             const std::uint32_t c = rb->cell;
-            // The depth the field prefers: the ray's best voxel.
-            auto best = std::min_element(rb, re, [&](const Vox& a, const Vox& b) { return cur[a.i] < cur[b.i]; });
-            if (near[c] == std::numeric_limits<std::uint32_t>::max()) return; // nothing kept in this view
-            const auto [ab, ae] = range_of(anchors, near[c]);
+            if (near[c] == none) return; // nothing kept in this view
+            auto ab = std::lower_bound(anchors.begin(), anchors.end(), near[c],
+                                       [](const Vox& a, std::uint32_t x) { return a.cell < x; });
+            auto ae = ab;
+            while (ae != anchors.end() && ae->cell == near[c]) ++ae;
             if (ab == ae) return;
-            auto centre = std::min_element(
+            // The depth the field prefers: the ray's best voxel.
+            const auto best = std::min_element(rb, re, [&](const Vox& a, const Vox& b) { return cur[a.i] < cur[b.i]; });
+            const auto centre = std::min_element(
                 ab, ae, [&](const Vox& a, const Vox& b) { return dist2(a.c, best->c) < dist2(b.c, best->c); });
             // The ray's `want` voxels nearest to the centre: the ball reaches the farthest.
             std::vector<double> d;
@@ -465,9 +523,10 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         for (auto& f : found)
             for (const auto& [centre, radius] : f) balls.add(centre, radius);
         balls.settle(kBlend + 2.0 * coarse);
-        // Smooth minimum of the field and the swellings (never above either).
+        // Smooth minimum of the field and the balls (never above either).
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                if (!balls.any_in(openvdb::CoordBBox::createCube(leaves.leaf(l).origin(), LeafT::DIM))) continue;
                 std::size_t i = base[l];
                 for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
                     const float b = balls.at(it.getCoord()), a = cur[i];
@@ -478,28 +537,17 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         });
     }
-    st.short_rays = short_rays;
     // 4d. Any line of sight still short keeps its best voxels.
-    for (std::size_t v = 0; v < nv; ++v) {
-        const std::vector<char> flag = short_rays_of(v);
-        if (flag.empty()) continue;
-        std::vector<char> is_short(flag.size(), 0);
-        for (std::size_t c = 0; c < flag.size(); ++c) is_short[c] = flag[c] == 1;
-        const std::vector<Vox> rays = voxels_of(v, is_short, false);
-        for (std::size_t b = 0; b < rays.size();) {
-            std::size_t e = b + 1;
-            while (e < rays.size() && rays[e].cell == rays[b].cell) ++e;
-            std::vector<float> vals;
-            for (std::size_t k = b; k < e; ++k) vals.push_back(cur[rays[k].i]);
-            const std::size_t want = std::min<std::size_t>(keep, vals.size());
-            std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
-            const float t = vals[want - 1];
-            for (std::size_t k = b; k < e; ++k)
-                if (cur[rays[k].i] <= t) cur[rays[k].i] = std::min(cur[rays[k].i], -kMargin);
-            b = e;
+    for (std::size_t v = 0; v < nv; ++v)
+        for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+            float t = 0;
+            if (!shortfall(v, g, &t)) continue;
+            for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                if (cur[lists[v][k].i] <= t) cur[lists[v][k].i] = std::min(cur[lists[v][k].i], -kMargin);
         }
-    }
-    cells = {};
+    lists = {};
+    orders = {};
+    starts = {};
     step(0.65);
 
     // 5. Removal: the voxels where the field is above 0.
@@ -539,13 +587,32 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // (only adding: every line of sight keeps what it had).
     // Two passes: a voxel put back can be such a plate along another axis, and on small or
     // lacy parts putting its neighbours back in turn would go on growing the volume.
+    // Only leaves with a removed voxel in them or across a face can hold such a plate.
+    std::vector<char> near_cut(nleaf, 0);
+    {
+        std::vector<char> cut(nleaf, 0);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            for (std::size_t i = base[l]; i < base[l + 1] && !cut[l]; ++i) cut[l] = removed[i];
+        });
+        std::set<Coord> origins;
+        for (std::size_t l = 0; l < nleaf; ++l)
+            if (cut[l]) origins.insert(leaves.leaf(l).origin());
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            near_cut[l] = cut[l];
+            for (int d = 0; d < 6 && !near_cut[l]; ++d) {
+                Coord o = leaves.leaf(l).origin();
+                o[d / 2] += (d & 1) ? int(LeafT::DIM) : -int(LeafT::DIM);
+                near_cut[l] = origins.count(o) > 0;
+            }
+        });
+    }
     for (int pass = 0; pass < 2; ++pass) {
         std::vector<std::vector<Coord>> back(nleaf);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
             auto now = occ->getConstAccessor();
             auto was = in.occupancy->getConstAccessor();
             for (std::size_t l = r.begin(); l != r.end(); ++l)
-                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) {
+                for (auto it = leaves.leaf(l).cbeginValueOn(); near_cut[l] && it; ++it) {
                     const Coord g = it.getCoord();
                     for (int a = 0; a < 3; ++a) {
                         Coord lo = g, hi = g;

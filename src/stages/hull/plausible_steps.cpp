@@ -80,6 +80,8 @@ RayRaster make_raster(const View& view, const Lattice& lat, const openvdb::Coord
         throw Error("view \"" + view.name + "\": the object is too deep along its lines of sight");
     // A depth step larger than 1.5 cells (3 for oblique or perspective rays) splits a run.
     r.gap_keys = field.drop_axis() >= 0 ? 12 : 24;
+    r.axis_aligned = r.ortho && field.drop_axis() >= 0;
+    r.axis = r.axis_aligned ? field.drop_axis() : -1;
     return r;
 }
 
@@ -152,58 +154,77 @@ void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int
     }
 }
 
-// One normalised binomial pass from `src` into `dst` (same topology): each active voxel
-// gets the [1 2 1]^3 weighted mean of the active voxels around it. Per leaf, its 10^3
-// neighbourhood is gathered from the 27 leaves around it, then filtered separably.
-void binomial_pass(const openvdb::FloatGrid& src, openvdb::FloatGrid& dst, const std::vector<char>& active) {
-    using FLeaf = openvdb::FloatTree::LeafNodeType;
-    openvdb::tree::LeafManager<openvdb::FloatTree> lm(dst.tree());
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, lm.leafCount()), [&](const tbb::blocked_range<std::size_t>& r) {
-            constexpr int N = 10;
-            std::vector<float> v(N * N * N), w(N * N * N), v2(N * N * N), w2(N * N * N);
-            auto at = [](int x, int y, int z) { return (x * N + y) * N + z; };
-            for (std::size_t l = r.begin(); l != r.end(); ++l) {
-                if (!active[l]) continue;
-                FLeaf& leaf = lm.leaf(l);
-                const Coord o = leaf.origin();
-                const FLeaf* nb[27];
-                for (int k = 0; k < 27; ++k)
-                    nb[k] =
-                        src.tree().probeConstLeaf(o.offsetBy((k / 9 - 1) * 8, (k / 3 % 3 - 1) * 8, (k % 3 - 1) * 8));
-                for (int x = 0; x < N; ++x)
-                    for (int y = 0; y < N; ++y)
-                        for (int z = 0; z < N; ++z) {
-                            const int gx = x - 1, gy = y - 1, gz = z - 1;
-                            const int bx = gx < 0 ? 0 : (gx > 7 ? 2 : 1), by = gy < 0 ? 0 : (gy > 7 ? 2 : 1),
-                                      bz = gz < 0 ? 0 : (gz > 7 ? 2 : 1);
-                            const FLeaf* s = nb[bx * 9 + by * 3 + bz];
-                            const openvdb::Index off = FLeaf::coordToOffset(Coord(gx & 7, gy & 7, gz & 7));
-                            const bool on = s && s->isValueOn(off);
-                            v[at(x, y, z)] = on ? s->getValue(off) : 0.0f;
-                            w[at(x, y, z)] = on ? 1.0f : 0.0f;
-                        }
-                // Along x, y, then z; each pass leaves the halo of the axes still to come.
-                for (int axis = 0; axis < 3; ++axis) {
-                    const int sx = axis == 0 ? N * N : 0, sy = axis == 1 ? N : 0, sz = axis == 2 ? 1 : 0;
-                    const int st = sx + sy + sz;
-                    for (int x = axis == 0 ? 1 : 0; x < (axis == 0 ? N - 1 : N); ++x)
-                        for (int y = axis == 1 ? 1 : 0; y < (axis == 1 ? N - 1 : N); ++y)
-                            for (int z = axis == 2 ? 1 : 0; z < (axis == 2 ? N - 1 : N); ++z) {
-                                const int c = at(x, y, z);
-                                v2[c] = v[c - st] + 2 * v[c] + v[c + st];
-                                w2[c] = w[c - st] + 2 * w[c] + w[c + st];
+void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                  const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach) {
+    if (!(sigma > 0) || leaves.leafCount() == 0) return;
+    int f = 1;
+    while (f < 8 && 2 * f <= sigma) f *= 2;
+    // The lattice starts on a leaf corner, so no coarse cell straddles two leaves (f divides 8)
+    // and leaves fill their own cells in parallel.
+    const Coord lo(box.min().x() & ~7, box.min().y() & ~7, box.min().z() & ~7);
+    const int nx = (box.max().x() - lo.x()) / f + 1, ny = (box.max().y() - lo.y()) / f + 1,
+              nz = (box.max().z() - lo.z()) / f + 1;
+    const std::size_t total = std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
+    std::vector<float> sum(total, 0.0f), weight(total, 0.0f);
+    auto at = [&](int i, int j, int k) {
+        return (std::size_t(i) * std::size_t(ny) + std::size_t(j)) * std::size_t(nz) + std::size_t(k);
+    };
+    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+        std::size_t i = base[l];
+        for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
+            const Coord c = it.getCoord() - lo;
+            const std::size_t q = at(c.x() / f, c.y() / f, c.z() / f);
+            sum[q] += value[i];
+            weight[q] += 1.0f;
+        }
+    });
+    // Binomial passes: each adds 1/2 coarse cell^2 of variance; the cell means f^2 - 1 over
+    // 12 and the trilinear way back about f^2 / 6 fine cells^2.
+    const double left = sigma * sigma - (double(f) * f - 1) / 12.0 - double(f) * f / 6.0;
+    const int passes = std::max(0, int(std::lround(left / (0.5 * double(f) * f))));
+    std::vector<float> tmp(total);
+    for (int pass = 0; pass < passes; ++pass)
+        for (std::vector<float>* a : {&sum, &weight})
+            for (int axis = 0; axis < 3; ++axis) {
+                std::vector<float>& src = *a;
+                const std::size_t st =
+                    axis == 0 ? std::size_t(ny) * std::size_t(nz) : (axis == 1 ? std::size_t(nz) : 1);
+                const int len = axis == 0 ? nx : (axis == 1 ? ny : nz);
+                tbb::parallel_for(tbb::blocked_range<int>(0, nx), [&](const tbb::blocked_range<int>& xs) {
+                    for (int x = xs.begin(); x != xs.end(); ++x)
+                        for (int y = 0; y < ny; ++y)
+                            for (int z = 0; z < nz; ++z) {
+                                const std::size_t c = at(x, y, z);
+                                const int pos = axis == 0 ? x : (axis == 1 ? y : z);
+                                const float lo_v = pos > 0 ? src[c - st] : 0.0f;
+                                const float hi_v = pos + 1 < len ? src[c + st] : 0.0f;
+                                tmp[c] = 0.25f * lo_v + 0.5f * src[c] + 0.25f * hi_v;
                             }
-                    std::swap(v, v2);
-                    std::swap(w, w2);
-                }
-                for (auto it = leaf.beginValueOn(); it; ++it) {
-                    const Coord g = it.getCoord() - o;
-                    const int c = at(g.x() + 1, g.y() + 1, g.z() + 1);
-                    if (w[c] > 0) it.setValue(v[c] / w[c]);
-                }
+                });
+                src.swap(tmp);
             }
-        });
+    // Back to the voxels: the normalised trilinear value about the cell centres.
+    const double half = 0.5 * (f - 1);
+    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+        std::size_t i = base[l];
+        for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
+            if (!(std::abs(value[i]) <= reach)) continue;
+            const Coord c = it.getCoord() - lo;
+            const double px = (c.x() - half) / f, py = (c.y() - half) / f, pz = (c.z() - half) / f;
+            const int x0 = int(std::floor(px)), y0 = int(std::floor(py)), z0 = int(std::floor(pz));
+            const double tx = px - x0, ty = py - y0, tz = pz - z0;
+            double s = 0, w = 0;
+            for (int k = 0; k < 8; ++k) {
+                const int x = x0 + (k & 1), y = y0 + ((k >> 1) & 1), z = z0 + ((k >> 2) & 1);
+                if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+                const double t =
+                    ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
+                s += t * sum[at(x, y, z)];
+                w += t * weight[at(x, y, z)];
+            }
+            if (w > 1e-6) value[i] = float(s / w);
+        }
+    });
 }
 
 SwellField::SwellField(const openvdb::CoordBBox& box, int f) : lo_(box.min()), f_(std::max(1, f)) {
@@ -266,6 +287,7 @@ void SwellField::settle() {
             raised.swap(tmp);
         }
     for (std::size_t c = 0; c < g_.size(); ++c) g_[c] += raised[c];
+    last_.swap(raised);
 }
 
 float SwellField::at(const Coord& c) const {
@@ -284,32 +306,113 @@ float SwellField::at(const Coord& c) const {
     return float(v);
 }
 
-VoxelIndex::VoxelIndex(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                       const std::vector<std::size_t>& base)
-    : leaves_(leaves), base_(base) {
-    leaf_of_.reserve(leaves.leafCount() * 2);
-    for (std::size_t l = 0; l < leaves.leafCount(); ++l) leaf_of_[key(leaves.leaf(l).origin())] = std::uint32_t(l);
+// The coarse cells whose values reach the grid points of `b` (trilinearly): calls body(cell
+// index) until it returns true; returns whether one did.
+template <typename Body>
+static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, const openvdb::CoordBBox& b, Body&& body) {
+    const Coord lo = b.min() - lo_, hi = b.max() - lo_;
+    const int i0 = std::clamp(int(std::floor(double(lo.x()) / f_)), 0, nx_ - 1),
+              i1 = std::clamp(int(std::floor(double(hi.x()) / f_)) + 1, 0, nx_ - 1);
+    const int j0 = std::clamp(int(std::floor(double(lo.y()) / f_)), 0, ny_ - 1),
+              j1 = std::clamp(int(std::floor(double(hi.y()) / f_)) + 1, 0, ny_ - 1);
+    const int k0 = std::clamp(int(std::floor(double(lo.z()) / f_)), 0, nz_ - 1),
+              k1 = std::clamp(int(std::floor(double(hi.z()) / f_)) + 1, 0, nz_ - 1);
+    for (int i = i0; i <= i1; ++i)
+        for (int j = j0; j <= j1; ++j)
+            for (int k = k0; k <= k1; ++k)
+                if (body((std::size_t(i) * ny_ + j) * nz_ + k)) return true;
+    return false;
 }
 
-std::size_t VoxelIndex::operator()(const Coord& c) const {
-    using Leaf = openvdb::BoolTree::LeafNodeType;
-    const auto it = leaf_of_.find(key(c & ~(Leaf::DIM - 1)));
-    if (it == leaf_of_.end()) return npos;
-    const auto& mask = leaves_.leaf(it->second).getValueMask();
-    const openvdb::Index off = Leaf::coordToOffset(c);
-    if (!mask.isOn(off)) return npos;
-    std::size_t rank = 0;
-    const openvdb::Index word = off >> 6;
-    for (openvdb::Index w = 0; w < word; ++w) rank += std::size_t(__builtin_popcountll(mask.getWord<std::uint64_t>(w)));
-    const std::uint64_t below = (std::uint64_t(1) << (off & 63)) - 1;
-    rank += std::size_t(__builtin_popcountll(mask.getWord<std::uint64_t>(word) & below));
-    return base_[it->second] + rank;
+bool SwellField::raised_in(const openvdb::CoordBBox& b) const {
+    if (last_.empty()) return false;
+    return any_coarse(lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; });
+}
+
+bool BallField::any_in(const openvdb::CoordBBox& b) const {
+    if (!any_) return false;
+    return any_coarse(lo_, f_, nx_, ny_, nz_, b,
+                      [&](std::size_t c) { return g_[c] < std::numeric_limits<float>::infinity(); });
+}
+
+LeafColumns::LeafColumns(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                         const std::vector<std::size_t>& base)
+    : leaves_(leaves), base_(base), before_(leaves.leafCount()) {
+    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+        std::uint16_t acc = 0;
+        for (openvdb::Index w = 0; w < 8; ++w) {
+            before_[l][w] = acc;
+            acc = std::uint16_t(acc + __builtin_popcountll(leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w)));
+        }
+    });
+}
+
+void LeafColumns::stacks_along(int axis) const {
+    auto& order = order_[std::size_t(axis)];
+    auto& stack = stack_[std::size_t(axis)];
+    if (!stack.empty()) return;
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    order.resize(leaves_.leafCount());
+    for (std::size_t l = 0; l < order.size(); ++l) order[l] = std::uint32_t(l);
+    auto origin = [&](std::uint32_t l) { return leaves_.leaf(l).origin(); };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const Coord oa = origin(a), ob = origin(b);
+        if (oa[a1] != ob[a1]) return oa[a1] < ob[a1];
+        if (oa[a2] != ob[a2]) return oa[a2] < ob[a2];
+        return oa[axis] < ob[axis];
+    });
+    for (std::size_t k = 0; k < order.size(); ++k)
+        if (k == 0 || origin(order[k])[a1] != origin(order[k - 1])[a1] ||
+            origin(order[k])[a2] != origin(order[k - 1])[a2])
+            stack.push_back(k);
+    stack.push_back(order.size());
 }
 
 void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
                   const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose) {
-    const std::size_t n = member.size();
+    using Leaf = openvdb::BoolTree::LeafNodeType;
+    const std::size_t n = member.size(), nleaf = leaves.leafCount();
     loose.assign(n, 0);
+    std::vector<std::size_t> leaf_list; // leaves holding a member
+    for (std::size_t l = 0; l < nleaf; ++l)
+        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
+            if (member[i]) {
+                leaf_list.push_back(l);
+                break;
+            }
+    if (leaf_list.empty()) return;
+    // The face neighbours of each leaf (or none), and the on voxels before each mask word.
+    constexpr std::uint32_t none = ~std::uint32_t(0);
+    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
+    leaf_of.reserve(nleaf * 2);
+    auto key = [](const Coord& o) {
+        return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
+               (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
+               (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
+    };
+    for (std::size_t l = 0; l < nleaf; ++l) leaf_of[key(leaves.leaf(l).origin())] = std::uint32_t(l);
+    std::vector<std::array<std::uint32_t, 6>> nbr(nleaf);
+    std::vector<std::array<std::uint16_t, 8>> before(nleaf);
+    for (std::size_t l = 0; l < nleaf; ++l) {
+        const auto& leaf = leaves.leaf(l);
+        for (int d = 0; d < 6; ++d) {
+            Coord o = leaf.origin();
+            o[d / 2] += (d & 1) ? int(Leaf::DIM) : -int(Leaf::DIM);
+            const auto it = leaf_of.find(key(o));
+            nbr[l][std::size_t(d)] = it == leaf_of.end() ? none : it->second;
+        }
+        std::uint16_t acc = 0;
+        for (openvdb::Index w = 0; w < 8; ++w) {
+            before[l][w] = acc;
+            acc = std::uint16_t(acc + __builtin_popcountll(leaf.getValueMask().getWord<std::uint64_t>(w)));
+        }
+    }
+    auto index_of = [&](std::uint32_t l, openvdb::Index off) -> std::size_t {
+        const std::uint64_t word = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(off >> 6);
+        const std::uint64_t bit = std::uint64_t(1) << (off & 63);
+        if (!(word & bit)) return ~std::size_t(0);
+        return base[l] + before[l][off >> 6] + std::size_t(__builtin_popcountll(word & (bit - 1)));
+    };
     // Union-find over the members (parent indices into the voxel numbering).
     std::vector<std::uint32_t> parent(n);
     std::vector<char> touches(n, 0);
@@ -320,32 +423,34 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
         }
         return a;
     };
-    std::vector<std::size_t> leaf_list; // leaves holding a member
-    for (std::size_t l = 0; l < leaves.leafCount(); ++l)
-        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i]) {
-                leaf_list.push_back(l);
-                break;
-            }
     for (std::size_t l : leaf_list)
         for (std::size_t i = base[l]; i < base[l + 1]; ++i)
             if (member[i]) parent[i] = std::uint32_t(i);
-    const VoxelIndex index(leaves, base);
+    static constexpr int kStride[3] = {64, 8, 1};
     for (std::size_t l : leaf_list) {
         std::size_t i = base[l];
         for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
             if (!member[i]) continue;
-            const Coord g = it.getCoord();
-            for (int k = 0; k < 6; ++k) {
-                Coord q = g;
-                q[k / 2] += (k & 1) ? 1 : -1;
-                const std::size_t j = index(q);
-                if (j == VoxelIndex::npos) continue;
+            const openvdb::Index off = it.pos();
+            const int local[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
+            for (int d = 0; d < 6; ++d) {
+                const int a = d / 2, step = (d & 1) ? 1 : -1, s = kStride[a];
+                std::uint32_t nl = std::uint32_t(l);
+                openvdb::Index noff;
+                if (local[a] + step >= 0 && local[a] + step <= 7) {
+                    noff = openvdb::Index(int(off) + step * s);
+                } else {
+                    nl = nbr[l][std::size_t(d)];
+                    if (nl == none) continue;
+                    noff = openvdb::Index(int(off) - step * 7 * s);
+                }
+                const std::size_t j = index_of(nl, noff);
+                if (j == ~std::size_t(0)) continue;
                 if (anchor[j]) {
                     touches[i] = 1;
                 } else if (member[j]) {
-                    const std::uint32_t a = find(std::uint32_t(i)), b = find(std::uint32_t(j));
-                    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+                    const std::uint32_t ra = find(std::uint32_t(i)), rb = find(std::uint32_t(j));
+                    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
                 }
             }
         }

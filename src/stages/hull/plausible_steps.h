@@ -11,6 +11,7 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_for.h>
 #include <unordered_map>
 
 #include "core/views.h"
@@ -42,6 +43,11 @@ struct RayRaster {
     double dmin = 0, dq = 1; ///< depth key = floor((depth - dmin) / dq)
     std::uint32_t dkeys = 1; ///< number of depth keys
     int gap_keys = 1;        ///< a depth step of more than this many keys splits a run
+    /// Orthographic along a grid axis: the tree's voxel order is already monotonic in depth
+    /// along every line of sight (the leaves, and the voxels in a leaf, come in lexicographic
+    /// order of their coordinates), so no depth sort is needed.
+    bool axis_aligned = false;
+    int axis = -1; ///< the grid axis of an axis-aligned view
 
     std::uint32_t cell(const Coord& c) const {
         const double i = c.x(), j = c.y(), k = c.z();
@@ -80,10 +86,13 @@ void stable_bucket_order(const std::vector<std::uint32_t>& keys, std::uint32_t n
 /// keep their value.
 void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int h, int passes);
 
-/// One binomial smoothing pass of `src` into `dst` (same topology) over the leaves whose
-/// index (in LeafManager order) has `active[l]` set: each active voxel gets the [1 2 1]^3
-/// weighted mean of the active voxels around it. Other leaves are left as they are.
-void binomial_pass(const openvdb::FloatGrid& src, openvdb::FloatGrid& dst, const std::vector<char>& active);
+/// Smooths `value` (one per voxel of `leaves`, numbered leaf base + rank) by a Gaussian of
+/// standard deviation `sigma` grid cells, normalised over the voxels (the outside does not
+/// pull it): the voxels' means on a dense lattice of `f` cells a cell (f a power of 2 up to
+/// sigma), binomial passes there, and back trilinearly. Voxels whose value lies farther than
+/// `reach` from 0 keep theirs.
+void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                  const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach);
 
 // A smooth, non-negative field on a coarse dense lattice (`f` grid cells a coarse cell) over a
 // box of the grid: how far the field is lowered about the lines of sight it must still cover.
@@ -98,34 +107,74 @@ public:
     void settle();
     /// Trilinear value at grid point c (0 outside the box).
     float at(const Coord& c) const;
+    /// Whether the last settle() raised the field anywhere about the grid points of `b`.
+    bool raised_in(const openvdb::CoordBBox& b) const;
 
 private:
     Coord lo_;
     int f_, nx_, ny_, nz_;
-    std::vector<float> g_;
+    std::vector<float> g_, last_;
     std::vector<std::pair<std::uint32_t, float>> seeds_; // coarse cell, value
     bool any_ = false;
 };
 
-// The index of every voxel of a voxelized bool tree: its leaf's base (the voxels of the
-// leaves before it, in LeafManager order) plus its rank among its leaf's on voxels.
-class VoxelIndex {
+// The grid columns of a voxelized bool tree along each axis, walked leaf stack by leaf stack:
+// the lines of sight of an orthographic view along that axis, each column's voxels in
+// order along it, with no sort. A voxel's index is its leaf's base (the voxels of the leaves
+// before it, in LeafManager order) plus its rank among its leaf's on voxels.
+class LeafColumns {
 public:
-    static constexpr std::size_t npos = ~std::size_t(0);
-    VoxelIndex(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base);
-    /// The index of grid point c, or npos when it is not an on voxel.
-    std::size_t operator()(const Coord& c) const;
+    LeafColumns(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base);
+    /// body(coord of the column's first voxel, indices, coordinates along the axis, count) for
+    /// every non-empty column along `axis`, in parallel over leaf stacks (a column lies in one).
+    template <typename Body>
+    void for_columns(int axis, Body&& body) const;
 
 private:
-    static std::uint64_t key(const Coord& origin) {
-        return (std::uint64_t(std::uint32_t(origin.x()) >> 3) & 0x1fffff) << 42 |
-               (std::uint64_t(std::uint32_t(origin.y()) >> 3) & 0x1fffff) << 21 |
-               (std::uint64_t(std::uint32_t(origin.z()) >> 3) & 0x1fffff);
-    }
+    void stacks_along(int axis) const;
     const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves_;
     const std::vector<std::size_t>& base_;
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
+    std::vector<std::array<std::uint16_t, 8>> before_;        // on voxels before each mask word
+    mutable std::array<std::vector<std::uint32_t>, 3> order_; // leaves by stack, along the axis
+    mutable std::array<std::vector<std::size_t>, 3> stack_;   // stack starts in order_
 };
+
+template <typename Body>
+void LeafColumns::for_columns(int axis, Body&& body) const {
+    stacks_along(axis);
+    const auto& order = order_[std::size_t(axis)];
+    const auto& stack = stack_[std::size_t(axis)];
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
+        const std::size_t nl = stack[s + 1] - stack[s];
+        std::vector<std::uint32_t> idx(nl * 8);
+        std::vector<int> along(nl * 8);
+        for (int u = 0; u < 8; ++u)
+            for (int w = 0; w < 8; ++w) {
+                std::size_t cnt = 0;
+                Coord first;
+                for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
+                    const std::uint32_t l = order[k];
+                    const auto& leaf = leaves_.leaf(l);
+                    const auto& mask = leaf.getValueMask();
+                    for (int t = 0; t < 8; ++t) {
+                        int loc[3];
+                        loc[axis] = t, loc[a1] = u, loc[a2] = w;
+                        const openvdb::Index off = openvdb::Index(loc[0] * 64 + loc[1] * 8 + loc[2]);
+                        const std::uint64_t word = mask.template getWord<std::uint64_t>(off >> 6);
+                        const std::uint64_t bit = std::uint64_t(1) << (off & 63);
+                        if (!(word & bit)) continue;
+                        if (cnt == 0) first = leaf.offsetToGlobalCoord(off);
+                        idx[cnt] = std::uint32_t(base_[l] + before_[l][off >> 6] +
+                                                 std::size_t(__builtin_popcountll(word & (bit - 1))));
+                        along[cnt] = leaf.origin()[axis] + t;
+                        ++cnt;
+                    }
+                }
+                if (cnt) body(first, idx.data(), along.data(), cnt);
+            }
+    });
+}
 
 /// Of the voxels with `member[i]` set, those in 6-connected pieces that touch no voxel with
 /// `anchor[i]` set (`member` and `anchor` disjoint). `loose[i]` is set for them.
@@ -146,6 +195,8 @@ public:
     bool empty() const { return !any_; }
     /// Trilinear value at grid point c (+infinity where any corner is beyond reach).
     float at(const Coord& c) const;
+    /// Whether the field is finite anywhere about the grid points of `b`.
+    bool any_in(const openvdb::CoordBBox& b) const;
 
 private:
     struct Ball {
