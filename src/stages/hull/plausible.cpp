@@ -583,10 +583,10 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     });
     // 6a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
-    // (coincident vertices). Such a voxel's removed neighbours along that axis come back
-    // (only adding: every line of sight keeps what it had).
-    // Two passes: a voxel put back can be such a plate along another axis, and on small or
-    // lacy parts putting its neighbours back in turn would go on growing the volume.
+    // (coincident vertices, crossing faces). Such a voxel's removed neighbours along that
+    // axis come back (only adding: every line of sight keeps what it had). Two passes: a
+    // voxel put back can be such a plate along another axis, and on small or lacy parts
+    // putting its neighbours back in turn would go on growing the volume.
     // Only leaves with a removed voxel in them or across a face can hold such a plate.
     std::vector<char> near_cut(nleaf, 0);
     {
