@@ -299,61 +299,50 @@ bool OutputCheck::clean() const {
            coincident_vertices == 0;
 }
 
+CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance,
+                                   const std::vector<std::uint32_t>* only)
+    : tolerance_(tolerance), cell_(2 * tolerance) {
+    const std::size_t n = only ? only->size() : positions.size();
+    cells_.resize(n);
+    static constexpr int none[3] = {0, 0, 0};
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+        const std::uint32_t i = only ? (*only)[k] : std::uint32_t(k);
+        cells_[k] = {key_at(positions[i], 0, 0, 0, none), i};
+    });
+    tbb::parallel_sort(cells_.begin(), cells_.end());
+    // Almost every cell around a vertex is empty: a bit per hashed cell (8 bits a vertex)
+    // answers most lookups from a few megabytes instead of a binary search over them all.
+    while (bits_log_ < 40 && (std::size_t(1) << bits_log_) < 8 * n) ++bits_log_;
+    occupied_.assign((std::size_t(1) << bits_log_) / 64, 0);
+    for (const auto& c : cells_) {
+        const std::uint64_t b = (c.first * 0xD6E8FEB86659FD93ull) >> (64 - bits_log_);
+        occupied_[b >> 6] |= std::uint64_t(1) << (b & 63);
+    }
+}
+
+std::uint64_t CoincidenceIndex::key_at(const Vec3f& p, int dx, int dy, int dz, const int* dir) const {
+    const std::int64_t x = std::int64_t(std::floor(double(p.x) / cell_)) + (dx ? dir[0] : 0);
+    const std::int64_t y = std::int64_t(std::floor(double(p.y) / cell_)) + (dy ? dir[1] : 0);
+    const std::int64_t z = std::int64_t(std::floor(double(p.z) / cell_)) + (dz ? dir[2] : 0);
+    return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
+           (std::uint64_t(z) * 0x165667B19E3779F9ull);
+}
+
 std::vector<std::uint32_t> find_coincident_vertices(const std::vector<Vec3f>& positions, double tolerance,
                                                     const std::vector<std::uint32_t>* near) {
     const std::size_t n = positions.size();
     if (n < 2 || !(tolerance > 0) || (near && near->empty())) return {};
-    // Cells of twice the tolerance: a vertex within the tolerance of p lies in one of the
-    // 8 cells around the corner nearest to p, so 8 lookups find every such pair.
-    const double cell = 2 * tolerance;
-    double lo[3] = {positions[0].x, positions[0].y, positions[0].z};
-    for (const Vec3f& p : positions)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a]));
-    auto cell_of = [&](const Vec3f& p, int a) { return std::int64_t(std::floor((double(p[a]) - lo[a]) / cell)); };
-    auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-        return (std::uint64_t(x) * 0x9E3779B97F4A7C15ull) ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full) ^
-               (std::uint64_t(z) * 0x165667B19E3779F9ull);
-    };
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> cells(n);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        const Vec3f& p = positions[i];
-        cells[i] = {key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), std::uint32_t(i)};
-    });
-    tbb::parallel_sort(cells.begin(), cells.end());
-    // Almost every cell around a vertex is empty: a bit per hashed cell (8 bits a vertex)
-    // answers most lookups from a few megabytes instead of a binary search over them all.
-    int bits_log = 16;
-    while (bits_log < 40 && (std::size_t(1) << bits_log) < 8 * n) ++bits_log;
-    std::vector<std::uint64_t> occupied((std::size_t(1) << bits_log) / 64, 0);
-    auto bit_of = [bits_log](std::uint64_t k) { return (k * 0xD6E8FEB86659FD93ull) >> (64 - bits_log); };
-    for (const auto& c : cells) {
-        const std::uint64_t b = bit_of(c.first);
-        occupied[b >> 6] |= std::uint64_t(1) << (b & 63);
-    }
+    const CoincidenceIndex index(positions, tolerance);
     const double tol2 = tolerance * tolerance;
     // Calls `found(j)` for the vertices j != i within the tolerance of vertex i, until it
     // returns false.
     auto each_near = [&](std::size_t i, auto&& found) {
         const Vec3f& p = positions[i];
-        std::int64_t c[3], d[3];
-        for (int a = 0; a < 3; ++a) {
-            const double u = (double(p[a]) - lo[a]) / cell;
-            c[a] = std::int64_t(std::floor(u));
-            d[a] = u - double(c[a]) < 0.5 ? -1 : 1;
-        }
-        for (int k = 0; k < 8; ++k) {
-            const std::uint64_t want =
-                key(c[0] + (k & 1 ? d[0] : 0), c[1] + (k & 2 ? d[1] : 0), c[2] + (k & 4 ? d[2] : 0));
-            const std::uint64_t b = bit_of(want);
-            if (!(occupied[b >> 6] >> (b & 63) & 1)) continue;
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(want, std::uint32_t(0)));
-            for (; it != cells.end() && it->first == want; ++it) {
-                if (it->second == i) continue;
-                const Vec3f& q = positions[it->second];
-                const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
-                if (dx * dx + dy * dy + dz * dz <= tol2 && !found(it->second)) return;
-            }
-        }
+        index.each_candidate(p, std::uint32_t(i), [&](std::uint32_t j) {
+            const Vec3f& q = positions[j];
+            const double dx = double(p.x) - q.x, dy = double(p.y) - q.y, dz = double(p.z) - q.z;
+            return !(dx * dx + dy * dy + dz * dz <= tol2) || found(j);
+        });
     };
     std::vector<std::uint32_t> out;
     if (near) {

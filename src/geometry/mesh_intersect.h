@@ -2,7 +2,9 @@
 // reports ("no self-intersections" is one of the output quality rules), and for the
 // stages that must not create any (smoothing repairs the faces it finds here).
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -112,6 +114,47 @@ OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& pr
 /// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).
 constexpr double kCoincidentTolerance = 1e-6;
+/// Vertices hashed into cells of twice a tolerance: a vertex within the tolerance of a point
+/// lies in one of the 8 cells around the cell corner nearest to it.
+class CoincidenceIndex {
+public:
+    /// Indexes `positions` (those listed in `only`, when given) as they are now.
+    CoincidenceIndex(const std::vector<Vec3f>& positions, double tolerance,
+                     const std::vector<std::uint32_t>* only = nullptr);
+    /// Calls found(j), until it returns false, for the indexed vertices j other than `self`
+    /// whose cell is near `p` (at most 8 cells; the caller checks the distance).
+    template <typename F>
+    void each_candidate(const Vec3f& p, std::uint32_t self, F&& found) const;
+    double tolerance() const { return tolerance_; }
+
+private:
+    std::uint64_t key_at(const Vec3f& p, int dx, int dy, int dz, const int* dir) const;
+    bool maybe(std::uint64_t key) const {
+        const std::uint64_t b = (key * 0xD6E8FEB86659FD93ull) >> (64 - bits_log_);
+        return occupied_[b >> 6] >> (b & 63) & 1;
+    }
+    double tolerance_, cell_;
+    int bits_log_ = 16;
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> cells_; // sorted
+    std::vector<std::uint64_t> occupied_;                        // a bit per hashed cell key
+};
+
+template <typename F>
+void CoincidenceIndex::each_candidate(const Vec3f& p, std::uint32_t self, F&& found) const {
+    int dir[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = double(p[a]) / cell_;
+        dir[a] = u - std::floor(u) < 0.5 ? -1 : 1;
+    }
+    for (int k = 0; k < 8; ++k) {
+        const std::uint64_t want = key_at(p, k & 1, (k >> 1) & 1, (k >> 2) & 1, dir);
+        if (!maybe(want)) continue;
+        auto it = std::lower_bound(cells_.begin(), cells_.end(), std::make_pair(want, std::uint32_t(0)));
+        for (; it != cells_.end() && it->first == want; ++it)
+            if (it->second != self && !found(it->second)) return;
+    }
+}
+
 /// The vertices (ascending) that have another vertex within `tolerance` (absolute distance).
 /// With `near`, only pairs with at least one vertex in `near` are looked for (both of each
 /// such pair are returned): what a caller that moved only those vertices needs to re-check.

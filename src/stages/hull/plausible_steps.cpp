@@ -337,15 +337,7 @@ bool BallField::any_in(const openvdb::CoordBBox& b) const {
 
 LeafColumns::LeafColumns(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                          const std::vector<std::size_t>& base)
-    : leaves_(leaves), base_(base), before_(leaves.leafCount()) {
-    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
-        std::uint16_t acc = 0;
-        for (openvdb::Index w = 0; w < 8; ++w) {
-            before_[l][w] = acc;
-            acc = std::uint16_t(acc + __builtin_popcountll(leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w)));
-        }
-    });
-}
+    : leaves_(leaves), base_(base) {}
 
 void LeafColumns::stacks_along(int axis) const {
     auto& order = order_[std::size_t(axis)];

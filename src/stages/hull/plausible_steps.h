@@ -146,33 +146,35 @@ void LeafColumns::for_columns(int axis, Body&& body) const {
     const auto& stack = stack_[std::size_t(axis)];
     const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
-        const std::size_t nl = stack[s + 1] - stack[s];
-        std::vector<std::uint32_t> idx(nl * 8);
-        std::vector<int> along(nl * 8);
-        for (int u = 0; u < 8; ++u)
-            for (int w = 0; w < 8; ++w) {
-                std::size_t cnt = 0;
-                Coord first;
-                for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
-                    const std::uint32_t l = order[k];
-                    const auto& leaf = leaves_.leaf(l);
-                    const auto& mask = leaf.getValueMask();
-                    for (int t = 0; t < 8; ++t) {
-                        int loc[3];
-                        loc[axis] = t, loc[a1] = u, loc[a2] = w;
-                        const openvdb::Index off = openvdb::Index(loc[0] * 64 + loc[1] * 8 + loc[2]);
-                        const std::uint64_t word = mask.template getWord<std::uint64_t>(off >> 6);
-                        const std::uint64_t bit = std::uint64_t(1) << (off & 63);
-                        if (!(word & bit)) continue;
-                        if (cnt == 0) first = leaf.offsetToGlobalCoord(off);
-                        idx[cnt] = std::uint32_t(base_[l] + before_[l][off >> 6] +
-                                                 std::size_t(__builtin_popcountll(word & (bit - 1))));
-                        along[cnt] = leaf.origin()[axis] + t;
-                        ++cnt;
-                    }
+        // The stack's voxels dealt into its 64 columns: a leaf's on voxels in offset order
+        // come in order along every axis, and their ranks one after another.
+        const std::size_t cap = (stack[s + 1] - stack[s]) * 8;
+        std::vector<std::uint32_t> idx(64 * cap);
+        std::vector<int> along(64 * cap);
+        std::array<std::size_t, 64> cnt{};
+        std::array<Coord, 64> first;
+        for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
+            const std::uint32_t l = order[k];
+            const auto& leaf = leaves_.leaf(l);
+            const auto& mask = leaf.getValueMask();
+            std::size_t rank = base_[l];
+            for (openvdb::Index w = 0; w < 8; ++w) {
+                std::uint64_t word = mask.template getWord<std::uint64_t>(w);
+                while (word) {
+                    const openvdb::Index off = w * 64 + openvdb::Index(__builtin_ctzll(word));
+                    word &= word - 1;
+                    const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
+                    const int col = loc[a1] * 8 + loc[a2];
+                    std::size_t& n = cnt[std::size_t(col)];
+                    if (n == 0) first[std::size_t(col)] = leaf.offsetToGlobalCoord(off);
+                    idx[std::size_t(col) * cap + n] = std::uint32_t(rank++);
+                    along[std::size_t(col) * cap + n] = leaf.origin()[axis] + loc[axis];
+                    ++n;
                 }
-                if (cnt) body(first, idx.data(), along.data(), cnt);
             }
+        }
+        for (std::size_t col = 0; col < 64; ++col)
+            if (cnt[col]) body(first[col], idx.data() + col * cap, along.data() + col * cap, cnt[col]);
     });
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <memory>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -125,8 +126,35 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     std::vector<char> together_in_input(p.size(), 0);
     for (auto v : find_coincident_vertices(in.positions, separation)) together_in_input[v] = 1;
     std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
-    // `only`: the faces to re-check for shape, `near`: the vertices that moved (a pair of
-    // vertices drawn together has one of them, the others were checked before); null: all.
+    // Vertices drawn together, after the first round: pairs with a vertex that moved this
+    // round (the others were checked before), found among the smoothed positions of the
+    // vertices never moved (indexed once) and the present ones of those moved so far.
+    std::unique_ptr<CoincidenceIndex> unmoved;
+    std::vector<char> moved_ever(p.size(), 0);
+    std::vector<std::uint32_t> moved_list;
+    const double sep2 = separation * separation;
+    auto drawn_together = [&](const std::vector<std::uint32_t>& near) {
+        for (auto v : near)
+            if (!moved_ever[v]) moved_ever[v] = 1, moved_list.push_back(v);
+        const CoincidenceIndex moving(p, separation, &moved_list);
+        std::vector<std::uint32_t> out;
+        for (auto v : near) {
+            const Vec3f& a = p[v];
+            auto check = [&](std::uint32_t u, bool from_unmoved) {
+                if (from_unmoved && moved_ever[u]) return true; // indexed where it no longer is
+                const Vec3f& b = p[u];
+                const double dx = double(a.x) - b.x, dy = double(a.y) - b.y, dz = double(a.z) - b.z;
+                if (dx * dx + dy * dy + dz * dz <= sep2) out.push_back(v), out.push_back(u);
+                return true;
+            };
+            unmoved->each_candidate(a, v, [&](std::uint32_t u) { return check(u, true); });
+            moving.each_candidate(a, v, [&](std::uint32_t u) { return check(u, false); });
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        return out;
+    };
+    // `only`: the faces to re-check for shape, `near`: the vertices that moved; null: all.
     auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only,
                        const std::vector<std::uint32_t>* near) {
         bad.clear();
@@ -138,7 +166,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         std::sort(bad.begin(), bad.end());
         bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
         badv.clear();
-        for (auto v : find_coincident_vertices(p, separation, near))
+        for (auto v : near ? drawn_together(*near) : find_coincident_vertices(p, separation))
             if (!together_in_input[v]) badv.push_back(v);
         ++st.guard_rounds;
     };
@@ -146,6 +174,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     st.bad_faces = bad.size();
     st.coincident = badv.size();
     if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
+    unmoved = std::make_unique<CoincidenceIndex>(p, separation);
 
     std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
     // Faces around each vertex, to re-check only what moved.

@@ -87,6 +87,7 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
         ctx.metric("guard_bad_faces", double(st.bad_faces));
         ctx.metric("guard_coincident", double(st.coincident));
         ctx.metric("guard_pulled_back", double(st.pulled_back));
+        ctx.metric("guard_rounds", double(st.guard_rounds));
         if (st.unresolved)
             ctx.warn(std::to_string(st.unresolved) +
                      " faces of the input cross another face, turn over or collapse; smoothing left them as they were");
