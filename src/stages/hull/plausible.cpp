@@ -189,7 +189,11 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         std::vector<std::uint32_t> count(ncell, 0), key;
         orders.emplace_back();
         starts.emplace_back();
-        if (!R.axis_aligned) {
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis, [&](const Coord& first, const std::uint32_t*, const int*, std::size_t cnt) {
+                count[R.cell(first)] = std::uint32_t(cnt);
+            });
+        } else {
             std::vector<std::uint32_t> cell(n), by_depth;
             key.resize(n);
             for_voxels([&](std::size_t i, const Coord& c) {
@@ -201,11 +205,10 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (std::size_t c = 0; c < ncell; ++c) count[c] = starts[v][c + 1] - starts[v][c];
         }
 
-        // The drawing on these lines of sight (a cell is inside when a voxel of the hull
-        // projects into it; along an axis, where the grid points project onto the cells'
-        // centres, when its centre is inside the drawing), its distance to the outline and
-        // its local inscribed radius. The distance is the drawing's own (sub-pixel), in cells;
-        // cells the hull reaches although their centre is outside the drawing get 0.
+        // The drawing as these lines of sight see it (a cell is inside when a voxel of the
+        // hull projects into it), its distance to the outline and local inscribed radius. The
+        // distance is the drawing's own (sub-pixel), in cells; cells the hull reaches although
+        // their centre is outside the drawing get 0.
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
         std::vector<char> outside(ncell, 0);
         std::vector<float> dist(ncell, 0.0f);
@@ -213,14 +216,12 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (int j = rows.begin(); j != rows.end(); ++j)
                 for (int i = 0; i < R.w; ++i) {
                     const std::size_t c = std::size_t(j) * std::size_t(R.w) + std::size_t(i);
-                    if (!R.axis_aligned && count[c] == 0) {
+                    if (count[c] == 0) {
                         outside[c] = 1;
                         continue;
                     }
                     const double px = R.x0 + (i + 0.5) * R.cp, py = R.y0 + (j + 0.5) * R.cp;
-                    const double d = -sdf.sample(px, py);
-                    if (R.axis_aligned && !(d > 0)) outside[c] = 1;
-                    dist[c] = float(std::max(0.0, d / R.cp));
+                    dist[c] = float(std::max(0.0, -sdf.sample(px, py) / R.cp));
                 }
         });
         // The local inscribed radius steps where one disc takes over from another; blurred
@@ -261,9 +262,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             columns.for_columns(R.axis,
                                 [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
                                     std::vector<double> dep(along, along + cnt);
-                                    const std::uint32_t c = R.cell(first);
-                                    count[c] = std::uint32_t(cnt);
-                                    score(c, idx, dep.data(), cnt);
+                                    score(R.cell(first), idx, dep.data(), cnt);
                                 });
         } else {
             for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&&) {
