@@ -37,6 +37,10 @@ public:
                              "voxels in a run of at most this many cells along a view's line of sight, "
                              "well inside a thin part of that view's drawing, are kept (fins, blades, "
                              "ears seen face-on)"));
+        b.add(opt_.view_blend, ParamSpec::Float("view_blend", 2.0, 0.0, 10.0, "cells",
+                                                "the views' fields joined by a smooth maximum over this many cells "
+                                                "(where one view objects mildly and the others do not, they win); 0: "
+                                                "the plain maximum, any view removes"));
         b.add(opt_.smooth_cells,
               ParamSpec::Float("smooth", 2.5, 0.0, 8.0, "cells at 256",
                                "standard deviation of the Gaussian smoothing of the field (a smoother "

@@ -2,7 +2,7 @@
 // per view they are binned into line-of-sight cells in depth order (two counting sorts),
 // which gives each voxel its run along the ray; the drawing's inflated profile on the same
 // raster says how much of the run is plausible. A voxel's field value is its distance (in
-// cells, along the ray) outside that allowance, the worst over views, smoothed; where a line
+// cells, along the ray) outside that allowance, joined over the views by a smooth maximum, smoothed; where a line
 // of sight would keep no voxel, the field is lowered around its best voxels by a smooth
 // swelling until it keeps one; the volume keeps the voxels where the field is <= 0.
 #include "plausible.h"
@@ -141,9 +141,16 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     step(0.05);
 
     // 2. Per view: lines of sight, runs along them in depth order, the profile, the field.
-    // phi: how far (cells, along the ray) a voxel lies outside the view's allowance, the
-    // worst over views; thin: in a short run of a thin part of some drawing.
-    std::vector<float> phi(n, -std::numeric_limits<float>::infinity());
+    // phi: how far (cells, along the ray) a voxel lies outside the view's allowance, joined
+    // over the views; thin: in a short run of a thin part of some drawing.
+    // The views are joined by a smooth maximum (log-sum-exp over `blend` cells, less the log
+    // of the count): where they agree it is their value, where one view objects mildly and
+    // the others do not, the others win, so fewer lines of sight are left to swell to. The
+    // values are clamped at 20 cells (far enough for any decision) to stay in range.
+    const float blend = float(opt.view_blend);
+    const bool soft = blend > 0;
+    constexpr float kClamp = 20.0f;
+    std::vector<float> phi(n, soft ? 0.0f : -std::numeric_limits<float>::infinity());
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
     // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).
@@ -252,7 +259,8 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 const bool is_thin = thin_part && re - rb <= std::size_t(opt.thin_cells);
                 for (std::size_t k = rb; k != re; ++k) {
                     const float sv = float(std::abs(dep[k] - mid) - allow);
-                    phi[idx[k]] = std::max(phi[idx[k]], sv);
+                    if (soft) phi[idx[k]] += std::exp(std::clamp(sv, -kClamp, kClamp) / blend);
+                    else phi[idx[k]] = std::max(phi[idx[k]], sv);
                     if (is_thin) thin[idx[k]] = 1;
                 }
                 rb = re;
@@ -275,6 +283,8 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         step(0.05 + 0.4 * double(v + 1) / double(nv));
     }
 
+    if (soft)
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { phi[i] = blend * std::log(phi[i] / float(nv)); });
     // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
     // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
     // all lie farther from 0 than the kernel can carry them keep their values.

@@ -5,7 +5,7 @@
 // silhouette pixel needs only one occupied point along its line of sight. So each view
 // allows, along each of its lines of sight, a share of the hull's run there given by an
 // inflated depth profile of its drawing; a voxel's field value is how far it lies outside
-// that allowance (cells, the worst over views), smoothed, and the volume keeps the voxels
+// that allowance (cells, a smooth maximum over the views), smoothed, and the volume keeps the voxels
 // where it is <= 0. Where that would leave a line of sight empty, the field is lowered by a
 // smooth swelling of the volume until the line keeps a voxel: the silhouettes stay those of
 // the hull by construction. The new surface lies on the field's zero level; every crossing
@@ -32,6 +32,9 @@ struct PlausibleOptions {
     /// least 1.5 cells inside it, is kept: thin parts (fins, blades, ears) seen face-on have
     /// no volume to spare. (Short runs at a drawing's outline are any body's rim.)
     int thin_cells = 3;
+    /// How the views' fields are joined: a smooth maximum over this many cells (log-sum-exp
+    /// less the log of the number of views), 0 for the plain maximum (any view removes).
+    double view_blend = 2.0;
     /// Standard deviation of the Gaussian smoothing of the field, in cells of a grid of 256
     /// along the object's longest side (scaled with the resolution, so the new surface is
     /// as smooth at any resolution), 0 for none.
