@@ -1,10 +1,11 @@
 // hull.plausible: see plausible.h. Steps: the hull's voxels are listed (tiles voxelized);
-// per view they are binned into line-of-sight cells in depth order (two counting sorts),
-// which gives each voxel its run along the ray; the drawing's inflated profile on the same
-// raster says how much of the run is plausible. A voxel's field value is its distance (in
-// cells, along the ray) outside that allowance, joined over the views by a smooth maximum, smoothed; where a line
-// of sight would keep no voxel, the field is lowered around its best voxels by a smooth
-// swelling until it keeps one; the volume keeps the voxels where the field is <= 0.
+// per view they are binned into lines of sight in depth order (the tree's own columns along
+// an axis, two counting sorts otherwise), which gives each voxel its run along the ray; the
+// drawing's inflated profile on the same raster says how much of the run is plausible. A
+// voxel's field value is its distance (cells, along the ray) outside that allowance, joined
+// over the views by a smooth maximum, smoothed; where a line of sight would keep no voxel,
+// the field is lowered by a smooth swelling until it keeps one; the volume keeps the voxels
+// where the field is <= 0.
 #include "plausible.h"
 
 #include "plausible_steps.h"
