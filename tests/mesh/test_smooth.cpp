@@ -204,3 +204,36 @@ TEST(Smooth, HullConstraintKeepsVerticesOnTheOutline) {
     EXPECT_TRUE(check_mesh(held).closed_manifold());
     EXPECT_GT(check_mesh(held).signed_volume, 0.97 * 8.0);
 }
+
+// constrain: inside (a surface carved inside the hull, hull.plausible): vertices on the hull
+// stay on it as with the hull constraint; the others smooth as if free, where the hull
+// constraint would only let them move towards the hull.
+TEST(Smooth, InsideConstraintFreesTheVerticesInsideAndHoldsThoseOnTheHull) {
+    const Views views = test::make_box_views(-1.0f, 1.0f, 256);
+    const HullDistance hull(views);
+    const double tol = 0.5 * hull.finest_pixel();
+    SmoothOptions o;
+    o.iterations = 3;
+    o.hull = &hull;
+    o.tolerance = tol;
+
+    Mesh noisy = test::make_sphere({0, 0, 0}, 0.6f, 4);
+    test::add_radial_noise(noisy, {0, 0, 0}, 0.03f);
+    Mesh free = noisy, held = noisy, inside = noisy;
+    SmoothOptions none = o;
+    none.hull = nullptr;
+    smooth_mesh(free, none);
+    smooth_mesh(held, o);
+    o.inside_free = true;
+    smooth_mesh(inside, o);
+    const double e_free = rms_radius_error(free, 0.6f), e_held = rms_radius_error(held, 0.6f),
+                 e_inside = rms_radius_error(inside, 0.6f);
+    EXPECT_NEAR(e_inside, e_free, 1e-9);
+    EXPECT_GT(e_held, 1.5 * e_inside) << "held " << e_held << ", inside " << e_inside;
+
+    Mesh box = test::make_grid_box(-1.0f, 1.0f, 16);
+    o.iterations = 10;
+    const SmoothStats st = smooth_mesh(box, o);
+    EXPECT_GT(st.clamped_steps, 0u);
+    EXPECT_LE(max_abs_hull(box, hull), tol * (1 + 1e-6));
+}

@@ -32,12 +32,20 @@ public:
         b.add(opt_.ray_keep, ParamSpec::Int("ray_keep", 1, 1, 64, "cells",
                                             "occupied cells every line of sight keeps (1: one is enough for the "
                                             "silhouette; more keeps a minimum thickness)"));
-        b.add(opt_.thin_cells, ParamSpec::Int("thin_cells", 3, 0, 64, "cells",
-                                              "voxels in a run of at most this many cells along any view's line of "
-                                              "sight are kept (thin parts: fins, blades, wings)"));
-        b.add(opt_.smooth_cells, ParamSpec::Float("smooth", 1.5, 0.0, 4.0, "cells",
-                                                  "standard deviation of the Gaussian smoothing of the score (a "
-                                                  "smoother new surface), 0 for none"));
+        b.add(opt_.thin_cells,
+              ParamSpec::Int("thin_cells", 3, 0, 64, "cells",
+                             "voxels in a run of at most this many cells along a view's line of sight, "
+                             "well inside a thin part of that view's drawing, are kept (fins, blades, "
+                             "ears seen face-on)"));
+        b.add(opt_.view_blend, ParamSpec::Float("view_blend", 2.0, 0.0, 10.0, "cells",
+                                                "the views' fields joined by a smooth maximum over this many cells "
+                                                "(where one view objects mildly and the others do not, they win); 0: "
+                                                "the plain maximum, any view removes"));
+        b.add(opt_.smooth_cells,
+              ParamSpec::Float("smooth", 2.5, 0.0, 8.0, "cells at 256",
+                               "standard deviation of the Gaussian smoothing of the field (a smoother "
+                               "new surface), in cells of a grid of 256 along the object's longest "
+                               "side, 0 for none"));
     }
 
     Data run(const Inputs& in, Context& ctx) override {
@@ -54,6 +62,10 @@ public:
         ctx.metric("thin_kept", double(st.thin_kept));
         ctx.metric("new_crossings", double(st.new_crossings));
         ctx.metric("thickened", double(st.thickened));
+        ctx.metric("short_rays", double(st.short_rays));
+        ctx.metric("thin_dropped", double(st.thin_dropped));
+        ctx.metric("loose_dropped", double(st.loose_dropped));
+        ctx.metric("ball_rays", double(st.ball_rays));
         ctx.metric("cell_px", st.cell_px);
         if (!vol->crossings)
             ctx.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");

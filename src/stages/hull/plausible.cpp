@@ -1,8 +1,11 @@
 // hull.plausible: see plausible.h. Steps: the hull's voxels are listed (tiles voxelized);
-// per view they are binned into line-of-sight cells and sorted by depth, which gives each
-// voxel its place in its run along the ray; the drawing's inflated profile on the same
-// raster says how much of the run is plausible; the score (worst over views) is smoothed
-// and voxels are removed in decreasing score while every ray keeps `ray_keep` voxels.
+// per view they are binned into lines of sight in depth order (the tree's own columns along
+// an axis, two counting sorts otherwise), which gives each voxel its run along the ray; the
+// drawing's inflated profile on the same raster says how much of the run is plausible. A
+// voxel's field value is its distance (cells, along the ray) outside that allowance, joined
+// over the views by a smooth maximum, smoothed; where a line of sight would keep no voxel,
+// the field is lowered by a smooth swelling until it keeps one; the volume keeps the voxels
+// where the field is <= 0.
 #include "plausible.h"
 
 #include "plausible_steps.h"
@@ -11,6 +14,7 @@
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -18,6 +22,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <set>
 
 #include "core/error.h"
 #include "geometry/hull_distance.h"
@@ -92,7 +98,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (progress) progress(f);
     };
     PlausibleStats st;
-    const auto& xf = in.transform();
+    const Lattice lat(in.transform());
     const double voxel = in.voxel_size();
 
     // 1. The hull's voxels, tiles voxelized; index = leaf base + rank of the on voxel.
@@ -106,61 +112,122 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     st.hull_voxels = n;
     if (n >= std::size_t(std::numeric_limits<std::uint32_t>::max()))
         throw Error("the hull has too many voxels (" + std::to_string(n) + ") for hull.plausible");
-    std::vector<Coord> coord(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t l = r.begin(); l != r.end(); ++l) {
-            std::size_t i = base[l];
-            for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) coord[i++] = it.getCoord();
+    // The grid point of voxel i.
+    auto coord_of = [&](std::size_t i) {
+        const std::size_t l = std::size_t(std::upper_bound(base.begin(), base.end(), i) - base.begin()) - 1;
+        const auto& mask = leaves.leaf(l).getValueMask();
+        std::size_t r = i - base[l];
+        for (openvdb::Index w = 0;; ++w) {
+            std::uint64_t word = mask.getWord<std::uint64_t>(w);
+            const std::size_t cnt = std::size_t(__builtin_popcountll(word));
+            if (r >= cnt) {
+                r -= cnt;
+                continue;
+            }
+            for (; r > 0; --r) word &= word - 1; // drop the lowest set bits
+            return leaves.leaf(l).offsetToGlobalCoord(openvdb::Index(w * 64 + unsigned(__builtin_ctzll(word))));
         }
-    });
+    };
+    // body(i, coord) for every voxel, in parallel over leaves.
+    auto for_voxels = [&](auto&& body) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                std::size_t i = base[l];
+                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) body(i++, it.getCoord());
+            }
+        });
+    };
     openvdb::CoordBBox box;
     occ->tree().evalActiveVoxelBoundingBox(box);
     step(0.05);
 
-    // 2. Per view: lines of sight, runs along them, the profile, the score.
-    std::vector<float> score(n, -std::numeric_limits<float>::infinity());
-    std::vector<float> total(n, 0.0f); // sum over views: orders the candidates within a tie
+    // 2. Per view: lines of sight, runs along them in depth order, the profile, the field.
+    // phi: how far (cells, along the ray) a voxel lies outside the view's allowance, joined
+    // over the views; thin: in a short run of a thin part of some drawing.
+    // The views are joined by a smooth maximum (log-sum-exp over `blend` cells, less the log
+    // of the count): where they agree it is their value, where one view objects mildly and
+    // the others do not, the others win, so fewer lines of sight are left to swell to. The
+    // values are clamped at 20 cells (far enough for any decision) to stay in range.
+    const float blend = float(opt.view_blend);
+    const bool soft = blend > 0;
+    constexpr float kClamp = 20.0f;
+    std::vector<float> phi(n, soft ? 0.0f : -std::numeric_limits<float>::infinity());
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
-    std::vector<std::vector<std::uint32_t>> ray_count, ray_start, ray_order;
+    // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).
+    std::vector<std::vector<std::uint32_t>> orders, starts;
+    std::vector<std::vector<std::uint32_t>> ray_total; // per view, voxels per line of sight
     const std::size_t nv = views->views.size();
+    const LeafColumns columns(leaves, base);
+    // body(cell, voxel indices in depth order, count, coord(k)) for every line of sight of
+    // view v that holds a voxel, in parallel: the grid's columns for a view along an axis,
+    // else the voxels sorted by cell and depth. coord(k) is the grid point of voxel k.
+    auto for_rays = [&](std::size_t v, auto&& body) {
+        const RayRaster& R = rasters[v];
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis,
+                                [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+                                    body(R.cell(first), idx, cnt, [&](std::size_t k) {
+                                        Coord c = first;
+                                        c[R.axis] = along[k];
+                                        return c;
+                                    });
+                                });
+            return;
+        }
+        const auto& order = orders[v];
+        const auto& start = starts[v];
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, start.size() - 1, 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c)
+                                  if (start[c + 1] > start[c]) {
+                                      const std::uint32_t* idx = order.data() + start[c];
+                                      body(std::uint32_t(c), idx, std::size_t(start[c + 1] - start[c]),
+                                           [&](std::size_t k) { return coord_of(idx[k]); });
+                                  }
+                          });
+    };
     for (std::size_t v = 0; v < nv; ++v) {
-        const RayRaster R = make_raster(views->views[v], xf, box, voxel);
+        const View& view = views->views[v];
+        rasters.push_back(make_raster(view, lat, box, voxel));
+        const RayRaster& R = rasters.back();
         const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
-        std::vector<std::uint32_t> cell(n);
-        std::vector<float> depth(n);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Vec3d p = world_of(xf, coord[i]);
-                cell[i] = R.cell(p);
-                depth[i] = R.depth(p);
-            }
-        });
-        std::vector<std::uint32_t> start(ncell + 1, 0);
-        for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];
-        for (std::size_t c = 0; c < ncell; ++c) start[c + 1] += start[c];
-        std::vector<std::uint32_t> order(n), fill(start.begin(), start.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) order[fill[cell[i]]++] = std::uint32_t(i);
-        fill = {};
+        // Each line of sight's voxels in depth order (increasing or, along a negative axis,
+        // decreasing: the runs are the same), with their depths in cells.
+        std::vector<std::uint32_t> count(ncell, 0), key;
+        orders.emplace_back();
+        starts.emplace_back();
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis, [&](const Coord& first, const std::uint32_t*, const int*, std::size_t cnt) {
+                count[R.cell(first)] = std::uint32_t(cnt);
+            });
+        } else {
+            std::vector<std::uint32_t> cell(n), by_depth;
+            key.resize(n);
+            for_voxels([&](std::size_t i, const Coord& c) {
+                cell[i] = R.cell(c);
+                key[i] = R.depth_key(c);
+            });
+            stable_bucket_order(key, R.dkeys, {}, by_depth);
+            stable_bucket_order(cell, std::uint32_t(ncell), by_depth, orders[v], &starts[v]);
+            for (std::size_t c = 0; c < ncell; ++c) count[c] = starts[v][c + 1] - starts[v][c];
+        }
 
         // The drawing as these lines of sight see it (a cell is inside when a voxel of the
-        // hull projects into it), its distance to the outline and local inscribed radius.
-        std::vector<std::uint32_t> count(ncell);
-        std::vector<char> outside(ncell);
-        for (std::size_t c = 0; c < ncell; ++c) {
-            count[c] = start[c + 1] - start[c];
-            outside[c] = count[c] == 0;
-        }
-        // Distance to the outline from the drawing itself (sub-pixel), in cells; cells the
-        // hull reaches although their centre is outside the drawing get 0.
-        const View& view = views->views[v];
+        // hull projects into it), its distance to the outline and local inscribed radius. The
+        // distance is the drawing's own (sub-pixel), in cells; cells the hull reaches although
+        // their centre is outside the drawing get 0.
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
+        std::vector<char> outside(ncell, 0);
         std::vector<float> dist(ncell, 0.0f);
         tbb::parallel_for(tbb::blocked_range<int>(0, R.h), [&](const tbb::blocked_range<int>& rows) {
             for (int j = rows.begin(); j != rows.end(); ++j)
                 for (int i = 0; i < R.w; ++i) {
                     const std::size_t c = std::size_t(j) * std::size_t(R.w) + std::size_t(i);
-                    if (outside[c]) continue;
+                    if (count[c] == 0) {
+                        outside[c] = 1;
+                        continue;
+                    }
                     const double px = R.x0 + (i + 0.5) * R.cp, py = R.y0 + (j + 0.5) * R.cp;
                     dist[c] = float(std::max(0.0, -sdf.sample(px, py) / R.cp));
                 }
@@ -171,156 +238,351 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         box_blur(radius, &outside, R.w, R.h, 4);
         for (std::size_t c = 0; c < ncell; ++c) radius[c] = std::max(radius[c], dist[c]);
 
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, ncell, 256), [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                    if (count[c] == 0) continue;
-                    auto* b = order.data() + start[c];
-                    auto* e = order.data() + start[c + 1];
-                    std::sort(b, e, [&](std::uint32_t a, std::uint32_t q) { return depth[a] < depth[q]; });
-                    const double frac = profile_fraction(radius[c] > 0 ? dist[c] / radius[c] : 0.0,
-                                                         opt.profile_exponent, opt.roundness);
-                    // The inflated cross-section's own half-depth (radius R in world units), so a
-                    // round drawing is a round solid even where the run is short.
-                    const double inflated = frac * double(radius[c]) * voxel;
-                    for (auto* rb = b; rb != e;) {
-                        auto* re = rb + 1;
-                        while (re != e && double(depth[*re]) - double(depth[*(re - 1)]) <= R.gap) ++re;
-                        const double front = double(depth[*rb]) - 0.5 * voxel,
-                                     back = double(depth[*(re - 1)]) + 0.5 * voxel;
-                        const bool is_thin = re - rb <= opt.thin_cells;
-                        // Allowed half-depth: the larger of the profile's share of the run and the
-                        // inflated cross-section (within the run).
-                        const double half = 0.5 * (back - front);
-                        const double allow = std::max(frac, std::min(1.0, inflated / half));
-                        for (auto* it = rb; it != re; ++it) {
-                            const double a = double(depth[*it]) - front, z = back - double(depth[*it]);
-                            const double off = std::abs(a - z) / std::max(a + z, 1e-30);
-                            const float sv = float(off - allow);
-                            score[*it] = std::max(score[*it], sv);
-                            total[*it] += sv;
-                            if (is_thin) thin[*it] = 1;
-                        }
-                        rb = re;
-                    }
+        // The field of one line of sight: `dep` the depths (cells) of its voxels `idx`.
+        const double gap = R.gap_keys * R.dq / voxel;
+        auto score = [&](std::uint32_t c, const std::uint32_t* idx, const double* dep, std::size_t cnt) {
+            const double frac =
+                profile_fraction(radius[c] > 0 ? dist[c] / radius[c] : 0.0, opt.profile_exponent, opt.roundness);
+            // The inflated cross-section's own half-depth (radius R), so a round drawing is a
+            // round solid even where the run is long.
+            const double inflated = frac * double(radius[c]);
+            // A short run well inside the drawing is a thin part seen face-on (an ear, a fin);
+            // near the outline short runs are the rim of any body.
+            const bool thin_part = dist[c] >= 1.5f && radius[c] <= 2.0f * float(opt.thin_cells);
+            for (std::size_t rb = 0; rb != cnt;) {
+                std::size_t re = rb + 1;
+                while (re != cnt && std::abs(dep[re] - dep[re - 1]) <= gap) ++re;
+                const double front = std::min(dep[rb], dep[re - 1]) - 0.5, back = std::max(dep[rb], dep[re - 1]) + 0.5;
+                const double half = 0.5 * (back - front), mid = 0.5 * (back + front);
+                // Allowed half-depth: the larger of the profile's share of the run and the
+                // inflated cross-section (within the run).
+                const double allow = std::max(frac * half, std::min(half, inflated));
+                const bool is_thin = thin_part && re - rb <= std::size_t(opt.thin_cells);
+                for (std::size_t k = rb; k != re; ++k) {
+                    const float sv = float(std::abs(dep[k] - mid) - allow);
+                    if (soft) phi[idx[k]] += std::exp(std::clamp(sv, -kClamp, kClamp) / blend);
+                    else phi[idx[k]] = std::max(phi[idx[k]], sv);
+                    if (is_thin) thin[idx[k]] = 1;
                 }
+                rb = re;
+            }
+        };
+        if (R.axis_aligned) {
+            columns.for_columns(R.axis,
+                                [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+                                    std::vector<double> dep(along, along + cnt);
+                                    score(R.cell(first), idx, dep.data(), cnt);
+                                });
+        } else {
+            for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&&) {
+                std::vector<double> dep(cnt);
+                for (std::size_t k = 0; k < cnt; ++k) dep[k] = R.depth_of_key(key[idx[k]]) / voxel;
+                score(c, idx, dep.data(), cnt);
             });
-        ray_count.push_back(std::move(count));
-        ray_start.push_back(std::move(start));
-        ray_order.push_back(std::move(order));
-        rasters.push_back(R);
-        step(0.05 + 0.45 * double(v + 1) / double(nv));
+        }
+        ray_total.push_back(std::move(count));
+        step(0.05 + 0.4 * double(v + 1) / double(nv));
     }
 
-    // 3. The score smoothed over the hull's voxels (a normalised Gaussian, so the outside
-    // does not pull it), giving a smooth zero level for the new surface.
+    if (soft)
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { phi[i] = blend * std::log(phi[i] / float(nv)); });
+    // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
+    // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
+    // all lie farther from 0 than the kernel can carry them keep their values.
     auto sgrid = openvdb::FloatGrid::create(0.0f);
-    sgrid->setTransform(xf.copy());
+    sgrid->setTransform(in.transform().copy());
     sgrid->tree().topologyUnion(occ->tree());
     // Same topology, so the leaves come in the occupancy's order (checked).
     auto for_leaves = [&](auto& grid, auto&& body) {
         openvdb::tree::LeafManager<openvdb::FloatTree> lm(grid.tree());
-        if (lm.leafCount() != nleaf) throw Error("internal: score grid topology differs from the occupancy");
+        if (lm.leafCount() != nleaf) throw Error("internal: field grid topology differs from the occupancy");
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t l = r.begin(); l != r.end(); ++l) {
                 auto& leaf = lm.leaf(l);
                 if (leaf.origin() != leaves.leaf(l).origin())
-                    throw Error("internal: score grid leaves out of the occupancy's order");
+                    throw Error("internal: field grid leaves out of the occupancy's order");
                 std::size_t i = base[l];
                 for (auto it = leaf.beginValueOn(); it; ++it) body(i++, it);
             }
         });
     };
-    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
-    if (opt.smooth_cells > 0) {
-        // Binomial passes ([1 2 1] along each axis, variance 1/2 each) normalised by the
-        // weight of the hull's voxels under the kernel.
-        const int passes = std::max(1, int(std::lround(2.0 * opt.smooth_cells * opt.smooth_cells)));
-        auto other = sgrid->deepCopy();
-        for (int k = 0; k < passes; ++k) {
-            binomial_pass(*sgrid, *other);
-            std::swap(sgrid, other);
-        }
-        for_leaves(*sgrid, [&](std::size_t i, auto& it) { score[i] = it.getValue(); });
+    // The smoothing is given in cells of a grid of 256 along the object's longest side, so
+    // the surface is as smooth at any resolution; voxels farther from the zero level than
+    // four standard deviations keep their values (their side of it is not in doubt).
+    {
+        const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
+        smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
     }
-
-    // 3b. Coverage repair: a line of sight whose voxels all lie outside the profile gets
-    // its scores lowered until its best voxel, and a band of a few cells around it, is
-    // plausible; the lowering is smoothed over the image plane, so what a ray needs is a
-    // smooth layer joined to its neighbours rather than a voxel of its own.
-    for (std::size_t v = 0; v < nv; ++v) {
-        const RayRaster& R = rasters[v];
-        const auto& start = ray_start[v];
-        const auto& order = ray_order[v];
-        const std::size_t ncell = std::size_t(R.w) * std::size_t(R.h);
-        std::vector<float> need(ncell, 0.0f);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                                  const std::uint32_t k = start[c + 1] - start[c];
-                                  if (k == 0) continue;
-                                  float m = std::numeric_limits<float>::infinity();
-                                  for (std::uint32_t q = start[c]; q < start[c + 1] && m > 0; ++q)
-                                      m = std::min(m, thin[order[q]] ? -1.0f : score[order[q]]);
-                                  if (m > 0) need[c] = m + std::min(0.3f, 4.0f / float(k));
-                              }
-                          });
-        std::vector<float> lower = need;
-        dilate(lower, R.w, R.h, 2);
-        box_blur(lower, nullptr, R.w, R.h, 6);
-        for (std::size_t c = 0; c < ncell; ++c) lower[c] = std::max(lower[c], need[c]);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ncell, 256),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t c = r.begin(); c != r.end(); ++c)
-                                  if (lower[c] > 0)
-                                      for (std::uint32_t q = start[c]; q < start[c + 1]; ++q)
-                                          score[order[q]] -= lower[c];
-                          });
-    }
-    ray_start = {};
-    ray_order = {};
-    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(score[i]); });
-    step(0.6);
-
-    // 4. Removal, most implausible first, while every ray keeps `ray_keep` voxels.
-    std::vector<std::pair<float, std::uint32_t>> cand;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!(score[i] > 0)) continue;
-        if (thin[i]) {
-            ++st.thin_kept;
-            continue;
-        }
-        // Where one view decides the score (a flat stretch of it), the others' sum picks
-        // the voxels that go first, so what stays on neighbouring rays stays together.
-        cand.emplace_back(score[i] + 0.5f * total[i] / float(nv), std::uint32_t(i));
+    // Thin parts have no volume to spare.
+    {
+        std::atomic<std::size_t> kept{0}, cand{0};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::size_t k = 0, c = 0;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                if (!(phi[i] > 0)) continue;
+                if (thin[i]) {
+                    ++k;
+                    phi[i] = -0.5f;
+                } else {
+                    ++c;
+                }
+            }
+            kept += k;
+            cand += c;
+        });
+        st.thin_kept = kept;
+        st.candidates = cand;
     }
     thin = {};
-    st.candidates = cand.size();
-    tbb::parallel_sort(cand.begin(), cand.end(), [](const auto& a, const auto& b) {
-        return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-    std::vector<std::uint8_t> removed(n, 0);
-    std::vector<std::uint32_t> cells(nv);
-    const std::uint32_t keep = std::uint32_t(std::max(1, opt.ray_keep));
-    for (const auto& [s, i] : cand) {
-        const Vec3d p = world_of(xf, coord[i]);
-        bool ok = true;
-        for (std::size_t v = 0; v < nv && ok; ++v) {
-            cells[v] = rasters[v].cell(p);
-            ok = ray_count[v][cells[v]] > keep;
-        }
-        if (!ok) {
-            ++st.kept_for_rays;
-            continue;
-        }
-        for (std::size_t v = 0; v < nv; ++v) --ray_count[v][cells[v]];
-        removed[i] = 1;
-        ++st.removed;
-    }
-    cand = {};
-    step(0.7);
+    step(0.55);
 
-    // 5. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
+    // 4. Every line of sight keeps min(ray_keep, its voxels) voxels with field <= 0. Where the
+    // profiles leave one short, (a) the field is lowered about the ray's best voxels by a
+    // smooth swelling; (b) what that keeps apart from the profiles' volume would float free,
+    // so it goes; (c) the volume itself swells to the lines of sight still short: a ball about
+    // its kept voxel nearest to each (in the nearest covered line of sight of that view, at the
+    // depth the field prefers) reaching the ray's nearest voxel, joined to the field by a
+    // smooth minimum. So the volume bulges out, in one piece, instead of keeping loose strands
+    // along the rays. The field only goes down from (a) on, so no line of sight loses a voxel;
+    // (d) keeps the best voxels of any line of sight the coarsely sampled swellings still miss.
+    const std::uint32_t keep = std::uint32_t(std::max(1, opt.ray_keep));
+    constexpr float kMargin = 0.75f; // cells of field below 0 a needed voxel gets
+    constexpr float kBlend = 1.5f;   // cells over which a ball blends into the field
+    const int maxdim = std::max({box.dim().x(), box.dim().y(), box.dim().z()});
+    std::vector<float> cur = phi;
+    struct Vox {
+        std::uint32_t cell, i;
+        Coord c;
+    };
+    // The voxels with field <= 0 of the cells with `want[cell]` set, by cell, in depth order.
+    auto kept_voxels_of = [&](std::size_t v, const std::vector<char>& want) {
+        tbb::enumerable_thread_specific<std::vector<Vox>> found;
+        for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+            if (!want[c]) return;
+            auto& local = found.local();
+            for (std::size_t k = 0; k < cnt; ++k)
+                if (cur[idx[k]] <= 0) local.push_back({c, idx[k], coord(k)});
+        });
+        std::vector<Vox> all;
+        for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+        // A cell's voxels come whole from one call of the body.
+        std::stable_sort(all.begin(), all.end(), [](const Vox& a, const Vox& b) { return a.cell < b.cell; });
+        return all;
+    };
+    // Per view, the voxels of its lines of sight the profiles leave short, by line of sight
+    // (the field only goes down from here, and what 4b drops was never the profiles', so no
+    // other line of sight can become short): those within 8 cells of field of the best, where
+    // a swelling can reach (a voxel left out only makes a line of sight look shorter than
+    // it is: more swelling, never less coverage).
+    std::vector<std::vector<Vox>> lists(nv);
+    std::vector<std::vector<std::size_t>> groups(nv); // start of each line of sight in lists[v]
+    for (std::size_t v = 0; v < nv; ++v) {
+        tbb::enumerable_thread_specific<std::vector<Vox>> found;
+        for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+            std::uint32_t kept = 0;
+            const std::uint32_t want = std::min(keep, std::uint32_t(cnt));
+            float best = std::numeric_limits<float>::infinity();
+            for (std::size_t k = 0; k < cnt; ++k) {
+                kept += cur[idx[k]] <= 0;
+                best = std::min(best, cur[idx[k]]);
+            }
+            if (kept >= want) return;
+            auto& local = found.local();
+            for (std::size_t k = 0; k < cnt; ++k)
+                if (cur[idx[k]] <= best + 8.0f) local.push_back({c, idx[k], coord(k)});
+        });
+        for (auto& f : found) lists[v].insert(lists[v].end(), f.begin(), f.end());
+        for (std::size_t k = 0; k < lists[v].size(); ++k)
+            if (k == 0 || lists[v][k].cell != lists[v][k - 1].cell) groups[v].push_back(k);
+        if (lists[v].empty()) continue;
+        groups[v].push_back(lists[v].size());
+        st.short_rays += groups[v].size() - 1;
+    }
+    // Whether line of sight g of view v is short, and the field value its `want`-th best voxel has.
+    auto shortfall = [&](std::size_t v, std::size_t g, float* t) {
+        const auto& list = lists[v];
+        const std::size_t b = groups[v][g], e = groups[v][g + 1];
+        std::vector<float> vals;
+        std::uint32_t have = 0;
+        for (std::size_t k = b; k < e; ++k) {
+            vals.push_back(cur[list[k].i]);
+            have += cur[list[k].i] <= 0;
+        }
+        const std::size_t want = std::min<std::size_t>(keep, vals.size());
+        if (have >= want) return false;
+        std::nth_element(vals.begin(), vals.begin() + std::ptrdiff_t(want - 1), vals.end());
+        *t = vals[want - 1];
+        return true;
+    };
+
+    // 4a. The swelling about the best voxels of each short line of sight (those within a cell
+    // of the best: where the profiles least object), in rounds since its smoothing takes some
+    // of its height.
+    {
+        SwellField swell(box, std::clamp(int(std::lround(double(maxdim) / 96.0)), 1, 8));
+        for (int round = 0; round < 4; ++round) {
+            bool seeded = false;
+            for (std::size_t v = 0; v < nv; ++v)
+                for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+                    float t = 0;
+                    if (!shortfall(v, g, &t)) continue;
+                    for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                        if (cur[lists[v][k].i] <= t + 1.0f) swell.seed(lists[v][k].c, t + kMargin);
+                    seeded = true;
+                }
+            if (!seeded) break;
+            swell.settle();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                    const auto& leaf = leaves.leaf(l);
+                    if (!swell.raised_in(openvdb::CoordBBox::createCube(leaf.origin(), LeafT::DIM))) continue;
+                    std::size_t i = base[l];
+                    for (auto it = leaf.cbeginValueOn(); it; ++it, ++i)
+                        if (phi[i] > 0) cur[i] = std::min(cur[i], phi[i] - swell.at(it.getCoord()));
+                }
+            });
+        }
+    }
+    // 4b. What the swelling kept apart from the profiles' volume goes.
+    {
+        std::vector<char> member(n), anchor(n), loose;
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            member[i] = phi[i] > 0 && cur[i] <= 0;
+            anchor[i] = phi[i] <= 0;
+        });
+        loose_pieces(leaves, base, member, anchor, loose);
+        std::size_t dropped = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (loose[i]) cur[i] = phi[i], ++dropped;
+        st.loose_dropped = dropped;
+    }
+    // 4c. Balls about the volume to the lines of sight still short.
+    BallField balls(box, std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
+    const double coarse = double(std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
+    auto dist2 = [](const Coord& a, const Coord& b) {
+        const double dx = a.x() - b.x(), dy = a.y() - b.y(), dz = a.z() - b.z();
+        return dx * dx + dy * dy + dz * dz;
+    };
+    for (std::size_t v = 0; v < nv; ++v) {
+        const RayRaster& R = rasters[v];
+        const std::size_t ncell = ray_total[v].size();
+        // 1: short, 2: covered (holds a kept voxel).
+        std::vector<char> flag(ncell, 0);
+        for (std::size_t c = 0; c < ncell; ++c) flag[c] = ray_total[v][c] > 0 ? 2 : 0;
+        bool any = false;
+        std::vector<std::size_t> short_groups;
+        for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+            const std::uint32_t c = lists[v][groups[v][g]].cell;
+            float t = 0;
+            bool kept_one = false;
+            for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                kept_one = kept_one || cur[lists[v][k].i] <= 0;
+            flag[c] = kept_one ? 2 : 0;
+            if (shortfall(v, g, &t)) flag[c] = 1, any = true, short_groups.push_back(g);
+        }
+        if (!any) continue;
+        st.ball_rays += short_groups.size();
+        // The nearest covered cell of every cell (8-neighbour breadth-first search).
+        constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+        std::vector<std::uint32_t> near(ncell, none);
+        std::vector<std::uint32_t> queue;
+        for (std::size_t c = 0; c < ncell; ++c)
+            if (flag[c] == 2) near[c] = std::uint32_t(c), queue.push_back(std::uint32_t(c));
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t c = queue[h];
+            const int i = int(c % std::uint32_t(R.w)), j = int(c / std::uint32_t(R.w));
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const int x = i + di, y = j + dj;
+                    if (x < 0 || y < 0 || x >= R.w || y >= R.h) continue;
+                    const std::size_t q = std::size_t(y) * std::size_t(R.w) + std::size_t(x);
+                    if (near[q] != none) continue;
+                    near[q] = near[c];
+                    queue.push_back(std::uint32_t(q));
+                }
+        }
+        queue = {};
+        std::vector<char> anchor(ncell, 0);
+        for (std::size_t g : short_groups) {
+            const std::uint32_t c = lists[v][groups[v][g]].cell;
+            if (near[c] != none) anchor[near[c]] = 1;
+        }
+        const std::vector<Vox> anchors = kept_voxels_of(v, anchor);
+        tbb::enumerable_thread_specific<std::vector<std::pair<openvdb::Vec3d, double>>> found;
+        tbb::parallel_for(std::size_t(0), short_groups.size(), [&](std::size_t s) {
+            const std::size_t g = short_groups[s];
+            const auto rb = lists[v].begin() + std::ptrdiff_t(groups[v][g]),
+                       re = lists[v].begin() + std::ptrdiff_t(groups[v][g + 1]);
+            const std::uint32_t c = rb->cell;
+            if (near[c] == none) return; // nothing kept in this view
+            auto ab = std::lower_bound(anchors.begin(), anchors.end(), near[c],
+                                       [](const Vox& a, std::uint32_t x) { return a.cell < x; });
+            auto ae = ab;
+            while (ae != anchors.end() && ae->cell == near[c]) ++ae;
+            if (ab == ae) return;
+            // The depth the field prefers: the ray's best voxel.
+            const auto best = std::min_element(rb, re, [&](const Vox& a, const Vox& b) { return cur[a.i] < cur[b.i]; });
+            const auto centre = std::min_element(
+                ab, ae, [&](const Vox& a, const Vox& b) { return dist2(a.c, best->c) < dist2(b.c, best->c); });
+            // The ray's `want` voxels nearest to the centre: the ball reaches the farthest.
+            std::vector<double> d;
+            for (auto it = rb; it != re; ++it) d.push_back(dist2(it->c, centre->c));
+            const std::size_t want = std::min<std::size_t>(keep, d.size());
+            std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(want - 1), d.end());
+            const auto& o = centre->c;
+            found.local().push_back(
+                {openvdb::Vec3d(o.x(), o.y(), o.z()), std::sqrt(d[want - 1]) + kMargin + 0.5 * coarse});
+        });
+        for (auto& f : found)
+            for (const auto& [centre, radius] : f) balls.add(centre, radius);
+        balls.settle(kBlend + 2.0 * coarse);
+        // Smooth minimum of the field and the balls (never above either).
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                if (!balls.any_in(openvdb::CoordBBox::createCube(leaves.leaf(l).origin(), LeafT::DIM))) continue;
+                std::size_t i = base[l];
+                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
+                    const float b = balls.at(it.getCoord()), a = cur[i];
+                    if (!(b < a + kBlend)) continue;
+                    const float h = std::clamp(0.5f + 0.5f * (a - b) / kBlend, 0.0f, 1.0f);
+                    cur[i] = std::min(a, a + (b - a) * h - kBlend * h * (1.0f - h));
+                }
+            }
+        });
+    }
+    // 4d. Any line of sight still short keeps its best voxels.
+    for (std::size_t v = 0; v < nv; ++v)
+        for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+            float t = 0;
+            if (!shortfall(v, g, &t)) continue;
+            for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
+                if (cur[lists[v][k].i] <= t) cur[lists[v][k].i] = std::min(cur[lists[v][k].i], -kMargin);
+        }
+    lists = {};
+    orders = {};
+    starts = {};
+    step(0.65);
+
+    // 5. Removal: the voxels where the field is above 0.
+    std::vector<std::uint8_t> removed(n, 0);
+    {
+        std::atomic<std::size_t> count{0};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::size_t k = 0;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                removed[i] = cur[i] > 0;
+                k += removed[i];
+            }
+            count += k;
+        });
+        st.removed = count;
+        st.kept_for_rays = st.candidates > st.removed ? st.candidates - st.removed : 0;
+    }
+    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(cur[i]); });
+    phi = {};
+    cur = {};
+    step(0.7);
+    // 6. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
     // to tiles (so every inside point next to the outside stays a leaf voxel, volume.h).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
@@ -332,19 +594,38 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (const auto o : off) leaf.setValueOff(o, false);
         }
     });
-    // 5a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
+    // 6a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
-    // (coincident vertices). Such a voxel's removed neighbours along that axis come back
-    // (only adding: every line of sight keeps what it had).
-    // Two passes: a voxel put back can be such a plate along another axis, and on small or
-    // lacy parts putting its neighbours back in turn would go on growing the volume.
+    // (coincident vertices, crossing faces). Such a voxel's removed neighbours along that
+    // axis come back (only adding: every line of sight keeps what it had). Two passes: a
+    // voxel put back can be such a plate along another axis, and on small or lacy parts
+    // putting its neighbours back in turn would go on growing the volume.
+    // Only leaves with a removed voxel in them or across a face can hold such a plate.
+    std::vector<char> near_cut(nleaf, 0);
+    {
+        std::vector<char> cut(nleaf, 0);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            for (std::size_t i = base[l]; i < base[l + 1] && !cut[l]; ++i) cut[l] = removed[i];
+        });
+        std::set<Coord> origins;
+        for (std::size_t l = 0; l < nleaf; ++l)
+            if (cut[l]) origins.insert(leaves.leaf(l).origin());
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            near_cut[l] = cut[l];
+            for (int d = 0; d < 6 && !near_cut[l]; ++d) {
+                Coord o = leaves.leaf(l).origin();
+                o[d / 2] += (d & 1) ? int(LeafT::DIM) : -int(LeafT::DIM);
+                near_cut[l] = origins.count(o) > 0;
+            }
+        });
+    }
     for (int pass = 0; pass < 2; ++pass) {
         std::vector<std::vector<Coord>> back(nleaf);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
             auto now = occ->getConstAccessor();
             auto was = in.occupancy->getConstAccessor();
             for (std::size_t l = r.begin(); l != r.end(); ++l)
-                for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it) {
+                for (auto it = leaves.leaf(l).cbeginValueOn(); near_cut[l] && it; ++it) {
                     const Coord g = it.getCoord();
                     for (int a = 0; a < 3; ++a) {
                         Coord lo = g, hi = g;
@@ -387,12 +668,65 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     }
     step(0.8);
 
-    // 6. Crossings: unchanged where an edge still runs from an inside point to a point
+    // 7. Crossings: unchanged where an edge still runs from an inside point to a point
     // outside the hull; the smoothed score's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
     out->views = in.views;
-    out->extra = in.extra;
     out->occupancy = occ;
+    // Thin parts between grid points hang on the hull's surface next to them: where the
+    // removal took any grid point around one, it would float free, so it goes.
+    {
+        auto enter = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in.find_extra("thin_enter"));
+        auto leave = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in.find_extra("thin_leave"));
+        std::size_t dropped = 0;
+        for (const auto& g : in.extra) {
+            if (g == enter || g == leave) continue;
+            out->extra.push_back(g);
+        }
+        if (enter && leave) {
+            auto e2 = enter->deepCopy(), l2 = leave->deepCopy();
+            auto was = in.occupancy->getConstAccessor();
+            auto now = occ->getConstAccessor();
+            auto la = l2->getAccessor();
+            std::vector<Coord> off;
+            for (auto it = e2->beginValueOn(); it; ++it) {
+                const Coord p = it.getCoord();
+                openvdb::Vec3f te = *it, tl = la.getValue(p);
+                bool any = false;
+                for (int a = 0; a < 3; ++a) {
+                    if (te[a] < 0) continue;
+                    Coord q = p;
+                    q[a] += 1;
+                    bool cut = false;
+                    for (int k = 0; k < 27 * 2 && !cut; ++k) {
+                        const Coord g = (k < 27 ? p : q).offsetBy(k % 27 / 9 - 1, k % 9 / 3 - 1, k % 3 - 1);
+                        cut = was.isValueOn(g) && !now.isValueOn(g);
+                    }
+                    if (cut) {
+                        te[a] = tl[a] = -1.0f;
+                        ++dropped;
+                    } else {
+                        any = true;
+                    }
+                }
+                if (any) {
+                    it.setValue(te);
+                    la.setValue(p, tl);
+                } else {
+                    off.push_back(p);
+                }
+            }
+            for (const Coord& p : off) {
+                e2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
+                l2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
+            }
+            if (e2->activeVoxelCount() > 0) {
+                out->extra.push_back(e2);
+                out->extra.push_back(l2);
+            }
+        }
+        st.thin_dropped = dropped;
+    }
     if (in.crossings) {
         auto cross = in.crossings->deepCopy();
         // The leaves to revisit: those holding removed voxels, and the ones just below in
@@ -437,12 +771,11 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                         if (ig == iq) {
                             val[a] = -1.0f;
                         } else if (rg || rq) {
-                            // One end kept (inside), the other removed: the score's zero level.
+                            // One end kept (inside), the other removed: the field's zero level
+                            // (half-way from a voxel the plate repair put back).
                             const float sk = sc.getValue(ig ? g : q), sr = sc.getValue(ig ? q : g);
-                            // A voxel kept only for a line of sight reaches almost to its
-                            // removed neighbours, so it covers its whole cell of that line.
-                            float f = 0.95f;
-                            if (sk < 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
+                            float f = 0.5f;
+                            if (sk <= 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
                             val[a] = ig ? f : 1.0f - f;
                             ++mine;
                         }

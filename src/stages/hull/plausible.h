@@ -2,13 +2,14 @@
 // (hull.plausible).
 //
 // Every shape whose projections are the silhouettes lies inside the visual hull, and a
-// silhouette pixel needs only one occupied point along its line of sight. So the hull's
-// voxels are scored by how far they sit outside an inflated depth profile of each
-// drawing, and removed most implausible first, only while every line of sight through
-// them, in every view, still holds another occupied voxel. The silhouettes stay those
-// of the hull by construction; the removed region's new surface is placed on the
-// smoothed score's zero level, and every crossing on a silhouette cone is kept as
-// hull.marching_intersections found it.
+// silhouette pixel needs only one occupied point along its line of sight. So each view
+// allows, along each of its lines of sight, a share of the hull's run there given by an
+// inflated depth profile of its drawing; a voxel's field value is how far it lies outside
+// that allowance (cells, a smooth maximum over the views), smoothed, and the volume keeps the voxels
+// where it is <= 0. Where that would leave a line of sight empty, the field is lowered by a
+// smooth swelling of the volume until the line keeps a voxel: the silhouettes stay those of
+// the hull by construction. The new surface lies on the field's zero level; every crossing
+// on a silhouette cone is kept as hull.marching_intersections found it.
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -26,22 +27,32 @@ struct PlausibleOptions {
     double profile_exponent = 2.0;
     /// Occupied cells every line of sight keeps (1: the silhouettes only need one).
     int ray_keep = 1;
-    /// A voxel in a run of at most this many cells along any view's line of sight is
-    /// kept: thin parts (fins, blades, wings) have no volume to spare.
+    /// A voxel in a run of at most this many cells along a view's line of sight, where that
+    /// view's drawing is thin (inscribed radius at most twice this) and the cell lies at
+    /// least 1.5 cells inside it, is kept: thin parts (fins, blades, ears) seen face-on have
+    /// no volume to spare. (Short runs at a drawing's outline are any body's rim.)
     int thin_cells = 3;
-    /// Standard deviation (cells) of the Gaussian smoothing of the score before removal
-    /// (binomial passes, 2 sigma^2 of them), 0 for none.
-    double smooth_cells = 1.5;
+    /// How the views' fields are joined: a smooth maximum over this many cells (log-sum-exp
+    /// less the log of the number of views), 0 for the plain maximum (any view removes).
+    double view_blend = 2.0;
+    /// Standard deviation of the Gaussian smoothing of the field, in cells of a grid of 256
+    /// along the object's longest side (scaled with the resolution, so the new surface is
+    /// as smooth at any resolution), 0 for none.
+    double smooth_cells = 2.5;
 };
 
 struct PlausibleStats {
     std::size_t hull_voxels = 0;   ///< occupied grid points of the input
-    std::size_t candidates = 0;    ///< voxels outside the profile (score > 0), not thin
+    std::size_t candidates = 0;    ///< voxels outside the profiles (field > 0), not thin
     std::size_t removed = 0;       ///< voxels taken out
-    std::size_t kept_for_rays = 0; ///< candidates kept because a line of sight needs them
-    std::size_t thin_kept = 0;     ///< voxels outside the profile kept as thin parts
-    std::size_t new_crossings = 0; ///< crossings placed on the score's zero level
+    std::size_t kept_for_rays = 0; ///< candidates kept by the swelling that covers the lines of sight
+    std::size_t thin_kept = 0;     ///< voxels outside the profiles kept as thin parts
+    std::size_t new_crossings = 0; ///< crossings placed on the field's zero level
     std::size_t thickened = 0;     ///< removed voxels put back so no plate is one voxel thin
+    std::size_t thin_dropped = 0;  ///< thin-part edges of the input dropped (their hull removed)
+    std::size_t short_rays = 0;    ///< lines of sight the profiles left short (swollen to)
+    std::size_t loose_dropped = 0; ///< swollen voxels dropped as apart from the rest
+    std::size_t ball_rays = 0;     ///< lines of sight then covered by a ball about the volume
     double cell_px = 0;            ///< line-of-sight raster pitch, pixels of the finest view
 };
 
@@ -50,8 +61,8 @@ struct PlausibleStats {
 /// view (a raster at the grid's pitch on the view's image plane, a voxel belonging to
 /// the cell its centre projects into) that holds an input voxel still holds one. The
 /// input's exact crossings are kept wherever an edge still runs from an inside point to
-/// a point outside the hull; edges into the removed region get the smoothed score's zero
-/// crossing. Orthographic and perspective views; TBB-parallel over leaves and cells.
+/// a point outside the hull; edges into the removed region get the field's zero crossing.
+/// Orthographic and perspective views; TBB-parallel over leaves, columns and cells.
 /// @param progress called between steps with a fraction in [0, 1]; may throw to cancel.
 /// @throw cm::Error when the volume has no occupancy, no views are given, or a view's
 ///        line-of-sight raster would be unreasonably large (a camera inside the object).

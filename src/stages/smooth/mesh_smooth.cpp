@@ -22,8 +22,9 @@ constexpr int kBisections = 8;
 // One Jacobi step: dst[v] = src[v] + w * (mean of src over v's neighbours - src[v]).
 // With a hull, the step is shortened so that |hull distance| stays within the
 // tolerance (or does not grow, for a vertex that starts outside the band).
+// `free` (may be null): the vertices that only have to stay inside the hull (within tol).
 std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std::vector<Vec3f>& dst, double w,
-                  const HullDistance* hull, double tol) {
+                  const HullDistance* hull, double tol, const std::vector<char>* free) {
     const std::size_t nv = src.size();
     std::atomic<std::size_t> clamped{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -46,6 +47,21 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             }
             const Vec3d p0(p), s(step);
             const double h1 = (*hull)(p0 + s);
+            if (free && (*free)[v]) {
+                if (h1 <= tol) {
+                    dst[v] = p + step;
+                    continue;
+                }
+                double lo = 0, hi = 1; // the step's part that stays inside
+                for (int k = 0; k < kBisections; ++k) {
+                    const double mid = 0.5 * (lo + hi);
+                    if ((*hull)(p0 + s * mid) <= tol) lo = mid;
+                    else hi = mid;
+                }
+                dst[v] = p + step * float(lo);
+                ++local;
+                continue;
+            }
             if (std::fabs(h1) <= tol) {
                 dst[v] = p + step;
                 continue;
@@ -216,13 +232,23 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const VertexAdjacency adj = build_vertex_adjacency(in);
         std::vector<Vec3f> b(a.size());
         const double tol = opt.tolerance;
+        // Vertices that start inside the hull, farther than the tolerance, move freely inside it.
+        std::vector<char> free_inside;
+        if (opt.hull && opt.inside_free) {
+            free_inside.resize(a.size());
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 2048), [&](const auto& r) {
+                for (std::size_t v = r.begin(); v != r.end(); ++v)
+                    free_inside[v] = (*opt.hull)(Vec3d(a[v])) < -tol;
+            });
+        }
+        const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
         for (int it = 0; it < opt.iterations; ++it) {
             if (opt.method == SmoothOptions::Method::Laplacian) {
-                stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol);
+                stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol, free);
                 a.swap(b);
             } else {
-                stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol);
-                stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol);
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol, free);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol, free);
             }
             if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
         }

@@ -23,6 +23,10 @@ struct SmoothOptions {
     /// that would leave the band is shortened by bisection along its direction.
     const HullDistance* hull = nullptr;
     double tolerance = 0.0;
+    /// With `hull`: only the vertices that start within `tolerance` of the hull are kept
+    /// within it; the others (a surface carved inside the hull, hull.plausible) move
+    /// freely as long as they stay inside it (within `tolerance`).
+    bool inside_free = false;
     /// Keep the surface valid: after smoothing, vertices of faces that cross another face,
     /// turn over (normal against the input's) or collapse to zero area are moved back
     /// towards their input positions (half the way, a quarter, then all the way) until no

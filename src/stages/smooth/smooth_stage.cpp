@@ -37,10 +37,12 @@ void SmoothCommon::declare(ParamBinder& b, std::int64_t default_iterations) {
     b.add(iterations, ParamSpec::Int("iterations", default_iterations, 0, 10000, "",
                                      "smoothing iterations (Taubin: one lambda step and one mu step each)"));
     b.add(constrain,
-          ParamSpec::Enum("constrain", "none", {"none", "hull"},
+          ParamSpec::Enum("constrain", "none", {"none", "hull", "inside"},
                           "hull: keep every vertex within `tolerance` of the visual hull of the views "
-                          "(needs the views input), so the drawn outline is kept"),
-          {Constrain::None, Constrain::Hull});
+                          "(needs the views input), so the drawn outline is kept; inside: the vertices on "
+                          "the hull stay on it, the others move freely inside it (a surface carved inside "
+                          "the hull: hull.plausible)"),
+          {Constrain::None, Constrain::Hull, Constrain::Inside});
     b.add(tolerance_px, ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
                                          "hull constraint: largest distance of a vertex from the hull, in pixels of "
                                          "the finest view"));
@@ -59,13 +61,16 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
     auto src = in.get<Mesh>("mesh");
     opt.iterations = iterations;
     std::unique_ptr<HullDistance> hull;
-    if (constrain == Constrain::Hull) {
+    if (constrain != Constrain::None) {
+        const char* name = constrain == Constrain::Hull ? "hull" : "inside";
         if (!in.has("views"))
-            throw Error("constrain: hull needs the views input (inputs: { mesh: ..., views: <views node> })");
+            throw Error(std::string("constrain: ") + name +
+                        " needs the views input (inputs: { mesh: ..., views: <views node> })");
         auto views = in.get<Views>("views");
         hull = std::make_unique<HullDistance>(*views);
         opt.hull = hull.get();
         opt.tolerance = tolerance_px * hull->finest_pixel();
+        opt.inside_free = constrain == Constrain::Inside;
     }
     opt.guard = guard;
     opt.progress = [&ctx](double f) { ctx.progress(f, "smoothing"); };
@@ -82,6 +87,7 @@ Data SmoothCommon::run(const Inputs& in, Context& ctx, SmoothOptions opt) const 
         ctx.metric("guard_bad_faces", double(st.bad_faces));
         ctx.metric("guard_coincident", double(st.coincident));
         ctx.metric("guard_pulled_back", double(st.pulled_back));
+        ctx.metric("guard_rounds", double(st.guard_rounds));
         if (st.unresolved)
             ctx.warn(std::to_string(st.unresolved) +
                      " faces of the input cross another face, turn over or collapse; smoothing left them as they were");

@@ -10,10 +10,10 @@
 
 namespace cm {
 
-/// `iterations`, `constrain` (none|hull), `tolerance` (px of the finest view) and `guard`,
+/// `iterations`, `constrain` (none|hull|inside), `tolerance` (px of the finest view) and `guard`,
 /// bound together, and the run both stages share.
 struct SmoothCommon {
-    enum class Constrain { None, Hull };
+    enum class Constrain { None, Hull, Inside };
     int iterations = 0;
     Constrain constrain = Constrain::None;
     double tolerance_px = 0;
@@ -21,7 +21,7 @@ struct SmoothCommon {
 
     void declare(ParamBinder& b, std::int64_t default_iterations);
     /// Smooths a copy of the `mesh` input with `opt` (its method and step set by the stage).
-    /// Throws cm::Error when `constrain: hull` is asked and the views input is not connected.
+    /// Throws cm::Error when `constrain: hull` or `inside` is asked and the views input is not connected.
     Data run(const Inputs& in, Context& ctx, SmoothOptions opt) const;
 };
 
