@@ -237,8 +237,7 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         if (opt.hull && opt.inside_free) {
             free_inside.resize(a.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 2048), [&](const auto& r) {
-                for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    free_inside[v] = (*opt.hull)(Vec3d(a[v])) < -tol;
+                for (std::size_t v = r.begin(); v != r.end(); ++v) free_inside[v] = (*opt.hull)(Vec3d(a[v])) < -tol;
             });
         }
         const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
