@@ -16,6 +16,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -162,10 +163,12 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // body(cell, voxel indices in depth order, count, coord(k)) for every line of sight of
     // view v that holds a voxel, in parallel: the grid's columns for a view along an axis,
     // else the voxels sorted by cell and depth. coord(k) is the grid point of voxel k.
-    auto for_rays = [&](std::size_t v, auto&& body) {
+    // With `skip` (per leaf: voxels whose lines of sight are not wanted), axis views leave
+    // out the columns holding one of them (the body is still asked about every other view's).
+    auto for_rays = [&](std::size_t v, auto&& body, const std::vector<LeafColumns::Mask>* skip = nullptr) {
         const RayRaster& R = rasters[v];
         if (R.axis_aligned) {
-            columns.for_columns(R.axis,
+            columns.for_columns(R.axis, skip,
                                 [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
                                     body(R.cell(first), idx, cnt, [&](std::size_t k) {
                                         Coord c = first;
@@ -267,15 +270,18 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 rb = re;
             }
         };
+        tbb::enumerable_thread_specific<std::vector<double>> depths;
         if (R.axis_aligned) {
             columns.for_columns(R.axis,
                                 [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
-                                    std::vector<double> dep(along, along + cnt);
+                                    auto& dep = depths.local();
+                                    dep.assign(along, along + cnt);
                                     score(R.cell(first), idx, dep.data(), cnt);
                                 });
         } else {
             for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&&) {
-                std::vector<double> dep(cnt);
+                auto& dep = depths.local();
+                dep.resize(cnt);
                 for (std::size_t k = 0; k < cnt; ++k) dep[k] = R.depth_of_key(key[idx[k]]) / voxel;
                 score(c, idx, dep.data(), cnt);
             });
@@ -312,7 +318,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     {
         const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
         smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
-    }
+    };
     // Thin parts have no volume to spare.
     {
         std::atomic<std::size_t> kept{0}, cand{0};
@@ -376,21 +382,40 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // it is: more swelling, never less coverage).
     std::vector<std::vector<Vox>> lists(nv);
     std::vector<std::vector<std::size_t>> groups(nv); // start of each line of sight in lists[v]
+    // With one voxel to keep, a line of sight holding a kept voxel is not short: axis views
+    // skip the grid columns through the kept voxels without dealing them.
+    std::vector<LeafColumns::Mask> kept_mask;
+    if (keep == 1) {
+        kept_mask.resize(nleaf);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            LeafColumns::Mask& m = kept_mask[l];
+            const auto& mask = leaves.leaf(l).getValueMask();
+            std::size_t i = base[l];
+            for (openvdb::Index w = 0; w < 8; ++w) {
+                m[w] = 0;
+                for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
+                    if (cur[i] <= 0) m[w] |= std::uint64_t(1) << __builtin_ctzll(word);
+            }
+        });
+    }
     for (std::size_t v = 0; v < nv; ++v) {
         tbb::enumerable_thread_specific<std::vector<Vox>> found;
-        for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
-            std::uint32_t kept = 0;
-            const std::uint32_t want = std::min(keep, std::uint32_t(cnt));
-            float best = std::numeric_limits<float>::infinity();
-            for (std::size_t k = 0; k < cnt; ++k) {
-                kept += cur[idx[k]] <= 0;
-                best = std::min(best, cur[idx[k]]);
-            }
-            if (kept >= want) return;
-            auto& local = found.local();
-            for (std::size_t k = 0; k < cnt; ++k)
-                if (cur[idx[k]] <= best + 8.0f) local.push_back({c, idx[k], coord(k)});
-        });
+        for_rays(
+            v,
+            [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+                std::uint32_t kept = 0;
+                const std::uint32_t want = std::min(keep, std::uint32_t(cnt));
+                float best = std::numeric_limits<float>::infinity();
+                for (std::size_t k = 0; k < cnt; ++k) {
+                    kept += cur[idx[k]] <= 0;
+                    best = std::min(best, cur[idx[k]]);
+                }
+                if (kept >= want) return;
+                auto& local = found.local();
+                for (std::size_t k = 0; k < cnt; ++k)
+                    if (cur[idx[k]] <= best + 8.0f) local.push_back({c, idx[k], coord(k)});
+            },
+            kept_mask.empty() ? nullptr : &kept_mask);
         for (auto& f : found) lists[v].insert(lists[v].end(), f.begin(), f.end());
         for (std::size_t k = 0; k < lists[v].size(); ++k)
             if (k == 0 || lists[v][k].cell != lists[v][k - 1].cell) groups[v].push_back(k);
@@ -429,7 +454,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                     for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
                         if (cur[lists[v][k].i] <= t + 1.0f) swell.seed(lists[v][k].c, t + kMargin);
                     seeded = true;
-                }
+                };
             if (!seeded) break;
             swell.settle();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -442,7 +467,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 }
             });
         }
-    }
+    };
     // 4b. What the swelling kept apart from the profiles' volume goes.
     {
         std::vector<char> member(n), anchor(n), loose;
@@ -451,11 +476,15 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             anchor[i] = phi[i] <= 0;
         });
         loose_pieces(leaves, base, member, anchor, loose);
-        std::size_t dropped = 0;
-        for (std::size_t i = 0; i < n; ++i)
-            if (loose[i]) cur[i] = phi[i], ++dropped;
-        st.loose_dropped = dropped;
-    }
+        st.loose_dropped = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, n), std::size_t(0),
+            [&](const tbb::blocked_range<std::size_t>& r, std::size_t dropped) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i)
+                    if (loose[i]) cur[i] = phi[i], ++dropped;
+                return dropped;
+            },
+            std::plus<>());
+    };
     // 4c. Balls about the volume to the lines of sight still short.
     BallField balls(box, std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
     const double coarse = double(std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
@@ -549,7 +578,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 }
             }
         });
-    }
+    };
     // 4d. Any line of sight still short keeps its best voxels.
     for (std::size_t v = 0; v < nv; ++v)
         for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
@@ -669,7 +698,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     step(0.8);
 
     // 7. Crossings: unchanged where an edge still runs from an inside point to a point
-    // outside the hull; the smoothed score's zero crossing on edges into the removed region.
+    // outside the hull; the smoothed field's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
     out->views = in.views;
     out->occupancy = occ;
@@ -726,7 +755,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         }
         st.thin_dropped = dropped;
-    }
+    };
     if (in.crossings) {
         auto cross = in.crossings->deepCopy();
         // The leaves to revisit: those holding removed voxels, and the ones just below in
@@ -751,28 +780,54 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         std::vector<openvdb::Vec3fTree::LeafNodeType*> cl(touch.size());
         for (std::size_t k = 0; k < touch.size(); ++k) cl[k] = cross->tree().touchLeaf(touch[k]);
         std::atomic<std::size_t> placed{0};
+        // Whether grid points are on, by leaf: a leaf's mask, or its tile's (or the background's) state.
+        struct OnLeaf {
+            const LeafT* leaf = nullptr;
+            bool all = false;
+            bool on(openvdb::Index off) const { return leaf ? leaf->isValueOn(off) : all; }
+        };
+        auto on_leaf = [](const openvdb::BoolGrid& grid, auto& acc, const Coord& origin) {
+            OnLeaf s;
+            s.leaf = grid.tree().probeConstLeaf(origin);
+            if (!s.leaf) s.all = acc.isValueOn(origin);
+            return s;
+        };
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cl.size()), [&](const tbb::blocked_range<std::size_t>& r) {
             auto was = in.occupancy->getConstAccessor();
             auto now = occ->getConstAccessor();
-            auto old = in.crossings->getConstAccessor();
             auto sc = sgrid->getConstAccessor();
             std::size_t mine = 0;
+            constexpr int kStride[3] = {64, 8, 1};
             for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                auto* leaf = cl[k];
+                auto* leaf = cl[k]; // a copy of the old crossings' leaf (or their tile's values)
+                // This leaf (0) and its neighbours above in x, y and z (1 to 3), now and before.
+                OnLeaf nw[4], wa[4];
+                for (int a = -1; a < 3; ++a) {
+                    Coord o = leaf->origin();
+                    if (a >= 0) o[a] += int(LeafT::DIM);
+                    nw[a + 1] = on_leaf(*occ, now, o);
+                    wa[a + 1] = on_leaf(*in.occupancy, was, o);
+                }
                 for (openvdb::Index off = 0; off < openvdb::Vec3fTree::LeafNodeType::SIZE; ++off) {
-                    const Coord g = leaf->offsetToGlobalCoord(off);
-                    const bool ig = now.isValueOn(g), rg = !ig && was.isValueOn(g);
-                    openvdb::Vec3f val = old.getValue(g);
+                    const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
+                    const bool ig = nw[0].on(off), rg = !ig && wa[0].on(off);
+                    openvdb::Vec3f val = leaf->getValue(off);
                     bool any = false;
                     for (int a = 0; a < 3; ++a) {
-                        Coord q = g;
-                        q[a] += 1;
-                        const bool iq = now.isValueOn(q), rq = !iq && was.isValueOn(q);
+                        // The point above along a: in this leaf, or the first of the next one's.
+                        const bool inside = loc[a] < 7;
+                        const int at = inside ? 0 : a + 1;
+                        const openvdb::Index qoff =
+                            inside ? off + openvdb::Index(kStride[a]) : off - openvdb::Index(7 * kStride[a]);
+                        const bool iq = nw[at].on(qoff), rq = !iq && wa[at].on(qoff);
                         if (ig == iq) {
                             val[a] = -1.0f;
                         } else if (rg || rq) {
                             // One end kept (inside), the other removed: the field's zero level
                             // (half-way from a voxel the plate repair put back).
+                            const Coord g = leaf->offsetToGlobalCoord(off);
+                            Coord q = g;
+                            q[a] += 1;
                             const float sk = sc.getValue(ig ? g : q), sr = sc.getValue(ig ? q : g);
                             float f = 0.5f;
                             if (sk <= 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "core/error.h"
 #include "geometry/silhouette_field.h"
@@ -169,14 +170,23 @@ void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<op
     auto at = [&](int i, int j, int k) {
         return (std::size_t(i) * std::size_t(ny) + std::size_t(j)) * std::size_t(nz) + std::size_t(k);
     };
-    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+    // body(voxel index, local x, y, z) for the on voxels of leaf l, from its mask's words.
+    auto for_leaf = [&](std::size_t l, auto&& body) {
+        const auto& mask = leaves.leaf(l).getValueMask();
         std::size_t i = base[l];
-        for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
-            const Coord c = it.getCoord() - lo;
-            const std::size_t q = at(c.x() / f, c.y() / f, c.z() / f);
+        for (openvdb::Index w = 0; w < 8; ++w)
+            for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i) {
+                const int b = __builtin_ctzll(word);
+                body(i, int(w), b >> 3, b & 7);
+            }
+    };
+    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
+        const Coord o = leaves.leaf(l).origin() - lo;
+        for_leaf(l, [&](std::size_t i, int x, int y, int z) {
+            const std::size_t q = at((o.x() + x) / f, (o.y() + y) / f, (o.z() + z) / f);
             sum[q] += value[i];
             weight[q] += 1.0f;
-        }
+        });
     });
     // Binomial passes: each adds 1/2 coarse cell^2 of variance; the cell means f^2 - 1 over
     // 12 and the trilinear way back about f^2 / 6 fine cells^2.
@@ -203,27 +213,48 @@ void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<op
                 });
                 src.swap(tmp);
             }
-    // Back to the voxels: the normalised trilinear value about the cell centres.
+    // Back to the voxels: the normalised trilinear value about the cell centres, from a copy
+    // of the lattice with a cell of zeros on every side (so no neighbour needs a bounds test)
+    // and sum and weight side by side.
+    const int px_ = nx + 2, py_ = ny + 2, pz_ = nz + 2;
+    std::vector<std::array<float, 2>> padded(std::size_t(px_) * py_ * pz_, {0.0f, 0.0f});
+    auto pat = [&](int i, int j, int k) { return (std::size_t(i) * py_ + std::size_t(j)) * pz_ + std::size_t(k); };
+    tbb::parallel_for(0, nx, [&](int x) {
+        for (int y = 0; y < ny; ++y)
+            for (int z = 0; z < nz; ++z) padded[pat(x + 1, y + 1, z + 1)] = {sum[at(x, y, z)], weight[at(x, y, z)]};
+    });
+    sum = {};
+    weight = {};
+    tmp = {};
     const double half = 0.5 * (f - 1);
     tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
-        std::size_t i = base[l];
-        for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
-            if (!(std::abs(value[i]) <= reach)) continue;
-            const Coord c = it.getCoord() - lo;
-            const double px = (c.x() - half) / f, py = (c.y() - half) / f, pz = (c.z() - half) / f;
-            const int x0 = int(std::floor(px)), y0 = int(std::floor(py)), z0 = int(std::floor(pz));
-            const double tx = px - x0, ty = py - y0, tz = pz - z0;
+        // Per axis and local coordinate: the lower padded lattice index and the weight of the upper.
+        const Coord o = leaves.leaf(l).origin() - lo;
+        int c0[3][8];
+        double t[3][8];
+        for (int a = 0; a < 3; ++a)
+            for (int k = 0; k < 8; ++k) {
+                const double p = (o[a] + k - half) / f;
+                const int q = int(std::floor(p));
+                c0[a][k] = q + 1;
+                t[a][k] = p - q;
+            }
+        const std::size_t sx = std::size_t(py_) * pz_, sy = std::size_t(pz_);
+        for_leaf(l, [&](std::size_t i, int x, int y, int z) {
+            if (!(std::abs(value[i]) <= reach)) return;
+            const std::size_t q = pat(c0[0][x], c0[1][y], c0[2][z]);
+            const double tx = t[0][x], ty = t[1][y], tz = t[2][z];
             double s = 0, w = 0;
             for (int k = 0; k < 8; ++k) {
-                const int x = x0 + (k & 1), y = y0 + ((k >> 1) & 1), z = z0 + ((k >> 2) & 1);
-                if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
-                const double t =
+                const double wt =
                     ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
-                s += t * sum[at(x, y, z)];
-                w += t * weight[at(x, y, z)];
+                const auto& cell =
+                    padded[q + ((k & 1) ? sx : 0) + (((k >> 1) & 1) ? sy : 0) + (((k >> 2) & 1) ? 1 : 0)];
+                s += wt * cell[0];
+                w += wt * cell[1];
             }
             if (w > 1e-6) value[i] = float(s / w);
-        }
+        });
     });
 }
 
@@ -360,18 +391,41 @@ void LeafColumns::stacks_along(int axis) const {
     stack.push_back(order.size());
 }
 
+std::uint64_t LeafColumns::column_bits(const Mask& m, int axis) {
+    // Voxel offset x * 64 + y * 8 + z: word x, byte y, bit z.
+    std::uint64_t out = 0;
+    if (axis == 0) { // columns y * 8 + z: the words' union
+        for (const std::uint64_t w : m) out |= w;
+        return out;
+    }
+    for (int x = 0; x < 8; ++x) {
+        const std::uint64_t w = m[std::size_t(x)];
+        if (!w) continue;
+        if (axis == 1) { // columns z * 8 + x: the bytes' union is the z bits
+            std::uint64_t zs = 0;
+            for (int y = 0; y < 8; ++y) zs |= (w >> (8 * y)) & 0xff;
+            for (; zs; zs &= zs - 1) out |= std::uint64_t(1) << (__builtin_ctzll(zs) * 8 + x);
+        } else { // columns x * 8 + y: the non-empty bytes
+            for (int y = 0; y < 8; ++y)
+                if ((w >> (8 * y)) & 0xff) out |= std::uint64_t(1) << (x * 8 + y);
+        }
+    }
+    return out;
+}
+
 void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
                   const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose) {
     using Leaf = openvdb::BoolTree::LeafNodeType;
     const std::size_t n = member.size(), nleaf = leaves.leafCount();
     loose.assign(n, 0);
+    std::vector<char> has(nleaf, 0);
+    tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+        has[l] = std::any_of(member.begin() + std::ptrdiff_t(base[l]), member.begin() + std::ptrdiff_t(base[l + 1]),
+                             [](char m) { return m != 0; });
+    });
     std::vector<std::size_t> leaf_list; // leaves holding a member
     for (std::size_t l = 0; l < nleaf; ++l)
-        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i]) {
-                leaf_list.push_back(l);
-                break;
-            }
+        if (has[l]) leaf_list.push_back(l);
     if (leaf_list.empty()) return;
     // The face neighbours of each leaf (or none), and the on voxels before each mask word.
     constexpr std::uint32_t none = ~std::uint32_t(0);
@@ -406,8 +460,9 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
         return base[l] + before[l][off >> 6] + std::size_t(__builtin_popcountll(word & (bit - 1)));
     };
     // Union-find over the members (parent indices into the voxel numbering).
-    std::vector<std::uint32_t> parent(n);
-    std::vector<char> touches(n, 0);
+    // Only the members' entries are ever read: left uninitialised (and unmapped) elsewhere.
+    std::unique_ptr<std::uint32_t[]> parent(new std::uint32_t[n]);
+    std::unique_ptr<char[]> touches(new char[n]);
     auto find = [&](std::uint32_t a) {
         while (parent[a] != a) {
             parent[a] = parent[parent[a]];
@@ -417,7 +472,7 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
     };
     for (std::size_t l : leaf_list)
         for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i]) parent[i] = std::uint32_t(i);
+            if (member[i]) parent[i] = std::uint32_t(i), touches[i] = 0;
     static constexpr int kStride[3] = {64, 8, 1};
     for (std::size_t l : leaf_list) {
         std::size_t i = base[l];

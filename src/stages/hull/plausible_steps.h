@@ -11,6 +11,7 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/LeafManager.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <unordered_map>
 
@@ -124,33 +125,65 @@ private:
 // before it, in LeafManager order) plus its rank among its leaf's on voxels.
 class LeafColumns {
 public:
+    using Mask = std::array<std::uint64_t, 8>; ///< a leaf's 512 voxels, as its value mask's words
     LeafColumns(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base);
     /// body(coord of the column's first voxel, indices, coordinates along the axis, count) for
     /// every non-empty column along `axis`, in parallel over leaf stacks (a column lies in one).
+    /// The indices and coordinates live in a per-thread buffer the next stack reuses: the
+    /// body runs no parallel work of its own (a stolen stack would overwrite them).
     template <typename Body>
-    void for_columns(int axis, Body&& body) const;
+    void for_columns(int axis, Body&& body) const {
+        for_columns(axis, nullptr, std::forward<Body>(body));
+    }
+    /// The same for the columns with no voxel in `skip` (per leaf, in LeafManager order)
+    /// only: stacks whose columns all hold one are not dealt at all.
+    template <typename Body>
+    void for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const;
+    /// The columns along `axis` (bit loc[a1] * 8 + loc[a2], a1 and a2 the next axes in turn)
+    /// holding a voxel of the leaf mask `m`.
+    static std::uint64_t column_bits(const Mask& m, int axis);
 
 private:
     void stacks_along(int axis) const;
+    struct Scratch {
+        std::vector<std::uint32_t> idx;
+        std::vector<int> along;
+    };
     const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves_;
     const std::vector<std::size_t>& base_;
-    std::vector<std::array<std::uint16_t, 8>> before_;        // on voxels before each mask word
-    mutable std::array<std::vector<std::uint32_t>, 3> order_; // leaves by stack, along the axis
-    mutable std::array<std::vector<std::size_t>, 3> stack_;   // stack starts in order_
+    mutable std::array<std::vector<std::uint32_t>, 3> order_;  // leaves by stack, along the axis
+    mutable std::array<std::vector<std::size_t>, 3> stack_;    // stack starts in order_
+    mutable tbb::enumerable_thread_specific<Scratch> scratch_; // dealing buffers, reused
 };
 
 template <typename Body>
-void LeafColumns::for_columns(int axis, Body&& body) const {
+void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const {
     stacks_along(axis);
     const auto& order = order_[std::size_t(axis)];
     const auto& stack = stack_[std::size_t(axis)];
     const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
+        std::uint64_t wanted = ~std::uint64_t(0);
+        if (skip) {
+            std::uint64_t have = 0, skipped = 0;
+            for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
+                const std::uint32_t l = order[k];
+                Mask m;
+                for (openvdb::Index w = 0; w < 8; ++w)
+                    m[w] = leaves_.leaf(l).getValueMask().template getWord<std::uint64_t>(w);
+                have |= column_bits(m, axis);
+                skipped |= column_bits((*skip)[l], axis);
+            }
+            wanted = have & ~skipped;
+            if (!wanted) return;
+        }
         // The stack's voxels dealt into its 64 columns: a leaf's on voxels in offset order
         // come in order along every axis, and their ranks one after another.
         const std::size_t cap = (stack[s + 1] - stack[s]) * 8;
-        std::vector<std::uint32_t> idx(64 * cap);
-        std::vector<int> along(64 * cap);
+        Scratch& sc = scratch_.local();
+        if (sc.idx.size() < 64 * cap) sc.idx.resize(64 * cap), sc.along.resize(64 * cap);
+        std::uint32_t* idx = sc.idx.data();
+        int* along = sc.along.data();
         std::array<std::size_t, 64> cnt{};
         std::array<Coord, 64> first;
         for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
@@ -163,18 +196,20 @@ void LeafColumns::for_columns(int axis, Body&& body) const {
                 while (word) {
                     const openvdb::Index off = w * 64 + openvdb::Index(__builtin_ctzll(word));
                     word &= word - 1;
+                    const std::uint32_t r = std::uint32_t(rank++);
                     const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
                     const int col = loc[a1] * 8 + loc[a2];
+                    if (!(wanted >> col & 1)) continue;
                     std::size_t& n = cnt[std::size_t(col)];
                     if (n == 0) first[std::size_t(col)] = leaf.offsetToGlobalCoord(off);
-                    idx[std::size_t(col) * cap + n] = std::uint32_t(rank++);
+                    idx[std::size_t(col) * cap + n] = r;
                     along[std::size_t(col) * cap + n] = leaf.origin()[axis] + loc[axis];
                     ++n;
                 }
             }
         }
         for (std::size_t col = 0; col < 64; ++col)
-            if (cnt[col]) body(first[col], idx.data() + col * cap, along.data() + col * cap, cnt[col]);
+            if (cnt[col]) body(first[col], idx + col * cap, along + col * cap, cnt[col]);
     });
 }
 
