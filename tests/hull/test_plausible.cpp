@@ -12,6 +12,7 @@
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_intersect.h"
 #include "hull_steps.h"
+#include "load.h"
 #include "marching_cubes.h"
 #include "mesh_smooth.h"
 #include "plausible.h"
@@ -237,6 +238,21 @@ TEST(HullPlausible, SmoothedMeshIsCleanWithThreeAndFourViews) {
         EXPECT_TRUE(c.clean()) << (oblique ? "four views: " : "three views: ") << ::testing::PrintToString(c.broken());
         EXPECT_EQ(pieces(m), 1u) << oblique;
     }
+}
+
+// On the bundled drawings of Spot the removal leaves pockets of the hull sealed inside the
+// kept volume (between the legs and the body): they are put back, so Marching Cubes makes
+// one surface, not the body and a closed shell for each pocket.
+TEST(HullPlausible, NoCavitySealedInsideOnTheBundledCow) {
+    LoadViewsReport report;
+    auto views = std::make_shared<Views>(
+        load_views(std::filesystem::path(CM_SOURCE_DIR) / "examples/spot/views.yaml", {}, report));
+    auto hull = carve_and_refine(views, 256);
+    PlausibleStats st;
+    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    EXPECT_GT(st.cavities_filled, 0u); // the case is met
+    EXPECT_EQ(pieces(marching_cubes(*out)), 1u);
+    expect_columns_kept(*hull, *out);
 }
 
 // At roundness 0 the cube is the hull, voxel for voxel and crossing for crossing; at any

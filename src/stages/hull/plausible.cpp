@@ -611,6 +611,12 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     phi = {};
     cur = {};
     step(0.7);
+    // The hull's voxels, as numbered, before the removal changes the leaves.
+    std::vector<LeafColumns::Mask> hull_masks(nleaf);
+    tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+        for (openvdb::Index w = 0; w < 8; ++w)
+            hull_masks[l][w] = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
+    });
     // 6. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
     // to tiles (so every inside point next to the outside stays a leaf voxel, volume.h).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -679,6 +685,37 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.thickened += added;
         if (added == 0) break;
     }
+    // 6b. What is still removed and reaches no point outside the hull is a cavity sealed inside
+    // the kept volume: Marching Cubes would give it a closed shell of its own, unseen and
+    // useless. It is put back (only adding: no line of sight loses a voxel).
+    {
+        std::vector<char> member(n, 0), none(n, 0), sealed;
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            if (!near_cut[l]) return;
+            const auto& leaf = leaves.leaf(l);
+            std::size_t i = base[l];
+            for (openvdb::Index w = 0; w < 8; ++w)
+                for (std::uint64_t bits = hull_masks[l][w]; bits; bits &= bits - 1, ++i)
+                    member[i] = !leaf.isValueOn(w * 64 + openvdb::Index(__builtin_ctzll(bits)));
+        });
+        loose_pieces(leaves, base, member, none, sealed, /*outside_is_anchor=*/true, &hull_masks);
+        std::size_t filled = 0;
+        for (std::size_t l = 0; l < nleaf; ++l) {
+            if (!near_cut[l]) continue;
+            auto& leaf = leaves.leaf(l);
+            std::size_t i = base[l];
+            for (openvdb::Index w = 0; w < 8; ++w)
+                for (std::uint64_t bits = hull_masks[l][w]; bits; bits &= bits - 1, ++i)
+                    if (sealed[i]) {
+                        leaf.setValueOn(w * 64 + openvdb::Index(__builtin_ctzll(bits)), true);
+                        removed[i] = 0;
+                        ++filled;
+                    }
+        }
+        st.cavities_filled = filled;
+        st.removed -= std::min(st.removed, filled);
+    }
+    hull_masks = {};
     {
         std::vector<Coord> full;
         for (std::size_t l = 0; l < nleaf; ++l) {

@@ -42,18 +42,19 @@ struct PlausibleOptions {
 };
 
 struct PlausibleStats {
-    std::size_t hull_voxels = 0;   ///< occupied grid points of the input
-    std::size_t candidates = 0;    ///< voxels outside the profiles (field > 0), not thin
-    std::size_t removed = 0;       ///< voxels taken out
-    std::size_t kept_for_rays = 0; ///< candidates kept by the swelling that covers the lines of sight
-    std::size_t thin_kept = 0;     ///< voxels outside the profiles kept as thin parts
-    std::size_t new_crossings = 0; ///< crossings placed on the field's zero level
-    std::size_t thickened = 0;     ///< removed voxels put back so no plate is one voxel thin
-    std::size_t thin_dropped = 0;  ///< thin-part edges of the input dropped (their hull removed)
-    std::size_t short_rays = 0;    ///< lines of sight the profiles left short (swollen to)
-    std::size_t loose_dropped = 0; ///< swollen voxels dropped as apart from the rest
-    std::size_t ball_rays = 0;     ///< lines of sight then covered by a ball about the volume
-    double cell_px = 0;            ///< line-of-sight raster pitch, pixels of the finest view
+    std::size_t hull_voxels = 0;     ///< occupied grid points of the input
+    std::size_t candidates = 0;      ///< voxels outside the profiles (field > 0), not thin
+    std::size_t removed = 0;         ///< voxels taken out
+    std::size_t kept_for_rays = 0;   ///< candidates kept by the swelling that covers the lines of sight
+    std::size_t thin_kept = 0;       ///< voxels outside the profiles kept as thin parts
+    std::size_t new_crossings = 0;   ///< crossings placed on the field's zero level
+    std::size_t thickened = 0;       ///< removed voxels put back so no plate is one voxel thin
+    std::size_t thin_dropped = 0;    ///< thin-part edges of the input dropped (their hull removed)
+    std::size_t short_rays = 0;      ///< lines of sight the profiles left short (swollen to)
+    std::size_t loose_dropped = 0;   ///< swollen voxels dropped as apart from the rest
+    std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
+    std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
+    double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
 };
 
 /// @brief The plausible volume of the (carved, optionally refined) hull `in` and `views`.

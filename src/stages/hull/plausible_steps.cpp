@@ -414,7 +414,8 @@ std::uint64_t LeafColumns::column_bits(const Mask& m, int axis) {
 }
 
 void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
-                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose) {
+                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose,
+                  bool outside_is_anchor, const std::vector<LeafColumns::Mask>* masks) {
     using Leaf = openvdb::BoolTree::LeafNodeType;
     const std::size_t n = member.size(), nleaf = leaves.leafCount();
     loose.assign(n, 0);
@@ -437,6 +438,10 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
                (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
     };
     for (std::size_t l = 0; l < nleaf; ++l) leaf_of[key(leaves.leaf(l).origin())] = std::uint32_t(l);
+    // The voxels numbered: the given masks, or the leaves' own.
+    auto word = [&](std::size_t l, openvdb::Index w) {
+        return masks ? (*masks)[l][w] : leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
+    };
     std::vector<std::array<std::uint32_t, 6>> nbr(nleaf);
     std::vector<std::array<std::uint16_t, 8>> before(nleaf);
     for (std::size_t l = 0; l < nleaf; ++l) {
@@ -450,14 +455,14 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
         std::uint16_t acc = 0;
         for (openvdb::Index w = 0; w < 8; ++w) {
             before[l][w] = acc;
-            acc = std::uint16_t(acc + __builtin_popcountll(leaf.getValueMask().getWord<std::uint64_t>(w)));
+            acc = std::uint16_t(acc + __builtin_popcountll(word(l, w)));
         }
     }
     auto index_of = [&](std::uint32_t l, openvdb::Index off) -> std::size_t {
-        const std::uint64_t word = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(off >> 6);
+        const std::uint64_t bits = word(l, off >> 6);
         const std::uint64_t bit = std::uint64_t(1) << (off & 63);
-        if (!(word & bit)) return ~std::size_t(0);
-        return base[l] + before[l][off >> 6] + std::size_t(__builtin_popcountll(word & (bit - 1)));
+        if (!(bits & bit)) return ~std::size_t(0);
+        return base[l] + before[l][off >> 6] + std::size_t(__builtin_popcountll(bits & (bit - 1)));
     };
     // Union-find over the members (parent indices into the voxel numbering).
     // Only the members' entries are ever read: left uninitialised (and unmapped) elsewhere.
@@ -476,31 +481,38 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
     static constexpr int kStride[3] = {64, 8, 1};
     for (std::size_t l : leaf_list) {
         std::size_t i = base[l];
-        for (auto it = leaves.leaf(l).cbeginValueOn(); it; ++it, ++i) {
-            if (!member[i]) continue;
-            const openvdb::Index off = it.pos();
-            const int local[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
-            for (int d = 0; d < 6; ++d) {
-                const int a = d / 2, step = (d & 1) ? 1 : -1, s = kStride[a];
-                std::uint32_t nl = std::uint32_t(l);
-                openvdb::Index noff;
-                if (local[a] + step >= 0 && local[a] + step <= 7) {
-                    noff = openvdb::Index(int(off) + step * s);
-                } else {
-                    nl = nbr[l][std::size_t(d)];
-                    if (nl == none) continue;
-                    noff = openvdb::Index(int(off) - step * 7 * s);
-                }
-                const std::size_t j = index_of(nl, noff);
-                if (j == ~std::size_t(0)) continue;
-                if (anchor[j]) {
-                    touches[i] = 1;
-                } else if (member[j]) {
-                    const std::uint32_t ra = find(std::uint32_t(i)), rb = find(std::uint32_t(j));
-                    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+        for (openvdb::Index w = 0; w < 8; ++w)
+            for (std::uint64_t bits = word(l, w); bits; bits &= bits - 1, ++i) {
+                if (!member[i]) continue;
+                const openvdb::Index off = w * 64 + openvdb::Index(__builtin_ctzll(bits));
+                const int local[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
+                for (int d = 0; d < 6; ++d) {
+                    const int a = d / 2, step = (d & 1) ? 1 : -1, s = kStride[a];
+                    std::uint32_t nl = std::uint32_t(l);
+                    openvdb::Index noff;
+                    if (local[a] + step >= 0 && local[a] + step <= 7) {
+                        noff = openvdb::Index(int(off) + step * s);
+                    } else {
+                        nl = nbr[l][std::size_t(d)];
+                        if (nl == none) {
+                            if (outside_is_anchor) touches[i] = 1;
+                            continue;
+                        }
+                        noff = openvdb::Index(int(off) - step * 7 * s);
+                    }
+                    const std::size_t j = index_of(nl, noff);
+                    if (j == ~std::size_t(0)) {
+                        if (outside_is_anchor) touches[i] = 1;
+                        continue;
+                    }
+                    if (anchor[j]) {
+                        touches[i] = 1;
+                    } else if (member[j]) {
+                        const std::uint32_t ra = find(std::uint32_t(i)), rb = find(std::uint32_t(j));
+                        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+                    }
                 }
             }
-        }
     }
     for (std::size_t l : leaf_list)
         for (std::size_t i = base[l]; i < base[l + 1]; ++i)

@@ -214,9 +214,12 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
 }
 
 /// Of the voxels with `member[i]` set, those in 6-connected pieces that touch no voxel with
-/// `anchor[i]` set (`member` and `anchor` disjoint). `loose[i]` is set for them.
+/// `anchor[i]` set (`member` and `anchor` disjoint) and, with `outside_is_anchor`, no grid
+/// point outside the voxels. `loose[i]` is set for them. The voxels are the leaves' on
+/// voxels, or those of `masks` (one per leaf) when given.
 void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
-                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose);
+                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose,
+                  bool outside_is_anchor = false, const std::vector<LeafColumns::Mask>* masks = nullptr);
 
 // The signed distance (grid cells, negative inside) to a union of balls, kept on a coarse
 // dense lattice (`f` grid cells a coarse cell) over a box of the grid and sampled
