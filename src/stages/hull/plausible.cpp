@@ -99,6 +99,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (progress) progress(f);
     };
     PlausibleStats st;
+    ;
     const Lattice lat(in.transform());
     const double voxel = in.voxel_size();
 
@@ -220,6 +221,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         // hull projects into it), its distance to the outline and local inscribed radius. The
         // distance is the drawing's own (sub-pixel), in cells; cells the hull reaches although
         // their centre is outside the drawing get 0.
+        ;
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
         std::vector<char> outside(ncell, 0);
         std::vector<float> dist(ncell, 0.0f);
@@ -241,6 +243,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         box_blur(radius, &outside, R.w, R.h, 4);
         for (std::size_t c = 0; c < ncell; ++c) radius[c] = std::max(radius[c], dist[c]);
 
+        ;
         // The field of one line of sight: `dep` the depths (cells) of its voxels `idx`.
         const double gap = R.gap_keys * R.dq / voxel;
         auto score = [&](std::uint32_t c, const std::uint32_t* idx, const double* dep, std::size_t cnt) {
@@ -292,6 +295,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
 
     if (soft)
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { phi[i] = blend * std::log(phi[i] / float(nv)); });
+    ;
     // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
     // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
     // all lie farther from 0 than the kernel can carry them keep their values.
@@ -319,6 +323,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
         smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
     };
+    ;
     // Thin parts have no volume to spare.
     {
         std::atomic<std::size_t> kept{0}, cand{0};
@@ -375,6 +380,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         std::stable_sort(all.begin(), all.end(), [](const Vox& a, const Vox& b) { return a.cell < b.cell; });
         return all;
     };
+    ;
     // Per view, the voxels of its lines of sight the profiles leave short, by line of sight
     // (the field only goes down from here, and what 4b drops was never the profiles', so no
     // other line of sight can become short): those within 8 cells of field of the best, where
@@ -422,7 +428,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (lists[v].empty()) continue;
         groups[v].push_back(lists[v].size());
         st.short_rays += groups[v].size() - 1;
-    }
+    };
     // Whether line of sight g of view v is short, and the field value its `want`-th best voxel has.
     auto shortfall = [&](std::size_t v, std::size_t g, float* t) {
         const auto& list = lists[v];
@@ -468,23 +474,45 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             });
         }
     };
-    // 4b. What the swelling kept apart from the profiles' volume goes.
+    ;
+    // 4b. What the swelling kept apart from the profiles' volume goes: a flood from the
+    // profiles' volume through the swollen voxels, and what it misses.
     {
-        std::vector<char> member(n), anchor(n), loose;
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-            member[i] = phi[i] > 0 && cur[i] <= 0;
-            anchor[i] = phi[i] <= 0;
+        std::vector<LeafColumns::Mask> member(nleaf), anchor(nleaf);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            const auto& mask = leaves.leaf(l).getValueMask();
+            std::size_t i = base[l];
+            for (openvdb::Index w = 0; w < 8; ++w) {
+                std::uint64_t m = 0, a = 0;
+                for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i) {
+                    const std::uint64_t bit = bits & (~bits + 1);
+                    if (phi[i] <= 0) a |= bit;
+                    else if (cur[i] <= 0) m |= bit;
+                }
+                member[l][w] = m, anchor[l][w] = a;
+            }
         });
-        loose_pieces(leaves, base, member, anchor, loose);
+        const std::vector<LeafColumns::Mask> joined = flood(leaves, anchor, member, /*missing_is_seed=*/false);
+        anchor = {};
         st.loose_dropped = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, n), std::size_t(0),
+            tbb::blocked_range<std::size_t>(0, nleaf), std::size_t(0),
             [&](const tbb::blocked_range<std::size_t>& r, std::size_t dropped) {
-                for (std::size_t i = r.begin(); i != r.end(); ++i)
-                    if (loose[i]) cur[i] = phi[i], ++dropped;
+                for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                    std::uint64_t loose_any = 0;
+                    for (openvdb::Index w = 0; w < 8; ++w) loose_any |= member[l][w] & ~joined[l][w];
+                    if (!loose_any) continue;
+                    const auto& mask = leaves.leaf(l).getValueMask();
+                    std::size_t i = base[l];
+                    for (openvdb::Index w = 0; w < 8; ++w) {
+                        const std::uint64_t loose = member[l][w] & ~joined[l][w];
+                        for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i)
+                            if (loose & bits & (~bits + 1)) cur[i] = phi[i], ++dropped;
+                    }
+                }
                 return dropped;
             },
             std::plus<>());
-    };
+    }
     // 4c. Balls about the volume to the lines of sight still short.
     BallField balls(box, std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
     const double coarse = double(std::clamp(int(std::lround(double(maxdim) / 128.0)), 1, 4));
@@ -579,6 +607,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         });
     };
+    ;
     // 4d. Any line of sight still short keeps its best voxels.
     for (std::size_t v = 0; v < nv; ++v)
         for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
@@ -629,6 +658,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (const auto o : off) leaf.setValueOff(o, false);
         }
     });
+    ;
     // 6a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
     // (coincident vertices, crossing faces). Such a voxel's removed neighbours along that
@@ -684,33 +714,31 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.removed -= std::min(st.removed, added);
         st.thickened += added;
         if (added == 0) break;
-    }
+    };
     // 6b. What is still removed and reaches no point outside the hull is a cavity sealed inside
     // the kept volume: Marching Cubes would give it a closed shell of its own, unseen and
     // useless. It is put back (only adding: no line of sight loses a voxel).
     {
-        std::vector<char> member(n, 0), none(n, 0), sealed;
+        std::vector<LeafColumns::Mask> cut_masks(nleaf, LeafColumns::Mask{});
         tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
             if (!near_cut[l]) return;
-            const auto& leaf = leaves.leaf(l);
-            std::size_t i = base[l];
-            for (openvdb::Index w = 0; w < 8; ++w)
-                for (std::uint64_t bits = hull_masks[l][w]; bits; bits &= bits - 1, ++i)
-                    member[i] = !leaf.isValueOn(w * 64 + openvdb::Index(__builtin_ctzll(bits)));
+            const auto& mask = leaves.leaf(l).getValueMask();
+            for (openvdb::Index w = 0; w < 8; ++w) cut_masks[l][w] = hull_masks[l][w] & ~mask.getWord<std::uint64_t>(w);
         });
-        loose_pieces(leaves, base, member, none, sealed, /*outside_is_anchor=*/true, &hull_masks);
+        const std::vector<LeafColumns::Mask> pockets = sealed_pockets(leaves, hull_masks, cut_masks);
         std::size_t filled = 0;
         for (std::size_t l = 0; l < nleaf; ++l) {
             if (!near_cut[l]) continue;
             auto& leaf = leaves.leaf(l);
             std::size_t i = base[l];
             for (openvdb::Index w = 0; w < 8; ++w)
-                for (std::uint64_t bits = hull_masks[l][w]; bits; bits &= bits - 1, ++i)
-                    if (sealed[i]) {
-                        leaf.setValueOn(w * 64 + openvdb::Index(__builtin_ctzll(bits)), true);
-                        removed[i] = 0;
-                        ++filled;
-                    }
+                for (std::uint64_t bits = hull_masks[l][w]; bits; bits &= bits - 1, ++i) {
+                    const int b = __builtin_ctzll(bits);
+                    if (!(pockets[l][w] >> b & 1)) continue;
+                    leaf.setValueOn(w * 64 + openvdb::Index(b), true);
+                    removed[i] = 0;
+                    ++filled;
+                }
         }
         st.cavities_filled = filled;
         st.removed -= std::min(st.removed, filled);
@@ -734,6 +762,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     }
     step(0.8);
 
+    ;
     // 7. Crossings: unchanged where an edge still runs from an inside point to a point
     // outside the hull; the smoothed field's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
@@ -888,6 +917,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     st.cell_px = finest;
     step(1.0);
     if (stats) *stats = st;
+    ;
     return out;
 }
 

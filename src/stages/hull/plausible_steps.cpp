@@ -413,23 +413,64 @@ std::uint64_t LeafColumns::column_bits(const Mask& m, int axis) {
     return out;
 }
 
-void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
-                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose,
-                  bool outside_is_anchor, const std::vector<LeafColumns::Mask>* masks) {
+namespace {
+
+using Mask = LeafColumns::Mask;
+
+// One step of 6-neighbour dilation inside a leaf (offset x * 64 + y * 8 + z: word x, byte y,
+// bit z).
+Mask dilate_in_leaf(const Mask& m) {
+    Mask d;
+    for (int x = 0; x < 8; ++x) {
+        const std::uint64_t w = m[std::size_t(x)];
+        std::uint64_t v =
+            w | ((w << 1) & 0xFEFEFEFEFEFEFEFEull) | ((w >> 1) & 0x7F7F7F7F7F7F7F7Full) | (w << 8) | (w >> 8);
+        if (x > 0) v |= m[std::size_t(x - 1)];
+        if (x < 7) v |= m[std::size_t(x + 1)];
+        d[std::size_t(x)] = v;
+    }
+    return d;
+}
+
+// The voxels of a leaf next to the face of the leaf beside it in direction d (0: -x, 1: +x,
+// 2: -y, 3: +y, 4: -z, 5: +z) that are next to the voxels `m` of that leaf.
+Mask across_face(const Mask& m, int d) {
+    Mask out{};
+    switch (d) {
+    case 0: out[0] = m[7]; break; // the -x leaf's x = 7 beside our x = 0
+    case 1: out[7] = m[0]; break;
+    case 2:
+        for (int x = 0; x < 8; ++x) out[std::size_t(x)] = m[std::size_t(x)] >> 56; // its y = 7 to our y = 0
+        break;
+    case 3:
+        for (int x = 0; x < 8; ++x) out[std::size_t(x)] = m[std::size_t(x)] << 56;
+        break;
+    case 4:
+        for (int x = 0; x < 8; ++x) out[std::size_t(x)] = (m[std::size_t(x)] >> 7) & 0x0101010101010101ull;
+        break;
+    default:
+        for (int x = 0; x < 8; ++x) out[std::size_t(x)] = (m[std::size_t(x)] << 7) & 0x8080808080808080ull;
+        break;
+    }
+    return out;
+}
+
+constexpr Mask kFull = {~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull};
+
+} // namespace
+
+std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                                     const std::vector<LeafColumns::Mask>& seed,
+                                     const std::vector<LeafColumns::Mask>& through, bool missing_is_seed) {
     using Leaf = openvdb::BoolTree::LeafNodeType;
-    const std::size_t n = member.size(), nleaf = leaves.leafCount();
-    loose.assign(n, 0);
-    std::vector<char> has(nleaf, 0);
-    tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
-        has[l] = std::any_of(member.begin() + std::ptrdiff_t(base[l]), member.begin() + std::ptrdiff_t(base[l + 1]),
-                             [](char m) { return m != 0; });
-    });
-    std::vector<std::size_t> leaf_list; // leaves holding a member
-    for (std::size_t l = 0; l < nleaf; ++l)
-        if (has[l]) leaf_list.push_back(l);
-    if (leaf_list.empty()) return;
-    // The face neighbours of each leaf (or none), and the on voxels before each mask word.
-    constexpr std::uint32_t none = ~std::uint32_t(0);
+    const std::size_t nleaf = leaves.leafCount();
+    auto any = [](const Mask& m) {
+        std::uint64_t a = 0;
+        for (const std::uint64_t w : m) a |= w;
+        return a != 0;
+    };
+    std::vector<Mask> reached(nleaf, Mask{});
+    std::vector<std::uint32_t> work;
     std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
     leaf_of.reserve(nleaf * 2);
     auto key = [](const Coord& o) {
@@ -437,89 +478,77 @@ void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, c
                (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
                (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
     };
-    for (std::size_t l = 0; l < nleaf; ++l) leaf_of[key(leaves.leaf(l).origin())] = std::uint32_t(l);
-    // The voxels numbered: the given masks, or the leaves' own.
-    auto word = [&](std::size_t l, openvdb::Index w) {
-        return masks ? (*masks)[l][w] : leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
-    };
-    std::vector<std::array<std::uint32_t, 6>> nbr(nleaf);
-    std::vector<std::array<std::uint16_t, 8>> before(nleaf);
     for (std::size_t l = 0; l < nleaf; ++l) {
-        const auto& leaf = leaves.leaf(l);
+        leaf_of[key(leaves.leaf(l).origin())] = std::uint32_t(l);
+        if (any(through[l])) work.push_back(std::uint32_t(l));
+    }
+    if (work.empty()) return reached;
+    constexpr std::uint32_t none = ~std::uint32_t(0);
+    auto neighbour = [&](std::size_t l, int d) {
+        Coord o = leaves.leaf(l).origin();
+        o[d / 2] += (d & 1) ? int(Leaf::DIM) : -int(Leaf::DIM);
+        const auto it = leaf_of.find(key(o));
+        return it == leaf_of.end() ? none : it->second;
+    };
+    // The seeds of each leaf the flood may enter: its own, and those beside it across its faces.
+    std::vector<char> queued(nleaf, 0);
+    for (const std::uint32_t l : work) {
+        Mask s = seed[l];
         for (int d = 0; d < 6; ++d) {
-            Coord o = leaf.origin();
-            o[d / 2] += (d & 1) ? int(Leaf::DIM) : -int(Leaf::DIM);
-            const auto it = leaf_of.find(key(o));
-            nbr[l][std::size_t(d)] = it == leaf_of.end() ? none : it->second;
+            const std::uint32_t nb = neighbour(l, d);
+            if (nb == none && !missing_is_seed) continue;
+            const Mask t = across_face(nb == none ? kFull : seed[nb], d);
+            for (int w = 0; w < 8; ++w) s[std::size_t(w)] |= t[std::size_t(w)] & through[l][std::size_t(w)];
         }
-        std::uint16_t acc = 0;
-        for (openvdb::Index w = 0; w < 8; ++w) {
-            before[l][w] = acc;
-            acc = std::uint16_t(acc + __builtin_popcountll(word(l, w)));
-        }
+        reached[l] = s;
+        queued[l] = 1;
     }
-    auto index_of = [&](std::uint32_t l, openvdb::Index off) -> std::size_t {
-        const std::uint64_t bits = word(l, off >> 6);
-        const std::uint64_t bit = std::uint64_t(1) << (off & 63);
-        if (!(bits & bit)) return ~std::size_t(0);
-        return base[l] + before[l][off >> 6] + std::size_t(__builtin_popcountll(bits & (bit - 1)));
-    };
-    // Union-find over the members (parent indices into the voxel numbering).
-    // Only the members' entries are ever read: left uninitialised (and unmapped) elsewhere.
-    std::unique_ptr<std::uint32_t[]> parent(new std::uint32_t[n]);
-    std::unique_ptr<char[]> touches(new char[n]);
-    auto find = [&](std::uint32_t a) {
-        while (parent[a] != a) {
-            parent[a] = parent[parent[a]];
-            a = parent[a];
-        }
-        return a;
-    };
-    for (std::size_t l : leaf_list)
-        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i]) parent[i] = std::uint32_t(i), touches[i] = 0;
-    static constexpr int kStride[3] = {64, 8, 1};
-    for (std::size_t l : leaf_list) {
-        std::size_t i = base[l];
-        for (openvdb::Index w = 0; w < 8; ++w)
-            for (std::uint64_t bits = word(l, w); bits; bits &= bits - 1, ++i) {
-                if (!member[i]) continue;
-                const openvdb::Index off = w * 64 + openvdb::Index(__builtin_ctzll(bits));
-                const int local[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
-                for (int d = 0; d < 6; ++d) {
-                    const int a = d / 2, step = (d & 1) ? 1 : -1, s = kStride[a];
-                    std::uint32_t nl = std::uint32_t(l);
-                    openvdb::Index noff;
-                    if (local[a] + step >= 0 && local[a] + step <= 7) {
-                        noff = openvdb::Index(int(off) + step * s);
-                    } else {
-                        nl = nbr[l][std::size_t(d)];
-                        if (nl == none) {
-                            if (outside_is_anchor) touches[i] = 1;
-                            continue;
-                        }
-                        noff = openvdb::Index(int(off) - step * 7 * s);
-                    }
-                    const std::size_t j = index_of(nl, noff);
-                    if (j == ~std::size_t(0)) {
-                        if (outside_is_anchor) touches[i] = 1;
-                        continue;
-                    }
-                    if (anchor[j]) {
-                        touches[i] = 1;
-                    } else if (member[j]) {
-                        const std::uint32_t ra = find(std::uint32_t(i)), rb = find(std::uint32_t(j));
-                        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-                    }
-                }
+    // To a fixed point: each leaf's reach grown inside it, then handed across its faces.
+    while (!work.empty()) {
+        const std::uint32_t l = work.back();
+        work.pop_back();
+        queued[l] = 0;
+        Mask& s = reached[l];
+        for (;;) {
+            const Mask d = dilate_in_leaf(s);
+            bool grew = false;
+            for (int w = 0; w < 8; ++w) {
+                const std::uint64_t v = s[std::size_t(w)] | (d[std::size_t(w)] & through[l][std::size_t(w)]);
+                grew = grew || v != s[std::size_t(w)];
+                s[std::size_t(w)] = v;
             }
+            if (!grew) break;
+        }
+        for (int d = 0; d < 6; ++d) {
+            const std::uint32_t nb = neighbour(l, d);
+            if (nb == none) continue;
+            // Our face, seen from the neighbour: the direction back is d ^ 1.
+            const Mask t = across_face(s, d ^ 1);
+            bool grew = false;
+            for (int w = 0; w < 8; ++w) {
+                const std::uint64_t add =
+                    t[std::size_t(w)] & through[nb][std::size_t(w)] & ~reached[nb][std::size_t(w)];
+                if (add) reached[nb][std::size_t(w)] |= add, grew = true;
+            }
+            if (grew && !queued[nb]) queued[nb] = 1, work.push_back(nb);
+        }
     }
-    for (std::size_t l : leaf_list)
-        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i] && touches[i]) touches[find(std::uint32_t(i))] = 1;
-    for (std::size_t l : leaf_list)
-        for (std::size_t i = base[l]; i < base[l + 1]; ++i)
-            if (member[i]) loose[i] = !touches[find(std::uint32_t(i))];
+    for (std::size_t l = 0; l < nleaf; ++l)
+        for (int w = 0; w < 8; ++w) reached[l][std::size_t(w)] &= through[l][std::size_t(w)];
+    return reached;
+}
+
+std::vector<LeafColumns::Mask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                                              const std::vector<LeafColumns::Mask>& hull,
+                                              const std::vector<LeafColumns::Mask>& removed) {
+    std::vector<Mask> outside(hull.size());
+    for (std::size_t l = 0; l < hull.size(); ++l)
+        for (int w = 0; w < 8; ++w) outside[l][std::size_t(w)] = ~hull[l][std::size_t(w)];
+    std::vector<Mask> pockets = flood(leaves, outside, removed, /*missing_is_seed=*/true);
+    for (std::size_t l = 0; l < hull.size(); ++l)
+        for (int w = 0; w < 8; ++w)
+            pockets[l][std::size_t(w)] = removed[l][std::size_t(w)] & ~pockets[l][std::size_t(w)];
+    return pockets;
 }
 
 BallField::BallField(const openvdb::CoordBBox& box, int f) : lo_(box.min()), f_(std::max(1, f)) {

@@ -213,13 +213,21 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
     });
 }
 
-/// Of the voxels with `member[i]` set, those in 6-connected pieces that touch no voxel with
-/// `anchor[i]` set (`member` and `anchor` disjoint) and, with `outside_is_anchor`, no grid
-/// point outside the voxels. `loose[i]` is set for them. The voxels are the leaves' on
-/// voxels, or those of `masks` (one per leaf) when given.
-void loose_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base,
-                  const std::vector<char>& member, const std::vector<char>& anchor, std::vector<char>& loose,
-                  bool outside_is_anchor = false, const std::vector<LeafColumns::Mask>* masks = nullptr);
+/// The voxels of `through` (per leaf, in LeafManager order) reached from those of `seed` by
+/// 6-neighbour steps within `through` (a step from a seed into `through` included; with
+/// `missing_is_seed`, from every point of a leaf the manager lacks). Bit-parallel: a leaf's
+/// 512 voxels at a time, dilated by shifts of its mask words to a fixed point, then across its
+/// faces to the next leaves, until nothing grows.
+std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                                     const std::vector<LeafColumns::Mask>& seed,
+                                     const std::vector<LeafColumns::Mask>& through, bool missing_is_seed);
+
+/// Of the voxels of `removed` (per leaf, in LeafManager order; a subset of the voxels of
+/// `hull`), those in 6-connected pieces of removed voxels that reach no point outside `hull`:
+/// pockets sealed inside what is kept (what a flood from the outside through them misses).
+std::vector<LeafColumns::Mask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                                              const std::vector<LeafColumns::Mask>& hull,
+                                              const std::vector<LeafColumns::Mask>& removed);
 
 // The signed distance (grid cells, negative inside) to a union of balls, kept on a coarse
 // dense lattice (`f` grid cells a coarse cell) over a box of the grid and sampled
