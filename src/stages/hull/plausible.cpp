@@ -99,7 +99,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (progress) progress(f);
     };
     PlausibleStats st;
-    ;
     const Lattice lat(in.transform());
     const double voxel = in.voxel_size();
 
@@ -221,7 +220,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         // hull projects into it), its distance to the outline and local inscribed radius. The
         // distance is the drawing's own (sub-pixel), in cells; cells the hull reaches although
         // their centre is outside the drawing get 0.
-        ;
         const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
         std::vector<char> outside(ncell, 0);
         std::vector<float> dist(ncell, 0.0f);
@@ -243,7 +241,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         box_blur(radius, &outside, R.w, R.h, 4);
         for (std::size_t c = 0; c < ncell; ++c) radius[c] = std::max(radius[c], dist[c]);
 
-        ;
         // The field of one line of sight: `dep` the depths (cells) of its voxels `idx`.
         const double gap = R.gap_keys * R.dq / voxel;
         auto score = [&](std::uint32_t c, const std::uint32_t* idx, const double* dep, std::size_t cnt) {
@@ -295,7 +292,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
 
     if (soft)
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { phi[i] = blend * std::log(phi[i] / float(nv)); });
-    ;
     // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
     // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
     // all lie farther from 0 than the kernel can carry them keep their values.
@@ -323,7 +319,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
         smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
     };
-    ;
     // Thin parts have no volume to spare.
     {
         std::atomic<std::size_t> kept{0}, cand{0};
@@ -380,7 +375,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         std::stable_sort(all.begin(), all.end(), [](const Vox& a, const Vox& b) { return a.cell < b.cell; });
         return all;
     };
-    ;
     // Per view, the voxels of its lines of sight the profiles leave short, by line of sight
     // (the field only goes down from here, and what 4b drops was never the profiles', so no
     // other line of sight can become short): those within 8 cells of field of the best, where
@@ -428,12 +422,13 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         if (lists[v].empty()) continue;
         groups[v].push_back(lists[v].size());
         st.short_rays += groups[v].size() - 1;
-    };
+    }
     // Whether line of sight g of view v is short, and the field value its `want`-th best voxel has.
     auto shortfall = [&](std::size_t v, std::size_t g, float* t) {
         const auto& list = lists[v];
         const std::size_t b = groups[v][g], e = groups[v][g + 1];
-        std::vector<float> vals;
+        static thread_local std::vector<float> vals;
+        vals.clear();
         std::uint32_t have = 0;
         for (std::size_t k = b; k < e; ++k) {
             vals.push_back(cur[list[k].i]);
@@ -452,29 +447,38 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     {
         SwellField swell(box, std::clamp(int(std::lround(double(maxdim) / 96.0)), 1, 8));
         for (int round = 0; round < 4; ++round) {
-            bool seeded = false;
+            // The seeds, found in parallel (settle() sorts them, so their order does not matter).
+            tbb::enumerable_thread_specific<std::vector<std::pair<Coord, float>>> seeds;
             for (std::size_t v = 0; v < nv; ++v)
-                for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
+                tbb::parallel_for(std::size_t(0), groups[v].empty() ? 0 : groups[v].size() - 1, [&](std::size_t g) {
                     float t = 0;
-                    if (!shortfall(v, g, &t)) continue;
+                    if (!shortfall(v, g, &t)) return;
+                    auto& local = seeds.local();
                     for (std::size_t k = groups[v][g]; k < groups[v][g + 1]; ++k)
-                        if (cur[lists[v][k].i] <= t + 1.0f) swell.seed(lists[v][k].c, t + kMargin);
-                    seeded = true;
-                };
+                        if (cur[lists[v][k].i] <= t + 1.0f) local.push_back({lists[v][k].c, t + kMargin});
+                });
+            bool seeded = false;
+            for (const auto& local : seeds)
+                for (const auto& [c, value] : local) swell.seed(c, value), seeded = true;
             if (!seeded) break;
             swell.settle();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
                 for (std::size_t l = r.begin(); l != r.end(); ++l) {
                     const auto& leaf = leaves.leaf(l);
                     if (!swell.raised_in(openvdb::CoordBBox::createCube(leaf.origin(), LeafT::DIM))) continue;
+                    const SwellField::Block block(swell, leaf.origin());
                     std::size_t i = base[l];
-                    for (auto it = leaf.cbeginValueOn(); it; ++it, ++i)
-                        if (phi[i] > 0) cur[i] = std::min(cur[i], phi[i] - swell.at(it.getCoord()));
+                    for (openvdb::Index w = 0; w < 8; ++w)
+                        for (std::uint64_t bits = leaf.getValueMask().getWord<std::uint64_t>(w); bits;
+                             bits &= bits - 1, ++i) {
+                            if (!(phi[i] > 0)) continue;
+                            const int b = __builtin_ctzll(bits);
+                            cur[i] = std::min(cur[i], phi[i] - block.at(int(w), b >> 3, b & 7));
+                        }
                 }
             });
         }
-    };
-    ;
+    }
     // 4b. What the swelling kept apart from the profiles' volume goes: a flood from the
     // profiles' volume through the swollen voxels, and what it misses.
     {
@@ -607,7 +611,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         });
     };
-    ;
     // 4d. Any line of sight still short keeps its best voxels.
     for (std::size_t v = 0; v < nv; ++v)
         for (std::size_t g = 0; g + 1 < groups[v].size(); ++g) {
@@ -658,7 +661,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             for (const auto o : off) leaf.setValueOff(o, false);
         }
     });
-    ;
     // 6a. No plate one voxel thin where the removal cut on both sides of it: Marching Cubes
     // puts its two faces on mirrored crossings, and smoothing draws them onto one another
     // (coincident vertices, crossing faces). Such a voxel's removed neighbours along that
@@ -714,7 +716,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.removed -= std::min(st.removed, added);
         st.thickened += added;
         if (added == 0) break;
-    };
+    }
     // 6b. What is still removed and reaches no point outside the hull is a cavity sealed inside
     // the kept volume: Marching Cubes would give it a closed shell of its own, unseen and
     // useless. It is put back (only adding: no line of sight loses a voxel).
@@ -762,7 +764,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     }
     step(0.8);
 
-    ;
     // 7. Crossings: unchanged where an edge still runs from an inside point to a point
     // outside the hull; the smoothed field's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
@@ -917,7 +918,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     st.cell_px = finest;
     step(1.0);
     if (stats) *stats = st;
-    ;
     return out;
 }
 

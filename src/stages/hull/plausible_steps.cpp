@@ -337,6 +337,32 @@ float SwellField::at(const Coord& c) const {
     return float(v);
 }
 
+SwellField::Block::Block(const SwellField& f, const Coord& origin) : f_(f) {
+    const int n[3] = {f.nx_, f.ny_, f.nz_};
+    for (int a = 0; a < 3; ++a)
+        for (int k = 0; k < 8; ++k) {
+            // As at(): the same divisions, floors and bounds.
+            const double p = double(origin[a] + k - f.lo_[a]) / f.f_;
+            const int i = int(std::floor(p));
+            c0_[a][k] = (i < 0 || i + 1 >= n[a]) ? -1 : i;
+            t_[a][k] = p - i;
+        }
+}
+
+float SwellField::Block::at(int x, int y, int z) const {
+    if (!f_.any_) return 0.0f;
+    const int i = c0_[0][x], j = c0_[1][y], k = c0_[2][z];
+    if (i < 0 || j < 0 || k < 0) return 0.0f;
+    const double tx = t_[0][x], ty = t_[1][y], tz = t_[2][z];
+    double v = 0;
+    for (int n = 0; n < 8; ++n) {
+        const int di = n & 1, dj = (n >> 1) & 1, dk = (n >> 2) & 1;
+        const double wgt = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty) * (dk ? tz : 1 - tz);
+        if (wgt > 0) v += wgt * f_.g_[(std::size_t(i + di) * f_.ny_ + (j + dj)) * f_.nz_ + (k + dk)];
+    }
+    return float(v);
+}
+
 // The coarse cells whose values reach the grid points of `b` (trilinearly): calls body(cell
 // index) until it returns true; returns whether one did.
 template <typename Body>

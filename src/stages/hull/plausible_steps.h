@@ -108,6 +108,18 @@ public:
     void settle();
     /// Trilinear value at grid point c (0 outside the box).
     float at(const Coord& c) const;
+    /// The same values for the grid points of the 8^3 block at `origin`, with the per-axis
+    /// lattice positions worked out once: at(x, y, z) for local coordinates 0..7.
+    class Block {
+    public:
+        Block(const SwellField& f, const Coord& origin);
+        float at(int x, int y, int z) const;
+
+    private:
+        const SwellField& f_;
+        int c0_[3][8];   ///< lower lattice index per axis and local coordinate (-1: outside)
+        double t_[3][8]; ///< the upper one's weight
+    };
     /// Whether the last settle() raised the field anywhere about the grid points of `b`.
     bool raised_in(const openvdb::CoordBBox& b) const;
 
