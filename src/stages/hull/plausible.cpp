@@ -157,7 +157,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     std::vector<RayRaster> rasters;
     // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).
     std::vector<std::vector<std::uint32_t>> orders, starts;
-    std::vector<std::vector<std::uint32_t>> ray_total; // per view, voxels per line of sight
+    std::vector<std::vector<std::uint32_t>> ray_total; // per view, voxels per line of sight (axis views: 0 or 1)
     const std::size_t nv = views->views.size();
     const LeafColumns columns(leaves, base);
     // body(cell, voxel indices in depth order, count, coord(k)) for every line of sight of
@@ -201,9 +201,8 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         orders.emplace_back();
         starts.emplace_back();
         if (R.axis_aligned) {
-            columns.for_columns(R.axis, [&](const Coord& first, const std::uint32_t*, const int*, std::size_t cnt) {
-                count[R.cell(first)] = std::uint32_t(cnt);
-            });
+            // Only whether a line of sight holds a voxel is asked of an axis view's count.
+            columns.for_column_points(R.axis, [&](const Coord& c) { count[R.cell(c)] = 1; });
         } else {
             std::vector<std::uint32_t> cell(n), by_depth;
             key.resize(n);

@@ -151,6 +151,10 @@ public:
     /// only: stacks whose columns all hold one are not dealt at all.
     template <typename Body>
     void for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const;
+    /// body(a grid point of the column) for every non-empty column along `axis`, from the
+    /// leaves' masks alone (no voxel dealt), in parallel over leaf stacks.
+    template <typename Body>
+    void for_column_points(int axis, Body&& body) const;
     /// The columns along `axis` (bit loc[a1] * 8 + loc[a2], a1 and a2 the next axes in turn)
     /// holding a voxel of the leaf mask `m`.
     static std::uint64_t column_bits(const Mask& m, int axis);
@@ -167,6 +171,31 @@ private:
     mutable std::array<std::vector<std::size_t>, 3> stack_;    // stack starts in order_
     mutable tbb::enumerable_thread_specific<Scratch> scratch_; // dealing buffers, reused
 };
+
+template <typename Body>
+void LeafColumns::for_column_points(int axis, Body&& body) const {
+    stacks_along(axis);
+    const auto& order = order_[std::size_t(axis)];
+    const auto& stack = stack_[std::size_t(axis)];
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
+        std::uint64_t have = 0;
+        for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
+            Mask m;
+            for (openvdb::Index w = 0; w < 8; ++w)
+                m[w] = leaves_.leaf(order[k]).getValueMask().template getWord<std::uint64_t>(w);
+            have |= column_bits(m, axis);
+        }
+        const Coord origin = leaves_.leaf(order[stack[s]]).origin();
+        for (; have; have &= have - 1) {
+            const int col = __builtin_ctzll(have);
+            Coord c = origin;
+            c[a1] += col >> 3;
+            c[a2] += col & 7;
+            body(c);
+        }
+    });
+}
 
 template <typename Body>
 void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const {
