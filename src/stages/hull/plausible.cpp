@@ -294,30 +294,13 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
     // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
     // all lie farther from 0 than the kernel can carry them keep their values.
-    auto sgrid = openvdb::FloatGrid::create(0.0f);
-    sgrid->setTransform(in.transform().copy());
-    sgrid->tree().topologyUnion(occ->tree());
-    // Same topology, so the leaves come in the occupancy's order (checked).
-    auto for_leaves = [&](auto& grid, auto&& body) {
-        openvdb::tree::LeafManager<openvdb::FloatTree> lm(grid.tree());
-        if (lm.leafCount() != nleaf) throw Error("internal: field grid topology differs from the occupancy");
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t l = r.begin(); l != r.end(); ++l) {
-                auto& leaf = lm.leaf(l);
-                if (leaf.origin() != leaves.leaf(l).origin())
-                    throw Error("internal: field grid leaves out of the occupancy's order");
-                std::size_t i = base[l];
-                for (auto it = leaf.beginValueOn(); it; ++it) body(i++, it);
-            }
-        });
-    };
     // The smoothing is given in cells of a grid of 256 along the object's longest side, so
     // the surface is as smooth at any resolution; voxels farther from the zero level than
     // four standard deviations keep their values (their side of it is not in doubt).
     {
         const double sigma = opt.smooth_cells * double(std::max({box.dim().x(), box.dim().y(), box.dim().z()})) / 256.0;
         smooth_field(phi, leaves, base, box, sigma, float(4.0 * sigma + 2.0));
-    };
+    }
     // Thin parts have no volume to spare.
     {
         std::atomic<std::size_t> kept{0}, cand{0};
@@ -638,13 +621,14 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.removed = count;
         st.kept_for_rays = st.candidates > st.removed ? st.candidates - st.removed : 0;
     }
-    for_leaves(*sgrid, [&](std::size_t i, auto& it) { it.setValue(cur[i]); });
     phi = {};
-    cur = {};
     step(0.7);
     // The hull's voxels, as numbered, before the removal changes the leaves.
+    // (Leaves that come back full become tiles below: their origins are kept here too.)
     std::vector<LeafColumns::Mask> hull_masks(nleaf);
+    std::vector<Coord> hull_origin(nleaf);
     tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+        hull_origin[l] = leaves.leaf(l).origin();
         for (openvdb::Index w = 0; w < 8; ++w)
             hull_masks[l][w] = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
     });
@@ -744,7 +728,6 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.cavities_filled = filled;
         st.removed -= std::min(st.removed, filled);
     }
-    hull_masks = {};
     {
         std::vector<Coord> full;
         for (std::size_t l = 0; l < nleaf; ++l) {
@@ -845,6 +828,26 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         touch.erase(std::unique(touch.begin(), touch.end()), touch.end());
         std::vector<openvdb::Vec3fTree::LeafNodeType*> cl(touch.size());
         for (std::size_t k = 0; k < touch.size(); ++k) cl[k] = cross->tree().touchLeaf(touch[k]);
+        // The field at a grid point of the hull (0 elsewhere), through the voxels' numbering.
+        std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
+        leaf_of.reserve(nleaf * 2);
+        auto key = [](const Coord& o) {
+            return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
+                   (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
+                   (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
+        };
+        for (std::size_t l = 0; l < nleaf; ++l) leaf_of.emplace(key(hull_origin[l]), std::uint32_t(l));
+        auto field_at = [&](const Coord& g) {
+            const auto it = leaf_of.find(key(g));
+            if (it == leaf_of.end()) return 0.0f;
+            const std::size_t l = it->second;
+            const openvdb::Index off = LeafT::coordToOffset(g);
+            const std::uint64_t bit = std::uint64_t(1) << (off & 63), word = hull_masks[l][off >> 6];
+            if (!(word & bit)) return 0.0f;
+            std::size_t i = base[l] + std::size_t(__builtin_popcountll(word & (bit - 1)));
+            for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(hull_masks[l][w]));
+            return cur[i];
+        };
         std::atomic<std::size_t> placed{0};
         // Whether grid points are on, by leaf: a leaf's mask, or its tile's (or the background's) state.
         struct OnLeaf {
@@ -861,7 +864,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cl.size()), [&](const tbb::blocked_range<std::size_t>& r) {
             auto was = in.occupancy->getConstAccessor();
             auto now = occ->getConstAccessor();
-            auto sc = sgrid->getConstAccessor();
+
             std::size_t mine = 0;
             constexpr int kStride[3] = {64, 8, 1};
             for (std::size_t k = r.begin(); k != r.end(); ++k) {
@@ -894,7 +897,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                             const Coord g = leaf->offsetToGlobalCoord(off);
                             Coord q = g;
                             q[a] += 1;
-                            const float sk = sc.getValue(ig ? g : q), sr = sc.getValue(ig ? q : g);
+                            const float sk = field_at(ig ? g : q), sr = field_at(ig ? q : g);
                             float f = 0.5f;
                             if (sk <= 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
                             val[a] = ig ? f : 1.0f - f;
