@@ -669,25 +669,42 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
             }
         });
     }
+    const auto nbr = leaf_neighbours(leaves);
     for (int pass = 0; pass < 2; ++pass) {
         std::vector<std::vector<Coord>> back(nleaf);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-            auto now = occ->getConstAccessor();
-            auto was = in.occupancy->getConstAccessor();
-            for (std::size_t l = r.begin(); l != r.end(); ++l)
-                for (auto it = leaves.leaf(l).cbeginValueOn(); near_cut[l] && it; ++it) {
-                    const Coord g = it.getCoord();
-                    for (int a = 0; a < 3; ++a) {
-                        Coord lo = g, hi = g;
-                        lo[a] -= 1;
-                        hi[a] += 1;
-                        if (now.isValueOn(lo) || now.isValueOn(hi)) continue;
-                        const bool wl = was.isValueOn(lo), wh = was.isValueOn(hi);
-                        if (!wl && !wh) continue; // thin in the hull itself
-                        if (wl) back[l].push_back(lo);
-                        if (wh) back[l].push_back(hi);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            if (!near_cut[l]) return;
+            // Leaf masks, now and in the hull (the removal only took voxels of existing leaves).
+            auto now_of = [&](std::uint32_t k) {
+                LeafColumns::Mask m;
+                for (openvdb::Index w = 0; w < 8; ++w) m[w] = leaves.leaf(k).getValueMask().getWord<std::uint64_t>(w);
+                return m;
+            };
+            const LeafColumns::Mask now = now_of(std::uint32_t(l));
+            for (int a = 0; a < 3; ++a) {
+                LeafColumns::Mask on[2], was[2], nm;
+                for (int side = 0; side < 2; ++side) {
+                    const int d = 2 * a + side;
+                    const std::uint32_t k = nbr[l][std::size_t(d)];
+                    if (k != kNoLeaf) nm = now_of(k);
+                    on[side] = neighbour_in(now, k != kNoLeaf ? &nm : nullptr, d);
+                    was[side] = neighbour_in(hull_masks[l], k != kNoLeaf ? &hull_masks[k] : nullptr, d);
+                }
+                for (openvdb::Index w = 0; w < 8; ++w) {
+                    // On, with both neighbours along a off and one of them in the hull.
+                    std::uint64_t plate = now[w] & ~on[0][w] & ~on[1][w] & (was[0][w] | was[1][w]);
+                    for (; plate; plate &= plate - 1) {
+                        const int b = __builtin_ctzll(plate);
+                        const Coord g = leaves.leaf(l).offsetToGlobalCoord(w * 64 + openvdb::Index(b));
+                        for (int side = 0; side < 2; ++side)
+                            if (was[side][w] >> b & 1) {
+                                Coord q = g;
+                                q[a] += side ? 1 : -1;
+                                back[l].push_back(q);
+                            }
                     }
                 }
+            }
         });
         std::size_t added = 0;
         for (const auto& b : back)
@@ -831,14 +848,9 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         // The field at a grid point of the hull (0 elsewhere), through the voxels' numbering.
         std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
         leaf_of.reserve(nleaf * 2);
-        auto key = [](const Coord& o) {
-            return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
-                   (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
-                   (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
-        };
-        for (std::size_t l = 0; l < nleaf; ++l) leaf_of.emplace(key(hull_origin[l]), std::uint32_t(l));
+        for (std::size_t l = 0; l < nleaf; ++l) leaf_of.emplace(leaf_key(hull_origin[l]), std::uint32_t(l));
         auto field_at = [&](const Coord& g) {
-            const auto it = leaf_of.find(key(g));
+            const auto it = leaf_of.find(leaf_key(g));
             if (it == leaf_of.end()) return 0.0f;
             const std::size_t l = it->second;
             const openvdb::Index off = LeafT::coordToOffset(g);

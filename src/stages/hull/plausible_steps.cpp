@@ -485,10 +485,43 @@ constexpr Mask kFull = {~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull};
 
 } // namespace
 
+std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves) {
+    using Leaf = openvdb::BoolTree::LeafNodeType;
+    const std::size_t nleaf = leaves.leafCount();
+    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
+    leaf_of.reserve(nleaf * 2);
+    for (std::size_t l = 0; l < nleaf; ++l) leaf_of.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
+    std::vector<std::array<std::uint32_t, 6>> nbr(nleaf);
+    tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+        for (int d = 0; d < 6; ++d) {
+            Coord o = leaves.leaf(l).origin();
+            o[d / 2] += (d & 1) ? int(Leaf::DIM) : -int(Leaf::DIM);
+            const auto it = leaf_of.find(leaf_key(o));
+            nbr[l][std::size_t(d)] = it == leaf_of.end() ? kNoLeaf : it->second;
+        }
+    });
+    return nbr;
+}
+
+Mask neighbour_in(const Mask& own, const Mask* next, int d) {
+    Mask r = next ? across_face(*next, d) : Mask{};
+    for (int x = 0; x < 8; ++x) {
+        const std::uint64_t w = own[std::size_t(x)];
+        switch (d) {
+        case 0: r[std::size_t(x)] |= x > 0 ? own[std::size_t(x - 1)] : 0; break;
+        case 1: r[std::size_t(x)] |= x < 7 ? own[std::size_t(x + 1)] : 0; break;
+        case 2: r[std::size_t(x)] |= w << 8; break;
+        case 3: r[std::size_t(x)] |= w >> 8; break;
+        case 4: r[std::size_t(x)] |= (w << 1) & 0xFEFEFEFEFEFEFEFEull; break;
+        default: r[std::size_t(x)] |= (w >> 1) & 0x7F7F7F7F7F7F7F7Full; break;
+        }
+    }
+    return r;
+}
+
 std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                                      const std::vector<LeafColumns::Mask>& seed,
                                      const std::vector<LeafColumns::Mask>& through, bool missing_is_seed) {
-    using Leaf = openvdb::BoolTree::LeafNodeType;
     const std::size_t nleaf = leaves.leafCount();
     auto any = [](const Mask& m) {
         std::uint64_t a = 0;
@@ -497,25 +530,12 @@ std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::B
     };
     std::vector<Mask> reached(nleaf, Mask{});
     std::vector<std::uint32_t> work;
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
-    leaf_of.reserve(nleaf * 2);
-    auto key = [](const Coord& o) {
-        return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
-               (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
-               (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
-    };
-    for (std::size_t l = 0; l < nleaf; ++l) {
-        leaf_of[key(leaves.leaf(l).origin())] = std::uint32_t(l);
+    for (std::size_t l = 0; l < nleaf; ++l)
         if (any(through[l])) work.push_back(std::uint32_t(l));
-    }
     if (work.empty()) return reached;
-    constexpr std::uint32_t none = ~std::uint32_t(0);
-    auto neighbour = [&](std::size_t l, int d) {
-        Coord o = leaves.leaf(l).origin();
-        o[d / 2] += (d & 1) ? int(Leaf::DIM) : -int(Leaf::DIM);
-        const auto it = leaf_of.find(key(o));
-        return it == leaf_of.end() ? none : it->second;
-    };
+    const auto nbr = leaf_neighbours(leaves);
+    constexpr std::uint32_t none = kNoLeaf;
+    auto neighbour = [&](std::size_t l, int d) { return nbr[l][std::size_t(d)]; };
     // The seeds of each leaf the flood may enter: its own, and those beside it across its faces.
     std::vector<char> queued(nleaf, 0);
     for (const std::uint32_t l : work) {

@@ -254,6 +254,21 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
     });
 }
 
+/// A hash key of a leaf origin (21 bits of each coordinate's leaf index).
+inline std::uint64_t leaf_key(const Coord& o) {
+    return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
+           (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
+           (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
+}
+constexpr std::uint32_t kNoLeaf = ~std::uint32_t(0);
+/// Each leaf's face neighbours (0: -x, 1: +x, 2: -y, 3: +y, 4: -z, 5: +z) as LeafManager
+/// indices, kNoLeaf where the tree has none.
+std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves);
+/// For each voxel of a leaf, whether its neighbour in direction d (as above) is in `own`
+/// (the leaf's mask) or, across the face, in `next` (the mask of the leaf beside it that
+/// way; none when null).
+LeafColumns::Mask neighbour_in(const LeafColumns::Mask& own, const LeafColumns::Mask* next, int d);
+
 /// The voxels of `through` (per leaf, in LeafManager order) reached from those of `seed` by
 /// 6-neighbour steps within `through` (a step from a seed into `through` included; with
 /// `missing_is_seed`, from every point of a leaf the manager lacks). Bit-parallel: a leaf's
