@@ -746,19 +746,27 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.removed -= std::min(st.removed, filled);
     }
     {
-        std::vector<Coord> full;
-        for (std::size_t l = 0; l < nleaf; ++l) {
-            const auto& leaf = leaves.leaf(l);
-            if (!leaf.isValueMaskOn()) continue;
+        // A leaf comes back as a tile when it and its 26 neighbours are full (each reached
+        // through face neighbours, which must be full themselves).
+        std::vector<char> whole(nleaf), tile(nleaf, 0);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) { whole[l] = leaves.leaf(l).isValueMaskOn(); });
+        auto step_to = [&](std::uint32_t l, int axis, int dir) {
+            if (l == kNoLeaf || dir == 0) return l;
+            const std::uint32_t k = nbr[l][std::size_t(2 * axis + (dir > 0))];
+            return k != kNoLeaf && whole[k] ? k : kNoLeaf;
+        };
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            if (!whole[l]) return;
             bool all = true;
-            for (int dx = -8; dx <= 8 && all; dx += 8)
-                for (int dy = -8; dy <= 8 && all; dy += 8)
-                    for (int dz = -8; dz <= 8 && all; dz += 8) {
-                        const auto* nb = occ->tree().probeConstLeaf(leaf.origin().offsetBy(dx, dy, dz));
-                        all = nb && nb->isValueMaskOn();
-                    }
-            if (all) full.push_back(leaf.origin());
-        }
+            for (int dx = -1; dx <= 1 && all; ++dx)
+                for (int dy = -1; dy <= 1 && all; ++dy)
+                    for (int dz = -1; dz <= 1 && all; ++dz)
+                        all = step_to(step_to(step_to(std::uint32_t(l), 0, dx), 1, dy), 2, dz) != kNoLeaf;
+            tile[l] = all;
+        });
+        std::vector<Coord> full;
+        for (std::size_t l = 0; l < nleaf; ++l)
+            if (tile[l]) full.push_back(leaves.leaf(l).origin());
         for (const Coord& o : full) occ->tree().addTile(1, o, true, true);
     }
     step(0.8);
