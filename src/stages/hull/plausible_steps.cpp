@@ -236,23 +236,59 @@ void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<op
             for (int k = 0; k < 8; ++k) {
                 const double p = (o[a] + k - half) / f;
                 const int q = int(std::floor(p));
-                c0[a][k] = q + 1;
+                // Grid points of the leaf beyond the box (never on voxels) read the last cells.
+                c0[a][k] = std::min(q + 1, (a == 0 ? px_ : a == 1 ? py_ : pz_) - 2);
                 t[a][k] = p - q;
             }
         const std::size_t sx = std::size_t(py_) * pz_, sy = std::size_t(pz_);
+        if (leaves.leaf(l).onVoxelCount() < 64) { // a few voxels: each from its 8 corners
+            for_leaf(l, [&](std::size_t i, int x, int y, int z) {
+                if (!(std::abs(value[i]) <= reach)) return;
+                const std::size_t q = pat(c0[0][x], c0[1][y], c0[2][z]);
+                const double tx = t[0][x], ty = t[1][y], tz = t[2][z];
+                double s = 0, w = 0;
+                for (int k = 0; k < 8; ++k) {
+                    const double wt =
+                        ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
+                    const auto& cell =
+                        padded[q + ((k & 1) ? sx : 0) + (((k >> 1) & 1) ? sy : 0) + (((k >> 2) & 1) ? 1 : 0)];
+                    s += wt * cell[0];
+                    w += wt * cell[1];
+                }
+                if (w > 1e-6) value[i] = float(s / w);
+            });
+            return;
+        }
+        // Many: the whole block, one axis at a time (z, then y, then x) over the lattice cells
+        // the leaf reaches (at most 10 along an axis).
+        constexpr int kSpan = 10;
+        int base_c[3], span[3];
+        for (int a = 0; a < 3; ++a) base_c[a] = c0[a][0], span[a] = c0[a][7] + 2 - c0[a][0];
+        double zs[kSpan][kSpan][8][2], ys[kSpan][8][8][2];
+        for (int i = 0; i < span[0]; ++i)
+            for (int j = 0; j < span[1]; ++j) {
+                const std::size_t row = pat(base_c[0] + i, base_c[1] + j, 0);
+                for (int z = 0; z < 8; ++z) {
+                    const auto& a = padded[row + std::size_t(c0[2][z])];
+                    const auto& b = padded[row + std::size_t(c0[2][z]) + 1];
+                    const double tz = t[2][z];
+                    zs[i][j][z][0] = (1 - tz) * a[0] + tz * b[0];
+                    zs[i][j][z][1] = (1 - tz) * a[1] + tz * b[1];
+                }
+            }
+        for (int i = 0; i < span[0]; ++i)
+            for (int y = 0; y < 8; ++y) {
+                const int j = c0[1][y] - base_c[1];
+                const double ty = t[1][y];
+                for (int z = 0; z < 8; ++z)
+                    for (int c = 0; c < 2; ++c) ys[i][y][z][c] = (1 - ty) * zs[i][j][z][c] + ty * zs[i][j + 1][z][c];
+            }
         for_leaf(l, [&](std::size_t i, int x, int y, int z) {
             if (!(std::abs(value[i]) <= reach)) return;
-            const std::size_t q = pat(c0[0][x], c0[1][y], c0[2][z]);
-            const double tx = t[0][x], ty = t[1][y], tz = t[2][z];
-            double s = 0, w = 0;
-            for (int k = 0; k < 8; ++k) {
-                const double wt =
-                    ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
-                const auto& cell =
-                    padded[q + ((k & 1) ? sx : 0) + (((k >> 1) & 1) ? sy : 0) + (((k >> 2) & 1) ? 1 : 0)];
-                s += wt * cell[0];
-                w += wt * cell[1];
-            }
+            const int k = c0[0][x] - base_c[0];
+            const double tx = t[0][x];
+            const double s = (1 - tx) * ys[k][y][z][0] + tx * ys[k + 1][y][z][0];
+            const double w = (1 - tx) * ys[k][y][z][1] + tx * ys[k + 1][y][z][1];
             if (w > 1e-6) value[i] = float(s / w);
         });
     });
