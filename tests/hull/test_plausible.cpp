@@ -16,6 +16,7 @@
 #include "marching_cubes.h"
 #include "mesh_smooth.h"
 #include "plausible.h"
+#include "plausible_steps.h"
 #include "render/raster.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
@@ -253,6 +254,62 @@ TEST(HullPlausible, NoCavitySealedInsideOnTheBundledCow) {
     EXPECT_GT(st.cavities_filled, 0u); // the case is met
     EXPECT_EQ(pieces(marching_cubes(*out)), 1u);
     expect_columns_kept(*hull, *out);
+}
+
+// Two blocks kept inside one hull, the volume between them removed, and a third block that
+// is a piece of the hull of its own: the two are joined by the shortest path through the
+// removed voxels (20 cells long), the third stays apart (no path within the hull).
+TEST(HullPlausible, PiecesApartAreBridgedThroughTheRemovedVolume) {
+    using plausible::LeafColumns;
+    openvdb::BoolGrid hull(false), kept(false);
+    auto fill = [](openvdb::BoolGrid& g, openvdb::Coord lo, openvdb::Coord hi) {
+        g.tree().denseFill(openvdb::CoordBBox(lo, hi), true, true);
+    };
+    fill(hull, {0, 0, 0}, {39, 15, 15});
+    fill(hull, {60, 0, 0}, {69, 7, 7});
+    hull.tree().voxelizeActiveTiles();
+    fill(kept, {0, 0, 0}, {9, 15, 15});
+    fill(kept, {30, 0, 0}, {39, 15, 15});
+    fill(kept, {60, 0, 0}, {69, 7, 7});
+    kept.tree().voxelizeActiveTiles();
+    openvdb::tree::LeafManager<openvdb::BoolTree> leaves(hull.tree());
+    std::vector<LeafColumns::Mask> hm(leaves.leafCount()), km(leaves.leafCount());
+    auto acc = kept.getConstAccessor();
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l)
+        for (openvdb::Index off = 0; off < 512; ++off) {
+            const auto c = leaves.leaf(l).offsetToGlobalCoord(off);
+            if (leaves.leaf(l).isValueOn(off)) hm[l][off >> 6] |= std::uint64_t(1) << (off & 63);
+            if (acc.isValueOn(c)) km[l][off >> 6] |= std::uint64_t(1) << (off & 63);
+        }
+    std::size_t joined = 0;
+    const auto path = plausible::bridges(leaves, plausible::leaf_neighbours(leaves), hm, km, 64, &joined);
+    EXPECT_EQ(joined, 1u);
+    ASSERT_EQ(path.size(), 20u);
+    for (const auto& c : path) {
+        EXPECT_TRUE(hull.tree().isValueOn(c)) << c;
+        EXPECT_FALSE(kept.tree().isValueOn(c)) << c;
+        kept.tree().setValueOn(c, true);
+    }
+    // Now one piece holds both blocks: a flood from the first reaches the second.
+    std::vector<LeafColumns::Mask> seed(leaves.leafCount()), km2(leaves.leafCount());
+    auto acc2 = kept.getConstAccessor();
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l)
+        for (openvdb::Index off = 0; off < 512; ++off) {
+            const auto c = leaves.leaf(l).offsetToGlobalCoord(off);
+            if (acc2.isValueOn(c)) km2[l][off >> 6] |= std::uint64_t(1) << (off & 63);
+            if (c == openvdb::Coord(0, 0, 0)) seed[l][0] |= 1;
+        }
+    const auto reached = plausible::flood(leaves, seed, km2, false);
+    auto reached_at = [&](openvdb::Coord c) {
+        for (std::size_t l = 0; l < leaves.leafCount(); ++l)
+            if (leaves.leaf(l).origin() == (c & ~7)) {
+                const auto off = openvdb::BoolTree::LeafNodeType::coordToOffset(c);
+                return (reached[l][off >> 6] >> (off & 63) & 1) != 0;
+            }
+        return false;
+    };
+    EXPECT_TRUE(reached_at({35, 8, 8}));
+    EXPECT_FALSE(reached_at({65, 4, 4}));
 }
 
 // At roundness 0 the cube is the hull, voxel for voxel and crossing for crossing; at any

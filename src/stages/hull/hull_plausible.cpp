@@ -66,6 +66,7 @@ public:
         ctx.metric("thin_dropped", double(st.thin_dropped));
         ctx.metric("loose_dropped", double(st.loose_dropped));
         ctx.metric("cavities_filled", double(st.cavities_filled));
+        ctx.metric("pieces_joined", double(st.pieces_joined));
         ctx.metric("ball_rays", double(st.ball_rays));
         ctx.metric("cell_px", st.cell_px);
         if (!vol->crossings)

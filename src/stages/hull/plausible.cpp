@@ -745,6 +745,23 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         st.cavities_filled = filled;
         st.removed -= std::min(st.removed, filled);
     }
+    // 6c. Pieces of the kept volume apart from the main body (a part whose connection the
+    // removal took: an ear kept as a thin part, a hand) would float in the mesh: each is joined
+    // to the body by the shortest path back through the removed voxels (only adding: no line
+    // of sight loses a voxel).
+    {
+        std::vector<LeafColumns::Mask> kept(nleaf);
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+            for (openvdb::Index w = 0; w < 8; ++w) kept[l][w] = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
+        });
+        std::size_t joined = 0;
+        const std::vector<Coord> path = bridges(leaves, nbr, hull_masks, kept, std::max(8, maxdim / 16), &joined);
+        std::size_t added = 0;
+        for (const Coord& c : path)
+            if (!occ->tree().isValueOn(c)) occ->tree().setValueOn(c, true), ++added;
+        st.pieces_joined = joined;
+        st.removed -= std::min(st.removed, added);
+    }
     {
         // A leaf comes back as a tile when it and its 26 neighbours are full (each reached
         // through face neighbours, which must be full themselves).

@@ -52,6 +52,7 @@ struct PlausibleStats {
     std::size_t thin_dropped = 0;    ///< thin-part edges of the input dropped (their hull removed)
     std::size_t short_rays = 0;      ///< lines of sight the profiles left short (swollen to)
     std::size_t loose_dropped = 0;   ///< swollen voxels dropped as apart from the rest
+    std::size_t pieces_joined = 0;   ///< pieces of the kept volume joined to the body by a bridge
     std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view

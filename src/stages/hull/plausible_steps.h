@@ -278,6 +278,17 @@ std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::B
                                      const std::vector<LeafColumns::Mask>& seed,
                                      const std::vector<LeafColumns::Mask>& through, bool missing_is_seed);
 
+/// The kept volume (`kept`, per leaf, within `hull`) as one piece: its pieces apart from the
+/// main body (the piece of the fullest leaf) are joined to it by bridges through the hull's
+/// removed voxels, each the shortest 6-connected path (breadth-first, at most `max_steps`
+/// voxels) from the main body to the piece. Returns the voxels of the bridges; `pieces`
+/// gets the number of pieces joined. Pieces of the hull itself apart from the rest (no path
+/// within the hull) stay apart.
+std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                           const std::vector<std::array<std::uint32_t, 6>>& nbr,
+                           const std::vector<LeafColumns::Mask>& hull, const std::vector<LeafColumns::Mask>& kept,
+                           int max_steps, std::size_t* pieces);
+
 /// Of the voxels of `removed` (per leaf, in LeafManager order; a subset of the voxels of
 /// `hull`), those in 6-connected pieces of removed voxels that reach no point outside `hull`:
 /// pockets sealed inside what is kept (what a flood from the outside through them misses).
