@@ -756,9 +756,16 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         });
         std::size_t joined = 0;
         const std::vector<Coord> path = bridges(leaves, nbr, hull_masks, kept, std::max(8, maxdim / 16), &joined);
+        // A path one voxel wide would be a strand a cell thin in the mesh: it is thickened by
+        // its face neighbours within the hull.
         std::size_t added = 0;
+        auto hull_acc = in.occupancy->getConstAccessor();
         for (const Coord& c : path)
-            if (!occ->tree().isValueOn(c)) occ->tree().setValueOn(c, true), ++added;
+            for (int k = 0; k < 7; ++k) {
+                Coord q = c;
+                if (k > 0) q[(k - 1) / 2] += (k & 1) ? 1 : -1;
+                if (hull_acc.isValueOn(q) && !occ->tree().isValueOn(q)) occ->tree().setValueOn(q, true), ++added;
+            }
         st.pieces_joined = joined;
         st.removed -= std::min(st.removed, added);
     }
