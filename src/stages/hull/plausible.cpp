@@ -152,6 +152,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     const float blend = float(opt.view_blend);
     const bool soft = blend > 0;
     constexpr float kClamp = 20.0f;
+    const float deep = soft ? std::exp(-kClamp / blend) : 0.0f;
     std::vector<float> phi(n, soft ? 0.0f : -std::numeric_limits<float>::infinity());
     std::vector<std::uint8_t> thin(n, 0);
     std::vector<RayRaster> rasters;
@@ -262,7 +263,9 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
                 const bool is_thin = thin_part && re - rb <= std::size_t(opt.thin_cells);
                 for (std::size_t k = rb; k != re; ++k) {
                     const float sv = float(std::abs(dep[k] - mid) - allow);
-                    if (soft) phi[idx[k]] += std::exp(std::clamp(sv, -kClamp, kClamp) / blend);
+                    // (Deep inside the allowance, the common case, the clamped value's exponential
+                    // is a constant.)
+                    if (soft) phi[idx[k]] += sv <= -kClamp ? deep : std::exp(std::clamp(sv, -kClamp, kClamp) / blend);
                     else phi[idx[k]] = std::max(phi[idx[k]], sv);
                     if (is_thin) thin[idx[k]] = 1;
                 }
@@ -289,8 +292,16 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         step(0.05 + 0.4 * double(v + 1) / double(nv));
     }
 
-    if (soft)
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { phi[i] = blend * std::log(phi[i] / float(nv)); });
+    if (soft) {
+        // Deep inside every view's allowance (the sum of the constants, added in the same
+        // order) the value is a constant too.
+        float all_deep = 0.0f;
+        for (std::size_t v = 0; v < nv; ++v) all_deep += deep;
+        const float deep_value = blend * std::log(all_deep / float(nv));
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            phi[i] = phi[i] == all_deep ? deep_value : blend * std::log(phi[i] / float(nv));
+        });
+    }
     // 3. The field smoothed over the hull's voxels (a normalised Gaussian, so the outside
     // does not pull it), giving a smooth zero level for the new surface. Leaves whose values
     // all lie farther from 0 than the kernel can carry them keep their values.
