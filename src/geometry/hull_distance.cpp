@@ -68,23 +68,28 @@ double SilhouetteSdf::sample(double x, double y) const {
     return beyond > 0 ? std::max(v, 0.0) + beyond : v;
 }
 
-HullDistance::HullDistance(const Views& views) {
-    if (views.views.empty()) throw Error("the hull constraint needs at least one view");
-    finest_pixel_ = views.finest_pixel();
-    // The views' fields are independent: built side by side (each is parallel inside too).
-    // The first failing view in order is reported, whichever thread found it first.
-    views_.resize(views.views.size());
+std::vector<ViewSdf> view_sdfs(const Views& views) {
+    // The views' fields are independent: built side by side. The first failing view in
+    // order is reported, whichever thread found it first.
+    std::vector<ViewSdf> out(views.views.size());
     std::vector<std::string> errors(views.views.size());
     tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
         const View& v = views.views[i];
         try {
-            views_[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
+            out[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
         } catch (const std::exception& e) {
             errors[i] = e.what();
         }
     });
     for (const auto& e : errors)
         if (!e.empty()) throw Error(e);
+    return out;
+}
+
+HullDistance::HullDistance(const Views& views) {
+    if (views.views.empty()) throw Error("the hull constraint needs at least one view");
+    finest_pixel_ = views.finest_pixel();
+    views_ = view_sdfs(views);
 }
 
 double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {

@@ -33,6 +33,16 @@ struct SilhouetteSdf {
 /// @throw cm::Error when the mask has no inside pixel.
 SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int width, int height, const std::string& view_name);
 
+/// A view's camera and the signed distance field of its drawing.
+struct ViewSdf {
+    Camera camera;
+    SilhouetteSdf sdf;
+};
+
+/// The fields of every view, built side by side (each is parallel inside too).
+/// @throw cm::Error naming the first view in order whose silhouette is empty.
+std::vector<ViewSdf> view_sdfs(const Views& views);
+
 class HullDistance {
 public:
     /// @throw cm::Error naming the view when a view has an empty silhouette.
@@ -52,10 +62,7 @@ public:
     double finest_pixel() const { return finest_pixel_; }
 
 private:
-    struct Entry {
-        Camera camera;
-        SilhouetteSdf sdf;
-    };
+    using Entry = ViewSdf;
     // View e's distance at p in world units.
     double view_distance(const Entry& e, const Vec3d& p) const;
     std::vector<Entry> views_;

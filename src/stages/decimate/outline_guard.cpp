@@ -3,13 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <string>
 
-#include <tbb/parallel_for.h>
-
-#include "core/error.h"
 #include "mesh_decimate_internal.h"
 
 namespace cm {
@@ -39,20 +34,7 @@ double nearest_on_segment(const Vec2d& p, const Vec2d& a, const Vec2d& b, Vec2d&
 
 } // namespace
 
-OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : tol_(tolerance_px) {
-    views_.resize(views.views.size());
-    std::vector<std::string> errors(views.views.size());
-    tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
-        const View& v = views.views[i];
-        try {
-            views_[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
-        } catch (const std::exception& e) {
-            errors[i] = e.what();
-        }
-    });
-    for (const auto& e : errors)
-        if (!e.empty()) throw Error(e);
-}
+OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : views_(view_sdfs(views)), tol_(tolerance_px) {}
 
 bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const {
     // v's ring (each neighbour follows v in one face), the new faces as indices into it

@@ -33,10 +33,7 @@ public:
     bool keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const;
 
 private:
-    struct Entry {
-        Camera camera;
-        SilhouetteSdf sdf;
-    };
+    using Entry = ViewSdf;
     std::vector<Entry> views_;
     double tol_;
 };
