@@ -640,8 +640,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     std::vector<Coord> hull_origin(nleaf);
     tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
         hull_origin[l] = leaves.leaf(l).origin();
-        for (openvdb::Index w = 0; w < 8; ++w)
-            hull_masks[l][w] = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
+        hull_masks[l] = leaf_mask(leaves.leaf(l));
     });
     // 6. The output occupancy: removed voxels off; leaves full with 26 full neighbours back
     // to tiles (so every inside point next to the outside stays a leaf voxel, volume.h).
@@ -686,11 +685,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
             if (!near_cut[l]) return;
             // Leaf masks, now and in the hull (the removal only took voxels of existing leaves).
-            auto now_of = [&](std::uint32_t k) {
-                LeafColumns::Mask m;
-                for (openvdb::Index w = 0; w < 8; ++w) m[w] = leaves.leaf(k).getValueMask().getWord<std::uint64_t>(w);
-                return m;
-            };
+            auto now_of = [&](std::uint32_t k) { return leaf_mask(leaves.leaf(k)); };
             const LeafColumns::Mask now = now_of(std::uint32_t(l));
             for (int a = 0; a < 3; ++a) {
                 LeafColumns::Mask on[2], was[2], nm;
@@ -762,9 +757,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
     // of sight loses a voxel).
     {
         std::vector<LeafColumns::Mask> kept(nleaf);
-        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
-            for (openvdb::Index w = 0; w < 8; ++w) kept[l][w] = leaves.leaf(l).getValueMask().getWord<std::uint64_t>(w);
-        });
+        tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) { kept[l] = leaf_mask(leaves.leaf(l)); });
         std::size_t joined = 0;
         const std::vector<Coord> path = bridges(leaves, nbr, hull_masks, kept, std::max(8, maxdim / 16), &joined);
         // A path one voxel wide would be a strand a cell thin in the mesh: it is thickened by

@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "core/views.h"
+#include "leaf_masks.h"
 
 namespace cm::plausible {
 
@@ -137,7 +138,7 @@ private:
 // before it, in LeafManager order) plus its rank among its leaf's on voxels.
 class LeafColumns {
 public:
-    using Mask = std::array<std::uint64_t, 8>; ///< a leaf's 512 voxels, as its value mask's words
+    using Mask = LeafMask;
     LeafColumns(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<std::size_t>& base);
     /// body(coord of the column's first voxel, indices, coordinates along the axis, count) for
     /// every non-empty column along `axis`, in parallel over leaf stacks (a column lies in one).
@@ -181,10 +182,7 @@ void LeafColumns::for_column_points(int axis, Body&& body) const {
     tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
         std::uint64_t have = 0;
         for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
-            Mask m;
-            for (openvdb::Index w = 0; w < 8; ++w)
-                m[w] = leaves_.leaf(order[k]).getValueMask().template getWord<std::uint64_t>(w);
-            have |= column_bits(m, axis);
+            have |= column_bits(leaf_mask(leaves_.leaf(order[k])), axis);
         }
         const Coord origin = leaves_.leaf(order[stack[s]]).origin();
         for (; have; have &= have - 1) {
@@ -209,10 +207,7 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
             std::uint64_t have = 0, skipped = 0;
             for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
                 const std::uint32_t l = order[k];
-                Mask m;
-                for (openvdb::Index w = 0; w < 8; ++w)
-                    m[w] = leaves_.leaf(l).getValueMask().template getWord<std::uint64_t>(w);
-                have |= column_bits(m, axis);
+                have |= column_bits(leaf_mask(leaves_.leaf(l)), axis);
                 skipped |= column_bits((*skip)[l], axis);
             }
             wanted = have & ~skipped;
@@ -253,48 +248,6 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
             if (cnt[col]) body(first[col], idx + col * cap, along + col * cap, cnt[col]);
     });
 }
-
-/// A hash key of a leaf origin (21 bits of each coordinate's leaf index).
-inline std::uint64_t leaf_key(const Coord& o) {
-    return (std::uint64_t(std::uint32_t(o.x()) >> 3) & 0x1fffff) << 42 |
-           (std::uint64_t(std::uint32_t(o.y()) >> 3) & 0x1fffff) << 21 |
-           (std::uint64_t(std::uint32_t(o.z()) >> 3) & 0x1fffff);
-}
-constexpr std::uint32_t kNoLeaf = ~std::uint32_t(0);
-/// Each leaf's face neighbours (0: -x, 1: +x, 2: -y, 3: +y, 4: -z, 5: +z) as LeafManager
-/// indices, kNoLeaf where the tree has none.
-std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves);
-/// For each voxel of a leaf, whether its neighbour in direction d (as above) is in `own`
-/// (the leaf's mask) or, across the face, in `next` (the mask of the leaf beside it that
-/// way; none when null).
-LeafColumns::Mask neighbour_in(const LeafColumns::Mask& own, const LeafColumns::Mask* next, int d);
-
-/// The voxels of `through` (per leaf, in LeafManager order) reached from those of `seed` by
-/// 6-neighbour steps within `through` (a step from a seed into `through` included; with
-/// `missing_is_seed`, from every point of a leaf the manager lacks). Bit-parallel: a leaf's
-/// 512 voxels at a time, dilated by shifts of its mask words to a fixed point, then across its
-/// faces to the next leaves, until nothing grows.
-std::vector<LeafColumns::Mask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                                     const std::vector<LeafColumns::Mask>& seed,
-                                     const std::vector<LeafColumns::Mask>& through, bool missing_is_seed);
-
-/// The kept volume (`kept`, per leaf, within `hull`) as one piece: its pieces apart from the
-/// main body (the piece of the fullest leaf) are joined to it by bridges through the hull's
-/// removed voxels, each the shortest 6-connected path (breadth-first, at most `max_steps`
-/// voxels) from the main body to the piece. Returns the voxels of the bridges; `pieces`
-/// gets the number of pieces joined. Pieces of the hull itself apart from the rest (no path
-/// within the hull) stay apart.
-std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                           const std::vector<std::array<std::uint32_t, 6>>& nbr,
-                           const std::vector<LeafColumns::Mask>& hull, const std::vector<LeafColumns::Mask>& kept,
-                           int max_steps, std::size_t* pieces);
-
-/// Of the voxels of `removed` (per leaf, in LeafManager order; a subset of the voxels of
-/// `hull`), those in 6-connected pieces of removed voxels that reach no point outside `hull`:
-/// pockets sealed inside what is kept (what a flood from the outside through them misses).
-std::vector<LeafColumns::Mask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                                              const std::vector<LeafColumns::Mask>& hull,
-                                              const std::vector<LeafColumns::Mask>& removed);
 
 // The signed distance (grid cells, negative inside) to a union of balls, kept on a coarse
 // dense lattice (`f` grid cells a coarse cell) over a box of the grid and sampled
