@@ -1,4 +1,5 @@
-// The steps of hull.plausible (plausible.cpp) that are not its algorithm: the grid's lattice,
+// The steps of hull.plausible (plausible.cpp) that are not its algorithm: the drawing's
+// profile and local inscribed radius, the grid's lattice,
 // each view's lines of sight laid out as a raster at the grid's pitch, a parallel stable
 // counting sort, the filters over rasters and grids that smooth the profiles and the field,
 // and the union of balls by which the volume swells to the lines of sight it must cover.
