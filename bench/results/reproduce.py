@@ -22,6 +22,7 @@ import math
 import os
 import platform
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -30,6 +31,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 HERE = os.path.join(ROOT, "bench", "results")
 MODELS_DIR = os.path.join(ROOT, "..", "shared", "data", "models")
 PAPER_XOR = {8: 20.78, 4: 3.78}  # the paper's errors at grids 8x and 4x coarser than the images
+LAST_STDERR = ""  # what the last timed() run wrote to stderr
 PEER_PACKAGES = ["python3-skimage", "python3-open3d", "python3-openvdb", "python3-matplotlib", "python3-scipy"]
 
 
@@ -53,12 +55,34 @@ def models_list():
     return out
 
 
-def timed(cmd, cwd=ROOT, check=True):
-    """Runs cmd under /usr/bin/time -v: (stdout, wall s, cpu s, peak MiB, exit code)."""
+def limit_memory(mib):
+    """A preexec_fn capping the child's address space at mib MiB (a peer that asks for more fails
+    at once with MemoryError instead of taking the machine's memory and swap)."""
+    def apply():
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (mib << 20, mib << 20))
+    return apply
+
+
+def timed(cmd, cwd=ROOT, check=True, limit_s=None, limit_mib=None):
+    """Runs cmd under /usr/bin/time -v: (stdout, wall s, cpu s, peak MiB, exit code). With limit_s,
+    a run still going after limit_s seconds is stopped and its exit code is None."""
     log = os.path.join(WORK, "time.log")
     t0 = time.monotonic()
-    p = subprocess.run(["/usr/bin/time", "-v", "-o", log] + cmd, cwd=cwd, capture_output=True, text=True)
+    # A session of its own, so that a run past its time is stopped with everything it started.
+    proc = subprocess.Popen(["/usr/bin/time", "-v", "-o", log] + cmd, cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=limit_memory(limit_mib) if limit_mib else None)
+    try:
+        out, err = proc.communicate(timeout=limit_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return "", time.monotonic() - t0, 0.0, 0.0, None
+    p = subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
     wall = time.monotonic() - t0
+    global LAST_STDERR
+    LAST_STDERR = p.stderr
     cpu, peak = 0.0, 0.0
     for line in open(log):
         k, _, v = line.strip().partition(": ")
@@ -112,6 +136,10 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer models and resolutions (under 5 minutes)")
     ap.add_argument("--build", default="build/release")
     ap.add_argument("--out", default="docs/results")
+    ap.add_argument("--peer-limit", type=int, default=240, metavar="S",
+                    help="seconds a peer may run at one resolution before it is stopped (default 240)")
+    ap.add_argument("--peer-memory", type=int, default=0, metavar="MIB",
+                    help="address space a peer may take (default: 70 %% of the machine's memory)")
     a = ap.parse_args()
     global CM, WORK
     build = a.build if os.path.isabs(a.build) else os.path.join(ROOT, a.build)
@@ -258,6 +286,8 @@ def main():
     print("4/5 peers", file=sys.stderr)
     peers = os.path.join(HERE, "peers.py")
     peer_rows = []
+    mem_total_mib = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") >> 20
+    peer_mib = a.peer_memory or int(0.7 * mem_total_mib)
     for res in peer_res:
         ours = run_pipeline(os.path.join(HERE, "eval.yaml"), views1k, res,
                             ["--set", "write.path=" + os.path.join(WORK, "ours.ply")])
@@ -272,9 +302,13 @@ def main():
                 cmd.append(str(target))
             if os.path.exists(mesh):
                 os.remove(mesh)
-            _, wall, cpu, peak, code = timed(cmd, check=False)
+            _, wall, cpu, peak, code = timed(cmd, check=False, limit_s=a.peer_limit, limit_mib=peer_mib)
+            if code is None:
+                row[peer] = ("did not finish in %d s (stopped)" % a.peer_limit,)
+                continue
             if code != 0:
-                row[peer] = ("failed (exit %d%s)" % (code, ", out of memory" if code in (-9, 137) else ""),)
+                oom = code in (-9, 137) or "MemoryError" in LAST_STDERR or "bad_alloc" in LAST_STDERR
+                row[peer] = ("failed (exit %d%s)" % (code, ", out of memory (limit %d MiB)" % peer_mib if oom else ""),)
                 continue
             xor = None
             if peer != "o3d":
@@ -361,7 +395,10 @@ def main():
               "smoothing, 10 iterations, and quadric decimation to our face count); (b) **Open3D "
               "carve_silhouette** (`VoxelGrid.carve_silhouette`, carve only, no mesh, so no xor); (c) **OpenVDB "
               "volumeToMesh** (`pyopenvdb` `convertToPolygons` on the same numpy carve). Ratios are peer / ours "
-              "(above 1: we are faster, lighter or more accurate). Peer (c) is phase 1 only (carve and mesh, no smoothing or reduction, about a million faces out) against our whole pipeline, so its time ratio compares different work.\n")
+              "(above 1: we are faster, lighter or more accurate). Peer (c) is phase 1 only (carve and mesh, no smoothing or reduction, about a million faces out) against our whole pipeline, so its time ratio compares different work. "
+              "Each peer run may take %d s and %d MiB of address space (`--peer-limit`, `--peer-memory`): a run "
+              "past the time is stopped and reported as not finished; one past the memory fails and is reported "
+              "as out of memory.\n" % (a.peer_limit, peer_mib))
     md.append("| resolution | ours: wall s / CPU s / MiB / xor_pct | peer | wall s | CPU s | MiB | xor_pct | time ratio | memory ratio | xor ratio |")
     md.append("|---:|---|---|---:|---:|---:|---:|---:|---:|---:|")
     names = {"dense": "(a) dense numpy + scikit-image + Open3D", "o3d": "(b) Open3D carve_silhouette",
