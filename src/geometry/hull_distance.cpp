@@ -113,12 +113,16 @@ double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
     return px * pixel_size;
 }
 
-void HullDistance::prefetch(const Vec3d& p) const {
-    for (const auto& e : views_) {
+void HullDistance::prefetch(const Vec3d& p) const { prefetch(p, all_views()); }
+
+void HullDistance::prefetch(const Vec3d& p, ViewMask views) const {
+    for (std::size_t i = 0; i < views_.size(); ++i) {
+        if (i < 32 && !(views >> i & 1u)) continue;
+        const Entry& e = views_[i];
         const Vec2d q = e.camera.project(p);
         if (!(q.x >= 1.5 && q.y >= 1.5 && q.x < e.sdf.width - 2.5 && q.y < e.sdf.height - 2.5)) continue;
-        const std::size_t i = std::size_t(q.y - 0.5) * std::size_t(e.sdf.width) + std::size_t(q.x - 0.5);
-        const float* row = e.sdf.sdf.data() + i;
+        const std::size_t at = std::size_t(q.y - 0.5) * std::size_t(e.sdf.width) + std::size_t(q.x - 0.5);
+        const float* row = e.sdf.sdf.data() + at;
         __builtin_prefetch(row - e.sdf.width);
         __builtin_prefetch(row);
         __builtin_prefetch(row + e.sdf.width);
@@ -130,6 +134,31 @@ double HullDistance::operator()(const Vec3d& p) const {
     double best = -std::numeric_limits<double>::infinity();
     for (const auto& e : views_) best = std::max(best, view_distance(e, p));
     return best;
+}
+
+double HullDistance::distance(const Vec3d& p, ViewMask views) const {
+    double best = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < views_.size(); ++i)
+        if (i >= 32 || views >> i & 1u) best = std::max(best, view_distance(views_[i], p));
+    return best;
+}
+
+bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first, ViewMask views, double& largest) const {
+    const std::size_t n = views_.size();
+    if (first >= n) first = 0;
+    largest = -std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = (first + k) % n;
+        if (i < 32 && !(views >> i & 1u)) continue;
+        const double d = view_distance(views_[i], p);
+        if (d > bound) {
+            first = i;
+            largest = d;
+            return false;
+        }
+        largest = std::max(largest, d);
+    }
+    return std::fabs(largest) <= bound;
 }
 
 bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first) const {

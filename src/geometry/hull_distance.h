@@ -10,6 +10,7 @@
 // distance; on the hull's surface it is zero; inside it is the distance to the
 // nearest silhouette border seen by any view (the shallowest one).
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "core/vec.h"
@@ -60,6 +61,29 @@ public:
     void prefetch(const Vec3d& p) const;
     /// Pixel size of the finest view, world units.
     double finest_pixel() const { return finest_pixel_; }
+
+    // Per view, for callers that know some views are far inside at a point (a vertex deep
+    // inside a view's silhouette moves a little and is still deep inside it): the max of
+    // operator() over a subset of the views, the subset as a bit set (bit i: view i).
+    using ViewMask = std::uint32_t;
+    std::size_t view_count() const { return views_.size(); }
+    /// All views; views beyond the 32 a mask holds are always asked.
+    ViewMask all_views() const { return views_.size() >= 32 ? ~ViewMask(0) : (ViewMask(1) << views_.size()) - 1; }
+    /// View i's signed distance at p, world units (operator() is the largest of these).
+    double view_distance(std::size_t i, const Vec3d& p) const { return view_distance(views_[i], p); }
+    /// How much a view's distance can change per world unit p moves, for the views whose
+    /// distance at p can be bounded so (orthographic ones); 0 for the others, which a caller
+    /// must always ask. The fields are bilinear samples of an exact distance transform,
+    /// refined within half a pixel of the border: at most 2 per pixel along a pixel edge, so
+    /// at most 2 sqrt(2) per pixel in any direction; 4 leaves room for rounding.
+    double lipschitz(std::size_t i) const { return i < 32 && views_[i].camera.orthographic() ? 4.0 : 0.0; }
+    /// The largest distance over the views in `views` (minus infinity when there is none).
+    double distance(const Vec3d& p, ViewMask views) const;
+    /// within() over the views in `views`: false as soon as one of them puts p farther out
+    /// than `bound`; otherwise their largest distance, in `largest`, decides.
+    bool within(const Vec3d& p, double bound, std::size_t& first, ViewMask views, double& largest) const;
+    /// prefetch() for the views in `views`.
+    void prefetch(const Vec3d& p, ViewMask views) const;
 
 private:
     using Entry = ViewSdf;

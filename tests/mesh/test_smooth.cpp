@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
@@ -39,6 +41,43 @@ TEST(VertexAdjacency, IcosahedronHasFiveNeighboursEach) {
     for (std::uint32_t v = 0; v < 12; ++v) {
         EXPECT_EQ(adj.degree(v), 5u);
         for (auto it = adj.begin(v); it != adj.end(v); ++it) EXPECT_NE(*it, v);
+    }
+}
+
+// The one-rings as sets, the slow way, for any triangle soup.
+std::vector<std::vector<std::uint32_t>> rings_by_sets(const Mesh& m) {
+    std::vector<std::set<std::uint32_t>> s(m.positions.size());
+    for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k)
+            for (int j = 1; j < 3; ++j)
+                if (t[(k + j) % 3] != t[k]) s[t[k]].insert(t[(k + j) % 3]);
+    std::vector<std::vector<std::uint32_t>> out;
+    for (const auto& x : s) out.emplace_back(x.begin(), x.end());
+    return out;
+}
+
+// Closed oriented meshes take the short way (each neighbour once as the corner after v);
+// open, non-manifold and degenerate ones the general one: both give the sorted rings.
+TEST(VertexAdjacency, SortedRingsOfClosedOpenNonManifoldAndDegenerateMeshes) {
+    std::vector<Mesh> meshes;
+    meshes.push_back(test::make_sphere({0, 0, 0}, 1.0f, 3)); // closed
+    meshes.push_back(test::make_grid_box(-1.0f, 1.0f, 5));   // closed, valence 4 to 6
+    Mesh open = meshes[0];
+    open.triangles.resize(open.triangles.size() / 2); // a boundary: corners before v not after it
+    meshes.push_back(open);
+    Mesh fins; // three triangles on one edge (0, 1)
+    fins.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {5, 5, 5}};
+    fins.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+    meshes.push_back(fins);
+    Mesh degenerate = meshes[0];
+    degenerate.triangles.push_back({0, 0, 1}); // names 0 as its own neighbour
+    meshes.push_back(degenerate);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const VertexAdjacency adj = build_vertex_adjacency(meshes[i]);
+        const auto want = rings_by_sets(meshes[i]);
+        ASSERT_EQ(adj.vertex_count(), want.size()) << "mesh " << i;
+        for (std::uint32_t v = 0; v < want.size(); ++v)
+            ASSERT_EQ(std::vector<std::uint32_t>(adj.begin(v), adj.end(v)), want[v]) << "mesh " << i << " vertex " << v;
     }
 }
 
@@ -203,6 +242,39 @@ TEST(Smooth, HullConstraintKeepsVerticesOnTheOutline) {
     EXPECT_LE(max_abs_hull(held, hull), tol * (1 + 1e-6));
     EXPECT_TRUE(check_mesh(held).closed_manifold());
     EXPECT_GT(check_mesh(held).signed_volume, 0.97 * 8.0);
+}
+
+// Views that see a vertex far inside are not asked while it stays near: the positions are the
+// same as when every view is asked at every step (bit for bit), and most steps skip a view.
+TEST(Smooth, SkippingViewsFarInsideGivesTheSamePositions) {
+    const Views views = test::make_box_views(-1.0f, 1.0f, 256);
+    const HullDistance hull(views);
+    const double tol = 0.5 * hull.finest_pixel();
+    Mesh box = test::make_grid_box(-1.0f, 1.0f, 24);
+    test::add_radial_noise(box, {0, 0, 0}, 0.004f); // steps of several pixels, some clamped
+    Mesh sphere = test::make_sphere({0, 0, 0}, 0.7f, 4);
+    test::add_radial_noise(sphere, {0, 0, 0}, 0.03f);
+    for (const bool inside : {false, true})
+        for (const Mesh* in : {&box, &sphere}) {
+            SmoothOptions o;
+            o.iterations = 10;
+            o.hull = &hull;
+            o.tolerance = tol;
+            o.inside_free = inside;
+            Mesh skipped = *in, asked = *in;
+            const SmoothStats a = smooth_mesh(skipped, o);
+            o.skip_far_views = false;
+            const SmoothStats b = smooth_mesh(asked, o);
+            const char* what = in == &box ? "box" : "sphere";
+            EXPECT_EQ(b.skipping_steps, 0u);
+            EXPECT_GT(a.skipping_steps, in->positions.size() * o.iterations / 2) << what << " inside " << inside;
+            EXPECT_EQ(a.clamped_steps, b.clamped_steps) << what << " inside " << inside;
+            if (in == &box) {
+                EXPECT_GT(a.clamped_steps, 100u);
+            }
+            for (std::size_t v = 0; v < in->positions.size(); ++v)
+                ASSERT_EQ(skipped.positions[v], asked.positions[v]) << what << " inside " << inside << " vertex " << v;
+        }
 }
 
 // constrain: inside (a surface carved inside the hull, hull.plausible): vertices on the hull

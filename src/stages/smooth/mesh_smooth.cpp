@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -19,19 +21,82 @@ namespace {
 
 constexpr int kBisections = 8;
 
+// The views a vertex's hull distance is asked of. The hull distance is the largest of the
+// views' distances, and near the hull (where the constraint binds) one view gives it while
+// the others see the vertex far inside their silhouettes. A view whose distance at the
+// vertex is below -tol by a margin cannot reach -tol before the vertex has moved by
+// margin / lipschitz, so until then it is not asked: every answer stays the same (each test
+// below is decided by the asked views whenever a skipped view could not change it, and asks
+// every view otherwise), at about one view's samples per step instead of all of them.
+struct AskedViews {
+    const HullDistance* hull = nullptr;
+    double tol = 0;
+    std::vector<HullDistance::ViewMask> mask; // per vertex: the views to ask
+    std::vector<float> slack;                 // per vertex: how far it may move before a skipped view could matter
+
+    bool skip = true;
+    std::atomic<std::size_t> skipping_steps{0};
+    AskedViews(const HullDistance* h, double t, std::size_t n, bool skip_far) : hull(h), tol(t), skip(skip_far) {
+        if (!h) return;
+        mask.assign(n, h->all_views());
+        slack.assign(n, -1.0f);
+    }
+    // Whether the vertex's mask holds for every point within `reach` of where it is.
+    bool valid(std::size_t v, double reach) const { return double(slack[v]) >= reach; }
+    // The hull distance at q asked of every view; the vertex's mask is made afresh from the
+    // answers, about q: the views it can move well past `reach` from q in before they matter
+    // are skipped.
+    double ask_all(std::size_t v, const Vec3d& q, double reach) {
+        double best = -std::numeric_limits<double>::infinity(), allowance = std::numeric_limits<double>::infinity();
+        HullDistance::ViewMask m = hull->all_views();
+        for (std::size_t i = 0; i < hull->view_count(); ++i) {
+            const double d = hull->view_distance(i, q);
+            best = std::max(best, d);
+            const double lip = hull->lipschitz(i);
+            if (lip <= 0 || !skip) continue;
+            const double room = (-d - tol) / lip; // how far from q view i stays below -tol
+            if (room > 4 * reach) {
+                m &= ~(HullDistance::ViewMask(1) << i);
+                allowance = std::min(allowance, room);
+            }
+        }
+        mask[v] = m;
+        // No view skipped: asked afresh at the next step.
+        slack[v] = m == hull->all_views() ? -1.0f : float(std::min(allowance, 1e30) * (1 - 1e-6));
+        return best;
+    }
+    // With a valid mask, the hull distance at p: exact when it is -tol or more (every
+    // skipped view is below -tol there), and asked of every view otherwise.
+    double distance(std::size_t v, const Vec3d& p) const {
+        const double d = hull->distance(p, mask[v]);
+        return d >= -tol ? d : (*hull)(p);
+    }
+    // With a valid mask, whether the hull distance at p is at most `limit` (>= -tol).
+    bool at_most(std::size_t v, const Vec3d& p, double limit) const { return hull->distance(p, mask[v]) <= limit; }
+    // With a valid mask, HullDistance::within (exact as distance()).
+    bool within(std::size_t v, const Vec3d& p, double bound, std::size_t& first) const {
+        double largest;
+        if (!hull->within(p, bound, first, mask[v], largest)) return false;
+        return largest >= -tol ? true : hull->within(p, bound, first);
+    }
+    void moved(std::size_t v, double by) { slack[v] -= float(by * (1 + 1e-6)); }
+};
+
 // One Jacobi step: dst[v] = src[v] + w * (mean of src over v's neighbours - src[v]).
 // With a hull, the step is shortened so that |hull distance| stays within the
 // tolerance (or does not grow, for a vertex that starts outside the band).
 // `free` (may be null): the vertices that only have to stay inside the hull (within tol).
 std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std::vector<Vec3f>& dst, double w,
-                  const HullDistance* hull, double tol, const std::vector<char>* free) {
+                  AskedViews& asked, const std::vector<char>* free) {
+    const HullDistance* hull = asked.hull;
+    const double tol = asked.tol;
     const std::size_t nv = src.size();
     std::atomic<std::size_t> clamped{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 2048), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::size_t local = 0;
+        std::size_t local = 0, skipping = 0;
         constexpr std::size_t kAhead = 8; // vertices between a prefetch and its use
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            if (hull && v + kAhead < r.end()) hull->prefetch(Vec3d(src[v + kAhead]));
+            if (hull && v + kAhead < r.end()) hull->prefetch(Vec3d(src[v + kAhead]), asked.mask[v + kAhead]);
             const std::uint32_t b = adj.offsets[v], e = adj.offsets[v + 1];
             const Vec3f p = src[v];
             if (b == e) {
@@ -46,42 +111,51 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 continue;
             }
             const Vec3d p0(p), s(step);
-            const double h1 = (*hull)(p0 + s);
-            if (free && (*free)[v]) {
-                if (h1 <= tol) {
-                    dst[v] = p + step;
-                    continue;
-                }
-                double lo = 0, hi = 1; // the step's part that stays inside
+            const double reach = length(s);
+            double lo = 1; // the part of the step taken
+            // The largest part of the step (to 1/2^kBisections) whose end `keeps`.
+            auto bisect = [&](auto&& keeps) {
+                double kept = 0, refused = 1;
                 for (int k = 0; k < kBisections; ++k) {
-                    const double mid = 0.5 * (lo + hi);
-                    if ((*hull)(p0 + s * mid) <= tol) lo = mid;
-                    else hi = mid;
+                    const double mid = 0.5 * (kept + refused);
+                    (keeps(p0 + s * mid) ? kept : refused) = mid;
                 }
-                dst[v] = p + step * float(lo);
-                ++local;
-                continue;
+                return kept;
+            };
+            if (asked.valid(v, reach)) {
+                ++skipping;
+                if (free && (*free)[v]) {
+                    if (!asked.at_most(v, p0 + s, tol))
+                        lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
+                } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
+                    const double bound = std::max(tol, std::fabs(asked.distance(v, p0)));
+                    std::size_t first = 0; // the view that refused the last point
+                    if (std::fabs(h1) > bound)
+                        lo = bisect([&](const Vec3d& x) { return asked.within(v, x, bound, first); });
+                }
+                asked.moved(v, reach * lo);
+            } else {
+                // Every view asked at the end of the step, and the mask made afresh there.
+                const double h1 = asked.ask_all(v, p0 + s, reach);
+                if (free && (*free)[v]) {
+                    if (h1 > tol) lo = bisect([&](const Vec3d& x) { return (*hull)(x) <= tol; });
+                } else if (std::fabs(h1) > tol) {
+                    const double bound = std::max(tol, std::fabs((*hull)(p0)));
+                    std::size_t first = 0;
+                    if (std::fabs(h1) > bound)
+                        lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); });
+                }
+                asked.moved(v, reach * (1 - lo)); // the mask is about p0 + s
             }
-            if (std::fabs(h1) <= tol) {
+            if (lo == 1) {
                 dst[v] = p + step;
                 continue;
-            }
-            const double bound = std::max(tol, std::fabs((*hull)(p0)));
-            if (std::fabs(h1) <= bound) {
-                dst[v] = p + step;
-                continue;
-            }
-            double lo = 0, hi = 1;
-            std::size_t first = 0; // the view that refused the last point
-            for (int k = 0; k < kBisections; ++k) {
-                const double mid = 0.5 * (lo + hi);
-                if (hull->within(p0 + s * mid, bound, first)) lo = mid;
-                else hi = mid;
             }
             dst[v] = p + step * float(lo);
             ++local;
         }
         clamped += local;
+        if (hull) asked.skipping_steps += skipping;
     });
     return clamped.load();
 }
@@ -232,6 +306,7 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const VertexAdjacency adj = build_vertex_adjacency(in);
         std::vector<Vec3f> b(a.size());
         const double tol = opt.tolerance;
+        AskedViews asked(opt.hull, tol, a.size(), opt.skip_far_views);
         // Vertices that start inside the hull, farther than the tolerance, move freely inside it.
         std::vector<char> free_inside;
         if (opt.hull && opt.inside_free) {
@@ -243,15 +318,16 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
         for (int it = 0; it < opt.iterations; ++it) {
             if (opt.method == SmoothOptions::Method::Laplacian) {
-                stats.clamped_steps += relax(adj, a, b, opt.factor, opt.hull, tol, free);
+                stats.clamped_steps += relax(adj, a, b, opt.factor, asked, free);
                 a.swap(b);
             } else {
-                stats.clamped_steps += relax(adj, a, b, opt.lambda, opt.hull, tol, free);
-                stats.clamped_steps += relax(adj, b, a, opt.mu, opt.hull, tol, free);
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free);
             }
             if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
         }
         for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
+        stats.skipping_steps = asked.skipping_steps.load();
     }
     if (opt.guard) guard_surface(in, a, stats);
     if (opt.hull) {

@@ -27,6 +27,11 @@ struct SmoothOptions {
     /// within it; the others (a surface carved inside the hull, hull.plausible) move
     /// freely as long as they stay inside it (within `tolerance`).
     bool inside_free = false;
+    /// With `hull`: a view that sees a vertex far inside its silhouette is not asked again
+    /// until the vertex may have come near enough for its answer to matter (the same result
+    /// either way, about a third of the samples with three views; false asks every view at
+    /// every step).
+    bool skip_far_views = true;
     /// Keep the surface valid: after smoothing, vertices of faces that cross another face,
     /// turn over (normal against the input's) or collapse to zero area are moved back
     /// towards their input positions (half the way, a quarter, then all the way) until no
@@ -37,13 +42,14 @@ struct SmoothOptions {
 };
 
 struct SmoothStats {
-    std::size_t clamped_steps = 0; ///< vertex steps shortened by the hull constraint
-    double max_hull_distance = 0;  ///< largest |hull distance| of a vertex at the end (constrained runs)
-    std::size_t bad_faces = 0;     ///< guard: faces crossing, turned over or collapsed after smoothing
-    std::size_t coincident = 0;    ///< guard: vertices drawn onto another vertex by smoothing
-    std::size_t pulled_back = 0;   ///< guard: vertices moved back towards their input positions
-    std::size_t guard_rounds = 0;  ///< guard: checks run (the first covers every face)
-    std::size_t unresolved = 0;    ///< guard: bad faces left (only when the input had them)
+    std::size_t clamped_steps = 0;  ///< vertex steps shortened by the hull constraint
+    std::size_t skipping_steps = 0; ///< vertex steps that did not ask every view (skip_far_views)
+    double max_hull_distance = 0;   ///< largest |hull distance| of a vertex at the end (constrained runs)
+    std::size_t bad_faces = 0;      ///< guard: faces crossing, turned over or collapsed after smoothing
+    std::size_t coincident = 0;     ///< guard: vertices drawn onto another vertex by smoothing
+    std::size_t pulled_back = 0;    ///< guard: vertices moved back towards their input positions
+    std::size_t guard_rounds = 0;   ///< guard: checks run (the first covers every face)
+    std::size_t unresolved = 0;     ///< guard: bad faces left (only when the input had them)
 };
 
 /// @brief Smooths `mesh` in place (positions; normals are recomputed when present).
