@@ -174,7 +174,10 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
         if (start[b + 1] > start[b]) blocks.push_back(std::uint32_t(b));
 
     // Each block: its faces and vertices as a mesh of their own (positions only: the
-    // surviving vertices keep their input positions and attributes).
+    // surviving vertices keep their input positions and attributes). A block's mesh and
+    // collapser are built twice, once for its starting scores and once to reduce it, so
+    // that no more of them are held at a time than there are threads (all of them at once
+    // were the reduction's peak: on 16 M faces about as much memory as the mesh again).
     struct Block {
         Mesh mesh;
         std::vector<std::uint32_t> input; ///< input vertex of each block vertex
@@ -182,44 +185,54 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
         std::unique_ptr<Collapser> collapser;
         decimate::StartScores start; ///< the candidates and their importance
         std::vector<float> keys;     ///< starting importance of a sample of the candidates
-        std::size_t collapses = 0;
     };
     std::vector<std::unique_ptr<Block>> parts(blocks.size());
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> local_ids(
         [nv] { return std::vector<std::uint32_t>(nv, decimate::kNone); });
     const double limit = opt.max_angle_deg * kPi / 180.0;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
+    auto build = [&](std::size_t i, Block& blk) {
         auto& local = local_ids.local();
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const std::uint32_t b = blocks[i];
-            auto blk = std::make_unique<Block>();
-            Mesh& sub = blk->mesh;
-            auto& global = blk->input;
-            sub.triangles.reserve(start[b + 1] - start[b]);
-            for (std::uint32_t j = start[b]; j < start[b + 1]; ++j) {
-                std::array<std::uint32_t, 3> t = mesh.triangles[faces[j]];
-                for (auto& x : t) {
-                    if (local[x] == decimate::kNone) {
-                        local[x] = std::uint32_t(global.size());
-                        global.push_back(x);
-                    }
-                    x = local[x];
+        const std::uint32_t b = blocks[i];
+        Mesh& sub = blk.mesh;
+        auto& global = blk.input;
+        sub.triangles.reserve(start[b + 1] - start[b]);
+        for (std::uint32_t j = start[b]; j < start[b + 1]; ++j) {
+            std::array<std::uint32_t, 3> t = mesh.triangles[faces[j]];
+            for (auto& x : t) {
+                if (local[x] == decimate::kNone) {
+                    local[x] = std::uint32_t(global.size());
+                    global.push_back(x);
                 }
-                sub.triangles.push_back(t);
+                x = local[x];
             }
-            sub.positions.reserve(global.size());
-            for (auto g : global) sub.positions.push_back(mesh.positions[g]);
-            if (frozen)
-                for (auto g : global) blk->frozen.push_back((*frozen)[g]);
-            for (auto g : global) local[g] = decimate::kNone;
-            blk->collapser = std::make_unique<Collapser>(sub, frozen ? &blk->frozen : nullptr);
+            sub.triangles.push_back(t);
+        }
+        sub.positions.reserve(global.size());
+        for (auto g : global) sub.positions.push_back(mesh.positions[g]);
+        if (frozen)
+            for (auto g : global) blk.frozen.push_back((*frozen)[g]);
+        for (auto g : global) local[g] = decimate::kNone;
+        blk.collapser = std::make_unique<Collapser>(sub, frozen ? &blk.frozen : nullptr);
+    };
+    auto let_go = [](Block& blk) {
+        blk.collapser.reset();
+        blk.mesh = Mesh();
+        std::vector<std::uint32_t>().swap(blk.input);
+        std::vector<char>().swap(blk.frozen);
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            auto blk = std::make_unique<Block>();
+            build(i, *blk);
             // The queue's starting scores, computed here once: a sample of them (every fourth
             // vertex: enough for a quantile) sets where the blocks stop.
             const Collapser& c = *blk->collapser;
+            const std::size_t n = blk->input.size();
             blk->start = decimate::start_scores(
-                c, global.size(), [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit, key); });
-            for (std::uint32_t v = 0; v < global.size(); v += 4)
+                c, n, [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit, key); });
+            for (std::uint32_t v = 0; v < n; v += 4)
                 if (blk->start.cand[v]) blk->keys.push_back(blk->start.keys[v]);
+            let_go(*blk);
             parts[i] = std::move(blk);
         }
     });
@@ -241,6 +254,7 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             Block& blk = *parts[i];
+            build(i, blk);
             collapses[i] =
                 reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr, &blk.start);
             auto& out = kept[i];
