@@ -68,7 +68,9 @@ double SilhouetteSdf::sample(double x, double y) const {
     return beyond > 0 ? std::max(v, 0.0) + beyond : v;
 }
 
-std::vector<ViewSdf> view_sdfs(const Views& views) {
+namespace {
+
+std::vector<ViewSdf> build_view_sdfs(const Views& views) {
     // The views' fields are independent: built side by side. The first failing view in
     // order is reported, whichever thread found it first.
     std::vector<ViewSdf> out(views.views.size());
@@ -86,10 +88,17 @@ std::vector<ViewSdf> view_sdfs(const Views& views) {
     return out;
 }
 
+} // namespace
+
+std::shared_ptr<const std::vector<ViewSdf>> view_sdfs(const Views& views) {
+    return std::static_pointer_cast<const std::vector<ViewSdf>>(views.derived.get(
+        "silhouette_sdf", [&] { return std::make_shared<const std::vector<ViewSdf>>(build_view_sdfs(views)); }));
+}
+
 HullDistance::HullDistance(const Views& views) {
     if (views.views.empty()) throw Error("the hull constraint needs at least one view");
     finest_pixel_ = views.finest_pixel();
-    views_ = view_sdfs(views);
+    fields_ = view_sdfs(views);
 }
 
 double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
@@ -116,9 +125,9 @@ double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
 void HullDistance::prefetch(const Vec3d& p) const { prefetch(p, all_views()); }
 
 void HullDistance::prefetch(const Vec3d& p, ViewMask views) const {
-    for (std::size_t i = 0; i < views_.size(); ++i) {
+    for (std::size_t i = 0; i < fields().size(); ++i) {
         if (i < 32 && !(views >> i & 1u)) continue;
-        const Entry& e = views_[i];
+        const Entry& e = fields()[i];
         const Vec2d q = e.camera.project(p);
         if (!(q.x >= 1.5 && q.y >= 1.5 && q.x < e.sdf.width - 2.5 && q.y < e.sdf.height - 2.5)) continue;
         const std::size_t at = std::size_t(q.y - 0.5) * std::size_t(e.sdf.width) + std::size_t(q.x - 0.5);
@@ -132,25 +141,25 @@ void HullDistance::prefetch(const Vec3d& p, ViewMask views) const {
 
 double HullDistance::operator()(const Vec3d& p) const {
     double best = -std::numeric_limits<double>::infinity();
-    for (const auto& e : views_) best = std::max(best, view_distance(e, p));
+    for (const auto& e : fields()) best = std::max(best, view_distance(e, p));
     return best;
 }
 
 double HullDistance::distance(const Vec3d& p, ViewMask views) const {
     double best = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < views_.size(); ++i)
-        if (i >= 32 || views >> i & 1u) best = std::max(best, view_distance(views_[i], p));
+    for (std::size_t i = 0; i < fields().size(); ++i)
+        if (i >= 32 || views >> i & 1u) best = std::max(best, view_distance(fields()[i], p));
     return best;
 }
 
 bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first, ViewMask views, double& largest) const {
-    const std::size_t n = views_.size();
+    const std::size_t n = fields().size();
     if (first >= n) first = 0;
     largest = -std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = (first + k) % n;
         if (i < 32 && !(views >> i & 1u)) continue;
-        const double d = view_distance(views_[i], p);
+        const double d = view_distance(fields()[i], p);
         if (d > bound) {
             first = i;
             largest = d;
@@ -162,12 +171,12 @@ bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first, View
 }
 
 bool HullDistance::within(const Vec3d& p, double bound, std::size_t& first) const {
-    const std::size_t n = views_.size();
+    const std::size_t n = fields().size();
     if (first >= n) first = 0;
     double best = -std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = (first + k) % n;
-        const double d = view_distance(views_[i], p);
+        const double d = view_distance(fields()[i], p);
         if (d > bound) { // the largest is farther still
             first = i;
             return false;

@@ -11,6 +11,7 @@
 // nearest silhouette border seen by any view (the shallowest one).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/vec.h"
@@ -40,9 +41,10 @@ struct ViewSdf {
     SilhouetteSdf sdf;
 };
 
-/// The fields of every view, built side by side (each is parallel inside too).
+/// The fields of every view, built side by side (each is parallel inside too) by the first
+/// caller and kept with the views (Views::derived) for the next.
 /// @throw cm::Error naming the first view in order whose silhouette is empty.
-std::vector<ViewSdf> view_sdfs(const Views& views);
+std::shared_ptr<const std::vector<ViewSdf>> view_sdfs(const Views& views);
 
 class HullDistance {
 public:
@@ -66,17 +68,17 @@ public:
     // inside a view's silhouette moves a little and is still deep inside it): the max of
     // operator() over a subset of the views, the subset as a bit set (bit i: view i).
     using ViewMask = std::uint32_t;
-    std::size_t view_count() const { return views_.size(); }
+    std::size_t view_count() const { return fields().size(); }
     /// All views; views beyond the 32 a mask holds are always asked.
-    ViewMask all_views() const { return views_.size() >= 32 ? ~ViewMask(0) : (ViewMask(1) << views_.size()) - 1; }
+    ViewMask all_views() const { return fields().size() >= 32 ? ~ViewMask(0) : (ViewMask(1) << fields().size()) - 1; }
     /// View i's signed distance at p, world units (operator() is the largest of these).
-    double view_distance(std::size_t i, const Vec3d& p) const { return view_distance(views_[i], p); }
+    double view_distance(std::size_t i, const Vec3d& p) const { return view_distance(fields()[i], p); }
     /// How much a view's distance can change per world unit p moves, for the views whose
     /// distance at p can be bounded so (orthographic ones); 0 for the others, which a caller
     /// must always ask. The fields are bilinear samples of an exact distance transform,
     /// refined within half a pixel of the border: at most 2 per pixel along a pixel edge, so
     /// at most 2 sqrt(2) per pixel in any direction; 4 leaves room for rounding.
-    double lipschitz(std::size_t i) const { return i < 32 && views_[i].camera.orthographic() ? 4.0 : 0.0; }
+    double lipschitz(std::size_t i) const { return i < 32 && fields()[i].camera.orthographic() ? 4.0 : 0.0; }
     /// The largest distance over the views in `views` (minus infinity when there is none).
     double distance(const Vec3d& p, ViewMask views) const;
     /// within() over the views in `views`: false as soon as one of them puts p farther out
@@ -89,7 +91,8 @@ private:
     using Entry = ViewSdf;
     // View e's distance at p in world units.
     double view_distance(const Entry& e, const Vec3d& p) const;
-    std::vector<Entry> views_;
+    const std::vector<Entry>& fields() const { return *fields_; }
+    std::shared_ptr<const std::vector<Entry>> fields_;
     double finest_pixel_ = 1.0;
 };
 

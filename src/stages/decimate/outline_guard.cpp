@@ -63,7 +63,7 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
     });
     Vec2d pr[kMax];
     double sr[kMax];
-    for (const Entry& e : views_) {
+    for (const Entry& e : *views_) {
         const Vec2d pv = e.camera.project(p);
         const double sv = e.sdf.sample(pv.x, pv.y);
         // Every point of the old and the new faces lies within the ring's reach of v, and the

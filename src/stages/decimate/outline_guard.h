@@ -34,7 +34,7 @@ public:
 
 private:
     using Entry = ViewSdf;
-    std::vector<Entry> views_;
+    std::shared_ptr<const std::vector<Entry>> views_;
     double tol_;
 };
 
