@@ -269,33 +269,39 @@ void SelfIntersectionIndex::faces_near(const Vec3f& point, std::vector<std::uint
         out.push_back(std::uint32_t(*it));
 }
 
+void SelfIntersectionIndex::candidates(const Box& b, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (entries_.empty()) return;
+    const Range c = cells(b);
+    for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
+        for (auto y = c.lo[1]; y <= c.hi[1]; ++y)
+            for (auto z = c.lo[2]; z <= c.hi[2]; ++z) {
+                const std::uint64_t cell = key(x, y, z);
+                for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
+                     it != entries_.end() && (*it >> 32) == cell; ++it)
+                    out.push_back(std::uint32_t(*it));
+            }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
 std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::uint32_t>& faces,
                                                        const std::vector<Vec3f>& p) const {
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-            auto& local = found.local();
-            std::vector<std::uint32_t> near;
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const std::uint32_t fa = faces[i];
-                const Range c = cells(box(fa));
-                near.clear();
-                for (auto x = c.lo[0]; x <= c.hi[0]; ++x)
-                    for (auto y = c.lo[1]; y <= c.hi[1]; ++y)
-                        for (auto z = c.lo[2]; z <= c.hi[2]; ++z) {
-                            const std::uint64_t cell = key(x, y, z);
-                            for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
-                                 it != entries_.end() && (*it >> 32) == cell; ++it)
-                                if (std::uint32_t(*it) != fa) near.push_back(std::uint32_t(*it));
-                        }
-                std::sort(near.begin(), near.end());
-                near.erase(std::unique(near.begin(), near.end()), near.end());
-                const Box ba = face_box(p, triangles_[fa]);
-                for (std::uint32_t fb : near)
-                    if (overlap(ba, face_box(p, triangles_[fb])) && triangles_cross(p, triangles_[fa], triangles_[fb]))
-                        local.push_back({std::min(fa, fb), std::max(fa, fb)});
-            }
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          auto& local = found.local();
+                          std::vector<std::uint32_t> near;
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              const std::uint32_t fa = faces[i];
+                              candidates(box(fa), near);
+                              const Box ba = face_box(p, triangles_[fa]);
+                              for (std::uint32_t fb : near)
+                                  if (fb != fa && overlap(ba, face_box(p, triangles_[fb])) &&
+                                      triangles_cross(p, triangles_[fa], triangles_[fb]))
+                                      local.push_back({std::min(fa, fb), std::max(fa, fb)});
+                          }
+                      });
     std::vector<FacePair> pairs;
     for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
     std::sort(pairs.begin(), pairs.end());

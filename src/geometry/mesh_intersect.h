@@ -69,6 +69,9 @@ public:
     /// The faces whose boxes reach the cell holding `point` (into `out`, replacing it): among
     /// them every face with a corner at `point` in either pose.
     void faces_near(const Vec3f& point, std::vector<std::uint32_t>& out) const;
+    /// The faces whose boxes reach a cell that `b` reaches (into `out`, replacing it; sorted,
+    /// unique): among them every face whose box (covering both poses) meets `b`.
+    void candidates(const Box& b, std::vector<std::uint32_t>& out) const;
 
 private:
     struct Range {

@@ -191,9 +191,15 @@ constexpr double kSeparation = 10 * kCoincidentTolerance;
 // vertices that were apart in the input coincide. The umbrella operator (factor 1) draws
 // two vertices with the same ring of neighbours (the two tips of a thin part, one cell
 // across) onto the ring's centroid: an importer welds them and the mesh is pinched there.
+//
+// The first check covers every face at the smoothed positions, with an index of the faces
+// there (one pose: smaller boxes, fewer entries than an index of everything between input and
+// smoothed). The faces around vertices pulled back are then at blends of the two, which
+// that index does not hold: they go into a second, small index covering both poses, and a
+// face checked in a later round is asked of both.
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
-    const std::vector<Vec3f> smoothed = p; // the index covers every blend of input and this
-    const SelfIntersectionIndex index(in.triangles, in.positions, &smoothed);
+    const std::vector<Vec3f> smoothed = p;
+    const SelfIntersectionIndex index(in.triangles, smoothed);
     Vec3f lo, hi;
     in.bounds(lo, hi);
     const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
@@ -249,9 +255,55 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
 
     std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
     // Faces to re-check, vertices moved this round, and the faces the index holds at a moved
-    // vertex's input position (those around the vertex among them: no table of the faces
+    // vertex's smoothed position (those around the vertex among them: no table of the faces
     // around every vertex is built for the few that move).
     std::vector<std::uint32_t> check, moved, near_faces;
+    // The faces that ever had a vertex pulled back (their triangles, and their faces in `in`).
+    std::vector<char> face_moved(in.triangles.size(), 0);
+    std::vector<std::array<std::uint32_t, 3>> moving_tris;
+    std::vector<std::uint32_t> moving_faces;
+    auto swept = [&](std::uint32_t f) { // the box of every blend of the face's two poses
+        const auto& t = in.triangles[f];
+        SelfIntersectionIndex::Box b{in.positions[t[0]], in.positions[t[0]]};
+        for (const auto* pose : {&in.positions, &smoothed})
+            for (auto v : t) b = {vmin(b.lo, (*pose)[v]), vmax(b.hi, (*pose)[v])};
+        return b;
+    };
+    auto box_now = [&](std::uint32_t f) {
+        const auto& t = in.triangles[f];
+        return SelfIntersectionIndex::Box{vmin(p[t[0]], vmin(p[t[1]], p[t[2]])), vmax(p[t[0]], vmax(p[t[1]], p[t[2]]))};
+    };
+    auto meet = [](const SelfIntersectionIndex::Box& a, const SelfIntersectionIndex::Box& b) {
+        return !(a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
+                 b.lo.z > a.hi.z);
+    };
+    // The crossing pairs at p with a face in `faces`: the other face is in `index` at its
+    // smoothed position, or among the moving faces.
+    auto crossings_of = [&](const std::vector<std::uint32_t>& faces, const SelfIntersectionIndex& moving) {
+        tbb::enumerable_thread_specific<std::vector<FacePair>> found;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const auto& r) {
+            auto& local = found.local();
+            std::vector<std::uint32_t> near, more;
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const std::uint32_t fa = faces[i];
+                const SelfIntersectionIndex::Box reach = swept(fa), now = box_now(fa);
+                index.candidates(reach, near);
+                moving.candidates(reach, more);
+                for (auto& k : more) k = moving_faces[k];
+                near.insert(near.end(), more.begin(), more.end());
+                std::sort(near.begin(), near.end());
+                near.erase(std::unique(near.begin(), near.end()), near.end());
+                for (std::uint32_t fb : near)
+                    if (fb != fa && meet(now, box_now(fb)) && triangles_cross(p, in.triangles[fa], in.triangles[fb]))
+                        local.push_back({std::min(fa, fb), std::max(fa, fb)});
+            }
+        });
+        std::vector<FacePair> pairs;
+        for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+        std::sort(pairs.begin(), pairs.end());
+        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+        return pairs;
+    };
     std::vector<char> marked(p.size(), 0);
     while (!bad.empty() || !badv.empty()) {
         moved.clear();
@@ -284,7 +336,7 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         check.clear();
         for (auto v : moved) {
             marked[v] = 0;
-            index.faces_near(in.positions[v], near_faces);
+            index.faces_near(smoothed[v], near_faces);
             for (auto f : near_faces) {
                 const auto& t = in.triangles[f];
                 if (t[0] == v || t[1] == v || t[2] == v) check.push_back(f);
@@ -292,7 +344,14 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
         }
         std::sort(check.begin(), check.end());
         check.erase(std::unique(check.begin(), check.end()), check.end());
-        collect(index.involving(check, p), &check);
+        for (auto f : check)
+            if (!face_moved[f]) {
+                face_moved[f] = 1;
+                moving_tris.push_back(in.triangles[f]);
+                moving_faces.push_back(f);
+            }
+        const SelfIntersectionIndex moving(moving_tris, in.positions, &smoothed);
+        collect(crossings_of(check, moving), &check);
     }
 }
 
