@@ -182,6 +182,7 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
         Mesh mesh;
         std::vector<std::uint32_t> input; ///< input vertex of each block vertex
         std::vector<char> frozen;
+        std::vector<char> locks; ///< the collapser's locks, found on the first build
         std::unique_ptr<Collapser> collapser;
         decimate::StartScores start; ///< the candidates and their importance
         std::vector<float> keys;     ///< starting importance of a sample of the candidates
@@ -212,7 +213,8 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
         if (frozen)
             for (auto g : global) blk.frozen.push_back((*frozen)[g]);
         for (auto g : global) local[g] = decimate::kNone;
-        blk.collapser = std::make_unique<Collapser>(sub, frozen ? &blk.frozen : nullptr);
+        blk.collapser =
+            std::make_unique<Collapser>(sub, frozen ? &blk.frozen : nullptr, blk.locks.empty() ? nullptr : &blk.locks);
     };
     auto let_go = [](Block& blk) {
         blk.collapser.reset();
@@ -232,6 +234,7 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
                 c, n, [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit, key); });
             for (std::uint32_t v = 0; v < n; v += 4)
                 if (blk->start.cand[v]) blk->keys.push_back(blk->start.keys[v]);
+            blk->locks = c.locks();
             let_go(*blk);
             parts[i] = std::move(blk);
         }

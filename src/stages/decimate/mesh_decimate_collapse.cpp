@@ -22,7 +22,8 @@ double aspect_ratio(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
 
 } // namespace
 
-Collapser::Collapser(Mesh& m, const std::vector<char>* frozen) : mesh_(m), P_(m.positions), T_(m.triangles) {
+Collapser::Collapser(Mesh& m, const std::vector<char>* frozen, const std::vector<char>* locks)
+    : mesh_(m), P_(m.positions), T_(m.triangles) {
     const std::size_t nv = P_.size(), nf = T_.size();
     vdead_.assign(nv, 0);
     alive_faces_ = nf;
@@ -31,6 +32,13 @@ Collapser::Collapser(Mesh& m, const std::vector<char>* frozen) : mesh_(m), P_(m.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 4096), [&](const auto& r) {
         for (std::size_t f = r.begin(); f != r.end(); ++f) normals_[f] = face_normal(std::uint32_t(f));
     });
+    if (locks && locks->size() == nv) {
+        lock_ = *locks;
+        // locked() counts the vertices locked by their fan: a frozen one is asked (few are).
+        for (std::size_t v = 0; v < nv; ++v)
+            locked_ += lock_[v] && vcount_[v] > 0 && (!(frozen && (*frozen)[v]) || !closed_fan(std::uint32_t(v)));
+        return;
+    }
     // Lock every vertex whose faces do not form one consistently oriented closed fan
     // (boundary, non-manifold edge or vertex, flipped neighbour, huge valence).
     lock_.assign(nv, 0);

@@ -26,7 +26,11 @@ inline Vec3d cross_of(const Vec3d& a, const Vec3d& b, const Vec3d& c) { return c
 class Collapser {
 public:
     /// `frozen` (optional, per vertex): vertices that must stay, on top of the locked ones.
-    Collapser(Mesh& m, const std::vector<char>* frozen);
+    /// `locks` (optional): locks() of a collapser built before over the same mesh and
+    /// `frozen`, taken instead of finding them again.
+    Collapser(Mesh& m, const std::vector<char>* frozen, const std::vector<char>* locks = nullptr);
+    /// Per vertex: whether it may not go (its fan is not closed and consistently oriented, or frozen).
+    const std::vector<char>& locks() const { return lock_; }
 
     std::size_t alive_faces() const { return alive_faces_; }
     std::size_t locked() const { return locked_; }
