@@ -130,11 +130,13 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     // Cells of about two mean face sizes; grown while large faces would fill too many
     // cells or the cells would not fit the 32 bits of a key.
     cell_ = std::max(2.0 * total.diag / double(nf), largest * 1e-6);
+    inv_cell_ = 1.0 / cell_;
     UninitVector<std::uint32_t> offsets(nf + 1);
     for (;;) {
         for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
         if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) {
             cell_ *= 2;
+            inv_cell_ = 1.0 / cell_;
             continue;
         }
         const std::uint64_t limit = 16 * std::uint64_t(nf) + 1024;
@@ -153,6 +155,7 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
         }
         if (sum <= limit) break;
         cell_ *= 2;
+        inv_cell_ = 1.0 / cell_;
     }
     entries_.resize(offsets[nf]);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -188,7 +191,7 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
         const double top = double(dims_[axis] - 1);
         // NaN coordinates (a broken input) land in cell 0 instead of an undefined index.
         auto index = [&](float x) {
-            const double i = std::floor((double(x) - origin_[a]) / cell_);
+            const double i = std::floor((double(x) - origin_[a]) * inv_cell_);
             return std::uint64_t(i > 0 ? std::min(i, top) : 0.0);
         };
         r.lo[axis] = index(b.lo[a]);

@@ -87,7 +87,7 @@ private:
     const std::vector<Vec3f>& a_;
     const std::vector<Vec3f>* b_ = nullptr;
     Vec3d origin_;
-    double cell_ = 1;
+    double cell_ = 1, inv_cell_ = 1; ///< cell size, and its inverse (cells() multiplies)
     std::array<std::uint64_t, 3> dims_{1, 1, 1};
     UninitVector<std::uint64_t> entries_; ///< (cell << 32) | face, sorted
     std::vector<std::size_t> runs_;       ///< starts of the runs of one cell in entries_, then entries_.size()

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -71,6 +72,8 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
     };
     std::vector<Option> options;
     std::vector<Collapser::OldFace> old; // v's faces before the collapse, the same for every target
+    std::optional<OutlineGuard::Samples> samples;
+    if (opt.outline) samples.emplace(nv, opt.outline->view_count());
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
         options.clear();
         const Vec3d p(c.point(v));
@@ -85,7 +88,7 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
             return a.len < b.len;
         });
         for (const auto& o : options)
-            if (c.topology_ok(v, o.w, rv) && (!opt.outline || opt.outline->keeps(c, v, o.w))) {
+            if (c.topology_ok(v, o.w, rv) && (!opt.outline || opt.outline->keeps(c, v, o.w, &*samples))) {
                 w = o.w;
                 return true;
             }

@@ -36,7 +36,7 @@ double nearest_on_segment(const Vec2d& p, const Vec2d& a, const Vec2d& b, Vec2d&
 
 OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : views_(view_sdfs(views)), tol_(tolerance_px) {}
 
-bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const {
+bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w, Samples* samples) const {
     // v's ring (each neighbour follows v in one face), the new faces as indices into it
     // (v replaced by w), and how far the ring reaches from v.
     constexpr int kMax = 64;
@@ -63,9 +63,14 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
     });
     Vec2d pr[kMax];
     double sr[kMax];
-    for (const Entry& e : *views_) {
+    for (std::size_t view = 0; view < views_->size(); ++view) {
+        const Entry& e = (*views_)[view];
+        // A vertex's sample, from the run's samples when given.
+        auto at_vertex = [&](std::uint32_t x, const Vec2d& q) {
+            return samples ? samples->at(x, view, [&] { return e.sdf.sample(q.x, q.y); }) : e.sdf.sample(q.x, q.y);
+        };
         const Vec2d pv = e.camera.project(p);
-        const double sv = e.sdf.sample(pv.x, pv.y);
+        const double sv = at_vertex(v, pv);
         // Every point of the old and the new faces lies within the ring's reach of v, and the
         // distance is 1-Lipschitz: far inside the drawing the view sees no outline move, and
         // well inside it nothing can reach out.
@@ -95,7 +100,7 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         }
         const bool may_grow = sv + reach > tol_;
         if (covered && !may_grow) continue;
-        for (int i = 0; i < nr; ++i) sr[i] = e.sdf.sample(pr[i].x, pr[i].y);
+        for (int i = 0; i < nr; ++i) sr[i] = at_vertex(ring[i], pr[i]);
         const Vec2d pw = pr[iw];
         const double sw = sr[iw];
         auto along = [&](int i, double s) {

@@ -12,7 +12,9 @@
 // Distances are read from each view's signed distance field (src/geometry/hull_distance.h),
 // in that view's pixels, against the drawing itself, so the steps do not add up.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/views.h"
@@ -28,9 +30,28 @@ class OutlineGuard {
 public:
     /// @throw cm::Error naming the view when a view has an empty silhouette.
     OutlineGuard(const Views& views, double tolerance_px);
+    /// The views' distances at the vertices of one collapse run's mesh, kept as they are
+    /// first asked: a collapse moves no vertex, so each vertex is sampled once per view.
+    class Samples {
+    public:
+        Samples(std::size_t vertices, std::size_t views)
+            : d_(vertices * views, std::numeric_limits<double>::quiet_NaN()), views_(views) {}
+        template <typename Sample>
+        double at(std::uint32_t v, std::size_t view, Sample&& sample) {
+            double& d = d_[std::size_t(v) * views_ + view];
+            if (std::isnan(d)) d = sample();
+            return d;
+        }
+
+    private:
+        std::vector<double> d_;
+        std::size_t views_;
+    };
+    std::size_t view_count() const { return views_->size(); }
     /// Whether collapsing v into its neighbour w keeps every view's outline within the
-    /// tolerance of the drawing (see above).
-    bool keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w) const;
+    /// tolerance of the drawing (see above). `samples` (optional): the run's samples at the
+    /// vertices (the same answers, each vertex's samples read once).
+    bool keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w, Samples* samples = nullptr) const;
 
 private:
     using Entry = ViewSdf;
