@@ -38,6 +38,23 @@ struct BackgroundModel {
     }
 };
 
+/// The background colour of each pixel of a w x h image: the model's, or, where `source`
+/// names one (k + 1), the colour of another background found along the border (border
+/// cluster k). Asked per pixel instead of kept in an image-sized array of colours (24 bytes a
+/// pixel: 100 MB for a 2048 px view).
+struct BackgroundField {
+    BackgroundModel model;
+    std::vector<Rgb> others;                            ///< the other backgrounds' colours
+    const std::vector<unsigned char>* source = nullptr; ///< per pixel: 0 (the model) or k + 1
+    int w = 0, h = 0;
+    Rgb of_model(int x, int y) const { return model.at((x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1); }
+    Rgb at(std::size_t i) const {
+        const unsigned char s = source ? (*source)[i] : 0;
+        if (s) return others[s - 1];
+        return of_model(int(i % std::size_t(w)), int(i / std::size_t(w)));
+    }
+};
+
 /// @brief Estimates the background field and its noise (the median distance of the border
 /// to it) from a band along the image border; `option` is auto or a colour (which replaces
 /// the fit). The border samples the field leaves out go to `outliers`, the number of

@@ -29,14 +29,13 @@ struct Region {
 
 } // namespace
 
-std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<double, 3>>& background,
-                                 std::vector<char>& bg) {
+std::size_t remove_ground_shadow(const Image& img, const BackgroundField& background, std::vector<char>& bg) {
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     std::vector<char> like(n, 0), core(n, 0);
     tbb::parallel_for(0, h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w, e = i + std::size_t(w); i < e; ++i)
-            like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background[i]);
+            like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background.at(i));
     });
     // Core: every 8-neighbour is shadow-like or background (not the object's anti-aliased rim).
     tbb::parallel_for(0, h, [&](int y) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "background_model.h"
 #include "io/image_io.h"
 
 namespace cm {
@@ -16,7 +17,6 @@ namespace cm {
 /// them touching the background is a ground shadow when it lies under the object: its
 /// lowest row at or below the object's, its centre below the object's centre, and at most
 /// half the object's height. Returns the number of pixels made background.
-std::size_t remove_ground_shadow(const Image& img, const std::vector<std::array<double, 3>>& background,
-                                 std::vector<char>& bg);
+std::size_t remove_ground_shadow(const Image& img, const BackgroundField& background, std::vector<char>& bg);
 
 } // namespace cm

@@ -62,31 +62,35 @@ public:
     // Each further border colour (a cloth reaching the frame) is a background too where it
     // reaches from the border: there a pixel's distance is to the nearest background, in
     // units of that background's threshold.
+    BackgroundCut(const BackgroundCut&) = delete; // bgc_ points into source_
+    BackgroundCut& operator=(const BackgroundCut&) = delete;
     BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
         : img_(img),
           w_(img.width),
           h_(img.height),
           n_(std::size_t(w_) * h_),
           t_(t),
-          bgc_(n_),
           d_(n_),
           source_(n_, 0),
           bg_(n_, 0) {
+        bgc_.model = model;
+        for (const auto& c : more) bgc_.others.push_back(c.colour);
+        bgc_.source = &source_;
+        bgc_.w = w_;
+        bgc_.h = h_;
         std::vector<std::vector<char>> reach;
         for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         // Each pixel on its own: rows in parallel.
         tbb::parallel_for(0, h_, [&](int y) {
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = std::size_t(y) * w_ + x;
-                bgc_[i] = model.at((x + 0.5) / w_ * 2 - 1, (y + 0.5) / h_ * 2 - 1);
                 const float* p = &img_.pixels[i * 4];
-                d_[i] = colour_distance({p[0], p[1], p[2]}, bgc_[i]);
+                d_[i] = colour_distance({p[0], p[1], p[2]}, bgc_.of_model(x, y));
                 for (std::size_t k = 0; k < more.size(); ++k) {
                     if (!reach[k][i]) continue; // only where that background reaches from the border
                     const double dc = more[k].distance({p[0], p[1], p[2]}) * t_ / more[k].threshold;
                     if (dc < d_[i]) {
                         d_[i] = dc;
-                        bgc_[i] = more[k].colour;
                         source_[i] = static_cast<unsigned char>(k + 1);
                     }
                 }
@@ -285,7 +289,7 @@ private:
         if (o == n) return object ? 1.0f : 0.0f;
         const float* p = &img_.pixels[i * 4];
         const float* q = &img_.pixels[o * 4];
-        const Rgb& b = bgc_[i];
+        const Rgb b = bgc_.at(i);
         double num = 0, den = 0;
         for (int k = 0; k < 3; ++k) {
             num += (p[k] - b[k]) * (q[k] - b[k]);
@@ -300,7 +304,7 @@ private:
     const int w_, h_;
     const std::size_t n_;
     const double t_;
-    std::vector<Rgb> bgc_;              ///< the background colour the model gives each pixel
+    BackgroundField bgc_;               ///< the background colour of each pixel
     std::vector<double> d_;             ///< each pixel's colour distance to it
     std::vector<unsigned char> source_; ///< which background: 0 the border's field, k + 1 the k-th further colour
     std::vector<char> bg_;              ///< background pixels
