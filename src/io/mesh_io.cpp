@@ -4,6 +4,7 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -192,9 +193,26 @@ void write_text(const fs::path& file, const std::string& text, const ChunkProgre
     if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
 }
 
-// OBJ with per-corner UVs (v/vt/vn), a material library and its texture, by hand: OpenMesh
-// writes neither per-corner UVs nor a map_Kd.
-void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
+// Appends the shortest decimal text that reads back as exactly x (std::to_chars): a file
+// read back holds the very floats written, so a sliver face stays a face. Fixed notation
+// with nine decimals (OpenMesh's) keeps only a few digits of small coordinates: vertices
+// near an axis plane were read back onto one line, and a face of theirs as degenerate.
+void put_float(std::string& o, float x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    o.append(buf, r.ptr);
+}
+
+void put_index(std::string& o, std::size_t i) {
+    char buf[24];
+    const auto r = std::to_chars(buf, buf + sizeof buf, i);
+    o.append(buf, r.ptr);
+}
+
+// OBJ by hand: v, then vt (per corner or per vertex) and vn when the mesh has them, and with
+// a texture the material library and the texture beside it (OpenMesh writes neither per-corner
+// UVs nor a map_Kd).
+void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
     const std::string name = wo.name.empty() ? file.stem().string() : wo.name;
     const fs::path mtl_file = wo.mtl_file.empty() ? obj_material_path(file) : wo.mtl_file;
     const fs::path tex_file = wo.texture_file.empty() ? obj_texture_path(file) : wo.texture_file;
@@ -202,13 +220,13 @@ void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteO
     const std::string tex_name = wo.texture_name.empty() ? obj_texture_path(file).filename().string() : wo.texture_name;
     const bool with_tex = obj_has_material(mesh);
     const bool corner = mesh.corner_uvs.size() == mesh.triangles.size() * 3;
+    const bool with_uvs = corner || (!mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size());
     const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size();
     std::string o;
-    o.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * 40);
+    o.reserve(mesh.positions.size() * (with_normals ? 80 : 40) + mesh.triangles.size() * 40);
     o += "# conceptmesh\n";
     if (with_tex) o += "mtllib " + mtl_name + "\n";
     o += "o " + name + "\n";
-    char buf[160];
     // Building the text takes most of the time; the file then goes out in chunks.
     const ChunkProgress build = progress_part(wo.progress, 0, 0.7);
     const double total = double(mesh.positions.size() * 3 + mesh.triangles.size()) + 1;
@@ -216,34 +234,37 @@ void write_textured_obj(const Mesh& mesh, const fs::path& file, const MeshWriteO
     auto tick = [&] {
         if (build && ++done % kProgressEvery == 0) build(double(done) / total);
     };
-    for (const auto& p : mesh.positions) {
+    auto row = [&](const char* tag, const float* x, int n) {
         tick();
-        std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
-        o += buf;
-    }
-    const auto& uvs = corner ? mesh.corner_uvs : mesh.uvs;
-    for (const auto& t : uvs) {
-        tick();
-        std::snprintf(buf, sizeof buf, "vt %.7f %.7f\n", double(t[0]), double(t[1]));
-        o += buf;
-    }
-    if (with_normals)
-        for (const auto& n : mesh.normals) {
-            tick();
-            std::snprintf(buf, sizeof buf, "vn %.6f %.6f %.6f\n", double(n.x), double(n.y), double(n.z));
-            o += buf;
+        o += tag;
+        for (int k = 0; k < n; ++k) {
+            o += ' ';
+            put_float(o, x[k]);
         }
+        o += '\n';
+    };
+    for (const auto& p : mesh.positions) row("v", &p.x, 3);
+    if (with_uvs)
+        for (const auto& t : corner ? mesh.corner_uvs : mesh.uvs) row("vt", t.data(), 2);
+    if (with_normals)
+        for (const auto& n : mesh.normals) row("vn", &n.x, 3);
     if (with_tex) o += "usemtl " + name + "\n";
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
         tick();
-        o += "f";
+        o += 'f';
         for (int k = 0; k < 3; ++k) {
-            const std::size_t v = mesh.triangles[f][k] + 1, t = (corner ? 3 * f + std::size_t(k) : v - 1) + 1;
-            if (with_normals) std::snprintf(buf, sizeof buf, " %zu/%zu/%zu", v, t, v);
-            else std::snprintf(buf, sizeof buf, " %zu/%zu", v, t);
-            o += buf;
+            const std::size_t v = mesh.triangles[f][std::size_t(k)] + 1;
+            o += ' ';
+            put_index(o, v);
+            if (!with_uvs && !with_normals) continue;
+            o += '/';
+            if (with_uvs) put_index(o, corner ? 3 * f + std::size_t(k) + 1 : v);
+            if (with_normals) {
+                o += '/';
+                put_index(o, v);
+            }
         }
-        o += "\n";
+        o += '\n';
     }
     write_text(file, o, progress_part(wo.progress, 0.7, with_tex ? 0.9 : 1.0));
     if (!with_tex) return;
@@ -329,7 +350,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         return write_glb(mesh, file, wo.normals, wo.name, wo.progress);
     }
     const std::string ext = lower_extension(file);
-    if (ext == ".obj" && has_uvs(mesh)) return write_textured_obj(mesh, file, wo);
+    if (ext == ".obj") return write_obj(mesh, file, wo);
     quiet_openmesh();
     // Filling OpenMesh's structure is about a third of the time; the file goes out in chunks.
     const ChunkProgress build = progress_part(wo.progress, 0, 0.3);
@@ -382,8 +403,6 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
                     : nv * (with_normals ? 80 : 40) + 24 * std::uint64_t(nf);
     ProgressFileStream out(file, expected, progress_part(wo.progress, 0.3, 1.0));
     if (!out.is_open()) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
-    // OpenMesh's OBJ writer sets fixed notation on the file it opens itself, not on a stream.
-    if (e == ".obj") out.setf(std::ios::fixed, std::ios::floatfield);
     const bool wrote = OpenMesh::IO::write_mesh(om, out, e, opt, 9);
     if (!out.finish() || !wrote) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
 }
