@@ -2,17 +2,26 @@
 
 #include <limits>
 
+#include <tbb/collaborative_call_once.h>
+
 namespace cm {
+
+struct DerivedData::Slot {
+    tbb::collaborative_once_flag once;
+    std::shared_ptr<const void> item;
+};
 
 std::shared_ptr<const void> DerivedData::get(const std::string& key,
                                              const std::function<std::shared_ptr<const void>()>& make) const {
+    std::shared_ptr<Slot> slot;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (auto it = items_.find(key); it != items_.end()) return it->second;
+        auto& s = items_[key];
+        if (!s) s = std::make_shared<Slot>();
+        slot = s;
     }
-    std::shared_ptr<const void> made = make();
-    std::lock_guard<std::mutex> lock(mutex_);
-    return items_.emplace(key, std::move(made)).first->second;
+    tbb::collaborative_call_once(slot->once, [&] { slot->item = make(); });
+    return slot->item;
 }
 
 double Views::finest_pixel() const {

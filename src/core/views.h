@@ -48,14 +48,17 @@ public:
         items_.clear();
         return *this;
     }
-    /// The item under `key`, made by `make` when there is none yet. Two stages asking at
-    /// once may both make it (it is not made under the lock); one of them is kept.
+    /// The item under `key`, made by `make` when there is none yet. It is made once: a
+    /// stage asking while another makes it helps with that one's parallel work
+    /// (tbb::collaborative_call_once) and then has it. When `make` throws, nothing is kept
+    /// and the next asker makes it.
     std::shared_ptr<const void> get(const std::string& key,
                                     const std::function<std::shared_ptr<const void>()>& make) const;
 
 private:
+    struct Slot;
     mutable std::mutex mutex_;
-    mutable std::map<std::string, std::shared_ptr<const void>> items_;
+    mutable std::map<std::string, std::shared_ptr<Slot>> items_;
 };
 
 struct Views {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -285,6 +286,23 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vect
     res.xor_pct = sum_input > 0 ? 100.0 * sum_xor / sum_input : (sum_xor > 0 ? 100.0 : 0.0);
     res.mean_iou = res.views.empty() ? 0.0 : sum_iou / double(res.views.size());
     return res;
+}
+
+std::shared_ptr<const SilhouetteRenders> shared_silhouette_error(const std::shared_ptr<const Mesh>& mesh,
+                                                                const Views& views, const RenderCheck& check) {
+    auto make = [&] {
+        auto r = std::make_shared<SilhouetteRenders>();
+        r->error = silhouette_error(*mesh, views, &r->masks, check);
+        r->mesh = mesh;
+        return r;
+    };
+    char key[64];
+    std::snprintf(key, sizeof key, "silhouette_error@%p", static_cast<const void*>(mesh.get()));
+    auto kept = std::static_pointer_cast<const SilhouetteRenders>(
+        views.derived.get(key, [&]() -> std::shared_ptr<const void> { return make(); }));
+    // Kept for a mesh since let go, whose memory this one now has: made afresh, not kept.
+    if (kept->mesh.lock() != mesh) return make();
+    return kept;
 }
 
 Camera resized_camera(const Camera& cam, double factor) {

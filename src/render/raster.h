@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,19 @@ struct SilhouetteError {
 SilhouetteError silhouette_error(const Mesh& mesh, const Views& views,
                                  std::vector<std::vector<std::uint8_t>>* masks = nullptr,
                                  const RenderCheck& check = {});
+
+/// The silhouette error of a mesh with its renders (render_mask, one per view).
+struct SilhouetteRenders {
+    SilhouetteError error;
+    std::vector<std::vector<std::uint8_t>> masks;
+    std::weak_ptr<const Mesh> mesh; ///< the mesh they are of
+};
+
+/// @brief silhouette_error() of `mesh` with its renders, made once per mesh and set of views:
+/// the views keep it (Views::derived) for the next stage asking about the same mesh (a run's
+/// preview and error stages render the same masks), and one asking while it is made waits.
+std::shared_ptr<const SilhouetteRenders> shared_silhouette_error(const std::shared_ptr<const Mesh>& mesh,
+                                                                const Views& views, const RenderCheck& check = {});
 
 /// @brief Orthographic camera framed as ../shared/conventions/views.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.

@@ -38,11 +38,13 @@ public:
         auto views = in.get<Views>("views");
         PreviewOptions opt = opt_;
         if (opt.title.empty()) opt.title = path_.stem().string();
-        SilhouetteError err;
         ctx.progress(0, "drawing");
         opt.progress = [&ctx](double f) { ctx.progress(0.9 * f); };
         opt.check = [&ctx] { ctx.check_cancel(); };
-        const Image sheet = make_preview_sheet(*mesh, *views, opt, err);
+        // The renders of eval.silhouette_error on the same mesh, when it made them first.
+        const auto renders = shared_silhouette_error(mesh, *views, opt.check);
+        const SilhouetteError& err = renders->error;
+        const Image sheet = make_preview_sheet(*mesh, *views, opt, *renders);
         ctx.progress(0.9, "writing");
         write_image(sheet, ctx.output_file(path_));
         ctx.metric("path", path_.string());

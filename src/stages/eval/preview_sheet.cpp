@@ -127,13 +127,25 @@ std::string fixed(double v, int digits) {
 Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error) {
     if (views.views.empty()) throw Error("there are no views to preview");
     if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
+    if (opt.progress) opt.progress(0);
+    // The error's renders are the overlays' too.
+    SilhouetteRenders renders;
+    renders.error = silhouette_error(mesh, views, &renders.masks, opt.check);
+    error = renders.error;
+    return make_preview_sheet(mesh, views, opt, renders);
+}
+
+Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt,
+                         const SilhouetteRenders& renders) {
+    if (views.views.empty()) throw Error("there are no views to preview");
+    if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
+    if (renders.masks.size() != views.views.size() || renders.error.views.size() != views.views.size())
+        throw Error("the silhouette renders are not of these views");
     auto step = [&](double f) {
         if (opt.progress) opt.progress(f);
     };
-    step(0);
-    // The error's renders are the overlays' too.
-    std::vector<std::vector<std::uint8_t>> masks;
-    error = silhouette_error(mesh, views, &masks, opt.check);
+    const SilhouetteError& error = renders.error;
+    const auto& masks = renders.masks;
     step(0.3);
     const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
     const int line = 7 * scale + 2 * gap; // a row of text

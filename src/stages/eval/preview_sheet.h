@@ -26,5 +26,9 @@ inline constexpr float kMeshOnly[3] = {0.10f, 0.47f, 0.93f};
 
 /// @brief Builds the sheet (RGB) and fills `error` with the silhouette error it shows.
 Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error);
+/// @brief The sheet of the silhouette error and renders of `mesh` already made (see
+/// shared_silhouette_error).
+Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt,
+                         const SilhouetteRenders& renders);
 
 } // namespace cm

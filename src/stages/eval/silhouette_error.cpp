@@ -32,7 +32,9 @@ public:
         auto views = in.get<Views>("views");
         if (mesh->triangles.empty()) throw Error("the mesh is empty; there is nothing to compare");
         ctx.progress(0.0, "rendering");
-        const SilhouetteError e = silhouette_error(*mesh, *views, nullptr, [&ctx] { ctx.check_cancel(); });
+        // The renders of eval.preview on the same mesh, when it made them first.
+        const auto renders = shared_silhouette_error(mesh, *views, [&ctx] { ctx.check_cancel(); });
+        const SilhouetteError& e = renders->error;
         nlohmann::json j;
         j["xor_pct"] = e.xor_pct;
         j["mean_iou"] = e.mean_iou;
