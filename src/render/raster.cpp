@@ -289,7 +289,7 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vect
 }
 
 std::shared_ptr<const SilhouetteRenders> shared_silhouette_error(const std::shared_ptr<const Mesh>& mesh,
-                                                                const Views& views, const RenderCheck& check) {
+                                                                 const Views& views, const RenderCheck& check) {
     auto make = [&] {
         auto r = std::make_shared<SilhouetteRenders>();
         r->error = silhouette_error(*mesh, views, &r->masks, check);

@@ -73,7 +73,7 @@ struct SilhouetteRenders {
 /// the views keep it (Views::derived) for the next stage asking about the same mesh (a run's
 /// preview and error stages render the same masks), and one asking while it is made waits.
 std::shared_ptr<const SilhouetteRenders> shared_silhouette_error(const std::shared_ptr<const Mesh>& mesh,
-                                                                const Views& views, const RenderCheck& check = {});
+                                                                 const Views& views, const RenderCheck& check = {});
 
 /// @brief Orthographic camera framed as ../shared/conventions/views.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.
