@@ -76,11 +76,13 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         // well inside it nothing can reach out.
         const bool ortho = e.camera.orthographic();
         if (ortho && sv + e.camera.scale * reach3 < -tol_) continue;
-        double reach = 0;
+        double reach2 = 0; // the ring's reach on the image, squared (one root, not one per vertex)
         for (int i = 0; i < nr; ++i) {
             pr[i] = e.camera.project(Vec3d(c.point(ring[i])));
-            reach = std::max(reach, std::hypot(pr[i].x - pv.x, pr[i].y - pv.y));
+            const double dx = pr[i].x - pv.x, dy = pr[i].y - pv.y;
+            reach2 = std::max(reach2, dx * dx + dy * dy);
         }
+        const double reach = std::sqrt(reach2);
         if (sv + reach < -tol_) continue;
         // Recession: v's projection left uncovered by the new faces.
         bool covered = nt == 0;
@@ -124,7 +126,8 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
                 if (i == iw) continue;
                 const double limit = std::max({tol_, sw, sr[i]});
                 // No point of the edge is farther out than (sw + sx + length) / 2.
-                if (sw + sr[i] + std::hypot(pr[i].x - pw.x, pr[i].y - pw.y) <= 2 * limit) continue;
+                const double dx = pr[i].x - pw.x, dy = pr[i].y - pw.y;
+                if (sw + sr[i] + std::sqrt(dx * dx + dy * dy) <= 2 * limit) continue;
                 for (double t : {0.25, 0.5, 0.75})
                     if (along(i, t) > limit) return false;
             }
