@@ -193,6 +193,10 @@ void write_text(const fs::path& file, const std::string& text, const ChunkProgre
     if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
 }
 
+bool has_uvs(const Mesh& m) {
+    return m.corner_uvs.size() == m.triangles.size() * 3 || (!m.uvs.empty() && m.uvs.size() == m.positions.size());
+}
+
 // Appends the shortest decimal text that reads back as exactly x (std::to_chars): a file
 // read back holds the very floats written, so a sliver face stays a face. Fixed notation
 // with nine decimals (OpenMesh's) keeps only a few digits of small coordinates: vertices
@@ -220,7 +224,7 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
     const std::string tex_name = wo.texture_name.empty() ? obj_texture_path(file).filename().string() : wo.texture_name;
     const bool with_tex = obj_has_material(mesh);
     const bool corner = mesh.corner_uvs.size() == mesh.triangles.size() * 3;
-    const bool with_uvs = corner || (!mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size());
+    const bool with_uvs = has_uvs(mesh);
     const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size();
     std::string o;
     o.reserve(mesh.positions.size() * (with_normals ? 80 : 40) + mesh.triangles.size() * 40);
@@ -274,12 +278,6 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
     write_text(tex_file, std::string(png.begin(), png.end()), progress_part(wo.progress, 0.9, 1.0));
 }
 
-} // namespace
-
-namespace {
-bool has_uvs(const Mesh& m) {
-    return m.corner_uvs.size() == m.triangles.size() * 3 || (!m.uvs.empty() && m.uvs.size() == m.positions.size());
-}
 } // namespace
 
 bool obj_has_material(const Mesh& m) { return m.texture && !m.texture->empty() && has_uvs(m); }
