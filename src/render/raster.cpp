@@ -130,10 +130,11 @@ void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
     const int j0 = int(std::max(double(row0), std::ceil(ymin - 0.5)));
     const int j1 = int(std::min(double(row1 - 1), std::floor(ymax - 0.5)));
     const double inv = 1.0 / area;
-    for (int j = j0; j <= j1; ++j) {
+    // The exact test over pixels [s0, s1] of row j.
+    auto row = [&](int j, int s0, int s1) {
         const double y = j + 0.5;
         const std::size_t rowbase = std::size_t(j) * width;
-        for (int i = i0; i <= i1; ++i) {
+        for (int i = s0; i <= s1; ++i) {
             const double x = i + 0.5;
             const double e0 = edge(b, c, x, y);
             if (e0 < 0) continue;
@@ -143,6 +144,42 @@ void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
             if (e2 < 0) continue;
             f(rowbase + i, (e0 * a.k + e1 * b.k + e2 * c.k) * inv);
         }
+    };
+    // A box a few pixels wide is tested whole.
+    if (i1 - i0 < 8) {
+        for (int j = j0; j <= j1; ++j) row(j, i0, i1);
+        return;
+    }
+    // Wider: each edge function is affine along a row; where its slope is not zero, the
+    // pixel centres it keeps lie on one side of where it crosses zero. That span, widened
+    // by a pixel on each side for rounding, bounds the row's pixels, and the exact test
+    // decides each of them: the same pixels as testing the whole box, without visiting
+    // the box of a long thin triangle (what a reduction makes along straight parts).
+    struct Bound {
+        bool lower;       ///< the edge keeps the pixels right of its crossing (else left)
+        double at0, step; ///< its crossing's column index on row j0, and per row
+    };
+    Bound bounds[3];
+    int nb = 0;
+    const SV* ends[3][2] = {{&b, &c}, {&c, &a}, {&a, &b}};
+    for (const auto& e : ends) {
+        const SV &p = *e[0], &q = *e[1];
+        const double slope = -(q.y - p.y); // d edge(p, q, x, y) / dx, either end order
+        // A (nearly) horizontal edge bounds nothing here: along the row its rounding may
+        // outweigh its slope over many pixels, so the exact test alone decides.
+        if (!(std::fabs(slope) >= 1e-6 * std::fabs(q.x - p.x))) continue;
+        const double step = (q.x - p.x) / (q.y - p.y);
+        const double at0 = p.x + step * (j0 + 0.5 - p.y) - 0.5;
+        if (std::isfinite(at0) && std::isfinite(step)) bounds[nb++] = {slope > 0, at0, step};
+    }
+    for (int j = j0; j <= j1; ++j) {
+        double lo = double(i0), hi = double(i1);
+        for (int k = 0; k < nb; ++k) {
+            const double cross = bounds[k].at0 + bounds[k].step * double(j - j0);
+            if (bounds[k].lower) lo = std::max(lo, std::floor(cross) - 1);
+            else hi = std::min(hi, std::ceil(cross) + 1);
+        }
+        row(j, int(std::min(lo, double(i1) + 1)), int(std::max(hi, double(i0) - 1))); // in int range
     }
 }
 

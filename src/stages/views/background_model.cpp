@@ -124,4 +124,29 @@ void background_from_border(const Image& img, const std::string& option, Backgro
     noise = median(kept);
 }
 
+void BackgroundField::model_distance_row(const float* rgba, int y, double* out) const {
+    // The same operations in the same order as colour_distance(pixel, model.at(u, v)), so
+    // each pixel's distance is the same double; only the loop is one the compiler can run
+    // over several pixels at once (no arrays returned per pixel).
+    const double v = (y + 0.5) / h * 2 - 1;
+    const auto& c = model.coef;
+    for (int x = 0; x < w; ++x) {
+        const double u = (x + 0.5) / w * 2 - 1;
+        const double uu = u * u, vv = v * v, uv = u * v;
+        double sum = 0;
+        for (int k = 0; k < 3; ++k) {
+            double m = 0.0;
+            m += c[k][0] * 1.0;
+            m += c[k][1] * u;
+            m += c[k][2] * v;
+            m += c[k][3] * uu;
+            m += c[k][4] * vv;
+            m += c[k][5] * uv;
+            const double d = double(rgba[4 * x + k]) - m;
+            sum += d * d;
+        }
+        out[x] = std::sqrt(sum / 3.0);
+    }
+}
+
 } // namespace cm

@@ -37,6 +37,9 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         for (std::size_t i = std::size_t(y) * w, e = i + std::size_t(w); i < e; ++i)
             like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background.at(i));
     });
+    // Nothing darker with the background's hue (a flat mask, most line art): no shadow, and
+    // none of the passes below has anything to find.
+    if (std::find(like.begin(), like.end(), char(1)) == like.end()) return 0;
     // Core: every 8-neighbour is shadow-like or background (not the object's anti-aliased rim).
     tbb::parallel_for(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {

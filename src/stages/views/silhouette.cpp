@@ -82,10 +82,12 @@ public:
         for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         // Each pixel on its own: rows in parallel.
         tbb::parallel_for(0, h_, [&](int y) {
+            const std::size_t row = std::size_t(y) * w_;
+            bgc_.model_distance_row(&img_.pixels[row * 4], y, &d_[row]);
+            if (more.empty()) return;
             for (int x = 0; x < w_; ++x) {
-                const std::size_t i = std::size_t(y) * w_ + x;
+                const std::size_t i = row + x;
                 const float* p = &img_.pixels[i * 4];
-                d_[i] = colour_distance({p[0], p[1], p[2]}, bgc_.of_model(x, y));
                 for (std::size_t k = 0; k < more.size(); ++k) {
                     if (!reach[k][i]) continue; // only where that background reaches from the border
                     const double dc = more[k].distance({p[0], p[1], p[2]}) * t_ / more[k].threshold;
