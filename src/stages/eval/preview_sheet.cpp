@@ -169,6 +169,21 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
     art.outline_px = 1.0f;
     art.crease_px = 0.6f;
     art.check = opt.check;
+    // 2. the mesh drawn from each view's camera, at the panel's size (its samples give the
+    // anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk): the
+    // views side by side, each drawing's serial passes (its distances to the outline) beside
+    // the others' instead of one after another.
+    std::vector<Image> drawn(static_cast<std::size_t>(nviews));
+    tbb::parallel_for(0, nviews, [&](int v) {
+        const View& view = views.views[std::size_t(v)];
+        const double f = std::min(1.0, double(P) / std::max(view.width, view.height));
+        const int sw = std::max(1, int(std::lround(view.width * f))),
+                  sh = std::max(1, int(std::lround(view.height * f)));
+        // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
+        const Camera small = resized_camera(view.camera, double(sw) / view.width);
+        drawn[std::size_t(v)] = has_colour(mesh) ? render_colour(mesh, small, sw, sh, {1, 1, 1}, opt.check)
+                                                 : render_art(mesh, small, sw, sh, art);
+    });
     for (int v = 0; v < nviews; ++v) {
         step(0.3 + 0.7 * v / nviews);
         const View& view = views.views[std::size_t(v)];
@@ -179,16 +194,8 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         const int py = y0 + line;
         // 1. the input drawing
         if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P, opt.check);
-        // 2. the mesh drawn from the view's camera, at the panel's size (its samples give the
-        // anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk)
-        const double f = std::min(1.0, double(P) / std::max(view.width, view.height));
-        const int sw = std::max(1, int(std::lround(view.width * f))),
-                  sh = std::max(1, int(std::lround(view.height * f)));
-        // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
-        const Camera small = resized_camera(view.camera, double(sw) / view.width);
-        sheet.paste(has_colour(mesh) ? render_colour(mesh, small, sw, sh, {1, 1, 1}, opt.check)
-                                     : render_art(mesh, small, sw, sh, art),
-                    2 * gap + P, py, P, P, opt.check);
+        // 2. the mesh, drawn above
+        sheet.paste(drawn[std::size_t(v)], 2 * gap + P, py, P, P, opt.check);
         // 3. overlay: both grey, input only and mesh only in their colours
         const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
         sheet.paste_pixels(
