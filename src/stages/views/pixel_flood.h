@@ -2,6 +2,7 @@
 // silhouette steps: from the image border through what may be passed, and 8-connected
 // pieces grown from a seed.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -9,13 +10,39 @@ namespace cm {
 
 /// Marks in `reached` every pixel 4-connected to the image border through pixels for which
 /// `passable(p)` holds (and `reached` is not yet set).
+///
+/// Scanline fill: a seed fills its whole run of open pixels along the row, then leaves one
+/// seed for each run of open pixels in that stretch of the rows above and below. The same
+/// pixels as a flood pixel by pixel (the 4-connected component of the open pixels that
+/// holds the border's), in row order and with a stack entry per run instead of per pixel.
 template <typename Passable>
 void flood_from_border(int w, int h, std::vector<char>& reached, Passable passable) {
+    auto open = [&](int p) { return !reached[std::size_t(p)] && passable(p); };
     std::vector<int> stack;
+    auto fill = [&](int p) {
+        const int y = p / w, row = y * w;
+        int l = p - row, r = l;
+        while (l > 0 && open(row + l - 1)) --l;
+        while (r + 1 < w && open(row + r + 1)) ++r;
+        std::fill(reached.begin() + row + l, reached.begin() + row + r + 1, char(1));
+        for (const int ny : {y - 1, y + 1}) {
+            if (ny < 0 || ny >= h) continue;
+            const int nrow = ny * w;
+            bool in_run = false;
+            for (int x = l; x <= r; ++x) {
+                const bool o = open(nrow + x);
+                if (o && !in_run) stack.push_back(nrow + x);
+                in_run = o;
+            }
+        }
+    };
     auto seed = [&](int p) {
-        if (!reached[std::size_t(p)] && passable(p)) {
-            reached[std::size_t(p)] = 1;
-            stack.push_back(p);
+        if (!open(p)) return;
+        fill(p);
+        while (!stack.empty()) {
+            const int q = stack.back();
+            stack.pop_back();
+            if (open(q)) fill(q);
         }
     };
     for (int x = 0; x < w; ++x) {
@@ -25,15 +52,6 @@ void flood_from_border(int w, int h, std::vector<char>& reached, Passable passab
     for (int y = 0; y < h; ++y) {
         seed(y * w);
         seed(y * w + w - 1);
-    }
-    while (!stack.empty()) {
-        const int p = stack.back();
-        stack.pop_back();
-        const int x = p % w, y = p / w;
-        if (x > 0) seed(p - 1);
-        if (x + 1 < w) seed(p + 1);
-        if (y > 0) seed(p - w);
-        if (y + 1 < h) seed(p + w);
     }
 }
 
