@@ -21,34 +21,42 @@ namespace cm {
 
 namespace {
 
-// Connected components of `mask` (4- or 8-connected); labels -1 outside the mask.
+// Connected components of `mask` (4- or 8-connected); labels -1 outside the mask. A
+// component's label is the order of its first pixel in row order. Filled a run of a row at a
+// time: a run leaves one seed per run of unlabelled mask pixels beside it in the rows above
+// and below (diagonal neighbours too when 8-connected).
 int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab,
           std::vector<std::size_t>& sizes) {
     lab.assign(mask.size(), -1);
     sizes.clear();
+    auto open = [&](int p) { return mask[std::size_t(p)] && lab[std::size_t(p)] < 0; };
     std::vector<int> stack;
     for (int start = 0; start < w * h; ++start) {
-        if (!mask[std::size_t(start)] || lab[std::size_t(start)] >= 0) continue;
+        if (!open(start)) continue;
         const int id = int(sizes.size());
         sizes.push_back(0);
         stack.push_back(start);
-        lab[std::size_t(start)] = id;
         while (!stack.empty()) {
             const int p = stack.back();
             stack.pop_back();
-            ++sizes[std::size_t(id)];
-            const int x = p % w, y = p / w;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    if ((dx == 0 && dy == 0) || (!eight && dx != 0 && dy != 0)) continue;
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const int q = yy * w + xx;
-                    if (mask[std::size_t(q)] && lab[std::size_t(q)] < 0) {
-                        lab[std::size_t(q)] = id;
-                        stack.push_back(q);
-                    }
+            if (!open(p)) continue;
+            const int y = p / w, row = y * w;
+            int l = p - row, r = l;
+            while (l > 0 && open(row + l - 1)) --l;
+            while (r + 1 < w && open(row + r + 1)) ++r;
+            std::fill(lab.begin() + row + l, lab.begin() + row + r + 1, id);
+            sizes[std::size_t(id)] += std::size_t(r - l + 1);
+            const int a = eight ? std::max(0, l - 1) : l, b = eight ? std::min(w - 1, r + 1) : r;
+            for (const int ny : {y - 1, y + 1}) {
+                if (ny < 0 || ny >= h) continue;
+                const int nrow = ny * w;
+                bool in_run = false;
+                for (int x = a; x <= b; ++x) {
+                    const bool o = open(nrow + x);
+                    if (o && !in_run) stack.push_back(nrow + x);
+                    in_run = o;
                 }
+            }
         }
     }
     return int(sizes.size());
