@@ -158,13 +158,18 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
         inv_cell_ = 1.0 / cell_;
     }
     entries_.resize(offsets[nf]);
+    low_bits_ = nf <= kFaceMask;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t f = r.begin(); f != r.end(); ++f) {
             const Range c = cells(box(std::uint32_t(f)));
             std::uint64_t o = offsets[f];
             for (auto i = c.lo[0]; i <= c.hi[0]; ++i)
                 for (auto j = c.lo[1]; j <= c.hi[1]; ++j)
-                    for (auto k = c.lo[2]; k <= c.hi[2]; ++k) entries_[o++] = (key(i, j, k) << 32) | f;
+                    for (auto k = c.lo[2]; k <= c.hi[2]; ++k) {
+                        const std::uint64_t first =
+                            low_bits_ ? std::uint64_t((i == c.lo[0]) | (j == c.lo[1]) << 1 | (k == c.lo[2]) << 2) : 0;
+                        entries_[o++] = (key(i, j, k) << 32) | (first << kFaceBits) | f;
+                    }
         }
     });
     UninitVector<std::uint32_t>().swap(offsets);
@@ -216,23 +221,29 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
         // Everything the pair tests read, gathered once per face of the cell (the faces of a
         // cell are scattered in memory; the pairs are many more than the faces).
         struct Item {
-            Box now;                               ///< the face's box at p
-            std::array<std::uint32_t, 3> low, tri; ///< the cell of its indexed box's low corner
+            Box now; ///< the face's box at p
+            std::array<std::uint32_t, 3> tri;
             std::uint32_t face;
+            unsigned first; ///< bit a: this cell is the first of the indexed box on axis a
         };
         std::vector<Item> items;
         for (std::size_t run = r.begin(); run != r.end(); ++run) {
             const std::size_t b = runs_[run], e = runs_[run + 1];
             const std::uint64_t here = entries_[b] >> 32;
+            // The cell's coordinates, for entries that do not carry their first bits.
+            const std::uint64_t hk = here % dims_[2], hj = here / dims_[2] % dims_[1], hi = here / dims_[2] / dims_[1];
             items.clear();
             for (std::size_t x = b; x < e; ++x) {
-                const auto f = std::uint32_t(entries_[x]);
+                const std::uint32_t f = face_of(entries_[x]);
                 const Box u = box(f);
-                const Range c = cells({u.lo, u.lo});
-                items.push_back({b_ ? face_box(p, triangles_[f]) : u,
-                                 {std::uint32_t(c.lo[0]), std::uint32_t(c.lo[1]), std::uint32_t(c.lo[2])},
-                                 triangles_[f],
-                                 f});
+                unsigned first;
+                if (low_bits_) {
+                    first = unsigned(entries_[x] >> kFaceBits) & 7u;
+                } else {
+                    const Range c = cells({u.lo, u.lo});
+                    first = unsigned(c.lo[0] == hi) | unsigned(c.lo[1] == hj) << 1 | unsigned(c.lo[2] == hk) << 2;
+                }
+                items.push_back({b_ ? face_box(p, triangles_[f]) : u, triangles_[f], f, first});
             }
             // Sweep along x over the cell's faces, sorted by the low end of their boxes at p
             // (only faces whose boxes at p overlap can cross there; within the boxes of both
@@ -247,10 +258,9 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
                         continue;
                     // Each pair once: in the cell holding the low corner of the boxes' overlap
                     // (the boxes the index holds, of both poses), whose cell is the larger of the
-                    // two boxes' low cells on each axis.
-                    if (key(std::max(ia.low[0], ib.low[0]), std::max(ia.low[1], ib.low[1]),
-                            std::max(ia.low[2], ib.low[2])) != here)
-                        continue;
+                    // two boxes' low cells on each axis. Both boxes reach this cell, so on each
+                    // axis that is this cell's when it is the first of either box there.
+                    if ((ia.first | ib.first) != 7u) continue;
                     int shared = 0;
                     for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
                     if (shared >= 2) continue; // neighbours across an edge never cross
@@ -273,7 +283,7 @@ void SelfIntersectionIndex::faces_near(const Vec3f& point, std::vector<std::uint
     const std::uint64_t cell = key(c.lo[0], c.lo[1], c.lo[2]);
     for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
          it != entries_.end() && (*it >> 32) == cell; ++it)
-        out.push_back(std::uint32_t(*it));
+        out.push_back(face_of(*it));
 }
 
 void SelfIntersectionIndex::candidates(const Box& b, std::vector<std::uint32_t>& out) const {
@@ -286,7 +296,7 @@ void SelfIntersectionIndex::candidates(const Box& b, std::vector<std::uint32_t>&
                 const std::uint64_t cell = key(x, y, z);
                 for (auto it = std::lower_bound(entries_.begin(), entries_.end(), cell << 32);
                      it != entries_.end() && (*it >> 32) == cell; ++it)
-                    out.push_back(std::uint32_t(*it));
+                    out.push_back(face_of(*it));
             }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());

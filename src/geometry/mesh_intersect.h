@@ -89,8 +89,17 @@ private:
     Vec3d origin_;
     double cell_ = 1, inv_cell_ = 1; ///< cell size, and its inverse (cells() multiplies)
     std::array<std::uint64_t, 3> dims_{1, 1, 1};
-    UninitVector<std::uint64_t> entries_; ///< (cell << 32) | face, sorted
-    std::vector<std::size_t> runs_;       ///< starts of the runs of one cell in entries_, then entries_.size()
+    // An entry: (cell << 32) | (first << kFaceBits) | face, sorted. `first` (3 bits, when the
+    // face count leaves room for them: low_bits_) says on which axes the cell is the first of
+    // the face's box, which is what the pair pass needs of each face it gathers.
+    static constexpr int kFaceBits = 29;
+    static constexpr std::uint64_t kFaceMask = (std::uint64_t(1) << kFaceBits) - 1;
+    bool low_bits_ = false;
+    std::uint32_t face_of(std::uint64_t entry) const {
+        return low_bits_ ? std::uint32_t(entry & kFaceMask) : std::uint32_t(entry);
+    }
+    UninitVector<std::uint64_t> entries_;
+    std::vector<std::size_t> runs_; ///< starts of the runs of one cell in entries_, then entries_.size()
 };
 
 /// @brief The pairs of triangles of `mesh` that cross each other, sorted (see
