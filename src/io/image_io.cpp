@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "core/data.h"
 #include "core/error.h"
 #include "io/image_backend.h"
@@ -61,28 +64,38 @@ Image to_rgba(const RawImage& raw) {
     img.channels = 4;
     img.pixels.resize(std::size_t(img.width) * img.height * 4);
     const int nc = raw.channels, alpha = raw.alpha;
-    auto value = [&](std::size_t k) -> float {
-        if (raw.bits == 8) return float(raw.data[k]) * (1.0f / 255.0f);
-        if (raw.bits == 16) {
+    // Rows side by side, each in a loop for its own sample depth.
+    auto convert = [&](auto value) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, img.height, 16), [&](const tbb::blocked_range<int>& rows) {
+            const std::size_t b = std::size_t(rows.begin()) * img.width, e = std::size_t(rows.end()) * img.width;
+            for (std::size_t i = b; i < e; ++i) {
+                const std::size_t s = i * std::size_t(nc);
+                float* d = &img.pixels[i * 4];
+                if (nc >= 3) {
+                    d[0] = value(s);
+                    d[1] = value(s + 1);
+                    d[2] = value(s + 2);
+                } else {
+                    d[0] = d[1] = d[2] = value(s);
+                }
+                d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : 1.0f;
+            }
+        });
+    };
+    if (raw.bits == 8) {
+        convert([&](std::size_t k) { return float(raw.data[k]) * (1.0f / 255.0f); });
+    } else if (raw.bits == 16) {
+        convert([&](std::size_t k) {
             std::uint16_t v;
             std::memcpy(&v, &raw.data[k * 2], 2);
             return float(v) * (1.0f / 65535.0f);
-        }
-        float v;
-        std::memcpy(&v, &raw.data[k * 4], 4);
-        return v;
-    };
-    for (std::size_t i = 0, n = std::size_t(img.width) * img.height; i < n; ++i) {
-        const std::size_t s = i * std::size_t(nc);
-        float* d = &img.pixels[i * 4];
-        if (nc >= 3) {
-            d[0] = value(s);
-            d[1] = value(s + 1);
-            d[2] = value(s + 2);
-        } else {
-            d[0] = d[1] = d[2] = value(s);
-        }
-        d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : 1.0f;
+        });
+    } else {
+        convert([&](std::size_t k) {
+            float v;
+            std::memcpy(&v, &raw.data[k * 4], 4);
+            return v;
+        });
     }
     return img;
 }

@@ -1,6 +1,9 @@
 #include "align.h"
 
 #include <algorithm>
+#include <exception>
+
+#include <tbb/parallel_for.h>
 #include <array>
 #include <cmath>
 #include <iomanip>
@@ -422,8 +425,19 @@ void align_to_fixed_cameras(Views& views, const AlignOptions& opt, const std::ve
 
 void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>& warnings) {
     const std::size_t n = views.views.size();
+    // Each view's extent on its own, side by side; the first failing view in order is
+    // reported, whichever thread found it first.
     std::vector<Extent> ext(n);
-    for (std::size_t i = 0; i < n; ++i) ext[i] = silhouette_extent(views.views[i]);
+    std::vector<std::string> errors(n);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        try {
+            ext[i] = silhouette_extent(views.views[i]);
+        } catch (const std::exception& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (const auto& e : errors)
+        if (!e.empty()) throw Error(e);
     std::vector<bool> fixed(n, false);
     for (std::size_t i = 0; i < n && i < opt.fixed.size(); ++i)
         fixed[i] = opt.fixed[i] && views.views[i].camera.orthographic();
