@@ -1,5 +1,7 @@
 // The views passed between stages: drawings, their silhouettes, their cameras.
 #pragma once
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -13,13 +15,29 @@
 
 namespace cm {
 
-/// Float image, channels interleaved, row 0 at the top.
+/// Image, channels interleaved, row 0 at the top, samples in [0, 1]: float samples
+/// (`pixels`: renders, textures, 16-bit and float sources), or the bytes of an 8-bit source
+/// kept as they are (`bytes`: a drawing read by views.load, a quarter of the memory; read
+/// through value()/rgba(), which give the same floats as converting it would).
 struct Image {
     int width = 0, height = 0, channels = 0;
     std::vector<float> pixels;
-    float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    std::vector<std::uint8_t> bytes;
+    bool eight_bit() const { return !bytes.empty(); }
+    /// Sample k (pixel * channels + channel).
+    float value(std::size_t k) const { return bytes.empty() ? pixels[k] : float(bytes[k]) * (1.0f / 255.0f); }
+    /// The first four samples of pixel i (an RGBA image's colour and alpha).
+    std::array<float, 4> rgba(std::size_t i) const {
+        const std::size_t k = i * std::size_t(channels);
+        if (bytes.empty()) return {pixels[k], pixels[k + 1], pixels[k + 2], pixels[k + 3]};
+        constexpr float s = 1.0f / 255.0f;
+        return {float(bytes[k]) * s, float(bytes[k + 1]) * s, float(bytes[k + 2]) * s, float(bytes[k + 3]) * s};
+    }
+    std::size_t samples() const { return bytes.empty() ? pixels.size() : bytes.size(); }
+    float at(int x, int y, int c) const { return value((std::size_t(y) * width + x) * channels + c); }
+    /// Float samples only (an image written into).
     float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
-    bool empty() const { return pixels.empty(); }
+    bool empty() const { return pixels.empty() && bytes.empty(); }
 };
 
 struct View {

@@ -100,9 +100,35 @@ Image to_rgba(const RawImage& raw) {
     return img;
 }
 
+// An 8-bit source as RGBA bytes (grey replicated, missing alpha 255): the samples as read.
+Image to_rgba_bytes(const RawImage& raw) {
+    Image img;
+    img.width = raw.width;
+    img.height = raw.height;
+    img.channels = 4;
+    img.bytes.resize(std::size_t(img.width) * img.height * 4);
+    const int nc = raw.channels, alpha = raw.alpha;
+    tbb::parallel_for(tbb::blocked_range<int>(0, img.height, 16), [&](const tbb::blocked_range<int>& rows) {
+        const std::size_t b = std::size_t(rows.begin()) * img.width, e = std::size_t(rows.end()) * img.width;
+        for (std::size_t i = b; i < e; ++i) {
+            const std::size_t s = i * std::size_t(nc);
+            std::uint8_t* d = &img.bytes[i * 4];
+            if (nc >= 3) {
+                d[0] = raw.data[s];
+                d[1] = raw.data[s + 1];
+                d[2] = raw.data[s + 2];
+            } else {
+                d[0] = d[1] = d[2] = raw.data[s];
+            }
+            d[3] = alpha >= 0 ? raw.data[s + std::size_t(alpha)] : std::uint8_t(255);
+        }
+    });
+    return img;
+}
+
 } // namespace
 
-Image read_image(const fs::path& file, ImageInfo* info) {
+Image read_image(const fs::path& file, ImageInfo* info, bool keep_bytes) {
     std::error_code ec;
     const std::string prefix = "cannot read image \"" + file.string() + "\": ";
     if (!fs::exists(file, ec)) throw Error(prefix + "no such file");
@@ -114,7 +140,7 @@ Image read_image(const fs::path& file, ImageInfo* info) {
     const bool ok = png::is_png_file(file.string()) ? png::read(file.string(), nullptr, 0, limit, raw, why)
                                                     : backend(prefix).read(file.string(), limit, raw, why);
     if (!ok) throw Error(prefix + why);
-    Image img = to_rgba(raw);
+    Image img = keep_bytes && raw.bits == 8 ? to_rgba_bytes(raw) : to_rgba(raw);
     if (info) {
         info->has_alpha = raw.alpha >= 0;
         info->bits = raw.file_bits;

@@ -75,9 +75,9 @@ struct Canvas {
         paste_pixels(
             src.width, src.height, x0, y0, w, h,
             [&](std::size_t i, float rgb[3], float& a) {
-                const float* p = &src.pixels[i * std::size_t(src.channels)];
-                a = src.channels == 4 ? std::clamp(p[3], 0.0f, 1.0f) : 1.0f;
-                for (int k = 0; k < 3; ++k) rgb[k] = src.channels == 1 ? p[0] : p[k];
+                const std::size_t s = i * std::size_t(src.channels);
+                a = src.channels == 4 ? std::clamp(src.value(s + 3), 0.0f, 1.0f) : 1.0f;
+                for (int k = 0; k < 3; ++k) rgb[k] = src.value(src.channels == 1 ? s : s + std::size_t(k));
             },
             check);
     }

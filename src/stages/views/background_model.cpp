@@ -73,7 +73,7 @@ void background_from_border(const Image& img, const std::string& option, Backgro
     const std::size_t perimeter = 2 * std::size_t(w + h) * std::size_t(band);
     const int stride = int(std::max<std::size_t>(1, perimeter / 40000));
     auto add = [&](int x, int y) {
-        const float* p = &img.pixels[(std::size_t(y) * w + x) * 4];
+        const auto p = img.rgba(std::size_t(y) * w + x);
         s.push_back({(x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1, {p[0], p[1], p[2]}});
     };
     for (int b = 0; b < band; ++b) {
@@ -124,7 +124,11 @@ void background_from_border(const Image& img, const std::string& option, Backgro
     noise = median(kept);
 }
 
-void BackgroundField::model_distance_row(const float* rgba, int y, double* out) const {
+namespace {
+
+// model_distance_row over samples of one kind: `sample(k)` is sample k of the row as a float.
+template <typename Sample>
+void distance_row(const BackgroundModel& model, int w, int h, int y, double* out, Sample&& sample) {
     // The same operations in the same order as colour_distance(pixel, model.at(u, v)), so
     // each pixel's distance is the same double; only the loop is one the compiler can run
     // over several pixels at once (no arrays returned per pixel).
@@ -142,10 +146,23 @@ void BackgroundField::model_distance_row(const float* rgba, int y, double* out) 
             m += c[k][3] * uu;
             m += c[k][4] * vv;
             m += c[k][5] * uv;
-            const double d = double(rgba[4 * x + k]) - m;
+            const double d = double(sample(4 * x + k)) - m;
             sum += d * d;
         }
         out[x] = std::sqrt(sum / 3.0);
+    }
+}
+
+} // namespace
+
+void BackgroundField::model_distance_row(const Image& img, int y, double* out) const {
+    const std::size_t row = std::size_t(y) * std::size_t(w) * 4;
+    if (img.eight_bit()) {
+        const std::uint8_t* b = img.bytes.data() + row;
+        distance_row(model, w, h, y, out, [b](int k) { return float(b[k]) * (1.0f / 255.0f); });
+    } else {
+        const float* f = img.pixels.data() + row;
+        distance_row(model, w, h, y, out, [f](int k) { return f[k]; });
     }
 }
 

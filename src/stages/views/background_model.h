@@ -48,10 +48,10 @@ struct BackgroundField {
     const std::vector<unsigned char>* source = nullptr; ///< per pixel: 0 (the model) or k + 1
     int w = 0, h = 0;
     Rgb of_model(int x, int y) const { return model.at((x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1); }
-    /// The colour distance of row y's pixels (RGBA, `w` of them) to the model, into `out`:
-    /// colour_distance(pixel, of_model(x, y)) to the last bit, in one loop the compiler
+    /// The colour distance of row y's pixels of `img` (RGBA, `w` of them) to the model, into
+    /// `out`: colour_distance(pixel, of_model(x, y)) to the last bit, in one loop the compiler
     /// vectorises (it runs for every pixel of every drawing).
-    void model_distance_row(const float* rgba, int y, double* out) const;
+    void model_distance_row(const Image& img, int y, double* out) const;
     Rgb at(std::size_t i) const {
         const unsigned char s = source ? (*source)[i] : 0;
         if (s) return others[s - 1];

@@ -171,7 +171,7 @@ std::vector<char> cluster_reach(const Image& img, const BorderCluster& c) {
     const int w = img.width, h = img.height;
     std::vector<char> near(std::size_t(w) * h), reached(near.size(), 0);
     for (std::size_t i = 0; i < near.size(); ++i) {
-        const float* p = &img.pixels[i * 4];
+        const auto p = img.rgba(i);
         near[i] = c.distance({p[0], p[1], p[2]}) < c.threshold;
     }
     flood_from_border(w, h, reached, [&](int p) { return near[std::size_t(p)] != 0; });

@@ -78,7 +78,7 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             v.name = mv.key;
             v.source = mv.image;
             ImageInfo info = sheets.infos[i];
-            v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info);
+            v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true);
             v.width = v.image.width;
             v.height = v.image.height;
             step();

@@ -141,7 +141,7 @@ ColourModels fit_models(const Frame& f, const std::vector<char>& seed, const std
         for (int x = 1; x + 1 < f.w; ++x) {
             const std::size_t i = std::size_t(y) * w + std::size_t(x);
             double sum = 0;
-            const Chroma c = chroma(&f.img.pixels[i * 4], sum);
+            const Chroma c = chroma(f.img.rgba(i).data(), sum);
             if (grows[i] && grows[i - 1] && grows[i + 1] && grows[i - w] && grows[i + w]) {
                 if (sum >= f.min_sum) fg.push_back(c);
             } else if (!seed[i] && to_seed[i] > float(away * away) && sum >= 0.2 * f.min_sum) {
@@ -195,7 +195,7 @@ double colour_evidence(const Frame& f, const ColourModels& m, std::size_t i) {
     const ChromaModel& b = m.backdrop[f.source[i]];
     if (!m.object.valid || !b.valid) return 1.0;
     double sum = 0;
-    const Chroma c = chroma(&f.img.pixels[i * 4], sum);
+    const Chroma c = chroma(f.img.rgba(i).data(), sum);
     if (sum < f.min_sum) return 0.0;
     const double var = std::max(m.object.var, b.var) + f.pixel_noise * f.pixel_noise / (sum * sum);
     return std::clamp((squared(c, b.mean) - squared(c, m.object.mean)) / (2 * var), -4.0, 4.0);
@@ -252,7 +252,7 @@ void refit_backdrops(const Frame& f, const std::vector<char>& seed, const std::v
     for (std::size_t i = 0; i < f.n; ++i) {
         if (!region[i] || seed[i] || obj[i]) continue;
         double sum = 0;
-        const Chroma c = chroma(&f.img.pixels[i * 4], sum);
+        const Chroma c = chroma(f.img.rgba(i).data(), sum);
         if (sum >= f.min_sum) bg[f.source[i]].push_back(c);
     }
     for (std::size_t k = 0; k < f.backdrops; ++k) {

@@ -35,7 +35,7 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
     std::vector<char> like(n, 0), core(n, 0);
     tbb::parallel_for(0, h, [&](int y) {
         for (std::size_t i = std::size_t(y) * w, e = i + std::size_t(w); i < e; ++i)
-            like[i] = !bg[i] && shadow_like(&img.pixels[i * 4], background.at(i));
+            like[i] = !bg[i] && shadow_like(img.rgba(i).data(), background.at(i));
     });
     // Nothing darker with the background's hue (a flat mask, most line art): no shadow, and
     // none of the passes below has anything to find.

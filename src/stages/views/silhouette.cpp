@@ -91,11 +91,11 @@ public:
         // Each pixel on its own: rows in parallel.
         tbb::parallel_for(0, h_, [&](int y) {
             const std::size_t row = std::size_t(y) * w_;
-            bgc_.model_distance_row(&img_.pixels[row * 4], y, &d_[row]);
+            bgc_.model_distance_row(img_, y, &d_[row]);
             if (more.empty()) return;
             for (int x = 0; x < w_; ++x) {
                 const std::size_t i = row + x;
-                const float* p = &img_.pixels[i * 4];
+                const auto p = img_.rgba(i);
                 for (std::size_t k = 0; k < more.size(); ++k) {
                     if (!reach[k][i]) continue; // only where that background reaches from the border
                     const double dc = more[k].distance({p[0], p[1], p[2]}) * t_ / more[k].threshold;
@@ -297,8 +297,8 @@ private:
         const std::size_t o = best != n ? best : strongest;
         const bool object = !bg_[i];
         if (o == n) return object ? 1.0f : 0.0f;
-        const float* p = &img_.pixels[i * 4];
-        const float* q = &img_.pixels[o * 4];
+        const auto p = img_.rgba(i);
+        const auto q = img_.rgba(o);
         const Rgb b = bgc_.at(i);
         double num = 0, den = 0;
         for (int k = 0; k < 3; ++k) {
@@ -428,8 +428,7 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         throw Error("photo must be auto, on or off, got \"" + opt.photo + "\"");
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
-    if (w <= 0 || h <= 0 || img.channels != 4 || img.pixels.size() != n * 4)
-        throw Error("the image is empty or not RGBA");
+    if (w <= 0 || h <= 0 || img.channels != 4 || img.samples() != n * 4) throw Error("the image is empty or not RGBA");
     SilhouetteResult res;
     res.coverage.assign(n, 0.0f);
 
@@ -438,12 +437,12 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
     if (opt.background == "auto" && info.has_alpha) {
         // Alpha is meaningful when it separates something: some pixels transparent, some opaque.
         std::size_t transparent = 0;
-        for (std::size_t i = 0; i < n; ++i) transparent += img.pixels[i * 4 + 3] < 0.5f;
+        for (std::size_t i = 0; i < n; ++i) transparent += img.value(i * 4 + 3) < 0.5f;
         use_alpha = transparent > 0 && transparent < n;
     }
     if (use_alpha) {
         res.method = "alpha";
-        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.pixels[i * 4 + 3], 0.0f, 1.0f);
+        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.value(i * 4 + 3), 0.0f, 1.0f);
     } else {
         coverage_from_background(img, opt, res);
     }
