@@ -151,11 +151,16 @@ Image crop_image(const Image& sheet, const SheetPanel& p) {
     out.width = p.width;
     out.height = p.height;
     out.channels = sheet.channels;
-    out.pixels.resize(std::size_t(p.width) * p.height * sheet.channels);
-    for (int y = 0; y < p.height; ++y)
-        std::copy_n(sheet.pixels.begin() + long((std::size_t(y + p.y0) * sheet.width + p.x0) * sheet.channels),
-                    std::size_t(p.width) * sheet.channels,
-                    out.pixels.begin() + long(std::size_t(y) * p.width * sheet.channels));
+    // The panel's samples as the sheet holds them (bytes or floats).
+    auto crop = [&](const auto& from, auto& to) {
+        to.resize(std::size_t(p.width) * p.height * sheet.channels);
+        for (int y = 0; y < p.height; ++y)
+            std::copy_n(from.begin() + long((std::size_t(y + p.y0) * sheet.width + p.x0) * sheet.channels),
+                        std::size_t(p.width) * sheet.channels,
+                        to.begin() + long(std::size_t(y) * p.width * sheet.channels));
+    };
+    if (sheet.eight_bit()) crop(sheet.bytes, out.bytes);
+    else crop(sheet.pixels, out.pixels);
     return out;
 }
 
@@ -173,7 +178,7 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
         Image img;
         PanelsFound found;
         try {
-            img = read_image(sh.image, &info);
+            img = read_image(sh.image, &info, true);
             SilhouetteOptions so; // the sheet's options; every mark kept, so panels are whole
             so.background = first.background;
             so.threshold = first.threshold.value_or(-1.0);
