@@ -2,6 +2,7 @@
 #include "geometry/distance_transform.h"
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -86,9 +87,19 @@ std::vector<float> squared_edt(const std::vector<char>& seed, int w, int h) {
         std::vector<int> v(w);
         for (int y = r.begin(); y != r.end(); ++y) {
             float* row = g.data() + std::size_t(y) * w;
-            if (std::all_of(row, row + w, [](float x) { return x == 0.0f; })) continue;
-            std::copy(row, row + w, f.begin());
-            edt_1d(f.data(), row, w, v.data(), z.data());
+            // Only the stretch from the first to the last pixel away from a seed changes, and
+            // only the seeds just beyond it can be nearest there (any seed farther out is
+            // farther from every pixel of the stretch): the transform of that stretch and its
+            // two neighbours gives the same values as the whole row's, and the rest stays 0.
+            // A silhouette's row of distances to the outside is the silhouette's width only.
+            const auto nonzero = [](float x) { return x != 0.0f; };
+            float* first = std::find_if(row, row + w, nonzero);
+            if (first == row + w) continue; // all seeds
+            float* last =
+                std::find_if(std::make_reverse_iterator(row + w), std::make_reverse_iterator(first), nonzero).base();
+            const int a = std::max(0, int(first - row) - 1), b = std::min(w, int(last - row) + 1);
+            std::copy(row + a, row + b, f.begin());
+            edt_1d(f.data(), row + a, b - a, v.data(), z.data());
         }
     });
     return g;
