@@ -2,11 +2,15 @@
 //   sphere_1M: a 289 x 289 grid cube projected onto the unit sphere (1.00 M faces);
 //   bunny_1M:  the Stanford bunny (75 k faces) split twice (1.21 M faces), lightly smoothed
 //              so the split faces are not exactly flat.
+//   file:      the mesh named by the environment variable CM_BENCH_MESH, when it is set (a
+//              Marching Cubes surface of the pipeline, smoothed, say: written by a mesh.write
+//              node after mesh.laplacian_smooth); its benchmarks are registered only then.
 // Smoothing with and without the guard against crossing, turned-over and collapsed faces;
 // the self-intersection test alone. Peers for the quadric decimation: meshoptimizer's meshopt_simplify and OpenMesh's
 // DecimaterT + ModQuadricT (+ ModNormalFlippingT), both to 10 % of the faces.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -38,7 +42,9 @@ const Mesh& input(int which) {
     auto it = cache.find(which);
     if (it != cache.end()) return it->second;
     Mesh m;
-    if (which == 0) {
+    if (which == 2) {
+        m = read_mesh(std::getenv("CM_BENCH_MESH"));
+    } else if (which == 0) {
         m = test::make_grid_box(-1.0f, 1.0f, 289);
         for (auto& p : m.positions) p = normalize(p);
     } else {
@@ -50,7 +56,7 @@ const Mesh& input(int which) {
     }
     return cache[which] = std::move(m);
 }
-const char* name_of(int which) { return which == 0 ? "sphere_1M" : "bunny_1M"; }
+const char* name_of(int which) { return which == 0 ? "sphere_1M" : which == 1 ? "bunny_1M" : "file"; }
 
 void BM_Adjacency(benchmark::State& st) {
     const Mesh& m = input(int(st.range(0)));
@@ -215,5 +221,13 @@ BENCHMARK(BM_QuadricOwn)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillis
 BENCHMARK(BM_QuadricMeshoptimizer)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 #endif
 BENCHMARK(BM_QuadricOpenMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The mesh of CM_BENCH_MESH (input 2), when given.
+const bool file_benchmarks = [] {
+    if (!std::getenv("CM_BENCH_MESH")) return false;
+    benchmark::RegisterBenchmark("BM_CheckMesh", BM_CheckMesh)->Arg(2)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("BM_SelfIntersections", BM_SelfIntersections)->Arg(2)->Unit(benchmark::kMillisecond);
+    return true;
+}();
 
 BENCHMARK_MAIN();

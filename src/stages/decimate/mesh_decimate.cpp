@@ -56,10 +56,11 @@ bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
 
 // The queue of one reduction run over the collapser's mesh (see reduce_mesh), down to
 // `target_faces` (0: until no vertex can go) or to the first vertex more important than
-// `stop_key`; returns the collapses made.
+// `stop_key`; returns the collapses made. With `sweep` (and `start`), a block's pass
+// instead: decimate::run_sweep up to `stop_key` (no face target).
 std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
                          float stop_key, const std::function<void(double)>& progress,
-                         decimate::StartScores* start = nullptr) {
+                         decimate::StartScores* start = nullptr, bool sweep = false) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
     auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
@@ -94,6 +95,7 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
             }
         return false;
     };
+    if (sweep && start) return decimate::run_sweep(c, *start, stop_key, score, choose);
     return run_queue(
         c, nv, target_faces, stop_key, progress, score, choose, [](std::uint32_t, std::uint32_t, float) {}, start);
 }
@@ -110,9 +112,12 @@ DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vecto
     return st;
 }
 
-// Faces per block of reduce_blocked, and the size from which a mesh is cut in blocks.
+// Faces per block of reduce_blocked, the size from which a mesh is cut in blocks, and the
+// size down to which the rounds go on (the last queue is one thread's: the less it is
+// left, the sooner the run ends).
 constexpr std::size_t kBlockFaces = std::size_t(1) << 16;
 constexpr std::size_t kBlockedFrom = 4 * kBlockFaces;
+constexpr std::size_t kRoundsDownTo = 2 * kBlockFaces;
 // The share of the starting candidates (by importance) a round's blocks may remove.
 // 0.9 measured against one queue over the whole mesh (docs/results/speed.md): the same
 // face count within 0.2 % and the same silhouette error; 0.5 leaves too much to the last queue.
@@ -262,7 +267,7 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
             Block& blk = *parts[i];
             build(i, blk);
             collapses[i] =
-                reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr, &blk.start);
+                reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr, &blk.start, true);
             auto& out = kept[i];
             for (const auto& t : blk.mesh.triangles)
                 if (t[0] != decimate::kNone) out.push_back({blk.input[t[0]], blk.input[t[1]], blk.input[t[2]]});
@@ -333,7 +338,7 @@ DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions&
     ReduceOptions round_opt = opt;
     // The first round reads the input itself (its blocks are copies already), the next ones
     // the mesh the round before made.
-    for (int round = 0; (round == 0 ? input : mesh).face_count() >= kBlockedFrom; ++round) {
+    for (int round = 0; (round == 0 ? input : mesh).face_count() >= kRoundsDownTo; ++round) {
         const Mesh& from = round == 0 ? input : mesh;
         const std::size_t before = from.face_count();
         if (opt.progress)

@@ -2,7 +2,9 @@
 // collapse engine (Collapser, mesh_decimate_collapse.cpp), the vertex queue (VertexHeap,
 // run_queue) and the quadric ordering (mesh_decimate_quadric.cpp).
 #pragma once
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -222,6 +224,41 @@ std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, fl
             progress(double(start_faces - c.alive_faces()) / double(span));
             next_report = collapses + 4096;
         }
+    }
+    return collapses;
+}
+
+/// The blocks' pass of the reduction (reduce_round), in place of run_queue: one sweep over
+/// the candidates whose starting key is at most `stop_key`, in the order of those keys. A
+/// vertex whose faces no collapse has changed since the start keeps its starting key; the
+/// others are scored again when their turn comes. Each goes when it is still a candidate
+/// under `stop_key` and `choose` finds it a target; one that cannot go is not asked again
+/// (the rounds after, and the last queue, take what is left). Under the quantile the blocks
+/// stop at the order hardly matters (docs/results/speed.md), and this pass keeps no heap and
+/// scores no neighbour of a collapse but the ones still to come.
+template <typename Score, typename Choose>
+std::size_t run_sweep(Collapser& c, const StartScores& start, float stop_key, Score&& score, Choose&& choose) {
+    const std::size_t nv = start.keys.size();
+    // (key, vertex) in one word: keys are not negative, so their bits order as the keys do.
+    std::vector<std::uint64_t> order;
+    for (std::size_t v = 0; v < nv; ++v)
+        if (start.cand[v] && start.keys[v] <= stop_key)
+            order.push_back(std::uint64_t(std::bit_cast<std::uint32_t>(start.keys[v])) << 32 | v);
+    std::sort(order.begin(), order.end());
+    std::vector<char> touched(nv, 0); // faces changed by a collapse since the start
+    std::vector<std::uint32_t> rv, scratch;
+    std::size_t collapses = 0;
+    for (const std::uint64_t entry : order) {
+        const auto v = std::uint32_t(entry);
+        if (!c.usable(v)) continue;
+        float key = start.keys[v];
+        if (touched[v] && (!score(v, scratch, key) || key > stop_key)) continue;
+        c.ring(v, rv);
+        std::uint32_t w;
+        if (!choose(v, rv, w, key)) continue;
+        c.collapse(v, w);
+        ++collapses;
+        for (auto x : rv) touched[x] = 1; // the faces around v's old ring (w among them) changed
     }
     return collapses;
 }
