@@ -119,6 +119,20 @@ void BM_SelfIntersections(benchmark::State& st) {
     st.counters["pairs"] = double(pairs);
 }
 
+// The vertices within a hundred-thousandth of the box diagonal of another (the smoothing
+// guard's question about vertices drawn onto one another).
+void BM_CoincidentVertices(benchmark::State& st) {
+    const Mesh& m = input(int(st.range(0)));
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const double tol = 10 * kCoincidentTolerance * double(length(hi - lo));
+    std::size_t n = 0;
+    for (auto _ : st) n = find_coincident_vertices(m.positions, tol).size();
+    st.SetLabel(name_of(int(st.range(0))));
+    st.counters["vertices"] = double(m.positions.size());
+    st.counters["coincident"] = double(n);
+}
+
 // Runs a decimation to a tenth of the faces as the stages run it: from the const input into
 // a new mesh (one copy of the input included), with the crossing guard when range(1) says so.
 template <typename Decimate>
@@ -215,6 +229,7 @@ BENCHMARK(BM_DistanceTransform)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LaplacianSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TaubinSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelfIntersections)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CoincidentVertices)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Reduce)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_QuadricOwn)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->Iterations(3);
 #ifdef CM_HAVE_MESHOPTIMIZER
@@ -227,6 +242,7 @@ const bool file_benchmarks = [] {
     if (!std::getenv("CM_BENCH_MESH")) return false;
     benchmark::RegisterBenchmark("BM_CheckMesh", BM_CheckMesh)->Arg(2)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("BM_SelfIntersections", BM_SelfIntersections)->Arg(2)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("BM_CoincidentVertices", BM_CoincidentVertices)->Arg(2)->Unit(benchmark::kMillisecond);
     return true;
 }();
 
