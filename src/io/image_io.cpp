@@ -55,74 +55,70 @@ const ImageBackend& backend(const std::string& prefix) {
     return *loaded.backend;
 }
 
-// Float RGBA in [0,1] from pixels at their own depth: grey is replicated, missing alpha
-// becomes 1.
+// RGBA from the raw samples, rows side by side: value(k) is sample k as T; grey is
+// replicated and a missing alpha becomes `opaque`.
+template <typename T, typename Value>
+void expand_rgba(const RawImage& raw, T* out, Value&& value, T opaque) {
+    const int nc = raw.channels, alpha = raw.alpha, w = raw.width;
+    tbb::parallel_for(tbb::blocked_range<int>(0, raw.height, 16), [&](const tbb::blocked_range<int>& rows) {
+        const std::size_t b = std::size_t(rows.begin()) * w, e = std::size_t(rows.end()) * w;
+        for (std::size_t i = b; i < e; ++i) {
+            const std::size_t s = i * std::size_t(nc);
+            T* d = out + i * 4;
+            if (nc >= 3) {
+                d[0] = value(s);
+                d[1] = value(s + 1);
+                d[2] = value(s + 2);
+            } else {
+                d[0] = d[1] = d[2] = value(s);
+            }
+            d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : opaque;
+        }
+    });
+}
+
+// Float RGBA in [0,1] from pixels at their own depth.
 Image to_rgba(const RawImage& raw) {
     Image img;
     img.width = raw.width;
     img.height = raw.height;
     img.channels = 4;
     img.pixels.resize(std::size_t(img.width) * img.height * 4);
-    const int nc = raw.channels, alpha = raw.alpha;
-    // Rows side by side, each in a loop for its own sample depth.
-    auto convert = [&](auto value) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, img.height, 16), [&](const tbb::blocked_range<int>& rows) {
-            const std::size_t b = std::size_t(rows.begin()) * img.width, e = std::size_t(rows.end()) * img.width;
-            for (std::size_t i = b; i < e; ++i) {
-                const std::size_t s = i * std::size_t(nc);
-                float* d = &img.pixels[i * 4];
-                if (nc >= 3) {
-                    d[0] = value(s);
-                    d[1] = value(s + 1);
-                    d[2] = value(s + 2);
-                } else {
-                    d[0] = d[1] = d[2] = value(s);
-                }
-                d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : 1.0f;
-            }
-        });
-    };
+    float* out = img.pixels.data();
     if (raw.bits == 8) {
-        convert([&](std::size_t k) { return float(raw.data[k]) * (1.0f / 255.0f); });
+        expand_rgba(
+            raw, out, [&](std::size_t k) { return float(raw.data[k]) * (1.0f / 255.0f); }, 1.0f);
     } else if (raw.bits == 16) {
-        convert([&](std::size_t k) {
-            std::uint16_t v;
-            std::memcpy(&v, &raw.data[k * 2], 2);
-            return float(v) * (1.0f / 65535.0f);
-        });
+        expand_rgba(
+            raw, out,
+            [&](std::size_t k) {
+                std::uint16_t v;
+                std::memcpy(&v, &raw.data[k * 2], 2);
+                return float(v) * (1.0f / 65535.0f);
+            },
+            1.0f);
     } else {
-        convert([&](std::size_t k) {
-            float v;
-            std::memcpy(&v, &raw.data[k * 4], 4);
-            return v;
-        });
+        expand_rgba(
+            raw, out,
+            [&](std::size_t k) {
+                float v;
+                std::memcpy(&v, &raw.data[k * 4], 4);
+                return v;
+            },
+            1.0f);
     }
     return img;
 }
 
-// An 8-bit source as RGBA bytes (grey replicated, missing alpha 255): the samples as read.
+// An 8-bit source as RGBA bytes (the samples as read, missing alpha 255).
 Image to_rgba_bytes(const RawImage& raw) {
     Image img;
     img.width = raw.width;
     img.height = raw.height;
     img.channels = 4;
     img.bytes.resize(std::size_t(img.width) * img.height * 4);
-    const int nc = raw.channels, alpha = raw.alpha;
-    tbb::parallel_for(tbb::blocked_range<int>(0, img.height, 16), [&](const tbb::blocked_range<int>& rows) {
-        const std::size_t b = std::size_t(rows.begin()) * img.width, e = std::size_t(rows.end()) * img.width;
-        for (std::size_t i = b; i < e; ++i) {
-            const std::size_t s = i * std::size_t(nc);
-            std::uint8_t* d = &img.bytes[i * 4];
-            if (nc >= 3) {
-                d[0] = raw.data[s];
-                d[1] = raw.data[s + 1];
-                d[2] = raw.data[s + 2];
-            } else {
-                d[0] = d[1] = d[2] = raw.data[s];
-            }
-            d[3] = alpha >= 0 ? raw.data[s + std::size_t(alpha)] : std::uint8_t(255);
-        }
-    });
+    expand_rgba(
+        raw, img.bytes.data(), [&](std::size_t k) { return std::uint8_t(raw.data[k]); }, std::uint8_t(255));
     return img;
 }
 

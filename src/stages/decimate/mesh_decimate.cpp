@@ -162,8 +162,8 @@ int block_cells(const Mesh& mesh, float shift, std::vector<std::uint32_t>& cell)
 // One round of reduce_blocked: the mesh is cut into spatial blocks (each face goes with
 // its first vertex's cell) and every block is reduced on its own, in parallel, in one sweep
 // (decimate::run_sweep) removing only the vertices less important than the q-quantile of
-// the starting importances (in that range the order hardly matters). A vertex with faces in two blocks is on the open
-// border of both, so it stays. The blocks' faces then make `out` (which may be `mesh`), over
+// the starting importances (in that range the order hardly matters). A vertex with faces
+// in two blocks is on the open border of both, so it stays. The blocks' faces then make `out` (which may be `mesh`), over
 // the vertices they still use (in input order, attributes kept: surviving vertices do not
 // move); `frozen` follows. Returns the collapses made.
 std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, std::vector<char>* frozen, float shift,

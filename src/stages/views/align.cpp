@@ -1,14 +1,14 @@
 #include "align.h"
 
 #include <algorithm>
-#include <exception>
-
-#include <tbb/parallel_for.h>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <iomanip>
 #include <limits>
 #include <sstream>
+
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 

@@ -8,43 +8,49 @@
 
 namespace cm {
 
-/// Marks in `reached` every pixel 4-connected to the image border through pixels for which
-/// `passable(p)` holds (and `reached` is not yet set).
-///
-/// Scanline fill: a seed fills its whole run of open pixels along the row, then leaves one
-/// seed for each run of open pixels in that stretch of the rows above and below. The same
-/// pixels as a flood pixel by pixel (the 4-connected component of the open pixels that
-/// holds the border's), in row order and with a stack entry per run instead of per pixel.
-template <typename Passable>
-void flood_from_border(int w, int h, std::vector<char>& reached, Passable passable) {
-    auto open = [&](int p) { return !reached[std::size_t(p)] && passable(p); };
-    std::vector<int> stack;
-    auto fill = [&](int p) {
+/// Scanline fill of the piece holding `start` through the pixels for which `open(p)` holds:
+/// each seed's whole run of open pixels along its row goes to `take_run(row, l, r)` (row
+/// start, first and last column), which must make them no longer open; the seed then leaves
+/// one seed for each run of open pixels in that stretch of the rows above and below, widened
+/// by a pixel each way when `eight` (diagonal neighbours). The same pixels as a fill pixel by
+/// pixel, with a stack entry per run instead of per pixel. `stack` is scratch.
+template <typename Open, typename TakeRun>
+void scanline_fill(int w, int h, int start, bool eight, std::vector<int>& stack, Open&& open, TakeRun&& take_run) {
+    stack.push_back(start);
+    while (!stack.empty()) {
+        const int p = stack.back();
+        stack.pop_back();
+        if (!open(p)) continue;
         const int y = p / w, row = y * w;
         int l = p - row, r = l;
         while (l > 0 && open(row + l - 1)) --l;
         while (r + 1 < w && open(row + r + 1)) ++r;
-        std::fill(reached.begin() + row + l, reached.begin() + row + r + 1, char(1));
+        take_run(row, l, r);
+        const int a = eight ? std::max(0, l - 1) : l, b = eight ? std::min(w - 1, r + 1) : r;
         for (const int ny : {y - 1, y + 1}) {
             if (ny < 0 || ny >= h) continue;
             const int nrow = ny * w;
             bool in_run = false;
-            for (int x = l; x <= r; ++x) {
+            for (int x = a; x <= b; ++x) {
                 const bool o = open(nrow + x);
                 if (o && !in_run) stack.push_back(nrow + x);
                 in_run = o;
             }
         }
+    }
+}
+
+/// Marks in `reached` every pixel 4-connected to the image border through pixels for which
+/// `passable(p)` holds (and `reached` is not yet set): scanline_fill from each border pixel,
+/// in row order.
+template <typename Passable>
+void flood_from_border(int w, int h, std::vector<char>& reached, Passable passable) {
+    auto open = [&](int p) { return !reached[std::size_t(p)] && passable(p); };
+    auto take = [&](int row, int l, int r) {
+        std::fill(reached.begin() + row + l, reached.begin() + row + r + 1, char(1));
     };
-    auto seed = [&](int p) {
-        if (!open(p)) return;
-        fill(p);
-        while (!stack.empty()) {
-            const int q = stack.back();
-            stack.pop_back();
-            if (open(q)) fill(q);
-        }
-    };
+    std::vector<int> stack;
+    auto seed = [&](int p) { scanline_fill(w, h, p, false, stack, open, take); };
     for (int x = 0; x < w; ++x) {
         seed(x);
         seed((h - 1) * w + x);

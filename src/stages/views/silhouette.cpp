@@ -35,29 +35,10 @@ int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<i
         if (!open(start)) continue;
         const int id = int(sizes.size());
         sizes.push_back(0);
-        stack.push_back(start);
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            if (!open(p)) continue;
-            const int y = p / w, row = y * w;
-            int l = p - row, r = l;
-            while (l > 0 && open(row + l - 1)) --l;
-            while (r + 1 < w && open(row + r + 1)) ++r;
+        scanline_fill(w, h, start, eight, stack, open, [&](int row, int l, int r) {
             std::fill(lab.begin() + row + l, lab.begin() + row + r + 1, id);
             sizes[std::size_t(id)] += std::size_t(r - l + 1);
-            const int a = eight ? std::max(0, l - 1) : l, b = eight ? std::min(w - 1, r + 1) : r;
-            for (const int ny : {y - 1, y + 1}) {
-                if (ny < 0 || ny >= h) continue;
-                const int nrow = ny * w;
-                bool in_run = false;
-                for (int x = a; x <= b; ++x) {
-                    const bool o = open(nrow + x);
-                    if (o && !in_run) stack.push_back(nrow + x);
-                    in_run = o;
-                }
-            }
-        }
+        });
     }
     return int(sizes.size());
 }
