@@ -48,14 +48,6 @@ Camera Camera::perspective(const std::array<double, 12>& P) {
     return c;
 }
 
-Vec2d Camera::project(const Vec3d& p) const {
-    if (kind == Kind::Orthographic) return {cx + scale * dot(p, r), cy - scale * dot(p, u)};
-    const double x = P[0] * p.x + P[1] * p.y + P[2] * p.z + P[3];
-    const double y = P[4] * p.x + P[5] * p.y + P[6] * p.z + P[7];
-    const double w = P[8] * p.x + P[9] * p.y + P[10] * p.z + P[11];
-    return {x / w, y / w};
-}
-
 double Camera::depth(const Vec3d& p) const {
     if (kind == Kind::Orthographic) return dot(p, d);
     return P[8] * p.x + P[9] * p.y + P[10] * p.z + P[11];

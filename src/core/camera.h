@@ -31,7 +31,13 @@ struct Camera {
 
     bool orthographic() const { return kind == Kind::Orthographic; }
     /// Continuous pixel coordinates of a world point (perspective: divided by depth).
-    Vec2d project(const Vec3d& p) const;
+    Vec2d project(const Vec3d& p) const {
+        if (kind == Kind::Orthographic) return {cx + scale * dot(p, r), cy - scale * dot(p, u)};
+        const double x = P[0] * p.x + P[1] * p.y + P[2] * p.z + P[3];
+        const double y = P[4] * p.x + P[5] * p.y + P[6] * p.z + P[7];
+        const double w = P[8] * p.x + P[9] * p.y + P[10] * p.z + P[11];
+        return {x / w, y / w};
+    }
     /// Depth along the view direction (orthographic: p . d; perspective: the homogeneous w).
     double depth(const Vec3d& p) const;
     /// Perspective only: the camera centre (null space of P).

@@ -48,7 +48,7 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
     return s;
 }
 
-double SilhouetteSdf::sample(double x, double y) const {
+double SilhouetteSdf::sample_edge(double x, double y) const {
     // A point that projects nowhere (a coordinate overflowed) is outside every silhouette.
     if (!std::isfinite(x) || !std::isfinite(y)) return std::numeric_limits<double>::infinity();
     // Pixel-centre lattice coordinates.
