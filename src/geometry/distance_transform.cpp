@@ -43,42 +43,37 @@ std::vector<float> squared_edt(const std::vector<char>& seed, int w, int h) {
     // Columns, then rows. A row that is all seeds stays 0 and a line without any stays
     // kEdtFar (kEdtFar + n^2 rounds back to kEdtFar in float): both are skipped, which
     // for a silhouette is most of the image (its box is a fraction of the frame).
-    // The columns go in tiles of kTile side by side, gathered into (and scattered back
-    // from) contiguous lines a row of the tile at a time: a column read on its own touches
-    // one cache line per pixel, and an image of 2048 rows does not stay in the first-level
-    // cache between neighbouring columns.
-    constexpr int kTile = 16;
-    const int tiles = (w + kTile - 1) / kTile;
-    tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> lines(std::size_t(kTile) * h), d(h);
+    //
+    // Along a column the input is only seed (0) or not (far), so its transform is the square
+    // of the distance to the nearest seed above or below: a sweep down the rows counts the
+    // distance to the seed above, a sweep up takes the nearer of that and the seed below.
+    // Both sweeps go along whole rows of a strip of columns (contiguous, vectorised), in
+    // place. Counts stay integers (exact in float); kEdtFar + 1 rounds back to kEdtFar, so a
+    // column without a seed ends at kEdtFar.
+    constexpr int kStrip = 256;
+    const int strips = (w + kStrip - 1) / kStrip;
+    tbb::parallel_for(tbb::blocked_range<int>(0, strips, 1), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> below(kStrip);
         for (int t = r.begin(); t != r.end(); ++t) {
-            const int x0 = t * kTile, nx = std::min(kTile, w - x0);
+            const int x0 = t * kStrip, nx = std::min(kStrip, w - x0);
             for (int y = 0; y < h; ++y) {
                 const char* s = seed.data() + std::size_t(y) * w + x0;
-                for (int b = 0; b < nx; ++b) lines[std::size_t(b) * h + y] = s[b] ? 0.0f : kEdtFar;
-            }
-            // Along a column the input is only seed (0) or not (kEdtFar), so its transform is
-            // the square of the distance to the nearest seed above or below: two sweeps, the
-            // same values as the general 1D transform (integers, exact in float).
-            for (int b = 0; b < nx; ++b) {
-                float* f = lines.data() + std::size_t(b) * h;
-                int last = -1; // the latest seed row of the downward sweep
-                for (int y = 0; y < h; ++y) {
-                    if (f[y] == 0.0f) last = y;
-                    d[std::size_t(y)] = last < 0 ? -1.0f : float(y - last);
-                }
-                if (last < 0) continue; // no seed: kEdtFar throughout
-                int next = -1;
-                for (int y = h - 1; y >= 0; --y) {
-                    if (f[y] == 0.0f) next = y;
-                    float dist = d[std::size_t(y)];
-                    if (next >= 0 && (dist < 0 || float(next - y) < dist)) dist = float(next - y);
-                    f[y] = dist * dist;
-                }
-            }
-            for (int y = 0; y < h; ++y) {
                 float* row = g.data() + std::size_t(y) * w + x0;
-                for (int b = 0; b < nx; ++b) row[b] = lines[std::size_t(b) * h + y];
+                if (y == 0) {
+                    for (int b = 0; b < nx; ++b) row[b] = s[b] ? 0.0f : kEdtFar;
+                } else {
+                    const float* above = row - w;
+                    for (int b = 0; b < nx; ++b) row[b] = s[b] ? 0.0f : above[b] + 1.0f;
+                }
+            }
+            std::fill_n(below.begin(), nx, kEdtFar);
+            for (int y = h - 1; y >= 0; --y) {
+                float* row = g.data() + std::size_t(y) * w + x0;
+                for (int b = 0; b < nx; ++b) {
+                    const float m = std::min(row[b], below[b] + 1.0f);
+                    below[b] = m;
+                    row[b] = m >= kEdtFar ? kEdtFar : m * m;
+                }
             }
         }
     });
