@@ -75,21 +75,44 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
     std::vector<Collapser::OldFace> old; // v's faces before the collapse, the same for every target
     std::optional<OutlineGuard::Samples> samples;
     if (opt.outline) samples.emplace(nv, opt.outline->view_count());
+    constexpr double kTie = 1e-9; // cosines closer than this are a tie, which the nearer target wins
+    auto before = [](const Option& a, const Option& b) {
+        if (std::fabs(a.cos - b.cos) > kTie) return a.cos > b.cos;
+        return a.len < b.len;
+    };
+    auto passes = [&](std::uint32_t v, std::uint32_t x, const std::vector<std::uint32_t>& rv) {
+        return c.topology_ok(v, x, rv) && (!opt.outline || opt.outline->keeps(c, v, x, &*samples));
+    };
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
-        options.clear();
         const Vec3d p(c.point(v));
         c.old_faces(v, old);
+        // The best target first, on its own: a target whose faces turn more than the best
+        // found so far is given up at the first face that shows it. Most of the time the
+        // best passes the topology and the outline guard, and it is the one taken.
+        Option best{-2.0, 0.0, decimate::kNone};
         for (auto x : rv) {
             double mc;
-            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old)) continue;
+            if (!c.usable(x) ||
+                !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old, best.w == decimate::kNone ? -2.0 : best.cos - kTie))
+                continue;
+            const Option o{mc, length(Vec3d(c.point(x)) - p), x};
+            if (best.w == decimate::kNone || before(o, best)) best = o;
+        }
+        if (best.w == decimate::kNone) return false;
+        if (passes(v, best.w, rv)) {
+            w = best.w;
+            return true;
+        }
+        // Otherwise every other valid target, in order.
+        options.clear();
+        for (auto x : rv) {
+            double mc;
+            if (x == best.w || !c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old)) continue;
             options.push_back({mc, length(Vec3d(c.point(x)) - p), x});
         }
-        std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) {
-            if (std::fabs(a.cos - b.cos) > 1e-9) return a.cos > b.cos;
-            return a.len < b.len;
-        });
+        std::sort(options.begin(), options.end(), before);
         for (const auto& o : options)
-            if (c.topology_ok(v, o.w, rv) && (!opt.outline || opt.outline->keeps(c, v, o.w, &*samples))) {
+            if (passes(v, o.w, rv)) {
                 w = o.w;
                 return true;
             }

@@ -87,7 +87,7 @@ void Collapser::old_faces(std::uint32_t v, std::vector<OldFace>& out) const {
 }
 
 bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos,
-                            const std::vector<OldFace>& old) const {
+                            const std::vector<OldFace>& old, double give_up_below) const {
     min_cos = 1.0;
     const Vec3d pw(P_[w]);
     bool ok = true;
@@ -108,7 +108,7 @@ bool Collapser::geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, 
         }
         const double c = dot(n, o.n) / (len * o.len);
         min_cos = std::min(min_cos, c);
-        if (c < cos_limit) {
+        if (c < cos_limit || c < give_up_below) {
             ok = false;
             return;
         }

@@ -74,9 +74,10 @@ public:
     /// Geometry of collapsing v into w: no changed face may lose its area, turn by more
     /// than acos(cos_limit) or become thinner than max_aspect (unless it was already).
     /// On success `min_cos` is the smallest cosine between a changed face's old and new normal.
-    /// `old` is old_faces(v).
+    /// `old` is old_faces(v). With `give_up_below`, false as soon as a face's cosine is below
+    /// it (a target that cannot beat one already found is not followed to the end).
     bool geometry_ok(std::uint32_t v, std::uint32_t w, double cos_limit, double max_aspect, double& min_cos,
-                     const std::vector<OldFace>& old) const;
+                     const std::vector<OldFace>& old, double give_up_below = -2.0) const;
 
     /// Collapses v into w (checked before). Returns nothing; w's face list is rewritten.
     void collapse(std::uint32_t v, std::uint32_t w);
