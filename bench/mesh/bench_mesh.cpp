@@ -240,6 +240,7 @@ BENCHMARK(BM_QuadricOpenMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->It
 // The mesh of CM_BENCH_MESH (input 2), when given.
 const bool file_benchmarks = [] {
     if (!std::getenv("CM_BENCH_MESH")) return false;
+    benchmark::RegisterBenchmark("BM_Adjacency", BM_Adjacency)->Arg(2)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("BM_CheckMesh", BM_CheckMesh)->Arg(2)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("BM_SelfIntersections", BM_SelfIntersections)->Arg(2)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark("BM_CoincidentVertices", BM_CoincidentVertices)->Arg(2)->Unit(benchmark::kMillisecond);
