@@ -1,6 +1,7 @@
 #include "mesh_decimate.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "geometry/mesh_intersect.h"
 #include "mesh_decimate_internal.h"
@@ -195,13 +197,33 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
     std::vector<std::uint32_t> cell;
     const int k = block_cells(mesh, shift, cell);
     const std::size_t ncells = std::size_t(k + 1) * (k + 1) * (k + 1);
-    // Faces by block (counting sort, faces in input order within a block).
+    // Faces by block (counting sort, faces in input order within a block), in a few chunks of
+    // faces side by side: each counts its faces per block, then writes them from its own place.
     std::vector<std::uint32_t> start(ncells + 1, 0), faces(nf);
-    for (const auto& t : mesh.triangles) ++start[cell[t[0]] + 1];
-    for (std::size_t b = 0; b < ncells; ++b) start[b + 1] += start[b];
     {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (std::size_t f = 0; f < nf; ++f) faces[fill[cell[mesh.triangles[f][0]]]++] = std::uint32_t(f);
+        const std::size_t chunks =
+            nf < (std::size_t(1) << 20)
+                ? 1
+                : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
+        const std::size_t per = (nf + chunks - 1) / chunks;
+        std::vector<std::vector<std::uint32_t>> at(chunks); // per chunk: counts, then where it writes next
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            at[c].assign(ncells, 0);
+            for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f) ++at[c][cell[mesh.triangles[f][0]]];
+        });
+        for (std::size_t b = 0; b < ncells; ++b) {
+            std::uint32_t next = start[b];
+            for (auto& a : at) {
+                const std::uint32_t n = a[b];
+                a[b] = next;
+                next += n;
+            }
+            start[b + 1] = next;
+        }
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f)
+                faces[at[c][cell[mesh.triangles[f][0]]]++] = std::uint32_t(f);
+        });
     }
     std::vector<std::uint32_t> blocks;
     for (std::size_t b = 0; b < ncells; ++b)
@@ -318,33 +340,38 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
 
     // The blocks' faces as one mesh over the input vertices they still use (in input
     // order), then the second pass over it.
-    std::vector<std::uint32_t> order(nv, decimate::kNone);
-    for (const auto& fs : kept)
-        for (const auto& t : fs)
-            for (auto x : t) order[x] = 0;
-    std::vector<std::uint32_t> input_of;
+    std::vector<char> used(nv, 0);
+    tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
+        for (const auto& t : kept[i])
+            for (auto x : t) std::atomic_ref<char>(used[x]).store(1, std::memory_order_relaxed);
+    });
+    std::vector<std::uint32_t> order(nv, decimate::kNone), input_of;
     for (std::size_t v = 0; v < nv; ++v)
-        if (order[v] != decimate::kNone) {
+        if (used[v]) {
             order[v] = std::uint32_t(input_of.size());
             input_of.push_back(std::uint32_t(v));
         }
+    std::vector<char>().swap(used);
     Mesh merged;
     auto pick = [&](const auto& from, auto& to) {
         if (from.size() != nv) return;
-        to.reserve(input_of.size());
-        for (auto v : input_of) to.push_back(from[v]);
+        to.resize(input_of.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, input_of.size(), 1 << 14), [&](const auto& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) to[i] = from[input_of[i]];
+        });
     };
     pick(mesh.positions, merged.positions);
     pick(mesh.uvs, merged.uvs);
     pick(mesh.colors, merged.colors);
     pick(mesh.normals, merged.normals);
-    std::size_t total = 0;
-    for (const auto& fs : kept) total += fs.size();
-    merged.triangles.reserve(total);
-    for (auto& fs : kept) {
-        for (const auto& t : fs) merged.triangles.push_back({order[t[0]], order[t[1]], order[t[2]]});
-        std::vector<std::array<std::uint32_t, 3>>().swap(fs);
-    }
+    std::vector<std::size_t> first(kept.size() + 1, 0); // where each block's faces go
+    for (std::size_t i = 0; i < kept.size(); ++i) first[i + 1] = first[i] + kept[i].size();
+    merged.triangles.resize(first.back());
+    tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
+        auto* to = merged.triangles.data() + first[i];
+        for (const auto& t : kept[i]) *to++ = {order[t[0]], order[t[1]], order[t[2]]};
+        std::vector<std::array<std::uint32_t, 3>>().swap(kept[i]);
+    });
     if (frozen) {
         std::vector<char> f;
         f.reserve(input_of.size());
