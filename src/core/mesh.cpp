@@ -1,11 +1,14 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <atomic>
 #include <numeric>
 #include <unordered_map>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 namespace cm {
 
@@ -103,52 +106,137 @@ MeshCheck check_mesh(const Mesh& m) {
     const std::size_t nv = m.positions.size(), nf = m.triangles.size();
     // Undirected edges bucketed by their lower vertex (a counting sort: each bucket holds the
     // few edges of one vertex), and the faces around each vertex, both as offset arrays: no
-    // sort of all edges, no allocation per vertex.
-    std::vector<std::size_t> eoff(nv + 1, 0), foff(nv + 1, 0);
+    // sort of all edges, no allocation per vertex. The faces go in a few chunks side by side,
+    // each counting its corners and edges per vertex in arrays of its own and then writing
+    // them from its own place in each bucket (the buckets hold what one pass in face order
+    // would put there, in that order).
     auto repeated = [](const std::array<std::uint32_t, 3>& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; };
-    for (const auto& t : m.triangles) {
-        for (int k = 0; k < 3; ++k) ++foff[std::size_t(t[k]) + 1];
-        if (repeated(t)) continue;
-        for (int k = 0; k < 3; ++k) ++eoff[std::size_t(std::min(t[k], t[(k + 1) % 3])) + 1];
-    }
+    const std::size_t chunks =
+        nf < (std::size_t(1) << 16) ? 1
+                                    : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::size_t per = (nf + chunks - 1) / chunks;
+    std::vector<std::vector<std::uint32_t>> fat(chunks), eat(chunks); // per chunk: counts, then cursors
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+        fat[c].assign(nv, 0);
+        eat[c].assign(nv, 0);
+        for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f) {
+            const auto& t = m.triangles[f];
+            for (int k = 0; k < 3; ++k) ++fat[c][t[k]];
+            if (repeated(t)) continue;
+            for (int k = 0; k < 3; ++k) ++eat[c][std::min(t[k], t[(k + 1) % 3])];
+        }
+    });
+    std::vector<std::size_t> eoff(nv + 1, 0), foff(nv + 1, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v)
+            for (std::size_t c = 0; c < chunks; ++c) {
+                eoff[v + 1] += eat[c][v];
+                foff[v + 1] += fat[c][v];
+            }
+    });
     for (std::size_t v = 0; v < nv; ++v) {
         eoff[v + 1] += eoff[v];
         foff[v + 1] += foff[v];
     }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            std::size_t e = eoff[v], f = foff[v];
+            for (std::size_t c = 0; c < chunks; ++c) {
+                const std::uint32_t ne = eat[c][v], nfc = fat[c][v];
+                eat[c][v] = std::uint32_t(e - eoff[v]);
+                fat[c][v] = std::uint32_t(f - foff[v]);
+                e += ne;
+                f += nfc;
+            }
+        }
+    });
     std::vector<std::uint64_t> edges(eoff[nv]); // (higher vertex << 1) | forward, per bucket
     std::vector<std::uint32_t> vfaces(foff[nv]);
-    {
-        std::vector<std::size_t> efill(eoff.begin(), eoff.end() - 1), ffill(foff.begin(), foff.end() - 1);
-        Dsu dsu(nv);
-        std::vector<char> used(nv, 0);
-        for (std::size_t f = 0; f < nf; ++f) {
+    // Components: a union-find the chunks share (roots linked by compare-and-swap, always
+    // the larger index under the smaller, so the forest stays one; paths halved on the way).
+    std::vector<std::uint32_t> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::vector<char> used(nv, 0);
+    auto find = [&](std::uint32_t x) {
+        for (;;) {
+            std::uint32_t p = std::atomic_ref<std::uint32_t>(parent[x]).load(std::memory_order_relaxed);
+            if (p == x) return x;
+            const std::uint32_t g = std::atomic_ref<std::uint32_t>(parent[p]).load(std::memory_order_relaxed);
+            if (g != p) std::atomic_ref<std::uint32_t>(parent[x]).compare_exchange_weak(p, g, std::memory_order_relaxed);
+            x = g;
+        }
+    };
+    auto unite = [&](std::uint32_t a, std::uint32_t b) {
+        for (;;) {
+            a = find(a);
+            b = find(b);
+            if (a == b) return;
+            if (a < b) std::swap(a, b);
+            std::uint32_t expected = a;
+            if (std::atomic_ref<std::uint32_t>(parent[a]).compare_exchange_strong(expected, b,
+                                                                                std::memory_order_relaxed))
+                return;
+        }
+    };
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+        std::uint32_t *fc = fat[c].data(), *ec = eat[c].data();
+        for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f) {
             const auto& t = m.triangles[f];
-            for (int k = 0; k < 3; ++k) vfaces[ffill[t[k]]++] = std::uint32_t(f);
-            if (repeated(t)) {
-                ++r.degenerate_faces;
-                continue;
-            }
-            const Vec3d a(m.positions[t[0]]), b(m.positions[t[1]]), c(m.positions[t[2]]);
-            const Vec3d n = cross(b - a, c - a);
-            const double area2 = length(n);
-            if (area2 == 0.0) ++r.degenerate_faces;
-            r.area += 0.5 * area2;
-            r.signed_volume += dot(a, cross(b, c)) / 6.0;
+            for (int k = 0; k < 3; ++k) vfaces[foff[t[k]] + fc[t[k]]++] = std::uint32_t(f);
+            if (repeated(t)) continue;
             for (int k = 0; k < 3; ++k) {
-                const std::uint32_t u = t[k], v = t[(k + 1) % 3];
-                used[u] = 1;
-                dsu.unite(u, v);
-                edges[efill[std::min(u, v)]++] = (std::uint64_t(std::max(u, v)) << 1) | std::uint64_t(u < v);
+                const std::uint32_t u = t[k], v = t[(k + 1) % 3], lo = std::min(u, v);
+                std::atomic_ref<char>(used[u]).store(1, std::memory_order_relaxed);
+                edges[eoff[lo] + ec[lo]++] = (std::uint64_t(std::max(u, v)) << 1) | std::uint64_t(u < v);
             }
+            unite(t[0], t[1]);
+            unite(t[1], t[2]);
         }
-        std::size_t nused = 0;
-        for (std::uint32_t v = 0; v < nv; ++v) {
-            if (!used[v]) continue;
-            ++nused;
-            if (dsu.find(v) == v) ++r.components;
-        }
-        r.euler = long(nused);
-    }
+    });
+    fat.clear();
+    eat.clear();
+    struct Counts {
+        std::size_t used = 0, roots = 0;
+    };
+    const Counts vc = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, nv, 1 << 14), Counts{},
+        [&](const tbb::blocked_range<std::size_t>& range, Counts c) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v)
+                if (used[v]) {
+                    ++c.used;
+                    c.roots += parent[v] == v;
+                }
+            return c;
+        },
+        [](Counts x, const Counts& y) { return Counts{x.used + y.used, x.roots + y.roots}; });
+    r.components = vc.roots;
+    r.euler = long(vc.used);
+    // Area, volume and degenerate faces, summed in one order whatever the thread count.
+    struct Sums {
+        double area = 0, volume = 0;
+        std::size_t degenerate = 0;
+    };
+    const Sums sums = tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, nf, 1 << 14), Sums{},
+        [&](const tbb::blocked_range<std::size_t>& range, Sums acc) {
+            for (std::size_t f = range.begin(); f != range.end(); ++f) {
+                const auto& t = m.triangles[f];
+                if (repeated(t)) {
+                    ++acc.degenerate;
+                    continue;
+                }
+                const Vec3d a(m.positions[t[0]]), b(m.positions[t[1]]), c(m.positions[t[2]]);
+                const double area2 = length(cross(b - a, c - a));
+                if (area2 == 0.0) ++acc.degenerate;
+                acc.area += 0.5 * area2;
+                acc.volume += dot(a, cross(b, c)) / 6.0;
+            }
+            return acc;
+        },
+        [](Sums x, const Sums& y) { return Sums{x.area + y.area, x.volume + y.volume, x.degenerate + y.degenerate}; });
+    r.area = sums.area;
+    r.signed_volume = sums.volume;
+    r.degenerate_faces = sums.degenerate;
     const EdgeCounts ec = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, nv, 4096), EdgeCounts{},
         [&](const tbb::blocked_range<std::size_t>& range, EdgeCounts c) {
