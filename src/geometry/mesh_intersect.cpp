@@ -132,12 +132,26 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     // cells or the cells would not fit the 32 bits of a key.
     cell_ = std::max(2.0 * total.diag / double(nf), largest * 1e-6);
     inv_cell_ = 1.0 / cell_;
-    // The number of cells each face's box reaches, capped (a sum that cannot overflow).
-    auto cell_count = [&](std::uint32_t f, std::uint64_t cap) {
-        const Range c = cells(box(f));
-        const std::uint64_t n = (c.hi[0] - c.lo[0] + 1) * (c.hi[1] - c.lo[1] + 1) * (c.hi[2] - c.lo[2] + 1);
-        return std::min(n, cap);
+    low_bits_ = nf <= kFaceMask;
+    // The entries sorted without a second array of them: each chunk of faces counts its
+    // entries per bucket (a range of consecutive cell keys), the counts give every (bucket,
+    // chunk) its place, the chunks write their entries there side by side, and each bucket
+    // is sorted on its own, in the caches. The result is the fully sorted array.
+    const std::size_t chunk = std::max<std::size_t>(std::size_t(1) << 16, (nf + 31) / 32);
+    const std::size_t chunks = (nf + chunk - 1) / chunk;
+    auto for_cells = [&](const Range& r, std::uint32_t f, auto&& emit) {
+        for (auto i = r.lo[0]; i <= r.hi[0]; ++i)
+            for (auto j = r.lo[1]; j <= r.hi[1]; ++j)
+                for (auto k = r.lo[2]; k <= r.hi[2]; ++k) {
+                    const std::uint64_t first =
+                        low_bits_ ? std::uint64_t((i == r.lo[0]) | (j == r.lo[1]) << 1 | (k == r.lo[2]) << 2) : 0;
+                    emit(key(i, j, k), (first << kFaceBits) | f);
+                }
     };
+    constexpr int kBucketBits = 16;
+    int shift = 0;
+    std::size_t buckets = 1;
+    std::vector<std::uint64_t> place; // per (chunk, bucket): counts, then where each writes next
     for (;;) {
         for (int x = 0; x < 3; ++x) dims_[std::size_t(x)] = std::uint64_t(std::floor(extent[x] / cell_)) + 1;
         if (dims_[0] * dims_[1] * dims_[2] >= (std::uint64_t(1) << 32)) {
@@ -145,46 +159,33 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
             inv_cell_ = 1.0 / cell_;
             continue;
         }
+        const std::uint64_t top_key = dims_[0] * dims_[1] * dims_[2] - 1;
+        shift = std::max(0, int(std::bit_width(top_key)) - kBucketBits);
+        buckets = std::size_t(top_key >> shift) + 1;
+        place.assign(chunks * buckets, 0);
+        // Each face's cells counted from its range first (no face can make a chunk enumerate
+        // past the limit): over the limit, the cells are too small for the faces.
         const std::uint64_t limit = 16 * std::uint64_t(nf) + 1024;
-        const std::uint64_t sum = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, nf, 8192), std::uint64_t(0),
-            [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t n) {
-                for (std::size_t f = r.begin(); f != r.end(); ++f) n += cell_count(std::uint32_t(f), limit + 1);
-                return n;
-            },
-            [](std::uint64_t x, std::uint64_t y) { return x + y; });
-        if (sum <= limit) break;
+        std::atomic<std::uint64_t> total{0};
+        std::atomic<bool> over{false};
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+            std::uint64_t* count = place.data() + c * buckets;
+            std::uint64_t mine = 0;
+            for (std::size_t f = c * chunk, e = std::min(nf, f + chunk); f < e; ++f) {
+                const Range r = cells(box(std::uint32_t(f)));
+                mine += (r.hi[0] - r.lo[0] + 1) * (r.hi[1] - r.lo[1] + 1) * (r.hi[2] - r.lo[2] + 1);
+                if (mine > limit || over.load(std::memory_order_relaxed)) {
+                    over = true;
+                    return;
+                }
+                for_cells(r, std::uint32_t(f), [&](std::uint64_t cell, std::uint64_t) { ++count[cell >> shift]; });
+            }
+            if (total.fetch_add(mine) + mine > limit) over = true;
+        });
+        if (!over) break;
         cell_ *= 2;
         inv_cell_ = 1.0 / cell_;
     }
-    low_bits_ = nf <= kFaceMask;
-    // The entries sorted without a second array of them: each chunk of faces counts its
-    // entries per bucket (a range of consecutive cell keys), the counts give every (bucket,
-    // chunk) its place, the chunks write their entries there side by side, and each bucket
-    // is sorted on its own, in the caches. The result is the fully sorted array.
-    const std::uint64_t top_key = dims_[0] * dims_[1] * dims_[2] - 1;
-    constexpr int kBucketBits = 16;
-    const int shift = std::max(0, int(std::bit_width(top_key)) - kBucketBits);
-    const std::size_t buckets = std::size_t(top_key >> shift) + 1;
-    const std::size_t chunk = std::max<std::size_t>(std::size_t(1) << 16, (nf + 31) / 32);
-    const std::size_t chunks = (nf + chunk - 1) / chunk;
-    std::vector<std::uint64_t> place(chunks * buckets, 0); // counts, then where each writes next
-    auto for_entries = [&](std::size_t c, auto&& emit) {
-        for (std::size_t f = c * chunk, e = std::min(nf, f + chunk); f < e; ++f) {
-            const Range r = cells(box(std::uint32_t(f)));
-            for (auto i = r.lo[0]; i <= r.hi[0]; ++i)
-                for (auto j = r.lo[1]; j <= r.hi[1]; ++j)
-                    for (auto k = r.lo[2]; k <= r.hi[2]; ++k) {
-                        const std::uint64_t first =
-                            low_bits_ ? std::uint64_t((i == r.lo[0]) | (j == r.lo[1]) << 1 | (k == r.lo[2]) << 2) : 0;
-                        emit(key(i, j, k), (first << kFaceBits) | f);
-                    }
-        }
-    };
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-        std::uint64_t* count = place.data() + c * buckets;
-        for_entries(c, [&](std::uint64_t cell, std::uint64_t) { ++count[cell >> shift]; });
-    });
     std::vector<std::uint64_t> bucket_start(buckets + 1, 0);
     std::uint64_t at = 0;
     for (std::size_t b = 0; b < buckets; ++b) {
@@ -199,8 +200,10 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
     entries_.resize(at);
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
         std::uint64_t* next = place.data() + c * buckets;
-        for_entries(
-            c, [&](std::uint64_t cell, std::uint64_t low) { entries_[next[cell >> shift]++] = (cell << 32) | low; });
+        for (std::size_t f = c * chunk, e = std::min(nf, f + chunk); f < e; ++f)
+            for_cells(cells(box(std::uint32_t(f))), std::uint32_t(f), [&](std::uint64_t cell, std::uint64_t low) {
+                entries_[next[cell >> shift]++] = (cell << 32) | low;
+            });
     });
     std::vector<std::uint64_t>().swap(place);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -208,12 +211,23 @@ SelfIntersectionIndex::SelfIntersectionIndex(const std::vector<std::array<std::u
             std::sort(entries_.begin() + std::ptrdiff_t(bucket_start[b]),
                       entries_.begin() + std::ptrdiff_t(bucket_start[b + 1]));
     });
-    std::size_t runs = 0;
-    for (std::size_t i = 0; i < entries_.size(); ++i) runs += i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32);
-    runs_.reserve(runs + 1);
-    for (std::size_t i = 0; i < entries_.size(); ++i)
-        if (i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32)) runs_.push_back(i);
-    runs_.push_back(entries_.size());
+    // The runs of one cell, found per bucket (a cell lies in one bucket) side by side.
+    std::vector<std::size_t> runs_before(buckets + 1, 0);
+    auto starts_run = [&](std::size_t i) { return i == 0 || (entries_[i] >> 32) != (entries_[i - 1] >> 32); };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b)
+            for (std::size_t i = bucket_start[b]; i < bucket_start[b + 1]; ++i) runs_before[b + 1] += starts_run(i);
+    });
+    for (std::size_t b = 0; b < buckets; ++b) runs_before[b + 1] += runs_before[b];
+    runs_.resize(runs_before[buckets] + 1);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+            std::size_t at_run = runs_before[b];
+            for (std::size_t i = bucket_start[b]; i < bucket_start[b + 1]; ++i)
+                if (starts_run(i)) runs_[at_run++] = i;
+        }
+    });
+    runs_.back() = entries_.size();
 }
 
 SelfIntersectionIndex::Box SelfIntersectionIndex::box(std::uint32_t f) const {
