@@ -12,16 +12,24 @@
 
 namespace cm {
 
-void Mesh::bounds(Vec3f& lo, Vec3f& hi) const {
+void Mesh::bounds_of(const std::vector<Vec3f>& positions, Vec3f& lo, Vec3f& hi) {
     if (positions.empty()) {
         lo = hi = Vec3f{};
         return;
     }
-    lo = hi = positions[0];
-    for (const auto& p : positions) {
-        lo = vmin(lo, p);
-        hi = vmax(hi, p);
-    }
+    // In parallel: min and max come out the same in any order.
+    using Box = std::array<Vec3f, 2>;
+    const Box b = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, positions.size(), 1 << 16), Box{positions[0], positions[0]},
+        [&](const tbb::blocked_range<std::size_t>& r, Box x) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) x = {vmin(x[0], positions[i]), vmax(x[1], positions[i])};
+            return x;
+        },
+        [](const Box& x, const Box& y) {
+            return Box{vmin(x[0], y[0]), vmax(x[1], y[1])};
+        });
+    lo = b[0];
+    hi = b[1];
 }
 
 void Mesh::compute_normals() {
@@ -111,9 +119,9 @@ MeshCheck check_mesh(const Mesh& m) {
     // them from its own place in each bucket (the buckets hold what one pass in face order
     // would put there, in that order).
     auto repeated = [](const std::array<std::uint32_t, 3>& t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; };
-    const std::size_t chunks =
-        nf < (std::size_t(1) << 16) ? 1
-                                    : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::size_t chunks = nf < (std::size_t(1) << 16)
+                                   ? 1
+                                   : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t per = (nf + chunks - 1) / chunks;
     std::vector<std::vector<std::uint32_t>> fat(chunks), eat(chunks); // per chunk: counts, then cursors
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
@@ -162,7 +170,8 @@ MeshCheck check_mesh(const Mesh& m) {
             std::uint32_t p = std::atomic_ref<std::uint32_t>(parent[x]).load(std::memory_order_relaxed);
             if (p == x) return x;
             const std::uint32_t g = std::atomic_ref<std::uint32_t>(parent[p]).load(std::memory_order_relaxed);
-            if (g != p) std::atomic_ref<std::uint32_t>(parent[x]).compare_exchange_weak(p, g, std::memory_order_relaxed);
+            if (g != p)
+                std::atomic_ref<std::uint32_t>(parent[x]).compare_exchange_weak(p, g, std::memory_order_relaxed);
             x = g;
         }
     };
@@ -174,7 +183,7 @@ MeshCheck check_mesh(const Mesh& m) {
             if (a < b) std::swap(a, b);
             std::uint32_t expected = a;
             if (std::atomic_ref<std::uint32_t>(parent[a]).compare_exchange_strong(expected, b,
-                                                                                std::memory_order_relaxed))
+                                                                                  std::memory_order_relaxed))
                 return;
         }
     };
@@ -208,7 +217,9 @@ MeshCheck check_mesh(const Mesh& m) {
                 }
             return c;
         },
-        [](Counts x, const Counts& y) { return Counts{x.used + y.used, x.roots + y.roots}; });
+        [](Counts x, const Counts& y) {
+            return Counts{x.used + y.used, x.roots + y.roots};
+        });
     r.components = vc.roots;
     r.euler = long(vc.used);
     // Area, volume and degenerate faces, summed in one order whatever the thread count.
@@ -233,7 +244,9 @@ MeshCheck check_mesh(const Mesh& m) {
             }
             return acc;
         },
-        [](Sums x, const Sums& y) { return Sums{x.area + y.area, x.volume + y.volume, x.degenerate + y.degenerate}; });
+        [](Sums x, const Sums& y) {
+            return Sums{x.area + y.area, x.volume + y.volume, x.degenerate + y.degenerate};
+        });
     r.area = sums.area;
     r.signed_volume = sums.volume;
     r.degenerate_faces = sums.degenerate;

@@ -31,7 +31,9 @@ struct Mesh {
 
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t face_count() const { return triangles.size(); }
-    void bounds(Vec3f& lo, Vec3f& hi) const; ///< zero box for an empty mesh
+    void bounds(Vec3f& lo, Vec3f& hi) const { bounds_of(positions, lo, hi); } ///< zero box for an empty mesh
+    /// The box of `points` (a zero box when there are none). TBB-parallel.
+    static void bounds_of(const std::vector<Vec3f>& points, Vec3f& lo, Vec3f& hi);
     /// Area-weighted per-vertex normals from the triangles (outward for an outward mesh).
     void compute_normals();
 };

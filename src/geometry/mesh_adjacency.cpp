@@ -66,10 +66,9 @@ VertexAdjacency build_vertex_adjacency(const Mesh& mesh) {
     // The faces in a few chunks, each counting its corners per vertex in an array of its own
     // (no atomic increments: on 16 M faces a hundred million of them cost a quarter of a
     // second); each chunk then writes its corners from its own place in every vertex's row.
-    const std::size_t chunks =
-        nf < (std::size_t(1) << 16)
-            ? 1
-            : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::size_t chunks = nf < (std::size_t(1) << 16)
+                                   ? 1
+                                   : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
     const std::size_t per = (nf + chunks - 1) / chunks;
     std::vector<std::vector<std::uint32_t>> at(chunks); // per chunk: counts, then where it writes next
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {

@@ -409,14 +409,11 @@ CoincidenceIndex::CoincidenceIndex(const std::vector<Vec3f>& positions, double t
     : positions_(positions), tol2_(tolerance * tolerance) {
     const std::size_t n = positions.size();
     if (n == 0 || !(tolerance > 0)) return;
-    lo_ = Vec3d(positions[0]);
-    Vec3d& hi = hi_;
-    hi = lo_;
-    for (const Vec3f& p : positions)
-        for (int a = 0; a < 3; ++a) {
-            lo_[a] = std::min(lo_[a], double(p[a]));
-            hi[a] = std::max(hi[a], double(p[a]));
-        }
+    Vec3f flo, fhi;
+    Mesh::bounds_of(positions, flo, fhi);
+    lo_ = Vec3d(flo);
+    hi_ = Vec3d(fhi);
+    const Vec3d& hi = hi_;
     // About two vertex spacings of a surface through the box (its diagonal over the square
     // root of the count), so that a cell holds a few vertices, but between 16 and 256
     // tolerances: a cell many tolerances wide sends few vertices to its neighbours.

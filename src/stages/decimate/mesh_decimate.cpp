@@ -94,8 +94,8 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
         Option best{-2.0, 0.0, decimate::kNone};
         for (auto x : rv) {
             double mc;
-            if (!c.usable(x) ||
-                !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old, best.w == decimate::kNone ? -2.0 : best.cos - kTie))
+            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old,
+                                               best.w == decimate::kNone ? -2.0 : best.cos - kTie))
                 continue;
             const Option o{mc, length(Vec3d(c.point(x)) - p), x};
             if (best.w == decimate::kNone || before(o, best)) best = o;
@@ -201,10 +201,9 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
     // faces side by side: each counts its faces per block, then writes them from its own place.
     std::vector<std::uint32_t> start(ncells + 1, 0), faces(nf);
     {
-        const std::size_t chunks =
-            nf < (std::size_t(1) << 20)
-                ? 1
-                : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
+        const std::size_t chunks = nf < (std::size_t(1) << 20)
+                                       ? 1
+                                       : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
         const std::size_t per = (nf + chunks - 1) / chunks;
         std::vector<std::vector<std::uint32_t>> at(chunks); // per chunk: counts, then where it writes next
         tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
