@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -102,6 +104,32 @@ TEST(MeshCheck, LargeFansAndRepeatedIndices) {
         EXPECT_EQ(c.degenerate_faces, 1u);
         EXPECT_TRUE(c.closed_manifold());
     }
+}
+
+// Large meshes are checked in chunks of faces side by side, with one union-find for the
+// components: the counts are those of the mesh, however its faces fall in the chunks.
+TEST(MeshCheck, LargeMeshInChunksCountsComponentsHolesAndDegenerateFaces) {
+    Mesh m;
+    for (int i = 0; i < 4; ++i) { // four spheres apart
+        const Mesh s = test::make_sphere({3.0f * float(i), 0, 0}, 1.0f, 5);
+        const auto base = std::uint32_t(m.positions.size());
+        m.positions.insert(m.positions.end(), s.positions.begin(), s.positions.end());
+        for (auto t : s.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    ASSERT_GT(m.face_count(), 65536u);
+    m.triangles.erase(m.triangles.begin() + 10); // a hole of three edges in the first sphere
+    m.triangles.push_back({0, 0, 1});            // and a face naming a vertex twice
+    std::mt19937 rng(11);                        // the spheres' faces mixed over every chunk
+    std::shuffle(m.triangles.begin(), m.triangles.end(), rng);
+    const MeshCheck c = check_mesh(m);
+    EXPECT_EQ(c.components, 4u);
+    EXPECT_EQ(c.boundary_edges, 3u);
+    EXPECT_EQ(c.nonmanifold_edges, 0u);
+    EXPECT_EQ(c.inconsistent_edges, 0u);
+    EXPECT_EQ(c.degenerate_faces, 1u);
+    EXPECT_EQ(c.euler, 4 * 2 - 1); // four spheres, one face fewer
+    const double sphere = 4.0 / 3.0 * 3.14159265358979;
+    EXPECT_NEAR(c.signed_volume, 4 * sphere, 0.01 * 4 * sphere);
 }
 
 TEST(MeshIO, EveryFormatRoundTrips) {

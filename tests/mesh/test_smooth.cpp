@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <vector>
 
@@ -78,6 +79,24 @@ TEST(VertexAdjacency, SortedRingsOfClosedOpenNonManifoldAndDegenerateMeshes) {
         ASSERT_EQ(adj.vertex_count(), want.size()) << "mesh " << i;
         for (std::uint32_t v = 0; v < want.size(); ++v)
             ASSERT_EQ(std::vector<std::uint32_t>(adj.begin(v), adj.end(v)), want[v]) << "mesh " << i << " vertex " << v;
+    }
+}
+
+// Large meshes are counted in chunks of faces side by side (one per thread): the rings are
+// the same, closed or open, whatever chunk a vertex's faces fall in.
+TEST(VertexAdjacency, LargeMeshesCountedInChunksGiveTheSameRings) {
+    Mesh closed = test::make_sphere({0, 0, 0}, 1.0f, 6);
+    ASSERT_GT(closed.face_count(), 65536u);
+    std::mt19937 rng(7); // faces out of order: a vertex's corners in every chunk
+    std::shuffle(closed.triangles.begin(), closed.triangles.end(), rng);
+    Mesh open = closed;
+    open.triangles.resize(open.triangles.size() - 1000);
+    for (const Mesh* m : {&closed, &open}) {
+        const VertexAdjacency adj = build_vertex_adjacency(*m);
+        const auto want = rings_by_sets(*m);
+        ASSERT_EQ(adj.vertex_count(), want.size());
+        for (std::uint32_t v = 0; v < want.size(); ++v)
+            ASSERT_EQ(std::vector<std::uint32_t>(adj.begin(v), adj.end(v)), want[v]) << "vertex " << v;
     }
 }
 

@@ -201,7 +201,7 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
     // faces side by side: each counts its faces per block, then writes them from its own place.
     std::vector<std::uint32_t> start(ncells + 1, 0), faces(nf);
     {
-        const std::size_t chunks = nf < (std::size_t(1) << 20)
+        const std::size_t chunks = nf < (std::size_t(1) << 16)
                                        ? 1
                                        : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
         const std::size_t per = (nf + chunks - 1) / chunks;
