@@ -31,7 +31,8 @@ using decimate::run_queue;
 // the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first.
 bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
     constexpr int kMax = 64;
-    Vec3f normals[kMax];
+    // Raw storage: an array of Vec3f would be zeroed (768 bytes) on every call.
+    float normals[kMax][3];
     int n = 0;
     double L = 0;
     const Vec3f p = c.point(v);
@@ -41,7 +42,11 @@ bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
             many = true;
             return;
         }
-        normals[n++] = c.normal(f);
+        const Vec3f fn = c.normal(f);
+        normals[n][0] = fn.x;
+        normals[n][1] = fn.y;
+        normals[n][2] = fn.z;
+        ++n;
         const auto& t = c.tri(f);
         const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
         L += length(c.point(next) - p);
@@ -49,7 +54,9 @@ bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
     if (many || n < 3) return false;
     float min_dot = 1.0f;
     for (int i = 0; i < n; ++i)
-        for (int j = i + 1; j < n; ++j) min_dot = std::min(min_dot, dot(normals[i], normals[j]));
+        for (int j = i + 1; j < n; ++j)
+            min_dot = std::min(
+                min_dot, normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2]);
     const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
     if (!(theta < limit)) return false;
     key = float(theta * L + 1e-4 * L);

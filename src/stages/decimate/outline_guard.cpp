@@ -11,20 +11,24 @@ namespace cm {
 
 namespace {
 
-double cross2(const Vec2d& a, const Vec2d& b, const Vec2d& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
+// A point on a view's image. Trivially constructible, unlike Vec2d: keeps() holds an array of
+// them per call, which would otherwise be zeroed (a kilobyte) on every collapse asked about.
+struct P2 {
+    double x, y;
+};
+
+double cross2(const P2& a, const P2& b, const P2& c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 
 // Whether p lies in the triangle (either orientation; a triangle seen edge-on covers nothing).
-bool in_triangle(const Vec2d& p, const std::array<Vec2d, 3>& t) {
+bool in_triangle(const P2& p, const std::array<P2, 3>& t) {
     const double d0 = cross2(t[0], t[1], p), d1 = cross2(t[1], t[2], p), d2 = cross2(t[2], t[0], p);
     if (cross2(t[0], t[1], t[2]) == 0) return false;
     return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
 }
 
 // The point of segment [a, b] nearest p, and its squared distance.
-double nearest_on_segment(const Vec2d& p, const Vec2d& a, const Vec2d& b, Vec2d& q) {
-    const Vec2d ab{b.x - a.x, b.y - a.y};
+double nearest_on_segment(const P2& p, const P2& a, const P2& b, P2& q) {
+    const P2 ab{b.x - a.x, b.y - a.y};
     const double len2 = ab.x * ab.x + ab.y * ab.y;
     double t = len2 > 0 ? ((p.x - a.x) * ab.x + (p.y - a.y) * ab.y) / len2 : 0.0;
     t = std::clamp(t, 0.0, 1.0);
@@ -61,15 +65,16 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         auto& n = tris[nt++];
         for (int k = 0; k < 3; ++k) n[std::size_t(k)] = t[std::size_t(k)] == v ? iw : index(t[std::size_t(k)]);
     });
-    Vec2d pr[kMax];
+    P2 pr[kMax];
     double sr[kMax];
     for (std::size_t view = 0; view < views_->size(); ++view) {
         const Entry& e = (*views_)[view];
         // A vertex's sample, from the run's samples when given.
-        auto at_vertex = [&](std::uint32_t x, const Vec2d& q) {
+        auto at_vertex = [&](std::uint32_t x, const P2& q) {
             return samples ? samples->at(x, view, [&] { return e.sdf.sample(q.x, q.y); }) : e.sdf.sample(q.x, q.y);
         };
-        const Vec2d pv = e.camera.project(p);
+        const Vec2d pv2 = e.camera.project(p);
+        const P2 pv{pv2.x, pv2.y};
         const double sv = at_vertex(v, pv);
         // Every point of the old and the new faces lies within the ring's reach of v, and the
         // distance is 1-Lipschitz: far inside the drawing the view sees no outline move, and
@@ -78,7 +83,8 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         if (ortho && sv + e.camera.scale * reach3 < -tol_) continue;
         double reach2 = 0; // the ring's reach on the image, squared (one root, not one per vertex)
         for (int i = 0; i < nr; ++i) {
-            pr[i] = e.camera.project(Vec3d(c.point(ring[i])));
+            const Vec2d q2 = e.camera.project(Vec3d(c.point(ring[i])));
+            pr[i] = {q2.x, q2.y};
             const double dx = pr[i].x - pv.x, dy = pr[i].y - pv.y;
             reach2 = std::max(reach2, dx * dx + dy * dy);
         }
@@ -87,15 +93,15 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         // Recession: v's projection left uncovered by the new faces.
         bool covered = nt == 0;
         double best = std::numeric_limits<double>::infinity();
-        Vec2d q = pv;
+        P2 q = pv;
         for (int i = 0; i < nt && !covered; ++i) {
-            const std::array<Vec2d, 3> t{pr[tris[i][0]], pr[tris[i][1]], pr[tris[i][2]]};
+            const std::array<P2, 3> t{pr[tris[i][0]], pr[tris[i][1]], pr[tris[i][2]]};
             if (in_triangle(pv, t)) {
                 covered = true;
                 break;
             }
             for (int k = 0; k < 3; ++k) {
-                Vec2d n;
+                P2 n;
                 const double d = nearest_on_segment(pv, t[std::size_t(k)], t[std::size_t((k + 1) % 3)], n);
                 if (d < best) best = d, q = n;
             }
@@ -103,7 +109,7 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         const bool may_grow = sv + reach > tol_;
         if (covered && !may_grow) continue;
         for (int i = 0; i < nr; ++i) sr[i] = at_vertex(ring[i], pr[i]);
-        const Vec2d pw = pr[iw];
+        const P2 pw = pr[iw];
         const double sw = sr[iw];
         auto along = [&](int i, double s) {
             return e.sdf.sample(pw.x + s * (pr[i].x - pw.x), pw.y + s * (pr[i].y - pw.y));
