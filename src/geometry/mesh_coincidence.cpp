@@ -94,16 +94,20 @@ std::size_t CoincidenceIndex::run_of(std::uint32_t key) const {
 
 bool CoincidenceIndex::in_cell(std::uint32_t v, const Vec3f& p, std::uint32_t key, std::size_t from,
                                const std::function<bool(std::uint32_t)>& f) const {
-    // Entries of moved vertices are stale in the sorted array: those are asked in moved_.
-    auto visit = [&](const Entry& e) { return e.v == v || stale_[e.v] || !close(p, positions_[e.v]) || f(e.v); };
+    // Entries of moved vertices are stale in the sorted array: those are asked in moved_. An
+    // entry that is not stale still has its vertex where it was at build time.
+    auto visit = [&](std::size_t t) {
+        const Entry& e = sorted_[t];
+        return e.v == v || (any_stale_ && stale_[e.v]) || !close(p, positions_[e.v]) || f(e.v);
+    };
     if (from < sorted_.size()) { // v's own entry is at `from`: its run is around it
         for (std::size_t t = from; t-- > 0 && sorted_[t].key == key;)
-            if (!visit(sorted_[t])) return false;
+            if (!visit(t)) return false;
         for (std::size_t t = from + 1; t < sorted_.size() && sorted_[t].key == key; ++t)
-            if (!visit(sorted_[t])) return false;
+            if (!visit(t)) return false;
     } else {
         for (std::size_t t = run_of(key); t < sorted_.size() && sorted_[t].key == key; ++t)
-            if (!visit(sorted_[t])) return false;
+            if (!visit(t)) return false;
     }
     if (!moved_.empty()) {
         const auto [a, b] = moved_.equal_range(key);
@@ -168,19 +172,25 @@ void CoincidenceIndex::moved(std::uint32_t v) {
                 break;
             }
     stale_[v] = 1;
+    any_stale_ = true;
     moved_key_[v] = key_of(positions_[v]);
     moved_.emplace(moved_key_[v], v);
 }
 
 std::vector<std::uint32_t> CoincidenceIndex::all() const {
     const std::size_t n = sorted_.size();
+    constexpr std::size_t kAhead = 16;
     std::vector<char> has(positions_.size(), 0);
     // In the sorted order, each vertex's own cell is the run around its entry.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t s = r.begin(); s != r.end(); ++s) {
+            // The keys' order is random through `positions`: the vertices some entries ahead
+            // (whose runs the next visits read) are fetched early.
+            if (s + kAhead < n) __builtin_prefetch(&positions_[sorted_[s + kAhead].v]);
             const std::uint32_t v = sorted_[s].v;
             bool found = false;
-            visit(v, stale_[v] ? n : s, [&](std::uint32_t) { return !(found = true); });
+            const bool stale = any_stale_ && stale_[v];
+            visit_at(positions_[v], v, stale ? n : s, [&](std::uint32_t) { return !(found = true); });
             has[v] = found;
         }
     });

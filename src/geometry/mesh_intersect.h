@@ -168,6 +168,7 @@ private:
     double tol2_ = 0, cell_ = 1, reach_ = 0;
     Vec3d lo_, hi_;                                               ///< the box of the positions at build time
     std::vector<Entry> sorted_;                                   ///< by cell key, at build time
+    bool any_stale_ = false;                                      ///< some vertex has moved since
     std::vector<std::uint32_t> table_;                            ///< hash table: the first entry of each cell's run
     std::vector<char> stale_;                                     ///< moved since: its entry is stale
     std::unordered_multimap<std::uint32_t, std::uint32_t> moved_; ///< moved vertices by their cell key
