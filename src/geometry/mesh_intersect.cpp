@@ -252,7 +252,9 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
 }
 
 std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
-                                                 const std::function<void(double)>& progress) const {
+                                                 const std::function<void(double)>& progress,
+                                                 const std::vector<char>* fans) const {
+    if (fans && fans->size() != p.size()) fans = nullptr;
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;
     if (runs_.size() < 2) return {};
     std::atomic<std::size_t> done{0};
@@ -304,8 +306,14 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
                     // axis that is this cell's when it is the first of either box there.
                     if ((ia.first | ib.first) != 7u) continue;
                     int shared = 0;
-                    for (auto u : ia.tri) shared += (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
-                    if (shared >= 2) continue; // neighbours across an edge never cross
+                    std::uint32_t common = 0;
+                    for (auto u : ia.tri) {
+                        const int k = (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
+                        shared += k;
+                        if (k) common = u;
+                    }
+                    if (shared >= 2) continue;                            // neighbours across an edge never cross
+                    if (shared == 1 && fans && (*fans)[common]) continue; // two sectors of an embedded fan
                     if (triangles_cross(p, ia.tri, ib.tri))
                         local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
                 }
@@ -366,6 +374,85 @@ std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::ui
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     return pairs;
+}
+
+std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                const std::vector<Vec3f>& p) {
+    const std::size_t nv = p.size(), nf = triangles.size();
+    std::vector<char> embedded(nv, 0);
+    // The faces of each vertex in compressed rows, counted and placed with relaxed atomics. The
+    // order of a row depends on the threads, and so may the last bits of its fan's sums: a
+    // fan on the margin may be vouched for or not, and either way all() gives the same answer.
+    std::vector<std::uint32_t> start(nv + 1, 0);
+    std::atomic<bool> bad_index{false};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f)
+            for (auto v : triangles[f]) {
+                if (v >= nv) {
+                    bad_index = true;
+                    continue;
+                }
+                std::atomic_ref<std::uint32_t>(start[v + 1]).fetch_add(1, std::memory_order_relaxed);
+            }
+    });
+    if (bad_index) return embedded; // a fan could miss a face: no vertex is vouched for
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
+    UninitVector<std::uint32_t> faces(start[nv]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f)
+            for (auto v : triangles[f])
+                faces[std::atomic_ref<std::uint32_t>(at[v]).fetch_add(1, std::memory_order_relaxed)] = std::uint32_t(f);
+    });
+    std::vector<std::uint32_t>().swap(at);
+    constexpr double kHalfPi = 1.57079632679489661923;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
+        constexpr std::uint32_t kMax = 64;
+        double side[kMax][6], turning[kMax][3]; // per face: its two sides from v, their cross product
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const std::uint32_t b = start[v], n = start[v + 1] - b;
+            if (n < 3 || n > kMax) continue;
+            const Vec3d pv(p[v]);
+            Vec3d normal{0, 0, 0};
+            std::uint64_t balance = 0; // each neighbour as often before v as after it: closed cycles
+            bool fine = true;
+            for (std::uint32_t i = 0; i < n && fine; ++i) {
+                // The face's two other corners, in its turning order, as seen from v.
+                const auto& t = triangles[faces[b + i]];
+                const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+                const std::uint32_t a = t[std::size_t((k + 1) % 3)], c = t[std::size_t((k + 2) % 3)];
+                fine = a != v && c != v;
+                const Vec3d u = Vec3d(p[a]) - pv, w = Vec3d(p[c]) - pv, x = cross(u, w);
+                normal += x;
+                side[i][0] = u.x, side[i][1] = u.y, side[i][2] = u.z, side[i][3] = w.x, side[i][4] = w.y,
+                side[i][5] = w.z;
+                turning[i][0] = x.x, turning[i][1] = x.y, turning[i][2] = x.z;
+                auto mix = [](std::uint64_t y) {
+                    return (y + 1) * 0x9E3779B97F4A7C15ull ^ (y >> 7) * 0xC2B2AE3D27D4EB4Full;
+                };
+                balance += mix(a) - mix(c);
+            }
+            const double len = length(normal);
+            if (!fine || balance != 0 || !(len > 0)) continue;
+            const Vec3d axis = normal * (1.0 / len);
+            // Each face's angle at v seen along the axis is theta, with sin and cos from the
+            // projected sides; (pi/2)(1 - cos) + sin bounds it from above on [0, pi] (no arc
+            // function per face). One cycle winding once adds up to 2 pi; any more, to 4 pi.
+            double turn = 0;
+            for (std::uint32_t i = 0; i < n && fine; ++i) {
+                const Vec3d u(side[i][0], side[i][1], side[i][2]), w(side[i][3], side[i][4], side[i][5]);
+                const Vec3d x(turning[i][0], turning[i][1], turning[i][2]);
+                const double sine = dot(x, axis);       // the projected sides' cross product
+                fine = sine * sine > 1e-18 * dot(x, x); // turning the fan's way, by a margin
+                fine = fine && sine > 0;
+                const double cosine = dot(u, w) - dot(u, axis) * dot(w, axis); // of the projected sides
+                const double r = std::sqrt(sine * sine + cosine * cosine);
+                turn += kHalfPi * (1 - cosine / r) + sine / r;
+            }
+            embedded[v] = fine && turn < 8 * kHalfPi - 1e-3;
+        }
+    });
+    return embedded;
 }
 
 std::vector<FacePair> find_self_intersections(const Mesh& m) {

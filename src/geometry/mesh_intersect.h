@@ -62,8 +62,11 @@ public:
                           const std::vector<Vec3f>* b = nullptr);
     /// Every crossing pair at positions `p` (each pair once, sorted). TBB-parallel.
     /// `progress`, when given, is called per chunk of cells with the fraction done (from the
-    /// worker threads); it may throw to stop.
-    std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {}) const;
+    /// worker threads); it may throw to stop. `fans` (optional): embedded_fans() of the
+    /// triangles at `p`; two faces sharing only a vertex whose fan is embedded are not tested
+    /// (they cannot cross), which leaves the answer as it is.
+    std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {},
+                              const std::vector<char>* fans = nullptr) const;
     /// The crossing pairs at positions `p` with at least one face in `faces` (sorted, unique).
     std::vector<FacePair> involving(const std::vector<std::uint32_t>& faces, const std::vector<Vec3f>& p) const;
     /// The faces whose boxes reach the cell holding `point` (into `out`, replacing it): among
@@ -101,6 +104,17 @@ private:
     UninitVector<std::uint64_t> entries_;
     std::vector<std::size_t> runs_; ///< starts of the runs of one cell in entries_, then entries_.size()
 };
+
+/// @brief Per vertex of `p`: whether the faces around it form one fan that lies over a plane
+/// one-to-one. That is so when every face turns the same way about the fan's summed normal
+/// (by a margin), each neighbour follows the vertex in as many faces as it precedes it in (the
+/// faces close up into cycles), and the faces' angles at the vertex, seen along that normal,
+/// add up to less than two turns (so there is one cycle, winding once). Two faces that share
+/// only such a vertex then meet only there: their shadows on the plane are sectors around the
+/// vertex with no other point in common. Most vertices of a smooth surface qualify; a crossing
+/// test of all pairs may leave theirs out (SelfIntersectionIndex::all). TBB-parallel.
+std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                const std::vector<Vec3f>& p);
 
 /// @brief The pairs of triangles of `mesh` that cross each other, sorted (see
 /// triangles_cross). About 0.2 s for a million faces on two cores.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -76,6 +77,72 @@ TEST(SelfIntersections, GridIndexFindsExactlyTheBruteForcePairs) {
         found += grid.size();
     }
     EXPECT_GT(found, 0u) << "these surfaces should have crossings to find";
+}
+
+TEST(SelfIntersections, EmbeddedFansLeaveThePairsAsTheyAre) {
+    // Surfaces with crossings: the pairs all() leaves out for the fans it is given are pairs
+    // that do not cross, and the vertices where two faces sharing only it cross are not vouched for.
+    std::size_t found = 0, vouched = 0, vertices = 0;
+    for (std::uint32_t seed : {1u, 2u, 3u, 4u, 5u, 6u}) {
+        const Mesh m = smoothed(random_voxel_surface(seed, 9, 0.45), false);
+        const std::vector<char> fans = embedded_fans(m.triangles, m.positions);
+        ASSERT_EQ(fans.size(), m.positions.size());
+        const std::vector<FacePair> expected = brute_force(m);
+        EXPECT_EQ(SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, {}, &fans), expected)
+            << "seed " << seed;
+        for (const auto& pr : expected) {
+            const auto &a = m.triangles[pr[0]], &b = m.triangles[pr[1]];
+            for (auto u : a) {
+                if (std::count(b.begin(), b.end(), u)) {
+                    EXPECT_FALSE(fans[u]) << "seed " << seed << " vertex " << u;
+                }
+            }
+        }
+        found += expected.size();
+        vouched += std::size_t(std::count(fans.begin(), fans.end(), char(1)));
+        vertices += fans.size();
+    }
+    EXPECT_GT(found, 0u) << "these surfaces should have crossings to find";
+    EXPECT_GT(vouched, vertices / 2) << "most fans of a smoothed surface lie over a plane";
+    EXPECT_LT(vouched, vertices) << "the folded ones do not";
+}
+
+TEST(SelfIntersections, EmbeddedFanIsOneClosedFanWindingOnce) {
+    // Vertex 0 at the origin and a ring around it; `turns` times round the z axis in n steps.
+    auto fan = [](int n, double turns, double lift) {
+        Mesh m;
+        m.positions.push_back({0, 0, 0});
+        for (int i = 0; i < n; ++i) {
+            const double a = 2 * 3.14159265358979 * turns * i / n;
+            m.positions.push_back({float(std::cos(a)), float(std::sin(a)), float(lift * (i % 2))});
+        }
+        for (int i = 0; i < n; ++i) m.triangles.push_back({0u, std::uint32_t(1 + i), std::uint32_t(1 + (i + 1) % n)});
+        return m;
+    };
+    EXPECT_TRUE(embedded_fans(fan(6, 1, 0.0).triangles, fan(6, 1, 0.0).positions)[0]) << "a flat hexagon";
+    EXPECT_TRUE(embedded_fans(fan(7, 1, 0.4).triangles, fan(7, 1, 0.4).positions)[0]) << "a crinkled one";
+    const Mesh twice = fan(10, 2, 0.3);
+    EXPECT_FALSE(embedded_fans(twice.triangles, twice.positions)[0]) << "a ring round twice";
+    // An open fan (a boundary vertex), and a fan with a face turned over.
+    Mesh open = fan(6, 1, 0.0);
+    open.triangles.pop_back();
+    EXPECT_FALSE(embedded_fans(open.triangles, open.positions)[0]);
+    EXPECT_FALSE(embedded_fans(open.triangles, open.positions)[1]) << "ring vertices have open fans";
+    Mesh folded = fan(6, 1, 0.0);
+    folded.positions[3] = {0.3f, -0.2f, 0.0f}; // across its neighbours' sector
+    EXPECT_FALSE(embedded_fans(folded.triangles, folded.positions)[0]);
+    // Two closed fans through one vertex (a pinch): each winds once, together twice.
+    Mesh pinch = fan(6, 1, 0.0);
+    const Mesh other = fan(5, 1, 0.0);
+    for (std::size_t i = 1; i < other.positions.size(); ++i)
+        pinch.positions.push_back(other.positions[i] + Vec3f(0, 0, 0.5f));
+    for (auto t : other.triangles) pinch.triangles.push_back({0u, t[1] + 6, t[2] + 6});
+    EXPECT_FALSE(embedded_fans(pinch.triangles, pinch.positions)[0]);
+    // A face naming a vertex that does not exist: no fan is vouched for.
+    Mesh broken = fan(6, 1, 0.0);
+    broken.triangles.push_back({0u, 1u, 99u});
+    const std::vector<char> none = embedded_fans(broken.triangles, broken.positions);
+    EXPECT_EQ(std::count(none.begin(), none.end(), char(1)), 0);
 }
 
 TEST(SelfIntersections, TwoPoseIndexAnswersForBlendsAndSubsets) {
