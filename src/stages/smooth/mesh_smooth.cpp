@@ -36,10 +36,28 @@ struct AskedViews {
 
     bool skip = true;
     std::atomic<std::size_t> skipping_steps{0};
+    // Per vertex: a bound on |hull distance| where the vertex is (infinity: none). The hull
+    // distance moves by at most `lip` per unit the vertex moves, so a step no longer than
+    // (tol - bound) / lip keeps it within the tolerance: that step is taken whole, as asking
+    // would have found, without a sample. 0 when some view's distance cannot be bounded so.
+    std::vector<float> near;
+    double lip = 0;
     AskedViews(const HullDistance* h, double t, std::size_t n, bool skip_far) : hull(h), tol(t), skip(skip_far) {
         if (!h) return;
         mask.assign(n, h->all_views());
         slack.assign(n, -1.0f);
+        for (std::size_t i = 0; i < h->view_count(); ++i) lip = std::max(lip, h->lipschitz(i));
+        for (std::size_t i = 0; i < h->view_count() && lip > 0; ++i)
+            if (!(h->lipschitz(i) > 0)) lip = 0;
+        if (lip > 0) near.assign(n, std::numeric_limits<float>::infinity());
+    }
+    // Whether a step of length `reach` from the vertex keeps it within the tolerance for certain.
+    bool surely_within(std::size_t v, double reach) const {
+        return lip > 0 && double(near[v]) + lip * reach * (1 + 1e-9) <= tol * (1 - 1e-9);
+    }
+    // The vertex is now where |hull distance| is `d` (infinity: not known).
+    void now_at(std::size_t v, double d) {
+        if (lip > 0) near[v] = std::nextafter(float(d), std::numeric_limits<float>::infinity());
     }
     // Whether the vertex's mask holds for every point within `reach` of where it is.
     bool valid(std::size_t v, double reach) const { return double(slack[v]) >= reach; }
@@ -122,16 +140,22 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 }
                 return kept;
             };
+            double h_end = std::numeric_limits<double>::infinity(); // |hull distance| at the end, when known
             if (asked.valid(v, reach)) {
                 ++skipping;
                 if (free && (*free)[v]) {
                     if (!asked.at_most(v, p0 + s, tol))
                         lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
+                } else if (asked.surely_within(v, reach)) {
+                    h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
                 } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
                     const double bound = std::max(tol, std::fabs(asked.distance(v, p0)));
                     std::size_t first = 0; // the view that refused the last point
                     if (std::fabs(h1) > bound)
                         lo = bisect([&](const Vec3d& x) { return asked.within(v, x, bound, first); });
+                    else h_end = std::fabs(h1);
+                } else {
+                    h_end = std::fabs(h1);
                 }
                 asked.moved(v, reach * lo);
             } else {
@@ -145,8 +169,10 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                     if (std::fabs(h1) > bound)
                         lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); });
                 }
+                if (lo == 1) h_end = std::fabs(h1);
                 asked.moved(v, reach * (1 - lo)); // the mask is about p0 + s
             }
+            asked.now_at(v, lo == 1 ? h_end : std::numeric_limits<double>::infinity());
             if (lo == 1) {
                 dst[v] = p + step;
                 continue;
