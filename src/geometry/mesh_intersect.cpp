@@ -13,6 +13,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
 
@@ -380,77 +381,84 @@ std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>&
                                 const std::vector<Vec3f>& p) {
     const std::size_t nv = p.size(), nf = triangles.size();
     std::vector<char> embedded(nv, 0);
-    // The faces of each vertex in compressed rows, counted and placed with relaxed atomics. The
-    // order of a row depends on the threads, and so may the last bits of its fan's sums: a
-    // fan on the margin may be vouched for or not, and either way all() gives the same answer.
-    std::vector<std::uint32_t> start(nv + 1, 0);
-    std::atomic<bool> bad_index{false};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t f = r.begin(); f != r.end(); ++f)
-            for (auto v : triangles[f]) {
-                if (v >= nv) {
-                    bad_index = true;
+    // Sums per vertex over its faces, with no lists of faces: each task owns a range of the
+    // vertices and goes through every face, adding what the faces' corners in its range give
+    // (no two tasks write one vertex). Any axis would do for the test below as long as every
+    // face is judged against the same one; the sum of the face normals is the natural one,
+    // and float is enough for it.
+    std::vector<Vec3f> axis(nv, Vec3f(0, 0, 0));
+    std::vector<std::uint64_t> balance(nv, 0); // each neighbour as often before v as after it: closed cycles
+    std::vector<float> turn(nv, 0.0f);
+    std::vector<std::uint8_t> count(nv, 0); // faces, up to 255
+    const std::size_t tasks =
+        nf < (std::size_t(1) << 16) ? 1 : std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::size_t per = (nv + tasks - 1) / tasks;
+    auto mix = [](std::uint64_t y) { return (y + 1) * 0x9E3779B97F4A7C15ull ^ (y >> 7) * 0xC2B2AE3D27D4EB4Full; };
+    std::atomic<bool> bad_index{false}; // a face names a vertex that does not exist
+    // face(t, corners, P, n): the face's corners in the task's range (bit c: corner c), its
+    // corners' positions and its normal (the cross product of its sides from any corner).
+    auto over_faces = [&](auto&& face) {
+        tbb::parallel_for(std::size_t(0), tasks, [&](std::size_t k) {
+            const std::uint32_t lo = std::uint32_t(k * per), hi = std::uint32_t(std::min(nv, (k + 1) * per));
+            for (std::size_t f = 0; f < nf; ++f) {
+                const auto& t = triangles[f];
+                if (t[0] >= nv || t[1] >= nv || t[2] >= nv) {
+                    bad_index.store(true, std::memory_order_relaxed);
                     continue;
                 }
-                std::atomic_ref<std::uint32_t>(start[v + 1]).fetch_add(1, std::memory_order_relaxed);
+                const unsigned mine = unsigned(t[0] >= lo && t[0] < hi) | unsigned(t[1] >= lo && t[1] < hi) << 1 |
+                                      unsigned(t[2] >= lo && t[2] < hi) << 2;
+                if (!mine) continue;
+                const Vec3d P[3] = {Vec3d(p[t[0]]), Vec3d(p[t[1]]), Vec3d(p[t[2]])};
+                face(t, mine, P, cross(P[1] - P[0], P[2] - P[0]));
             }
-    });
-    if (bad_index) return embedded; // a fan could miss a face: no vertex is vouched for
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> at(start.begin(), start.end() - 1);
-    UninitVector<std::uint32_t> faces(start[nv]);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t f = r.begin(); f != r.end(); ++f)
-            for (auto v : triangles[f])
-                faces[std::atomic_ref<std::uint32_t>(at[v]).fetch_add(1, std::memory_order_relaxed)] = std::uint32_t(f);
-    });
-    std::vector<std::uint32_t>().swap(at);
-    constexpr double kHalfPi = 1.57079632679489661923;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 12), [&](const tbb::blocked_range<std::size_t>& r) {
-        constexpr std::uint32_t kMax = 64;
-        double side[kMax][6], turning[kMax][3]; // per face: its two sides from v, their cross product
-        for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            const std::uint32_t b = start[v], n = start[v + 1] - b;
-            if (n < 3 || n > kMax) continue;
-            const Vec3d pv(p[v]);
-            Vec3d normal{0, 0, 0};
-            std::uint64_t balance = 0; // each neighbour as often before v as after it: closed cycles
-            bool fine = true;
-            for (std::uint32_t i = 0; i < n && fine; ++i) {
-                // The face's two other corners, in its turning order, as seen from v.
-                const auto& t = triangles[faces[b + i]];
-                const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-                const std::uint32_t a = t[std::size_t((k + 1) % 3)], c = t[std::size_t((k + 2) % 3)];
-                fine = a != v && c != v;
-                const Vec3d u = Vec3d(p[a]) - pv, w = Vec3d(p[c]) - pv, x = cross(u, w);
-                normal += x;
-                side[i][0] = u.x, side[i][1] = u.y, side[i][2] = u.z, side[i][3] = w.x, side[i][4] = w.y,
-                side[i][5] = w.z;
-                turning[i][0] = x.x, turning[i][1] = x.y, turning[i][2] = x.z;
-                auto mix = [](std::uint64_t y) {
-                    return (y + 1) * 0x9E3779B97F4A7C15ull ^ (y >> 7) * 0xC2B2AE3D27D4EB4Full;
-                };
-                balance += mix(a) - mix(c);
-            }
-            const double len = length(normal);
-            if (!fine || balance != 0 || !(len > 0)) continue;
-            const Vec3d axis = normal * (1.0 / len);
-            // Each face's angle at v seen along the axis is theta, with sin and cos from the
-            // projected sides; (pi/2)(1 - cos) + sin bounds it from above on [0, pi] (no arc
-            // function per face). One cycle winding once adds up to 2 pi; any more, to 4 pi.
-            double turn = 0;
-            for (std::uint32_t i = 0; i < n && fine; ++i) {
-                const Vec3d u(side[i][0], side[i][1], side[i][2]), w(side[i][3], side[i][4], side[i][5]);
-                const Vec3d x(turning[i][0], turning[i][1], turning[i][2]);
-                const double sine = dot(x, axis);       // the projected sides' cross product
-                fine = sine * sine > 1e-18 * dot(x, x); // turning the fan's way, by a margin
-                fine = fine && sine > 0;
-                const double cosine = dot(u, w) - dot(u, axis) * dot(w, axis); // of the projected sides
-                const double r = std::sqrt(sine * sine + cosine * cosine);
-                turn += kHalfPi * (1 - cosine / r) + sine / r;
-            }
-            embedded[v] = fine && turn < 8 * kHalfPi - 1e-3;
+        });
+    };
+    over_faces([&](const std::array<std::uint32_t, 3>& t, unsigned mine, const Vec3d(&)[3], const Vec3d& n) {
+        const bool degenerate = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+        for (int c = 0; c < 3; ++c) {
+            if (!((mine >> c) & 1u)) continue;
+            const std::uint32_t v = t[std::size_t(c)];
+            axis[v] += Vec3f(n);
+            balance[v] += mix(t[std::size_t((c + 1) % 3)]) - mix(t[std::size_t((c + 2) % 3)]);
+            count[v] = degenerate ? 255 : std::uint8_t(std::min(255, count[v] + 1));
         }
+    });
+    if (bad_index) return embedded; // a fan could miss a face: none is vouched for
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const Vec3d n(axis[v]);
+            const double len = length(n);
+            if (count[v] < 3 || count[v] > 64 || balance[v] != 0 || !(len > 0) || !std::isfinite(len)) {
+                turn[v] = HUGE_VALF; // not vouched for
+                continue;
+            }
+            axis[v] = Vec3f(n * (1.0 / len));
+        }
+    });
+    // Each face's angle at v seen along the axis is theta, with sin and cos from the projected
+    // sides; (pi/2)(1 - cos) + sin bounds it from above on [0, pi] (no arc function per face).
+    // One cycle winding once adds up to 2 pi; any more, to 4 pi.
+    constexpr double kHalfPi = 1.57079632679489661923;
+    over_faces([&](const std::array<std::uint32_t, 3>& t, unsigned mine, const Vec3d(&P)[3], const Vec3d& n) {
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t v = t[std::size_t(c)];
+            if (!((mine >> c) & 1u) || turn[v] == HUGE_VALF) continue;
+            const Vec3d ax(axis[v]);
+            const Vec3d u = P[(c + 1) % 3] - P[c], w = P[(c + 2) % 3] - P[c];
+            const double sine = dot(n, ax); // the projected sides' cross product
+            // Turning the fan's way, by a margin.
+            if (!(sine > 0 && sine * sine > 1e-18 * dot(n, n))) {
+                turn[v] = HUGE_VALF;
+                continue;
+            }
+            const double cosine = dot(u, w) - dot(u, ax) * dot(w, ax); // of the projected sides
+            const double r = std::sqrt(sine * sine + cosine * cosine);
+            turn[v] += float(kHalfPi * (1 - cosine / r) + sine / r);
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) embedded[v] = turn[v] < float(8 * kHalfPi - 1e-2);
     });
     return embedded;
 }
