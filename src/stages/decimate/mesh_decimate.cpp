@@ -198,8 +198,12 @@ int block_cells(const Mesh& mesh, float shift, std::vector<std::uint32_t>& cell)
 // in two blocks is on the open border of both, so it stays. The blocks' faces then make `out` (which may be `mesh`), over
 // the vertices they still use (in input order, attributes kept: surviving vertices do not
 // move); `frozen` follows. Returns the collapses made.
+// `local_ids`: per thread, an array of at least the mesh's vertex count, all kNone (and left
+// so), kept by the caller from round to round (filling one anew each round cost as much as
+// the blocks' starting scores).
+using LocalIds = tbb::enumerable_thread_specific<std::vector<std::uint32_t>>;
 std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, std::vector<char>* frozen, float shift,
-                         double q) {
+                         double q, LocalIds& local_ids) {
     const std::size_t nf = mesh.face_count(), nv = mesh.positions.size();
     std::vector<std::uint32_t> cell;
     const int k = block_cells(mesh, shift, cell);
@@ -250,11 +254,10 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
         std::vector<float> keys;     ///< starting importance of a sample of the candidates
     };
     std::vector<std::unique_ptr<Block>> parts(blocks.size());
-    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> local_ids(
-        [nv] { return std::vector<std::uint32_t>(nv, decimate::kNone); });
     const double limit = opt.max_angle_deg * kPi / 180.0;
     auto build = [&](std::size_t i, Block& blk) {
         auto& local = local_ids.local();
+        if (local.size() < nv) local.assign(nv, decimate::kNone);
         const std::uint32_t b = blocks[i];
         Mesh& sub = blk.mesh;
         auto& global = blk.input;
@@ -406,6 +409,7 @@ DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions&
     if (frozen) fz = *frozen;
     std::size_t collapses = 0;
     ReduceOptions round_opt = opt;
+    LocalIds local_ids;
     // The first round reads the input itself (its blocks are copies already), the next ones
     // the mesh the round before made.
     for (int round = 0; (round == 0 ? input : mesh).face_count() >= kRoundsDownTo; ++round) {
@@ -413,8 +417,8 @@ DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions&
         const std::size_t before = from.face_count();
         if (opt.progress)
             round_opt.progress = [&opt, round](double f) { opt.progress(std::min(0.8, 0.4 * (round + f))); };
-        collapses +=
-            reduce_round(from, mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f, kBlockQuantile);
+        collapses += reduce_round(from, mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f,
+                                  kBlockQuantile, local_ids);
         if (mesh.face_count() > before - before / 8) break; // under an eighth: the rest in one queue
     }
     ReduceOptions last = opt;
