@@ -464,7 +464,8 @@ std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>&
 }
 
 std::vector<FacePair> find_self_intersections(const Mesh& m) {
-    return SelfIntersectionIndex(m.triangles, m.positions).all(m.positions);
+    const std::vector<char> fans = embedded_fans(m.triangles, m.positions);
+    return SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, {}, &fans);
 }
 
 std::size_t count_self_intersections(const Mesh& m) { return find_self_intersections(m).size(); }
