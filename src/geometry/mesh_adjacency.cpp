@@ -5,7 +5,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+
+#include "geometry/chunked_scatter.h"
 
 namespace cm {
 
@@ -61,49 +62,15 @@ VertexAdjacency build_vertex_adjacency(const Mesh& mesh) {
     // among them. Otherwise the general case is built. Both give the same sorted rows.
     const std::size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
     VertexAdjacency adj;
-    adj.offsets.assign(nv + 1, 0);
-    auto& count = adj.offsets;
-    // The faces in a few chunks, each counting its corners per vertex in an array of its own
-    // (no atomic increments: on 16 M faces a hundred million of them cost a quarter of a
-    // second); each chunk then writes its corners from its own place in every vertex's row.
-    const std::size_t chunks = nf < (std::size_t(1) << 16)
-                                   ? 1
-                                   : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
-    const std::size_t per = (nf + chunks - 1) / chunks;
-    std::vector<std::vector<std::uint32_t>> at(chunks); // per chunk: counts, then where it writes next
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        at[k].assign(nv, 0);
-        std::uint32_t* c = at[k].data();
-        for (std::size_t f = k * per, e = std::min(nf, f + per); f < e; ++f)
-            for (int i = 0; i < 3; ++i) ++c[mesh.triangles[f][i]];
-    });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
-        for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            std::uint32_t n = 0;
-            for (std::size_t k = 0; k < chunks; ++k) n += at[k][v];
-            count[v + 1] = n;
-        }
-    });
-    for (std::size_t v = 0; v < nv; ++v) count[v + 1] += count[v];
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
-        for (std::size_t v = r.begin(); v != r.end(); ++v) {
-            std::uint32_t next = count[v];
-            for (std::size_t k = 0; k < chunks; ++k) {
-                const std::uint32_t n = at[k][v];
-                at[k][v] = next;
-                next += n;
-            }
-        }
-    });
-    adj.neighbours.resize(count[nv]);
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        std::uint32_t* c = at[k].data();
-        for (std::size_t f = k * per, e = std::min(nf, f + per); f < e; ++f) {
+    // Each corner of each face gives its vertex the corner after it.
+    chunked_scatter(
+        nf, nv,
+        [&](std::size_t f, auto&& emit) {
             const auto& t = mesh.triangles[f];
-            for (int i = 0; i < 3; ++i) adj.neighbours[c[t[i]]++] = t[(i + 1) % 3];
-        }
-    });
-    at.clear();
+            for (int i = 0; i < 3; ++i) emit(t[i], t[(i + 1) % 3]);
+        },
+        adj.offsets, adj.neighbours);
+    const auto& count = adj.offsets;
     std::atomic<bool> regular{true};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 4096), [&](const auto& r) {
         for (std::size_t v = r.begin(); v != r.end() && regular.load(std::memory_order_relaxed); ++v) {

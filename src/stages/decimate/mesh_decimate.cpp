@@ -12,8 +12,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
+#include "geometry/chunked_scatter.h"
 #include "geometry/mesh_intersect.h"
 #include "mesh_decimate_internal.h"
 #include "outline_guard.h"
@@ -208,33 +208,11 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
     std::vector<std::uint32_t> cell;
     const int k = block_cells(mesh, shift, cell);
     const std::size_t ncells = std::size_t(k + 1) * (k + 1) * (k + 1);
-    // Faces by block (counting sort, faces in input order within a block), in a few chunks of
-    // faces side by side: each counts its faces per block, then writes them from its own place.
-    std::vector<std::uint32_t> start(ncells + 1, 0), faces(nf);
-    {
-        const std::size_t chunks = nf < (std::size_t(1) << 16)
-                                       ? 1
-                                       : std::min<std::size_t>(8, std::max(1, tbb::this_task_arena::max_concurrency()));
-        const std::size_t per = (nf + chunks - 1) / chunks;
-        std::vector<std::vector<std::uint32_t>> at(chunks); // per chunk: counts, then where it writes next
-        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-            at[c].assign(ncells, 0);
-            for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f) ++at[c][cell[mesh.triangles[f][0]]];
-        });
-        for (std::size_t b = 0; b < ncells; ++b) {
-            std::uint32_t next = start[b];
-            for (auto& a : at) {
-                const std::uint32_t n = a[b];
-                a[b] = next;
-                next += n;
-            }
-            start[b + 1] = next;
-        }
-        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-            for (std::size_t f = c * per, e = std::min(nf, f + per); f < e; ++f)
-                faces[at[c][cell[mesh.triangles[f][0]]]++] = std::uint32_t(f);
-        });
-    }
+    // Faces by block (counting sort, faces in input order within a block).
+    std::vector<std::uint32_t> start, faces;
+    chunked_scatter(
+        nf, ncells, [&](std::size_t f, auto&& emit) { emit(cell[mesh.triangles[f][0]], std::uint32_t(f)); }, start,
+        faces);
     std::vector<std::uint32_t> blocks;
     for (std::size_t b = 0; b < ncells; ++b)
         if (start[b + 1] > start[b]) blocks.push_back(std::uint32_t(b));
