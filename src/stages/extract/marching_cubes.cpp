@@ -23,6 +23,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/error.h"
+#include "geometry/prefault.h"
 #include "mc_blocks.h"
 #include "mc_table.h"
 #include "mc_thin.h"
@@ -366,6 +367,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
 
     // 2. Vertices at the crossings.
     Mesh mesh;
+    reserve_prefaulted(mesh.positions, nverts);
     mesh.positions.resize(nverts);
     if (patches) patches->vertex_edge.resize(nverts);
     const VertexPlacer placer(src, occ.transform(), opt);
@@ -393,6 +395,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     if (nverts + nextra >= kNone / 2 || ntris >= kNone / 2)
         throw Error("the surface has too many triangles for 32-bit indices");
     mesh.positions.resize(nverts + nextra);
+    reserve_prefaulted(mesh.triangles, ntris);
     mesh.triangles.resize(ntris);
     if (patches) {
         patches->vertex_edge.resize(nverts + nextra);
