@@ -463,9 +463,9 @@ std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>&
     return embedded;
 }
 
-std::vector<FacePair> find_self_intersections(const Mesh& m) {
+std::vector<FacePair> find_self_intersections(const Mesh& m, const std::function<void(double)>& progress) {
     const std::vector<char> fans = embedded_fans(m.triangles, m.positions);
-    return SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, {}, &fans);
+    return SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, progress, &fans);
 }
 
 std::size_t count_self_intersections(const Mesh& m) { return find_self_intersections(m).size(); }

@@ -118,8 +118,9 @@ std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>&
 
 /// @brief The pairs of triangles of `mesh` that cross each other, sorted (see
 /// triangles_cross; pairs sharing only a vertex whose fan is embedded are left out untested,
-/// see embedded_fans). About 0.2 s for a million faces on two cores.
-std::vector<FacePair> find_self_intersections(const Mesh& mesh);
+/// see embedded_fans). About 0.2 s for a million faces on two cores. `progress` as in
+/// SelfIntersectionIndex::all().
+std::vector<FacePair> find_self_intersections(const Mesh& mesh, const std::function<void(double)>& progress = {});
 
 /// @brief Number of pairs find_self_intersections() reports.
 std::size_t count_self_intersections(const Mesh& mesh);

@@ -39,8 +39,7 @@ OutputCheck check_output(const Mesh& m, const std::function<void(double)>& progr
     if (progress) progress(0);
     OutputCheck c{check_mesh(m), {}};
     if (progress) progress(0.2);
-    const std::vector<char> fans = embedded_fans(m.triangles, m.positions);
-    c.crossings = SelfIntersectionIndex(m.triangles, m.positions).all(m.positions, part(0.4, 0.9), &fans);
+    c.crossings = find_self_intersections(m, part(0.4, 0.9));
     Vec3f lo, hi;
     m.bounds(lo, hi);
     const Vec3f d = hi - lo;

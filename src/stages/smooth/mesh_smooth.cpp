@@ -226,8 +226,7 @@ constexpr double kSeparation = 10 * kCoincidentTolerance;
 void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
     const std::vector<Vec3f> smoothed = p;
     // The fans that lie over a plane one-to-one: pairs of their faces need no crossing test
-    // (nine in ten of the pairs the index finds on a smooth surface). Found before the index
-    // is built, so that their rows of faces are let go before the guard's largest allocation.
+    // (nine in ten of the pairs the index finds on a smooth surface).
     const std::vector<char> fans = embedded_fans(in.triangles, smoothed);
     const SelfIntersectionIndex index(in.triangles, smoothed);
     Vec3f lo, hi;
