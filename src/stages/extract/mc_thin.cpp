@@ -116,16 +116,21 @@ std::size_t untangle_thin(Mesh& mesh, const std::vector<ShiftedVertex>& shifted,
             for (int dy = -kReach; dy <= kReach; ++dy)
                 for (int dz = -kReach; dz <= kReach; ++dz) near.insert(cell_key(c.offsetBy(dx, dy, dz)));
     }
-    const std::size_t nf = mesh.triangles.size();
+    // Each vertex's cell is looked up once (a vertex is a corner of about six faces), then
+    // the faces read their corners' answers.
+    const std::size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
+    std::vector<char> vertex_near(nv);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v)
+            vertex_near[v] = near.count(cell_key(cell_of(xform, mesh.positions[v]))) != 0;
+    });
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> found;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
         auto& local = found.local();
-        for (std::size_t f = r.begin(); f != r.end(); ++f)
-            for (auto v : mesh.triangles[f])
-                if (near.count(cell_key(cell_of(xform, mesh.positions[v])))) {
-                    local.push_back(std::uint32_t(f));
-                    break;
-                }
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const auto& t = mesh.triangles[f];
+            if (vertex_near[t[0]] || vertex_near[t[1]] || vertex_near[t[2]]) local.push_back(std::uint32_t(f));
+        }
     });
     std::vector<std::array<std::uint32_t, 3>> sub;
     for (auto& l : found)
