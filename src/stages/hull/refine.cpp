@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -219,12 +220,70 @@ openvdb::CoordBBox thin_region(const openvdb::BoolGrid& occupancy, const Lattice
     return region;
 }
 
+// The class (SilhouetteField::Class) of a lattice edge in each view seen along a world axis
+// (orthographic, drop axis d), kept as it is first asked: such a view sees every edge along
+// one line of the d axis alike (the projection ignores the d coordinate exactly), so the
+// thin-part search, which asks about the same few thousand lines near each outline millions
+// of times, classifies each line once. Answers are those of classify_segment itself.
+class EdgeClasses {
+public:
+    // Lines whose other two coordinates lie in [lo, hi) (per axis); views whose tables would
+    // pass kMaxEntries are left to classify_segment.
+    EdgeClasses(const VisualHull& hull, const Coord& lo, const Coord& hi) : lo_(lo) {
+        constexpr std::size_t kMaxEntries = std::size_t(1) << 26;
+        for (std::size_t i = 0; i < hull.size() && i < 64; ++i) {
+            const int d = hull.field(i).drop_axis();
+            if (d < 0) continue;
+            View v;
+            v.index = i;
+            v.u = (d + 1) % 3;
+            v.w = (d + 2) % 3;
+            v.nw = std::size_t(hi[v.w] - lo[v.w]);
+            const std::size_t n = std::size_t(hi[v.u] - lo[v.u]) * v.nw;
+            if (n == 0 || n > kMaxEntries) continue;
+            for (auto& t : v.table) t.assign(n, kUnknown);
+            views_.push_back(std::move(v));
+        }
+    }
+    // Whether a view of `mask` among those kept here sees the edge p -> p + e_a all outside.
+    bool outside(const VisualHull& hull, const Lattice& lat, const Coord& p, int a, VisualHull::ViewMask mask) {
+        for (auto& v : views_) {
+            if (!((mask >> v.index) & 1u)) continue;
+            signed char& slot =
+                v.table[std::size_t(a)][std::size_t(p[v.u] - lo_[v.u]) * v.nw + std::size_t(p[v.w] - lo_[v.w])];
+            std::atomic_ref<signed char> cell(slot);
+            signed char c = cell.load(std::memory_order_relaxed);
+            if (c == kUnknown) {
+                Coord q = p;
+                q[a] += 1;
+                c = static_cast<signed char>(hull.field(v.index).classify_segment(lat.at(p), lat.at(q)));
+                cell.store(c, std::memory_order_relaxed); // racing threads store the same answer
+            }
+            if (c == SilhouetteField::Outside) return true;
+        }
+        return false;
+    }
+
+private:
+    static constexpr signed char kUnknown = 2;
+    struct View {
+        std::size_t index = 0;
+        int u = 0, w = 0;                              ///< the two axes the view sees
+        std::size_t nw = 0;                            ///< table row length (the w extent)
+        std::array<std::vector<signed char>, 3> table; ///< per edge axis, by (u, w) of the edge's start
+    };
+    Coord lo_;
+    std::vector<View> views_;
+};
+
 // Thin parts: edges whose two ends are outside but which pass through the hull. Blocks are
 // decided hierarchically on the box their edges sweep ([o, o + n] in index space); only
-// blocks the silhouettes cannot decide are tested edge by edge.
+// blocks the silhouettes cannot decide are tested edge by edge, and an edge a view along an
+// axis already saw outside (EdgeClasses) is not tested again.
 class ThinSearch {
 public:
-    ThinSearch(const VisualHull& hull, const Lattice& lat) : hull_(hull), lat_(lat) {}
+    ThinSearch(const VisualHull& hull, const Lattice& lat, EdgeClasses& classes)
+        : hull_(hull), lat_(lat), classes_(classes) {}
 
     // The thin edges starting in the n^3 points at o, tested in the views of `mask`.
     void search(const OccAccessor& acc, const Coord& o, int n, VisualHull::ViewMask mask, double* flips,
@@ -237,15 +296,22 @@ public:
                 search(acc, o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask, flips, out);
             return;
         }
+        // Occupancy of the (n + 1)^3 points the edges join, read once.
+        constexpr int kSide = 5;
+        bool in[kSide][kSide][kSide];
+        for (int x = 0; x <= n; ++x)
+            for (int y = 0; y <= n; ++y)
+                for (int z = 0; z <= n; ++z) in[x][y][z] = acc.isValueOn(o.offsetBy(x, y, z));
         for (int x = 0; x < n; ++x)
             for (int y = 0; y < n; ++y)
                 for (int z = 0; z < n; ++z) {
+                    if (in[x][y][z]) continue;
                     const Coord p = o.offsetBy(x, y, z);
-                    if (acc.isValueOn(p)) continue;
                     for (int a = 0; a < 3; ++a) {
+                        if (in[x + (a == 0)][y + (a == 1)][z + (a == 2)]) continue;
+                        if (classes_.outside(hull_, lat_, p, a, mask)) continue;
                         Coord q = p;
                         q[a] += 1;
-                        if (acc.isValueOn(q)) continue;
                         bool start = false;
                         const int nf = hull_.transitions(lat_.at(p), lat_.at(q), start, flips, 256, mask);
                         if (nf < 2) continue;
@@ -267,18 +333,25 @@ public:
 private:
     const VisualHull& hull_;
     const Lattice& lat_;
+    EdgeClasses& classes_;
 };
 
 // The thin edges of `region`, in parallel over 64^3 tops; progress runs from
 // nblocks / total_work to 2 nblocks / total_work.
-std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const ThinSearch& search, const openvdb::CoordBBox& region,
-                               std::size_t nblocks, double total_work, const std::function<void(double)>& progress) {
+std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const VisualHull& hull, const Lattice& lat,
+                               const openvdb::CoordBBox& region, std::size_t nblocks, double total_work,
+                               const std::function<void(double)>& progress) {
     constexpr int kTop = 64;
     std::vector<Coord> tops;
     auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
     for (int x = align(region.min().x()); x <= region.max().x(); x += kTop)
         for (int y = align(region.min().y()); y <= region.max().y(); y += kTop)
             for (int z = align(region.min().z()); z <= region.max().z(); z += kTop) tops.emplace_back(x, y, z);
+    if (tops.empty()) return {};
+    // The edges start in the tops' points.
+    const Coord first(align(region.min().x()), align(region.min().y()), align(region.min().z()));
+    EdgeClasses classes(hull, first, tops.back().offsetBy(kTop));
+    const ThinSearch search(hull, lat, classes);
     tbb::enumerable_thread_specific<std::vector<ThinHit>> hits;
     const std::size_t tchunk = std::max<std::size_t>(1, tops.size() / 50);
     for (std::size_t c0 = 0; c0 < tops.size(); c0 += tchunk) {
@@ -399,8 +472,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     std::size_t n_thin = 0;
     if (do_thin) {
         const openvdb::CoordBBox region = thin_region(*in.occupancy, lat, clip_lo, clip_hi);
-        const std::vector<ThinHit> all =
-            find_thin(occ, ThinSearch(hull, lat), region, blocks.size(), total_work, progress);
+        const std::vector<ThinHit> all = find_thin(occ, hull, lat, region, blocks.size(), total_work, progress);
         if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
         n_thin = all.size();
     }
