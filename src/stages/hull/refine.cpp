@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -104,6 +105,99 @@ double cell_pixels(const openvdb::BoolTree& occ, const Lattice& lat, const Visua
     return lat.h / finest;
 }
 
+// What the views seen along a world axis (orthographic, drop axis d) said about the edges of
+// 8^3 blocks. Such a view sees every edge along one line of the d axis alike (its projection
+// ignores the d coordinate exactly), and on the part of the hull that view carves (a cone
+// extruded along d) the edges of a line cross it alike too: the view's class, start and flips
+// for a line are found once and given again to the line's other edges, in the block and in
+// the blocks after it along d (a thread takes the blocks in order). Answers are those of the
+// view itself, so the crossings are the same.
+class LineAnswers {
+public:
+    explicit LineAnswers(const VisualHull& hull) : hull_(hull), slot_(hull.size(), -1) {
+        for (std::size_t i = 0; i < hull.size() && i < 64 && kept_ < kViews; ++i)
+            if (const int d = hull.field(i).drop_axis(); d >= 0) {
+                drop_[kept_] = d;
+                slot_[i] = kept_++;
+            }
+    }
+    // The block at `o` comes next: a view keeps its answers when the block lies on the same
+    // lines as the last one (the next block along the view's axis), and forgets them otherwise.
+    void new_block(const Coord& o) {
+        for (int s = 0; s < kept_; ++s) {
+            const int d = drop_[s], u = (d + 1) % 3, w = (d + 2) % 3;
+            if (has_[s] && at_[s][0] == o[u] && at_[s][1] == o[w]) continue;
+            std::fill_n(known_ + s * kPerView, kPerView, std::uint8_t(0));
+            has_[s] = true;
+            at_[s][0] = o[u];
+            at_[s][1] = o[w];
+        }
+    }
+
+    // The views' answers about the edge from `p` (the block's local coordinates, 0 to 7) along
+    // axis `a`, whose ends are the world points `wa` and `wb`.
+    class Edge {
+    public:
+        Edge(LineAnswers& cache, const Coord& p, int a, const Vec3d& wa, const Vec3d& wb)
+            : c_(cache), p_(p), a_(a), wa_(wa), wb_(wb) {}
+        SilhouetteField::Class classify(std::size_t i) const {
+            const int k = entry(i);
+            if (k < 0) return c_.hull_.field(i).classify_segment(wa_, wb_);
+            if (!(c_.known_[k] & kClass)) {
+                c_.class_[k] = static_cast<signed char>(c_.hull_.field(i).classify_segment(wa_, wb_));
+                c_.known_[k] |= kClass;
+            }
+            return static_cast<SilhouetteField::Class>(c_.class_[k]);
+        }
+        int transitions(std::size_t i, bool& st, double* out, int max) const {
+            const int k = entry(i);
+            if (k >= 0 && (c_.known_[k] & kFlips) && c_.count_[k] < max) {
+                st = c_.start_[k] != 0;
+                std::copy_n(c_.flips_[k], c_.count_[k], out);
+                return c_.count_[k];
+            }
+            const int n = c_.hull_.field(i).transitions(wa_, wb_, st, out, max);
+            if (k >= 0 && n <= kKeep && n < max) {
+                c_.start_[k] = st;
+                c_.count_[k] = static_cast<std::uint8_t>(n);
+                std::copy_n(out, n, c_.flips_[k]);
+                c_.known_[k] |= kFlips;
+            }
+            return n;
+        }
+
+    private:
+        // The entry of view i's line through the edge, or -1 for a view asked every time.
+        int entry(std::size_t i) const {
+            const int s = c_.slot_[i];
+            if (s < 0) return -1;
+            const int d = c_.drop_[s];
+            return ((s * 3 + a_) * 8 + p_[(d + 1) % 3]) * 8 + p_[(d + 2) % 3];
+        }
+        LineAnswers& c_;
+        const Coord p_;
+        const int a_;
+        const Vec3d &wa_, &wb_;
+    };
+
+private:
+    static constexpr int kViews = 8; ///< views kept per block (more are asked every time)
+    static constexpr int kKeep = 6;  ///< flips kept per line (a line with more is asked again)
+    static constexpr int kPerView = 3 * 64;
+    static constexpr int kEntries = kViews * kPerView;
+    static constexpr std::uint8_t kClass = 1, kFlips = 2;
+    const VisualHull& hull_;
+    std::vector<int> slot_; ///< per view: its place among the kept views, or -1
+    int kept_ = 0;
+    int drop_[kViews] = {};
+    bool has_[kViews] = {};  ///< whether the view's entries are of some block's lines
+    int at_[kViews][2] = {}; ///< those lines' block coordinates
+    std::uint8_t known_[kEntries];
+    signed char class_[kEntries];
+    std::uint8_t start_[kEntries], count_[kEntries];
+    double flips_[kEntries][kKeep];
+};
+
 // The crossing of each edge whose ends differ in occupancy, found in the views.
 class CrossingFinder {
 public:
@@ -116,9 +210,10 @@ public:
 
     // The crossings of the edges starting in the block at o, into `leaf` (made at the first
     // crossing); counts the crossings and those the views could not place.
-    void block(const OccAccessor& acc, const Coord& o, VecLeaf*& leaf, std::size_t& cross,
-               std::size_t& unresolved) const {
+    void block(const OccAccessor& acc, const Coord& o, VecLeaf*& leaf, std::size_t& cross, std::size_t& unresolved,
+               LineAnswers& lines) const {
         double flips[256];
+        lines.new_block(o);
         std::array<BlockBits, 3> diff;
         const BlockBits w = block_bits(acc, o);
         edge_diffs(w, block_bits(acc, o.offsetBy(kDim, 0, 0)), block_bits(acc, o.offsetBy(0, kDim, 0)),
@@ -137,7 +232,9 @@ public:
                     q[a] += 1;
                     const bool p_in = (w[x] >> b) & 1u;
                     bool start = false;
-                    const int nf = hull_.transitions(lat_.at(p), lat_.at(q), start, flips, 256, mask & ~along_[a]);
+                    const Vec3d wp = lat_.at(p), wq = lat_.at(q);
+                    const int nf = hull_.transitions(wp, wq, start, flips, 256, mask & ~along_[a],
+                                                     LineAnswers::Edge(lines, Coord(x, b >> 3, b & 7), a, wp, wq));
                     double t;
                     if (p_in) {
                         // Where the inside end's solid stops: the first flip to outside.
@@ -158,6 +255,8 @@ public:
                 }
             }
     }
+
+    const VisualHull& hull() const { return hull_; }
 
 private:
     const VisualHull& hull_;
@@ -185,9 +284,10 @@ std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const Cross
         const std::size_t c1 = std::min(blocks.size(), c0 + chunk);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
             OccAccessor acc(occ);
+            const auto lines = std::make_unique<LineAnswers>(finder.hull());
             std::size_t cross = 0, unresolved = 0;
             for (std::size_t li = r.begin(); li < r.end(); ++li)
-                finder.block(acc, blocks[li], made[li], cross, unresolved);
+                finder.block(acc, blocks[li], made[li], cross, unresolved, *lines);
             n_cross += cross;
             n_unresolved += unresolved;
         });
@@ -287,15 +387,19 @@ public:
 
     // The thin edges starting in the n^3 points at o, tested in the views of `mask`.
     void search(const OccAccessor& acc, const Coord& o, int n, VisualHull::ViewMask mask, double* flips,
-                std::vector<ThinHit>& out) const {
+                std::vector<ThinHit>& out, LineAnswers& lines) const {
         const auto c = hull_.classify(lat_.at(o), lat_.at(o.offsetBy(n)), mask);
         if (c != VisualHull::Class::Mixed) return; // all outside, or all inside (no outside ends)
         if (n > 4) {
             const int hn = n / 2;
             for (int k = 0; k < 8; ++k)
-                search(acc, o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask, flips, out);
+                search(acc, o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask, flips, out,
+                       lines);
             return;
         }
+        // The views' answers by lines of the 8^3 block holding the leaf.
+        const Coord block(o.x() & ~7, o.y() & ~7, o.z() & ~7);
+        lines.new_block(block);
         // Occupancy of the (n + 1)^3 points the edges join, read once.
         constexpr int kSide = 5;
         bool in[kSide][kSide][kSide];
@@ -312,8 +416,10 @@ public:
                         if (classes_.outside(hull_, lat_, p, a, mask)) continue;
                         Coord q = p;
                         q[a] += 1;
+                        const Vec3d wp = lat_.at(p), wq = lat_.at(q);
                         bool start = false;
-                        const int nf = hull_.transitions(lat_.at(p), lat_.at(q), start, flips, 256, mask);
+                        const int nf = hull_.transitions(wp, wq, start, flips, 256, mask,
+                                                         LineAnswers::Edge(lines, p - block, a, wp, wq));
                         if (nf < 2) continue;
                         // Inside intervals between the two outside ends; keep the longest.
                         double best0 = 0, best1 = 0;
@@ -359,9 +465,10 @@ std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const VisualHull& h
         tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 1), [&](const tbb::blocked_range<std::size_t>& r) {
             OccAccessor acc(occ);
             auto& mine = hits.local();
+            const auto lines = std::make_unique<LineAnswers>(hull);
             double flips[256];
             for (std::size_t i = r.begin(); i < r.end(); ++i)
-                search.search(acc, tops[i], kTop, VisualHull::kAllViews, flips, mine);
+                search.search(acc, tops[i], kTop, VisualHull::kAllViews, flips, mine, *lines);
         });
         if (progress) progress((double(nblocks) + double(nblocks) * double(c1) / tops.size()) / total_work);
     }
