@@ -334,3 +334,80 @@ TEST(RealDrawings, NewKeysRoundTripAndBadValuesAreOneLineErrors) {
         EXPECT_NE(e.find(c.says), std::string::npos) << e;
     }
 }
+
+namespace {
+
+// `img` at (x0, y0) on a larger sheet of its paper colour (its corner pixel's).
+Image on_sheet(const Image& img, int w, int h, int x0, int y0) {
+    Image out;
+    out.width = w;
+    out.height = h;
+    out.channels = 4;
+    out.pixels.resize(std::size_t(w) * h * 4);
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
+        std::copy_n(img.pixels.begin(), 4, out.pixels.begin() + std::ptrdiff_t(i * 4));
+    for (int y = 0; y < img.height; ++y)
+        std::copy_n(img.pixels.begin() + std::ptrdiff_t(std::size_t(y) * img.width * 4), img.width * 4,
+                    out.pixels.begin() + std::ptrdiff_t((std::size_t(y0 + y) * w + x0) * 4));
+    return out;
+}
+
+} // namespace
+
+TEST(RealDrawings, TheWindowAroundTheInkGivesTheWholeImagesAnswers) {
+    // Drawings much smaller than their sheet are analysed in the window around their ink;
+    // every answer must be the one the whole sheet gives.
+    Sketch rough;
+    rough.breaks = random_breaks(6, 2, 5, 11);
+    rough.overshoot = true;
+    rough.doubled = true;
+    const Image sketchy = on_sheet(sketch(rough), 1100, 900, 420, 300);
+    // A filled drawing with a hole through it, a soft ground shadow and a small separate mark.
+    Image filled = on_sheet(render(kSize, kSize,
+                                   [&](double x, double y) -> std::array<float, 3> {
+                                       const bool hole = std::hypot(x - 200, y - 280) < 25;
+                                       if (object(x, y) && !hole) return {0.3f, 0.42f, 0.7f};
+                                       if (std::hypot(x - 360, y - 60) < 4) return {0.2f, 0.2f, 0.2f};
+                                       const double e = std::hypot((x - 205) / 130, (y - 342) / 14);
+                                       const float shade = e < 1 ? float(1 - 0.3 * (1 - e * e)) : 1.0f;
+                                       return {0.96f * shade, 0.95f * shade, 0.92f * shade};
+                                   }),
+                            1000, 1000, 80, 530);
+    // Grey grainy paper darker at the corners (the background model varies over the sheet).
+    Image paper = on_sheet(sketch(Sketch{}), 1200, 1000, 700, 120);
+    std::mt19937 rng(5);
+    std::normal_distribution<float> grain(0.0f, 0.015f);
+    for (int y = 0; y < paper.height; ++y)
+        for (int x = 0; x < paper.width; ++x) {
+            const double u = (x - 600) / 600.0, v = (y - 500) / 500.0;
+            const float vig = float(0.8 - 0.1 * (u * u + v * v)), g = grain(rng);
+            float* p = &paper.pixels[(std::size_t(y) * paper.width + x) * 4];
+            for (int k = 0; k < 3; ++k) p[k] = std::clamp(p[k] * vig + g, 0.0f, 1.0f);
+        }
+    for (const Image* img : std::array<const Image*, 3>{&sketchy, &filled, &paper}) {
+        SilhouetteOptions whole_sheet;
+        whole_sheet.window = false;
+        const SilhouetteResult a = extract(*img), b = extract(*img, whole_sheet);
+        const std::size_t n = std::size_t(img->width) * img->height;
+        EXPECT_LT(a.analysed_pixels, n / 2);
+        EXPECT_EQ(b.analysed_pixels, n);
+        ASSERT_EQ(a.coverage.size(), b.coverage.size());
+        std::size_t differ = 0, inside = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            differ += a.coverage[i] != b.coverage[i];
+            inside += a.coverage[i] >= 0.5f;
+        }
+        EXPECT_EQ(differ, 0u);
+        EXPECT_GT(inside, 20000u);
+        EXPECT_EQ(a.holes_kept, b.holes_kept);
+        EXPECT_EQ(a.regions_filled, b.regions_filled);
+        EXPECT_EQ(a.shadow_removed, b.shadow_removed);
+        EXPECT_EQ(a.spurs_removed, b.spurs_removed);
+        EXPECT_EQ(a.components_kept, b.components_kept);
+        EXPECT_EQ(a.components_dropped, b.components_dropped);
+    }
+    // The drawings exercise what the window must keep.
+    EXPECT_GT(extract(filled).shadow_removed, 500u);
+    EXPECT_GE(extract(filled).holes_kept, 1);
+    EXPECT_GT(extract(sketchy).spurs_removed, 0u);
+}

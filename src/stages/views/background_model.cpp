@@ -127,15 +127,18 @@ void background_from_border(const Image& img, const std::string& option, Backgro
 namespace {
 
 // model_distance_row over samples of one kind: `sample(k)` is sample k of the row as a float.
+// The row is row y of a window of `count` pixels starting at (ox, oy) in an image of nw x nh
+// pixels (the window may be the whole image).
 template <typename Sample>
-void distance_row(const BackgroundModel& model, int w, int h, int y, double* out, Sample&& sample) {
+void distance_row(const BackgroundModel& model, int count, int ox, int oy, int nw, int nh, int y, double* out,
+                  Sample&& sample) {
     // The same operations in the same order as colour_distance(pixel, model.at(u, v)), so
     // each pixel's distance is the same double; only the loop is one the compiler can run
     // over several pixels at once (no arrays returned per pixel).
-    const double v = (y + 0.5) / h * 2 - 1;
+    const double v = ((y + oy) + 0.5) / nh * 2 - 1;
     const auto& c = model.coef;
-    for (int x = 0; x < w; ++x) {
-        const double u = (x + 0.5) / w * 2 - 1;
+    for (int x = 0; x < count; ++x) {
+        const double u = ((x + ox) + 0.5) / nw * 2 - 1;
         const double uu = u * u, vv = v * v, uv = u * v;
         double sum = 0;
         for (int k = 0; k < 3; ++k) {
@@ -159,10 +162,11 @@ void BackgroundField::model_distance_row(const Image& img, int y, double* out) c
     const std::size_t row = std::size_t(y) * std::size_t(w) * 4;
     if (img.eight_bit()) {
         const std::uint8_t* b = img.bytes.data() + row;
-        distance_row(model, w, h, y, out, [b](int k) { return float(b[k]) * (1.0f / 255.0f); });
+        distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out,
+                     [b](int k) { return float(b[k]) * (1.0f / 255.0f); });
     } else {
         const float* f = img.pixels.data() + row;
-        distance_row(model, w, h, y, out, [f](int k) { return f[k]; });
+        distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out, [f](int k) { return f[k]; });
     }
 }
 

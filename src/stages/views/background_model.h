@@ -47,7 +47,14 @@ struct BackgroundField {
     std::vector<Rgb> others;                            ///< the other backgrounds' colours
     const std::vector<unsigned char>* source = nullptr; ///< per pixel: 0 (the model) or k + 1
     int w = 0, h = 0;
-    Rgb of_model(int x, int y) const { return model.at((x + 0.5) / w * 2 - 1, (y + 0.5) / h * 2 - 1); }
+    /// For a window of a larger image: where the window starts in it, and the whole image's
+    /// size, which the model's coordinates are normalised to (0: w and h, the image itself).
+    int ox = 0, oy = 0, full_w = 0, full_h = 0;
+    int norm_w() const { return full_w ? full_w : w; }
+    int norm_h() const { return full_h ? full_h : h; }
+    Rgb of_model(int x, int y) const {
+        return model.at(((x + ox) + 0.5) / norm_w() * 2 - 1, ((y + oy) + 0.5) / norm_h() * 2 - 1);
+    }
     /// The colour distance of row y's pixels of `img` (RGBA, `w` of them) to the model, into
     /// `out`: colour_distance(pixel, of_model(x, y)) to the last bit, in one loop the compiler
     /// vectorises (it runs for every pixel of every drawing).

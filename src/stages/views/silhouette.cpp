@@ -3,9 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "background_model.h"
 #include "border_clusters.h"
@@ -53,7 +58,10 @@ public:
     // units of that background's threshold.
     BackgroundCut(const BackgroundCut&) = delete; // bgc_ points into source_
     BackgroundCut& operator=(const BackgroundCut&) = delete;
-    BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more)
+    // `img` may be a window of a larger image: (ox, oy) is where it starts there, full_w x
+    // full_h that image's size (0: `img` is the whole image), for the background model.
+    BackgroundCut(const Image& img, const BackgroundModel& model, double t, const std::vector<BorderCluster>& more,
+                  int ox = 0, int oy = 0, int full_w = 0, int full_h = 0)
         : img_(img),
           w_(img.width),
           h_(img.height),
@@ -67,6 +75,10 @@ public:
         bgc_.source = &source_;
         bgc_.w = w_;
         bgc_.h = h_;
+        bgc_.ox = ox;
+        bgc_.oy = oy;
+        bgc_.full_w = full_w;
+        bgc_.full_h = full_h;
         std::vector<std::vector<char>> reach;
         for (const auto& c : more) reach.push_back(cluster_reach(img, c));
         // Each pixel on its own: rows in parallel.
@@ -304,9 +316,81 @@ private:
     std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
 
-// The coverage of a drawing without meaningful alpha, from its background colour.
-void coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res) {
+// A rectangle of an image.
+struct Window {
+    int x0 = 0, y0 = 0, w = 0, h = 0;
+};
+
+// The window the analysis of a drawing can be confined to: the box of its ink (pixels the
+// background's colour does not explain) grown by `margin`, within the image; none when the
+// drawing has no ink. Every step of the analysis reaches less than the margin beyond the
+// ink (gap closing its radius, the coverage of the outline two pixels), so beyond the
+// window every pixel is background reached from the border, and the steps give the same
+// answers on the window as on the whole image, at a fraction of the pixels.
+std::optional<Window> ink_window(const Image& img, const BackgroundModel& model, double t, int margin) {
+    BackgroundField field;
+    field.model = model;
+    field.w = img.width;
+    field.h = img.height;
+    struct Box {
+        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
+    };
+    tbb::enumerable_thread_specific<std::vector<double>> rows;
+    const Box box = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, img.height, 16), Box{},
+        [&](const tbb::blocked_range<int>& r, Box b) {
+            std::vector<double>& d = rows.local();
+            d.resize(std::size_t(img.width));
+            for (int y = r.begin(); y != r.end(); ++y) {
+                field.model_distance_row(img, y, d.data()); // the distances BackgroundCut computes
+                int first = -1, last = -1;
+                for (int x = 0; x < img.width; ++x)
+                    if (d[std::size_t(x)] >= t) {
+                        if (first < 0) first = x;
+                        last = x;
+                    }
+                if (first < 0) continue;
+                b = {std::min(b.x0, first), std::min(b.y0, y), std::max(b.x1, last), std::max(b.y1, y)};
+            }
+            return b;
+        },
+        [](const Box& a, const Box& b) {
+            return Box{std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+        });
+    if (box.x1 < 0) return std::nullopt;
+    Window win;
+    win.x0 = std::max(0, box.x0 - margin);
+    win.y0 = std::max(0, box.y0 - margin);
+    win.w = std::min(img.width, box.x1 + margin + 1) - win.x0;
+    win.h = std::min(img.height, box.y1 + margin + 1) - win.y0;
+    return win;
+}
+
+// The pixels of `img` in `win`, as an image of their own.
+Image crop(const Image& img, const Window& win) {
+    Image part;
+    part.width = win.w;
+    part.height = win.h;
+    part.channels = img.channels;
+    const std::size_t ch = std::size_t(img.channels), row = std::size_t(win.w) * ch;
+    auto copy_rows = [&](const auto& from, auto& to) {
+        to.resize(row * std::size_t(win.h));
+        for (int y = 0; y < win.h; ++y)
+            std::copy_n(
+                from.begin() +
+                    std::ptrdiff_t((std::size_t(win.y0 + y) * std::size_t(img.width) + std::size_t(win.x0)) * ch),
+                row, to.begin() + std::ptrdiff_t(std::size_t(y) * row));
+    };
+    if (img.eight_bit()) copy_rows(img.bytes, part.bytes);
+    else copy_rows(img.pixels, part.pixels);
+    return part;
+}
+
+// The coverage of a drawing without meaningful alpha, from its background colour, into
+// res.coverage (zero on entry); returns the window outside which it is all zero.
+Window coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res) {
     res.method = "background";
+    const Window whole{0, 0, img.width, img.height};
     BackgroundModel model;
     double noise = 0;
     std::vector<Rgb> outliers;
@@ -318,8 +402,8 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
     std::vector<BorderCluster> more;
     if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
     res.border_colours = 1 + int(more.size());
-    BackgroundCut cut(img, model, t, more);
     if (opt.photo == "on") {
+        BackgroundCut cut(img, model, t, more);
         // A photograph: no gap closing unless asked for (its outline is not drawn).
         res.photo = true;
         res.close_gaps = std::max(0.0, opt.close_gaps);
@@ -330,14 +414,40 @@ void coverage_from_background(const Image& img, const SilhouetteOptions& opt, Si
         res.regions_filled = photo.holes_filled;
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
         cut.coverage(res.coverage);
-        return;
+        res.analysed_pixels = std::size_t(img.width) * img.height;
+        return whole;
     }
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
-    cut.flood_from_border(res.close_gaps);
-    if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
-    cut.open_holes(opt.holes, res);
-    res.spurs_removed = cut.remove_spurs(res.close_gaps);
-    cut.coverage(res.coverage);
+    auto analyse = [&](BackgroundCut& cut, std::vector<float>& coverage) {
+        cut.flood_from_border(res.close_gaps);
+        if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
+        cut.open_holes(opt.holes, res);
+        res.spurs_removed = cut.remove_spurs(res.close_gaps);
+        cut.coverage(coverage);
+    };
+    // On the window around the ink when it is at most half the image (further backgrounds
+    // along the border reach in from it: those drawings are analysed whole). The margin is
+    // twice the gap closing's reach (its padding included) and eight pixels more.
+    if (more.empty() && opt.window) {
+        const int reach = int(std::ceil(0.5 * res.close_gaps + 1.0)) + 1;
+        const std::optional<Window> win = ink_window(img, model, t, 2 * reach + 8);
+        if (win && 2.0 * double(win->w) * win->h <= double(img.width) * img.height) {
+            const Image part = crop(img, *win);
+            BackgroundCut cut(part, model, t, more, win->x0, win->y0, img.width, img.height);
+            std::vector<float> coverage(std::size_t(win->w) * win->h);
+            analyse(cut, coverage);
+            for (int y = 0; y < win->h; ++y)
+                std::copy_n(
+                    coverage.begin() + std::ptrdiff_t(std::size_t(y) * win->w), win->w,
+                    res.coverage.begin() + std::ptrdiff_t(std::size_t(win->y0 + y) * img.width + std::size_t(win->x0)));
+            res.analysed_pixels = std::size_t(win->w) * win->h;
+            return *win;
+        }
+    }
+    BackgroundCut cut(img, model, t, more);
+    analyse(cut, res.coverage);
+    res.analysed_pixels = std::size_t(img.width) * img.height;
+    return whole;
 }
 
 // Fractional coverage goes with the component it borders: clears it where no 8-neighbour
@@ -364,12 +474,12 @@ void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::ve
     });
 }
 
-// Components: drop specks and separate marks a user would not keep (by `mode`, see
-// SilhouetteOptions::keep).
-void keep_components(int w, int h, const std::string& mode, SilhouetteResult& res) {
+// Components of the w x h `coverage`: drop specks and separate marks a user would not keep
+// (by `mode`, see SilhouetteOptions::keep).
+void keep_components(int w, int h, const std::string& mode, std::vector<float>& coverage, SilhouetteResult& res) {
     const std::size_t n = std::size_t(w) * h;
     std::vector<char> mask(n);
-    for (std::size_t i = 0; i < n; ++i) mask[i] = res.coverage[i] >= 0.5f;
+    for (std::size_t i = 0; i < n; ++i) mask[i] = coverage[i] >= 0.5f;
     std::vector<int> lab;
     std::vector<std::size_t> sizes;
     const int nc = label(mask, w, h, true, lab, sizes);
@@ -391,8 +501,8 @@ void keep_components(int w, int h, const std::string& mode, SilhouetteResult& re
     }
     if (res.components_dropped == 0) return;
     for (std::size_t i = 0; i < n; ++i)
-        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) res.coverage[i] = 0.0f;
-    clear_stray_fringe(w, h, lab, keep, res.coverage);
+        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) coverage[i] = 0.0f;
+    clear_stray_fringe(w, h, lab, keep, coverage);
 }
 
 } // namespace
@@ -421,13 +531,26 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         for (std::size_t i = 0; i < n; ++i) transparent += img.value(i * 4 + 3) < 0.5f;
         use_alpha = transparent > 0 && transparent < n;
     }
+    Window win{0, 0, w, h};
     if (use_alpha) {
         res.method = "alpha";
         for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.value(i * 4 + 3), 0.0f, 1.0f);
+        res.analysed_pixels = n;
     } else {
-        coverage_from_background(img, opt, res);
+        win = coverage_from_background(img, opt, res);
     }
-    keep_components(w, h, opt.keep, res);
+    if (win.w == w && win.h == h) {
+        keep_components(w, h, opt.keep, res.coverage, res);
+        return res;
+    }
+    // Beyond the window the coverage is zero: the components are the window's.
+    std::vector<float> part(std::size_t(win.w) * win.h);
+    auto at = [&](int y) { return std::ptrdiff_t(std::size_t(win.y0 + y) * w + std::size_t(win.x0)); };
+    for (int y = 0; y < win.h; ++y)
+        std::copy_n(res.coverage.begin() + at(y), win.w, part.begin() + std::ptrdiff_t(std::size_t(y) * win.w));
+    keep_components(win.w, win.h, opt.keep, part, res);
+    for (int y = 0; y < win.h; ++y)
+        std::copy_n(part.begin() + std::ptrdiff_t(std::size_t(y) * win.w), win.w, res.coverage.begin() + at(y));
     return res;
 }
 
