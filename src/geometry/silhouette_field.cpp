@@ -7,8 +7,27 @@
 
 namespace cm {
 
+SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
+    const int w = view.width, h = view.height;
+    if (w <= 0 || h <= 0 || view.coverage.size() != std::size_t(w) * std::size_t(h)) return {};
+    Table sat(std::size_t(w + 1) * std::size_t(h + 1), 0u);
+    const std::size_t stride = std::size_t(w) + 1;
+    const float* cov = view.coverage.data();
+    for (int j = 0; j < h; ++j) {
+        std::uint32_t row = 0;
+        for (int i = 0; i < w; ++i) {
+            row += cov[std::size_t(j) * w + i] >= 0.5f ? 1u : 0u;
+            sat[(j + 1) * stride + i + 1] = sat[j * stride + i + 1] + row;
+        }
+    }
+    return sat;
+}
+
 SilhouetteField::SilhouetteField(const View& view)
-    : view_(&view), cov_(view.coverage.data()), w_(view.width), h_(view.height) {
+    : SilhouetteField(view, std::make_shared<const Table>(summed_area(view))) {}
+
+SilhouetteField::SilhouetteField(const View& view, std::shared_ptr<const Table> table)
+    : view_(&view), cov_(view.coverage.data()), w_(view.width), h_(view.height), sat_(std::move(table)) {
     if (w_ <= 0 || h_ <= 0 || view.coverage.size() != std::size_t(w_) * std::size_t(h_))
         throw Error("view \"" + view.name + "\" has no silhouette (coverage size does not match " + std::to_string(w_) +
                     "x" + std::to_string(h_) + ")");
@@ -49,15 +68,8 @@ SilhouetteField::SilhouetteField(const View& view)
         if (det < 0)
             for (double& v : m_) v = -v;
     }
-    sat_.assign(std::size_t(w_ + 1) * std::size_t(h_ + 1), 0u);
-    const std::size_t stride = std::size_t(w_) + 1;
-    for (int j = 0; j < h_; ++j) {
-        std::uint32_t row = 0;
-        for (int i = 0; i < w_; ++i) {
-            row += cov_[std::size_t(j) * w_ + i] >= 0.5f ? 1u : 0u;
-            sat_[(j + 1) * stride + i + 1] = sat_[j * stride + i + 1] + row;
-        }
-    }
+    if (!sat_ || sat_->size() != std::size_t(w_ + 1) * std::size_t(h_ + 1))
+        throw Error("view \"" + view.name + "\": its summed-area table is not of its silhouette");
 }
 
 double SilhouetteField::coverage(double x, double y) const {
@@ -80,8 +92,9 @@ SilhouetteField::Class SilhouetteField::classify_rect(double x0, double y0, doub
     };
     const int i0 = lo(x0, w_), i1 = hi(x1, w_), j0 = lo(y0, h_), j1 = hi(y1, h_);
     const std::size_t stride = std::size_t(w_) + 1;
-    const std::uint32_t n = sat_[(j1 + 1) * stride + i1 + 1] - sat_[j0 * stride + i1 + 1] -
-                            sat_[(j1 + 1) * stride + i0] + sat_[j0 * stride + i0];
+    const std::uint32_t* sat = sat_->data();
+    const std::uint32_t n = sat[(j1 + 1) * stride + i1 + 1] - sat[j0 * stride + i1 + 1] - sat[(j1 + 1) * stride + i0] +
+                            sat[j0 * stride + i0];
     if (n == 0) return Outside;
     if (n == std::uint32_t(i1 - i0 + 1) * std::uint32_t(j1 - j0 + 1)) return Inside;
     return Mixed;

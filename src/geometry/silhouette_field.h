@@ -18,6 +18,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/vec.h"
@@ -27,8 +28,16 @@ namespace cm {
 
 class SilhouetteField {
 public:
+    /// The summed-area table of a view's silhouette: (w+1) x (h+1) counts of the pixels
+    /// with coverage >= 0.5 above and left of each corner (empty when the coverage does not
+    /// match the view's size; the field then refuses the view).
+    using Table = std::vector<std::uint32_t>;
+    static Table summed_area(const View& view);
+
     /// Keeps a reference to `view` (its coverage must outlive the field).
     explicit SilhouetteField(const View& view);
+    /// The same with the view's summed_area() made already (shared by the fields of one view).
+    SilhouetteField(const View& view, std::shared_ptr<const Table> table);
 
     enum Class : int { Outside = -1, Mixed = 0, Inside = 1 };
 
@@ -83,8 +92,8 @@ private:
     const View* view_;
     const float* cov_;
     int w_, h_;
-    std::array<double, 12> m_{};     ///< 3x4 projection; orthographic third row is (0,0,0,1)
-    std::vector<std::uint32_t> sat_; ///< (w+1)*(h+1) counts of pixels with coverage >= 0.5
+    std::array<double, 12> m_{};       ///< 3x4 projection; orthographic third row is (0,0,0,1)
+    std::shared_ptr<const Table> sat_; ///< summed_area(view)
     int drop_axis_ = -1;
 };
 

@@ -2,14 +2,39 @@
 
 #include <algorithm>
 
+#include <memory>
+
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 
 namespace cm {
 
+namespace {
+
+using Tables = std::vector<std::shared_ptr<const SilhouetteField::Table>>;
+
+// The views' summed-area tables, made side by side by the first hull of a run and kept with
+// the views (Views::derived) for the next: a run builds several hulls of the same views
+// (carving's box estimate, the carving, the crossings), and each table is a serial pass
+// over a whole image.
+std::shared_ptr<const Tables> summed_areas(const Views& views) {
+    return std::static_pointer_cast<const Tables>(views.derived.get("silhouette_sat", [&] {
+        auto tables = std::make_shared<Tables>(views.views.size());
+        tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
+            (*tables)[i] = std::make_shared<const SilhouetteField::Table>(SilhouetteField::summed_area(views.views[i]));
+        });
+        return std::shared_ptr<const void>(std::move(tables));
+    }));
+}
+
+} // namespace
+
 VisualHull::VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi) : clip_lo_(clip_lo), clip_hi_(clip_hi) {
     if (views.views.empty()) throw Error("no views: the visual hull needs at least one view");
+    const auto tables = summed_areas(views);
     fields_.reserve(views.views.size());
-    for (const auto& v : views.views) fields_.emplace_back(v);
+    for (std::size_t i = 0; i < views.views.size(); ++i) fields_.emplace_back(views.views[i], (*tables)[i]);
 }
 
 VisualHull::Class VisualHull::classify(const Vec3d& lo, const Vec3d& hi, ViewMask& mask) const {
