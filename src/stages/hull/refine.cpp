@@ -328,9 +328,10 @@ openvdb::CoordBBox thin_region(const openvdb::BoolGrid& occupancy, const Lattice
 class EdgeClasses {
 public:
     // Lines whose other two coordinates lie in [lo, hi) (per axis); views whose tables would
-    // pass kMaxEntries are left to classify_segment.
+    // pass kMaxEntries (a 4096^2 face of the region: 16 MB per edge axis) are left to
+    // classify_segment.
     EdgeClasses(const VisualHull& hull, const Coord& lo, const Coord& hi) : lo_(lo) {
-        constexpr std::size_t kMaxEntries = std::size_t(1) << 26;
+        constexpr std::size_t kMaxEntries = std::size_t(1) << 24;
         for (std::size_t i = 0; i < hull.size() && i < 64; ++i) {
             const int d = hull.field(i).drop_axis();
             if (d < 0) continue;
