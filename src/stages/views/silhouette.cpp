@@ -21,6 +21,7 @@
 #include "photo.h"
 #include "pixel_flood.h"
 #include "shadow.h"
+#include "sheet.h"
 
 namespace cm {
 
@@ -316,10 +317,8 @@ private:
     std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
 
-// A rectangle of an image.
-struct Window {
-    int x0 = 0, y0 = 0, w = 0, h = 0;
-};
+// A window of an image: the rectangle sheets cut their panels by (sheet.h).
+using Window = SheetPanel;
 
 // The window the analysis of a drawing can be confined to: the box of its ink (pixels the
 // background's colour does not explain) grown by `margin`, within the image; none when the
@@ -361,36 +360,17 @@ std::optional<Window> ink_window(const Image& img, const BackgroundModel& model,
     Window win;
     win.x0 = std::max(0, box.x0 - margin);
     win.y0 = std::max(0, box.y0 - margin);
-    win.w = std::min(img.width, box.x1 + margin + 1) - win.x0;
-    win.h = std::min(img.height, box.y1 + margin + 1) - win.y0;
+    win.width = std::min(img.width, box.x1 + margin + 1) - win.x0;
+    win.height = std::min(img.height, box.y1 + margin + 1) - win.y0;
     return win;
 }
 
-// The pixels of `img` in `win`, as an image of their own.
-Image crop(const Image& img, const Window& win) {
-    Image part;
-    part.width = win.w;
-    part.height = win.h;
-    part.channels = img.channels;
-    const std::size_t ch = std::size_t(img.channels), row = std::size_t(win.w) * ch;
-    auto copy_rows = [&](const auto& from, auto& to) {
-        to.resize(row * std::size_t(win.h));
-        for (int y = 0; y < win.h; ++y)
-            std::copy_n(
-                from.begin() +
-                    std::ptrdiff_t((std::size_t(win.y0 + y) * std::size_t(img.width) + std::size_t(win.x0)) * ch),
-                row, to.begin() + std::ptrdiff_t(std::size_t(y) * row));
-    };
-    if (img.eight_bit()) copy_rows(img.bytes, part.bytes);
-    else copy_rows(img.pixels, part.pixels);
-    return part;
-}
-
-// The coverage of a drawing without meaningful alpha, from its background colour, into
-// res.coverage (zero on entry); returns the window outside which it is all zero.
-Window coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res) {
+// The coverage of a drawing without meaningful alpha, from its background colour: into
+// res.coverage (zero on entry) when the whole image was analysed, and returns nothing; or
+// the window's coverage into `part` (zero beyond the window), and returns the window.
+std::optional<Window> coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res,
+                                               std::vector<float>& part) {
     res.method = "background";
-    const Window whole{0, 0, img.width, img.height};
     BackgroundModel model;
     double noise = 0;
     std::vector<Rgb> outliers;
@@ -415,7 +395,7 @@ Window coverage_from_background(const Image& img, const SilhouetteOptions& opt, 
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
         cut.coverage(res.coverage);
         res.analysed_pixels = std::size_t(img.width) * img.height;
-        return whole;
+        return std::nullopt;
     }
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
     auto analyse = [&](BackgroundCut& cut, std::vector<float>& coverage) {
@@ -431,23 +411,19 @@ Window coverage_from_background(const Image& img, const SilhouetteOptions& opt, 
     if (more.empty() && opt.window) {
         const int reach = int(std::ceil(0.5 * res.close_gaps + 1.0)) + 1;
         const std::optional<Window> win = ink_window(img, model, t, 2 * reach + 8);
-        if (win && 2.0 * double(win->w) * win->h <= double(img.width) * img.height) {
-            const Image part = crop(img, *win);
-            BackgroundCut cut(part, model, t, more, win->x0, win->y0, img.width, img.height);
-            std::vector<float> coverage(std::size_t(win->w) * win->h);
-            analyse(cut, coverage);
-            for (int y = 0; y < win->h; ++y)
-                std::copy_n(
-                    coverage.begin() + std::ptrdiff_t(std::size_t(y) * win->w), win->w,
-                    res.coverage.begin() + std::ptrdiff_t(std::size_t(win->y0 + y) * img.width + std::size_t(win->x0)));
-            res.analysed_pixels = std::size_t(win->w) * win->h;
-            return *win;
+        if (win && 2.0 * double(win->width) * win->height <= double(img.width) * img.height) {
+            const Image window = crop_image(img, *win);
+            BackgroundCut cut(window, model, t, more, win->x0, win->y0, img.width, img.height);
+            part.assign(std::size_t(win->width) * win->height, 0.0f);
+            analyse(cut, part);
+            res.analysed_pixels = part.size();
+            return win;
         }
     }
     BackgroundCut cut(img, model, t, more);
     analyse(cut, res.coverage);
     res.analysed_pixels = std::size_t(img.width) * img.height;
-    return whole;
+    return std::nullopt;
 }
 
 // Fractional coverage goes with the component it borders: clears it where no 8-neighbour
@@ -531,26 +507,24 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         for (std::size_t i = 0; i < n; ++i) transparent += img.value(i * 4 + 3) < 0.5f;
         use_alpha = transparent > 0 && transparent < n;
     }
-    Window win{0, 0, w, h};
+    std::optional<Window> win;
+    std::vector<float> part; // the window's coverage, when only the window was analysed
     if (use_alpha) {
         res.method = "alpha";
         for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.value(i * 4 + 3), 0.0f, 1.0f);
         res.analysed_pixels = n;
     } else {
-        win = coverage_from_background(img, opt, res);
+        win = coverage_from_background(img, opt, res, part);
     }
-    if (win.w == w && win.h == h) {
+    if (!win) {
         keep_components(w, h, opt.keep, res.coverage, res);
         return res;
     }
     // Beyond the window the coverage is zero: the components are the window's.
-    std::vector<float> part(std::size_t(win.w) * win.h);
-    auto at = [&](int y) { return std::ptrdiff_t(std::size_t(win.y0 + y) * w + std::size_t(win.x0)); };
-    for (int y = 0; y < win.h; ++y)
-        std::copy_n(res.coverage.begin() + at(y), win.w, part.begin() + std::ptrdiff_t(std::size_t(y) * win.w));
-    keep_components(win.w, win.h, opt.keep, part, res);
-    for (int y = 0; y < win.h; ++y)
-        std::copy_n(part.begin() + std::ptrdiff_t(std::size_t(y) * win.w), win.w, res.coverage.begin() + at(y));
+    keep_components(win->width, win->height, opt.keep, part, res);
+    for (int y = 0; y < win->height; ++y)
+        std::copy_n(part.begin() + std::ptrdiff_t(std::size_t(y) * win->width), win->width,
+                    res.coverage.begin() + std::ptrdiff_t(std::size_t(win->y0 + y) * w + std::size_t(win->x0)));
     return res;
 }
 
