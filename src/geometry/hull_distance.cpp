@@ -3,49 +3,127 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
 
 namespace cm {
 
+// The field beyond a silhouette's window: every pixel there is outside, farther than the
+// margin from the silhouette, so its value is its distance to the nearest inside pixel less
+// half a pixel. Built on first use from the window's inside pixels (all the inside pixels
+// there are), inside an isolated task arena: a thread that waits for its own parallel work
+// there does not pick up its caller's other tasks, which could ask for the field again.
+class SdfBeyondWindow {
+public:
+    SdfBeyondWindow(std::vector<char> inside, int ox, int oy, int stride, int rows, int w, int h)
+        : inside_(std::move(inside)), ox_(ox), oy_(oy), stride_(stride), rows_(rows), w_(w), h_(h) {}
+    float at(int i, int j) const {
+        std::call_once(once_, [&] {
+            tbb::this_task_arena::isolate([&] {
+                std::vector<char> seed(std::size_t(w_) * h_, 0);
+                for (int y = 0; y < rows_; ++y)
+                    std::copy_n(inside_.data() + std::size_t(y) * stride_, stride_,
+                                seed.data() + std::size_t(y + oy_) * w_ + ox_);
+                to_in_ = squared_edt(seed, w_, h_);
+            });
+        });
+        return std::sqrt(to_in_[std::size_t(j) * w_ + i]) - 0.5f;
+    }
+
+private:
+    std::vector<char> inside_; // the window's inside pixels
+    int ox_, oy_, stride_, rows_, w_, h_;
+    mutable std::once_flag once_;
+    mutable std::vector<float> to_in_;
+};
+
 SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, const std::string& view_name) {
     if (w <= 0 || h <= 0 || coverage.size() != std::size_t(w) * h)
         throw Error("view \"" + view_name + "\": the silhouette does not match the image size");
-    std::vector<char> inside(coverage.size()), outside(coverage.size());
-    const std::size_t n_in = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, coverage.size(), 1 << 16), std::size_t(0),
-        [&](const tbb::blocked_range<std::size_t>& r, std::size_t n) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                inside[i] = coverage[i] >= 0.5f;
-                outside[i] = !inside[i];
-                n += std::size_t(inside[i]);
+    // The box of the inside pixels, per row then over the rows.
+    struct Box {
+        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
+        void add(const Box& o) {
+            x0 = std::min(x0, o.x0), y0 = std::min(y0, o.y0), x1 = std::max(x1, o.x1), y1 = std::max(y1, o.y1);
+        }
+    };
+    const Box box = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, h, 16), Box{},
+        [&](const tbb::blocked_range<int>& r, Box acc) {
+            for (int y = r.begin(); y != r.end(); ++y) {
+                const float* row = coverage.data() + std::size_t(y) * w;
+                int x = 0;
+                while (x < w && !(row[x] >= 0.5f)) ++x;
+                if (x == w) continue;
+                int xe = w - 1;
+                while (!(row[xe] >= 0.5f)) --xe;
+                acc.add({x, y, xe, y});
             }
-            return n;
+            return acc;
         },
-        [](std::size_t x, std::size_t y) { return x + y; });
-    if (n_in == 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
-    const auto to_in = squared_edt(inside, w, h);
-    const std::vector<float> to_out =
-        n_in == coverage.size() ? std::vector<float>(coverage.size(), kEdtFar) : squared_edt(outside, w, h);
+        [](Box a, const Box& b) {
+            a.add(b);
+            return a;
+        });
+    if (box.x1 < 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
     SilhouetteSdf s;
     s.width = w;
     s.height = h;
-    s.sdf.resize(coverage.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coverage.size(), 1 << 14), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            // The binary border lies half-way between an inside and an outside pixel centre.
-            float d = inside[i] ? -(std::sqrt(to_out[i]) - 0.5f) : (std::sqrt(to_in[i]) - 0.5f);
-            const float c = coverage[i];
-            if (c > 0.0f && c < 1.0f && std::fabs(d) <= 0.5f) d = 0.5f - c;
-            s.sdf[i] = d;
-        }
+    constexpr int m = SilhouetteSdf::kSdfMargin;
+    s.ox = std::max(0, box.x0 - m);
+    s.oy = std::max(0, box.y0 - m);
+    s.stride = std::min(w, box.x1 + m + 1) - s.ox;
+    s.rows = std::min(h, box.y1 + m + 1) - s.oy;
+    const int sw = s.stride, sh = s.rows;
+    const std::size_t n = std::size_t(sw) * sh;
+    std::vector<char> inside(n), outside(n);
+    const std::size_t n_in = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, sh, 16), std::size_t(0),
+        [&](const tbb::blocked_range<int>& r, std::size_t k) {
+            for (int y = r.begin(); y != r.end(); ++y) {
+                const float* c = coverage.data() + std::size_t(y + s.oy) * w + s.ox;
+                char* in = inside.data() + std::size_t(y) * sw;
+                char* out = outside.data() + std::size_t(y) * sw;
+                for (int x = 0; x < sw; ++x) {
+                    in[x] = c[x] >= 0.5f;
+                    out[x] = !in[x];
+                    k += std::size_t(in[x]);
+                }
+            }
+            return k;
+        },
+        [](std::size_t x, std::size_t y) { return x + y; });
+    const auto to_in = squared_edt(inside, sw, sh);
+    // No outside pixel in the window: then none in the image (the window is the image).
+    const std::vector<float> to_out = n_in == n ? std::vector<float>(n, kEdtFar) : squared_edt(outside, sw, sh);
+    s.sdf.resize(n);
+    tbb::parallel_for(tbb::blocked_range<int>(0, sh, 16), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y != r.end(); ++y)
+            for (int x = 0; x < sw; ++x) {
+                const std::size_t i = std::size_t(y) * sw + x;
+                // The binary border lies half-way between an inside and an outside pixel centre.
+                float d = inside[i] ? -(std::sqrt(to_out[i]) - 0.5f) : (std::sqrt(to_in[i]) - 0.5f);
+                const float c = coverage[std::size_t(y + s.oy) * w + std::size_t(x + s.ox)];
+                if (c > 0.0f && c < 1.0f && std::fabs(d) <= 0.5f) d = 0.5f - c;
+                s.sdf[i] = d;
+            }
     });
+    if (sw != w || sh != h)
+        s.beyond = std::make_shared<const SdfBeyondWindow>(std::move(inside), s.ox, s.oy, sw, sh, w, h);
     return s;
+}
+
+float SilhouetteSdf::at(int i, int j) const {
+    const int x = i - ox, y = j - oy;
+    if (x >= 0 && y >= 0 && x < stride && y < rows) return sdf[std::size_t(y) * stride + x];
+    return beyond->at(i, j);
 }
 
 double SilhouetteSdf::sample_edge(double x, double y) const {
@@ -59,13 +137,13 @@ double SilhouetteSdf::sample_edge(double x, double y) const {
     const int x0 = std::min(int(cx), width - 1), y0 = std::min(int(cy), height - 1);
     const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
     const double tx = cx - x0, ty = cy - y0;
-    auto at = [&](int i, int j) { return double(sdf[std::size_t(j) * width + i]); };
+    auto v_at = [&](int i, int j) { return double(at(i, j)); };
     const double v =
-        (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+        (1 - ty) * ((1 - tx) * v_at(x0, y0) + tx * v_at(x1, y0)) + ty * ((1 - tx) * v_at(x0, y1) + tx * v_at(x1, y1));
     if (in_frame) return v;
     // Beyond the image: at least as far as the border sample plus the way out.
-    const double beyond = std::hypot(fx - cx, fy - cy);
-    return beyond > 0 ? std::max(v, 0.0) + beyond : v;
+    const double beyond_image = std::hypot(fx - cx, fy - cy);
+    return beyond_image > 0 ? std::max(v, 0.0) + beyond_image : v;
 }
 
 namespace {
@@ -129,13 +207,14 @@ void HullDistance::prefetch(const Vec3d& p, ViewMask views) const {
         if (i < 32 && !(views >> i & 1u)) continue;
         const Entry& e = fields()[i];
         const Vec2d q = e.camera.project(p);
-        if (!(q.x >= 1.5 && q.y >= 1.5 && q.x < e.sdf.width - 2.5 && q.y < e.sdf.height - 2.5)) continue;
-        const std::size_t at = std::size_t(q.y - 0.5) * std::size_t(e.sdf.width) + std::size_t(q.x - 0.5);
+        const double x = q.x - e.sdf.ox, y = q.y - e.sdf.oy; // in the window
+        if (!(x >= 1.5 && y >= 1.5 && x < e.sdf.stride - 2.5 && y < e.sdf.rows - 2.5)) continue;
+        const std::size_t at = std::size_t(y - 0.5) * std::size_t(e.sdf.stride) + std::size_t(x - 0.5);
         const float* row = e.sdf.sdf.data() + at;
-        __builtin_prefetch(row - e.sdf.width);
+        __builtin_prefetch(row - e.sdf.stride);
         __builtin_prefetch(row);
-        __builtin_prefetch(row + e.sdf.width);
-        __builtin_prefetch(row + 2 * e.sdf.width);
+        __builtin_prefetch(row + e.sdf.stride);
+        __builtin_prefetch(row + 2 * e.sdf.stride);
     }
 }
 

@@ -19,28 +19,43 @@
 
 namespace cm {
 
+class SdfBeyondWindow;
+
 /// Signed distance field of one silhouette, in pixels, positive outside.
+///
+/// Stored for a window of the image: the box of the inside pixels grown by kSdfMargin
+/// (clipped to the image), where every caller's points project (a point near the visual
+/// hull projects near each silhouette). The window's values are the whole image's, to the
+/// bit: the nearest inside pixel of a window pixel lies in the box, and the nearest outside
+/// pixel of an inside one is at most as far as the window's border, which is outside. A
+/// sample that reads beyond the window builds the rest of the field on first use.
 struct SilhouetteSdf {
-    int width = 0, height = 0;
-    std::vector<float> sdf; ///< at pixel centres, row-major, row 0 at the top
+    static constexpr int kSdfMargin = 32;
+    int width = 0, height = 0;                ///< the image
+    int ox = 0, oy = 0, stride = 0, rows = 0; ///< the window: its first column and row, its size
+    std::vector<float> sdf;                   ///< the window's values at pixel centres, row-major, row 0 at the top
+    std::shared_ptr<const SdfBeyondWindow> beyond; ///< the field beyond the window (null: the window is the image)
     /// Bilinear sample at continuous pixel coordinates (x, y) (pixel centres at i + 0.5);
     /// beyond the image the distance grows with the distance to the image border.
-    /// Inline for the common case (the four samples inside the image): the smoothing and the
+    /// Inline for the common case (the four samples inside the window): the smoothing and the
     /// reduction's outline guard ask it hundreds of millions of times at 2048.
     double sample(double x, double y) const {
-        const double fx = x - 0.5, fy = y - 0.5; // pixel-centre lattice coordinates
-        if (fx >= 0 && fy >= 0 && fx < double(width - 1) && fy < double(height - 1)) {
+        const double fx = x - 0.5 - ox, fy = y - 0.5 - oy; // window pixel-centre lattice coordinates
+        if (fx >= 0 && fy >= 0 && fx < double(stride - 1) && fy < double(rows - 1)) {
             const int x0 = int(fx), y0 = int(fy);
             const double tx = fx - x0, ty = fy - y0;
-            const float* r0 = sdf.data() + std::size_t(y0) * std::size_t(width) + std::size_t(x0);
-            const float* r1 = r0 + width;
+            const float* r0 = sdf.data() + std::size_t(y0) * std::size_t(stride) + std::size_t(x0);
+            const float* r1 = r0 + stride;
             return (1 - ty) * ((1 - tx) * double(r0[0]) + tx * double(r0[1])) +
                    ty * ((1 - tx) * double(r1[0]) + tx * double(r1[1]));
         }
         return sample_edge(x, y);
     }
-    /// sample() anywhere: on the last row or column, beyond the image, or not finite.
+    /// sample() anywhere: on the window's last row or column, beyond it, beyond the image, or
+    /// not finite.
     double sample_edge(double x, double y) const;
+    /// The value at pixel (i, j) of the image.
+    float at(int i, int j) const;
 };
 
 /// @brief Builds the signed distance field of a coverage mask: the border is where

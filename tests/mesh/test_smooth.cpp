@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
 #include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
@@ -192,6 +195,72 @@ TEST(DistanceTransform, MatchesBruteForceWithBlankAndFullLines) {
     for (float v : squared_edt(std::vector<char>(std::size_t(w) * h, 0), w, h)) ASSERT_EQ(v, kEdtFar);
 }
 
+// The field is stored for the box of the silhouette grown by a margin and built beyond it on
+// first use: every pixel's value, and samples inside the window, across its border, beyond it
+// and beyond the image, are those of the whole image's field (brute force here), to the bit.
+// The part beyond the window is asked for from many threads at once.
+TEST(HullDistance, TheWindowedFieldIsTheWholeImagesField) {
+    const int w = 190, h = 150;
+    std::vector<float> coverage(std::size_t(w) * h, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double r = std::hypot(x - 60.3, (y - 55.7) * 1.4);
+            float c = float(std::clamp(17.0 - r, 0.0, 1.0));      // a disc with a soft rim
+            if (x >= 70 && x < 84 && y >= 50 && y < 54) c = 1.0f; // an arm
+            if ((x * 5 + y * 3) % 31 == 0 && r < 14) c = 0.0f;    // pinholes
+            coverage[std::size_t(y) * w + x] = c;
+        }
+    coverage[std::size_t(90) * w + 52] = 0.3f; // a faint pixel apart from the disc
+    const SilhouetteSdf f = silhouette_sdf(coverage, w, h, "v");
+    ASSERT_LT(std::size_t(f.stride) * f.rows, std::size_t(w) * h / 2) << "the window is a part of the image";
+    ASSERT_TRUE(f.beyond);
+    auto inside = [&](int x, int y) { return coverage[std::size_t(y) * w + x] >= 0.5f; };
+    std::vector<float> want(coverage.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float best = kEdtFar;
+            for (int j = 0; j < h; ++j)
+                for (int i = 0; i < w; ++i)
+                    if (inside(i, j) != inside(x, y))
+                        best = std::min(best, float((i - x) * (i - x) + (j - y) * (j - y)));
+            float d = inside(x, y) ? -(std::sqrt(best) - 0.5f) : std::sqrt(best) - 0.5f;
+            const float c = coverage[std::size_t(y) * w + x];
+            if (c > 0.0f && c < 1.0f && std::fabs(d) <= 0.5f) d = 0.5f - c;
+            want[std::size_t(y) * w + x] = d;
+        }
+    // Samples first, from many threads: the field beyond the window is built by one of them.
+    std::vector<std::array<double, 2>> points;
+    for (int k = 0; k < 4000; ++k)
+        points.push_back({-20.0 + std::fmod(k * 37.31, w + 40.0), -20.0 + std::fmod(k * 17.97, h + 40.0)});
+    for (double x : {0.5, 0.7, double(f.ox) + 0.5, double(f.ox) + 0.2, double(f.ox + f.stride) - 0.5,
+                     double(f.ox + f.stride) - 0.1, double(w) - 0.5, double(w) + 3.0})
+        for (double y : {0.5, double(f.oy) + 0.5, double(f.oy + f.rows) - 0.5, double(f.oy + f.rows) + 0.4, 57.25})
+            points.push_back({x, y});
+    std::vector<double> got(points.size());
+    tbb::parallel_for(std::size_t(0), points.size(),
+                      [&](std::size_t k) { got[k] = f.sample(points[k][0], points[k][1]); });
+    int beyond = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const double x = points[k][0], y = points[k][1];
+        const double fx = x - 0.5, fy = y - 0.5;
+        const double cx = std::clamp(fx, 0.0, double(w - 1)), cy = std::clamp(fy, 0.0, double(h - 1));
+        const int x0 = std::min(int(cx), w - 1), y0 = std::min(int(cy), h - 1);
+        const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+        const double tx = cx - x0, ty = cy - y0;
+        auto at = [&](int i, int j) { return double(want[std::size_t(j) * w + i]); };
+        double v =
+            (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+        if (fx != cx || fy != cy) v = std::max(v, 0.0) + std::hypot(fx - cx, fy - cy);
+        ASSERT_EQ(got[k], v) << x << "," << y;
+        beyond += x < f.ox || y < f.oy || x > f.ox + f.stride || y > f.oy + f.rows;
+    }
+    EXPECT_GT(beyond, 1000);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) ASSERT_EQ(f.at(x, y), want[std::size_t(y) * w + x]) << x << "," << y;
+    // A silhouette whose window is the whole image keeps nothing beyond it.
+    EXPECT_FALSE(silhouette_sdf(std::vector<float>(std::size_t(w) * h, 1.0f), w, h, "v").beyond);
+}
+
 TEST(HullDistance, SignedDistanceOfABoxFromItsViews) {
     const Views views = test::make_box_views(-1.0f, 1.0f, 200);
     const HullDistance h(views);
@@ -236,9 +305,8 @@ TEST(HullDistance, FieldsAreBuiltOncePerViewsAndNotSharedWithACopy) {
     for (float& c : copy.views[0].coverage) c = 1.0f - c; // the copy's front view inverted
     const auto c = view_sdfs(copy);
     EXPECT_NE(c.get(), a.get());
-    const std::size_t centre = std::size_t(32) * 64 + 32;
-    EXPECT_LT((*a)[0].sdf.sdf[centre], 0.0f);
-    EXPECT_GT((*c)[0].sdf.sdf[centre], 0.0f);
+    EXPECT_LT((*a)[0].sdf.at(32, 32), 0.0f);
+    EXPECT_GT((*c)[0].sdf.at(32, 32), 0.0f);
     EXPECT_EQ(view_sdfs(views).get(), a.get());
     copy = views; // assigned: derived data of neither is kept
     EXPECT_NE(view_sdfs(copy).get(), a.get());
