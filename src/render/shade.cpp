@@ -23,32 +23,49 @@ double hash01(std::uint64_t x, std::uint64_t y, std::uint64_t seed) {
     return double(z >> 11) * (1.0 / 9007199254740992.0);
 }
 
-// Approximate Euclidean distance (chamfer 3-4, in pixels) from every pixel to the nearest
-// pixel where `seed` is set; pixels outside the image count as seeds when `outside_seeds`.
-std::vector<float> distance_to(const std::vector<char>& seed, int w, int h, bool outside_seeds) {
-    const float inf = 1e9f;
-    // On a frame one pixel wider on each side that holds what lies outside the image, so
-    // the two passes read their neighbours without bounds checks.
-    const int pw = w + 2;
-    std::vector<float> f(std::size_t(pw) * std::size_t(h + 2), outside_seeds ? 0.0f : inf);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) f[std::size_t(y + 1) * pw + x + 1] = seed[std::size_t(y) * w + x] ? 0.0f : inf;
-    const float a = 1.0f, b = 1.4142f;
-    for (int y = 1; y <= h; ++y) {
-        float* row = f.data() + std::size_t(y) * pw;
-        const float* up = row - pw;
-        for (int x = 1; x <= w; ++x)
-            row[x] = std::min({row[x], row[x - 1] + a, up[x] + a, up[x - 1] + b, up[x + 1] + b});
-    }
-    for (int y = h; y >= 1; --y) {
-        float* row = f.data() + std::size_t(y) * pw;
-        const float* down = row + pw;
-        for (int x = w; x >= 1; --x)
-            row[x] = std::min({row[x], row[x + 1] + a, down[x] + a, down[x + 1] + b, down[x - 1] + b});
-    }
-    std::vector<float> d(seed.size());
-    for (int y = 0; y < h; ++y) std::copy_n(f.data() + std::size_t(y + 1) * pw + 1, w, d.data() + std::size_t(y) * w);
-    return d;
+// Per pixel: whether its chamfer distance (1 along an axis, 1.4142 along a diagonal, in
+// pixels) to the nearest pixel where `seed` is set is at most `t`; pixels outside the image
+// count as seeds when `outside_seeds`. The distance to a seed dx, dy pixels away is
+// (max - min) + 1.4142 min of |dx| and |dy|, which grows with |dx|: per row, the distance along
+// it to its nearest seed (capped past t) settles the row, and only the rows within t can
+// hold a seed near enough. Rows run in parallel.
+std::vector<char> within_chamfer(const std::vector<char>& seed, int w, int h, bool outside_seeds, float t) {
+    const int r = std::max(0, int(std::floor(t)));
+    const int cap = r + 1; // farther along a row than r pixels is too far at any dy
+    std::vector<std::int32_t> along(std::size_t(w) * h);
+    tbb::parallel_for(0, h, [&](int y) {
+        const char* s = seed.data() + std::size_t(y) * w;
+        std::int32_t* d = along.data() + std::size_t(y) * w;
+        const std::int32_t start = outside_seeds ? 0 : cap; // at the column beyond the image
+        std::int32_t k = start;
+        for (int x = 0; x < w; ++x) d[x] = k = s[x] ? 0 : std::min(cap, k + 1);
+        k = start;
+        for (int x = w - 1; x >= 0; --x) d[x] = std::min(d[x], k = s[x] ? 0 : std::min(cap, k + 1));
+    });
+    // Per |dy|: the largest distance along a row that is near enough (-1: none).
+    std::vector<std::int32_t> reach(std::size_t(r) + 1, -1);
+    for (int ady = 0; ady <= r; ++ady)
+        for (int dx = 0; dx < cap; ++dx) {
+            const int lo = std::min(dx, ady), hi = std::max(dx, ady);
+            if (float(hi - lo) + 1.4142f * float(lo) <= t) reach[std::size_t(ady)] = dx;
+        }
+    std::vector<char> out(seed.size());
+    tbb::parallel_for(0, h, [&](int y) {
+        char* o = out.data() + std::size_t(y) * w;
+        std::fill_n(o, w, 0);
+        for (int dy = -r; dy <= r; ++dy) {
+            const int yy = y + dy;
+            const std::int32_t most = reach[std::size_t(std::abs(dy))];
+            if (yy < -1 || yy > h || most < 0) continue;
+            if (yy == -1 || yy == h) { // the row beyond the image: all seeds when they count
+                if (outside_seeds) std::fill_n(o, w, 1);
+                continue;
+            }
+            const std::int32_t* d = along.data() + std::size_t(yy) * w;
+            for (int x = 0; x < w; ++x) o[x] |= char(d[x] <= most);
+        }
+    });
+    return out;
 }
 
 double smoothstep(double e0, double e1, double x) {
@@ -114,8 +131,7 @@ std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
 }
 
 // The colour (RGB) of every sample: paper, ink on the lines, or the shaded fill.
-std::vector<float> shade_samples(const ArtScene& s, const std::vector<float>& to_outside,
-                                 const std::vector<float>& to_crease, const ArtOptions& opt) {
+std::vector<float> shade_samples(const ArtScene& s, const std::vector<char>& on_line, const ArtOptions& opt) {
     const int W = s.W, H = s.H;
     const Mesh& mesh = s.mesh;
     const DepthImage& D = s.D;
@@ -130,7 +146,6 @@ std::vector<float> shade_samples(const ArtScene& s, const std::vector<float>& to
     const Vec3d light = normalize(d * -0.55 + u * 0.65 - r * 0.45);
 
     std::vector<float> hires(std::size_t(W) * H * 3);
-    const float outline = opt.outline_px * float(s.ss), crease_half = 0.5f * opt.crease_px * float(s.ss);
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
             const std::size_t i = std::size_t(y) * W + x;
@@ -142,7 +157,7 @@ std::vector<float> shade_samples(const ArtScene& s, const std::vector<float>& to
                 for (int k = 0; k < 3; ++k) out[k] = float(opt.paper[std::size_t(k)] * v);
                 continue;
             }
-            if (opt.lines && (to_outside[i] <= outline || to_crease[i] <= crease_half)) {
+            if (opt.lines && on_line[i]) {
                 for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
                 continue;
             }
@@ -222,10 +237,16 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     // Lines: silhouette outline inside the silhouette, and creases / inner contours.
     const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
     if (opt.check) opt.check();
-    const std::vector<float> to_outside = distance_to(scene.empty, W, H, true);
-    const std::vector<float> to_crease = opt.lines ? distance_to(crease, W, H, false) : std::vector<float>(N, 1e9f);
+    // A sample is on a line within the outline's width of the outside or half a crease's width
+    // of a crease.
+    std::vector<char> on_line;
+    if (opt.lines) {
+        on_line = within_chamfer(scene.empty, W, H, true, opt.outline_px * float(ss));
+        const std::vector<char> near_crease = within_chamfer(crease, W, H, false, 0.5f * opt.crease_px * float(ss));
+        for (std::size_t i = 0; i < N; ++i) on_line[i] |= near_crease[i];
+    }
     if (opt.check) opt.check();
-    const std::vector<float> hires = shade_samples(scene, to_outside, to_crease, opt);
+    const std::vector<float> hires = shade_samples(scene, on_line, opt);
     if (opt.check) opt.check();
     return average_down(scene, hires, width, height, opt);
 }
