@@ -1,5 +1,7 @@
 #include "core/mesh.h"
 
+#include "core/uninit_vector.h"
+
 #include <algorithm>
 #include <atomic>
 #include <numeric>
@@ -134,13 +136,20 @@ MeshCheck check_mesh(const Mesh& m) {
             for (int k = 0; k < 3; ++k) ++eat[c][std::min(t[k], t[(k + 1) % 3])];
         }
     });
-    std::vector<std::size_t> eoff(nv + 1, 0), foff(nv + 1, 0);
+    // The large arrays below are left unset by their constructors and written first side by
+    // side (a zero fill would map all their pages on one thread).
+    UninitVector<std::size_t> eoff(nv + 1), foff(nv + 1);
+    eoff[0] = foff[0] = 0;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
-        for (std::size_t v = range.begin(); v != range.end(); ++v)
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            std::size_t ne = 0, nfc = 0;
             for (std::size_t c = 0; c < chunks; ++c) {
-                eoff[v + 1] += eat[c][v];
-                foff[v + 1] += fat[c][v];
+                ne += eat[c][v];
+                nfc += fat[c][v];
             }
+            eoff[v + 1] = ne;
+            foff[v + 1] = nfc;
+        }
     });
     for (std::size_t v = 0; v < nv; ++v) {
         eoff[v + 1] += eoff[v];
@@ -158,13 +167,18 @@ MeshCheck check_mesh(const Mesh& m) {
             }
         }
     });
-    std::vector<std::uint64_t> edges(eoff[nv]); // (higher vertex << 1) | forward, per bucket
-    std::vector<std::uint32_t> vfaces(foff[nv]);
+    UninitVector<std::uint64_t> edges(eoff[nv]);  // (higher vertex << 1) | forward, per bucket (each written once)
+    UninitVector<std::uint32_t> vfaces(foff[nv]); // each written once
     // Components: a union-find the chunks share (roots linked by compare-and-swap, always
     // the larger index under the smaller, so the forest stays one; paths halved on the way).
-    std::vector<std::uint32_t> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0u);
-    std::vector<char> used(nv, 0);
+    UninitVector<std::uint32_t> parent(nv);
+    UninitVector<char> used(nv);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            parent[v] = std::uint32_t(v);
+            used[v] = 0;
+        }
+    });
     auto find = [&](std::uint32_t x) {
         for (;;) {
             std::uint32_t p = std::atomic_ref<std::uint32_t>(parent[x]).load(std::memory_order_relaxed);

@@ -13,33 +13,11 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/uninit_vector.h"
 
 namespace cm {
 
 using FacePair = std::array<std::uint32_t, 2>; ///< (a, b) with a < b
-
-/// An allocator whose resize() leaves trivial elements uninitialised, for large arrays
-/// that are filled right after (no pass of zeros over hundreds of megabytes).
-template <typename T>
-struct UninitAllocator : std::allocator<T> {
-    template <typename U>
-    struct rebind {
-        using other = UninitAllocator<U>;
-    };
-    UninitAllocator() = default;
-    template <typename U>
-    UninitAllocator(const UninitAllocator<U>&) noexcept {}
-    template <typename U>
-    void construct(U* p) noexcept {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <typename U, typename... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-template <typename T>
-using UninitVector = std::vector<T, UninitAllocator<T>>;
 
 /// @brief Do triangles ta and tb (vertex indices into p) cross at a point inside both?
 /// Triangles sharing an edge never cross; with one shared vertex only the edges away
