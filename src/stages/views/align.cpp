@@ -26,13 +26,20 @@ struct Extent {
 // lands to a fraction of a pixel, a binary one on the pixel edge (its expected place).
 Extent silhouette_extent(const View& v) {
     const int w = v.width, h = v.height;
-    std::vector<double> col(static_cast<std::size_t>(w), 0.0), row(static_cast<std::size_t>(h), 0.0);
-    for (int y = 0; y < h; ++y)
+    // The largest coverage per column and row, taken over the floats (exact, and a loop the
+    // compiler runs over several pixels at once), then widened.
+    std::vector<float> colf(static_cast<std::size_t>(w), 0.0f);
+    std::vector<double> row(static_cast<std::size_t>(h), 0.0);
+    for (int y = 0; y < h; ++y) {
+        const float* c = v.coverage.data() + std::size_t(y) * std::size_t(w);
+        float r = 0.0f;
         for (int x = 0; x < w; ++x) {
-            const double c = v.coverage_at(x, y);
-            col[std::size_t(x)] = std::max(col[std::size_t(x)], c);
-            row[std::size_t(y)] = std::max(row[std::size_t(y)], c);
+            colf[std::size_t(x)] = std::max(colf[std::size_t(x)], c[x]);
+            r = std::max(r, c[x]);
         }
+        row[std::size_t(y)] = double(r);
+    }
+    const std::vector<double> col(colf.begin(), colf.end());
     auto range = [](const std::vector<double>& a, double& lo, double& hi) {
         int first = -1, last = -1;
         for (int i = 0; i < int(a.size()); ++i)

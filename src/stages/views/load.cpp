@@ -130,9 +130,7 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
     if (progress) progress(0.8);
 
     for (const auto& v : views.views) {
-        std::size_t inside = 0;
-        for (float c : v.coverage) inside += c >= 0.5f;
-        if (inside == 0)
+        if (std::none_of(v.coverage.begin(), v.coverage.end(), [](float c) { return c >= 0.5f; }))
             throw Error("view \"" + v.name + "\" (" + v.source.string() +
                         ") has an empty silhouette: no object was found in it");
     }
