@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "core/uninit_vector.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
 #include "geometry/mesh_intersect.h"
@@ -20,6 +22,14 @@ namespace cm {
 namespace {
 
 constexpr int kBisections = 8;
+
+// std::nextafter(f, +infinity), inline (it is a library call, made once per vertex and step).
+float next_up(float f) {
+    if (!(f < std::numeric_limits<float>::infinity())) return f; // +infinity and NaN stay
+    if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
 
 // The views a vertex's hull distance is asked of. The hull distance is the largest of the
 // views' distances, and near the hull (where the constraint binds) one view gives it while
@@ -31,8 +41,8 @@ constexpr int kBisections = 8;
 struct AskedViews {
     const HullDistance* hull = nullptr;
     double tol = 0;
-    std::vector<HullDistance::ViewMask> mask; // per vertex: the views to ask
-    std::vector<float> slack;                 // per vertex: how far it may move before a skipped view could matter
+    UninitVector<HullDistance::ViewMask> mask; // per vertex: the views to ask
+    UninitVector<float> slack;                 // per vertex: how far it may move before a skipped view could matter
 
     bool skip = true;
     std::atomic<std::size_t> skipping_steps{0};
@@ -40,16 +50,24 @@ struct AskedViews {
     // distance moves by at most `lip` per unit the vertex moves, so a step no longer than
     // (tol - bound) / lip keeps it within the tolerance: that step is taken whole, as asking
     // would have found, without a sample. 0 when some view's distance cannot be bounded so.
-    std::vector<float> near;
+    UninitVector<float> near;
     double lip = 0;
     AskedViews(const HullDistance* h, double t, std::size_t n, bool skip_far) : hull(h), tol(t), skip(skip_far) {
         if (!h) return;
-        mask.assign(n, h->all_views());
-        slack.assign(n, -1.0f);
         for (std::size_t i = 0; i < h->view_count(); ++i) lip = std::max(lip, h->lipschitz(i));
         for (std::size_t i = 0; i < h->view_count() && lip > 0; ++i)
             if (!(h->lipschitz(i) > 0)) lip = 0;
-        if (lip > 0) near.assign(n, std::numeric_limits<float>::infinity());
+        // Written first side by side (a fill in the constructors would map the pages on one thread).
+        mask.resize(n);
+        slack.resize(n);
+        if (lip > 0) near.resize(n);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+            for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                mask[v] = h->all_views();
+                slack[v] = -1.0f;
+                if (lip > 0) near[v] = std::numeric_limits<float>::infinity();
+            }
+        });
     }
     // Whether a step of length `reach` from the vertex keeps it within the tolerance for certain.
     bool surely_within(std::size_t v, double reach) const {
@@ -57,7 +75,7 @@ struct AskedViews {
     }
     // The vertex is now where |hull distance| is `d` (infinity: not known).
     void now_at(std::size_t v, double d) {
-        if (lip > 0) near[v] = std::nextafter(float(d), std::numeric_limits<float>::infinity());
+        if (lip > 0) near[v] = next_up(float(d));
     }
     // Whether the vertex's mask holds for every point within `reach` of where it is.
     bool valid(std::size_t v, double reach) const { return double(slack[v]) >= reach; }
