@@ -270,6 +270,7 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
             std::array<std::uint32_t, 3> tri;
             std::uint32_t face;
             unsigned first; ///< bit a: this cell is the first of the indexed box on axis a
+            unsigned fan;   ///< bit k: tri[k]'s fan is embedded (read once per face, not per pair)
         };
         std::vector<Item> items;
         for (std::size_t run = r.begin(); run != r.end(); ++run) {
@@ -288,7 +289,11 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
                     const Range c = cells({u.lo, u.lo});
                     first = unsigned(c.lo[0] == hi) | unsigned(c.lo[1] == hj) << 1 | unsigned(c.lo[2] == hk) << 2;
                 }
-                items.push_back({b_ ? face_box(p, triangles_[f]) : u, triangles_[f], f, first});
+                const auto& t = triangles_[f];
+                const unsigned fan = fans ? unsigned((*fans)[t[0]] != 0) | unsigned((*fans)[t[1]] != 0) << 1 |
+                                                unsigned((*fans)[t[2]] != 0) << 2
+                                          : 0u;
+                items.push_back({b_ ? face_box(p, t) : u, t, f, first, fan});
             }
             // Sweep along x over the cell's faces, sorted by the low end of their boxes at p
             // (only faces whose boxes at p overlap can cross there; within the boxes of both
@@ -298,23 +303,24 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
                 const Item& ia = items[x];
                 for (std::size_t y = x + 1; y < items.size() && items[y].now.lo.x <= ia.now.hi.x; ++y) {
                     const Item& ib = items[y];
-                    if (ia.now.lo.y > ib.now.hi.y || ib.now.lo.y > ia.now.hi.y || ia.now.lo.z > ib.now.hi.z ||
-                        ib.now.lo.z > ia.now.hi.z)
-                        continue;
                     // Each pair once: in the cell holding the low corner of the boxes' overlap
                     // (the boxes the index holds, of both poses), whose cell is the larger of the
                     // two boxes' low cells on each axis. Both boxes reach this cell, so on each
                     // axis that is this cell's when it is the first of either box there.
                     if ((ia.first | ib.first) != 7u) continue;
+                    if (ia.now.lo.y > ib.now.hi.y || ib.now.lo.y > ia.now.hi.y || ia.now.lo.z > ib.now.hi.z ||
+                        ib.now.lo.z > ia.now.hi.z)
+                        continue;
                     int shared = 0;
-                    std::uint32_t common = 0;
-                    for (auto u : ia.tri) {
+                    int common = 0; // the shared vertex's corner in ia
+                    for (int c = 0; c < 3; ++c) {
+                        const std::uint32_t u = ia.tri[std::size_t(c)];
                         const int k = (u == ib.tri[0]) + (u == ib.tri[1]) + (u == ib.tri[2]);
                         shared += k;
-                        if (k) common = u;
+                        if (k) common = c;
                     }
                     if (shared >= 2) continue;                            // neighbours across an edge never cross
-                    if (shared == 1 && fans && (*fans)[common]) continue; // two sectors of an embedded fan
+                    if (shared == 1 && (ia.fan >> common & 1u)) continue; // two sectors of an embedded fan
                     if (triangles_cross(p, ia.tri, ib.tri))
                         local.push_back({std::min(ia.face, ib.face), std::max(ia.face, ib.face)});
                 }
