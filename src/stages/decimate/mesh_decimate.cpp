@@ -13,6 +13,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "core/uninit_vector.h"
 #include "geometry/chunked_scatter.h"
 #include "geometry/mesh_intersect.h"
 #include "mesh_decimate_internal.h"
@@ -327,18 +328,39 @@ std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, 
 
     // The blocks' faces as one mesh over the input vertices they still use (in input
     // order), then the second pass over it.
-    std::vector<char> used(nv, 0);
+    // (the large arrays written first side by side: a fill on one thread would map their pages there)
+    UninitVector<char> used(nv);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 16), [&](const auto& r) {
+        std::fill(used.begin() + std::ptrdiff_t(r.begin()), used.begin() + std::ptrdiff_t(r.end()), char(0));
+    });
     tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
         for (const auto& t : kept[i])
             for (auto x : t) std::atomic_ref<char>(used[x]).store(1, std::memory_order_relaxed);
     });
-    std::vector<std::uint32_t> order(nv, decimate::kNone), input_of;
-    for (std::size_t v = 0; v < nv; ++v)
-        if (used[v]) {
-            order[v] = std::uint32_t(input_of.size());
-            input_of.push_back(std::uint32_t(v));
-        }
-    std::vector<char>().swap(used);
+    // The used vertices numbered in input order: counted per chunk, then numbered from each
+    // chunk's start.
+    constexpr std::size_t kChunk = std::size_t(1) << 16;
+    const std::size_t nchunks = (nv + kChunk - 1) / kChunk;
+    std::vector<std::size_t> chunk_start(nchunks + 1, 0);
+    tbb::parallel_for(std::size_t(0), nchunks, [&](std::size_t c) {
+        chunk_start[c + 1] =
+            std::size_t(std::count(used.begin() + std::ptrdiff_t(c * kChunk),
+                                   used.begin() + std::ptrdiff_t(std::min(nv, (c + 1) * kChunk)), char(1)));
+    });
+    for (std::size_t c = 0; c < nchunks; ++c) chunk_start[c + 1] += chunk_start[c];
+    UninitVector<std::uint32_t> order(nv);
+    std::vector<std::uint32_t> input_of(chunk_start[nchunks]);
+    tbb::parallel_for(std::size_t(0), nchunks, [&](std::size_t c) {
+        std::size_t at = chunk_start[c];
+        for (std::size_t v = c * kChunk, e = std::min(nv, (c + 1) * kChunk); v < e; ++v)
+            if (used[v]) {
+                order[v] = std::uint32_t(at);
+                input_of[at++] = std::uint32_t(v);
+            } else {
+                order[v] = decimate::kNone;
+            }
+    });
+    UninitVector<char>().swap(used);
     Mesh merged;
     auto pick = [&](const auto& from, auto& to) {
         if (from.size() != nv) return;
