@@ -266,12 +266,39 @@ void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
             }
         if (asked.empty()) return;
         const CoincidenceIndex index_of_asked(where, separation);
+        // A coarse grid over the input's box marks the cells within twice the separation of an
+        // asked vertex: only the input vertices in marked cells can be near one, and only they
+        // look themselves up (the same answers, for a bit test per vertex elsewhere).
+        constexpr int kGrid = 128;
+        const Vec3d origin(lo), span = vmax(Vec3d(hi) - origin, Vec3d(1e-30, 1e-30, 1e-30));
+        const Vec3d per(kGrid / span.x, kGrid / span.y, kGrid / span.z);
+        auto cell_of = [&](double x, int a) {
+            const double t = (x - origin[a]) * per[a];
+            return t >= 0 ? int(std::min(t, double(kGrid - 1))) : 0; // NaN to 0 (near nothing anyway)
+        };
+        std::vector<char> marked_cells(std::size_t(kGrid) * kGrid * kGrid, 0);
+        for (const Vec3f& q : where) {
+            int c0[3], c1[3];
+            for (int a = 0; a < 3; ++a) {
+                c0[a] = cell_of(double(q[a]) - 2 * separation, a);
+                c1[a] = cell_of(double(q[a]) + 2 * separation, a);
+            }
+            for (int z = c0[2]; z <= c1[2]; ++z)
+                for (int y = c0[1]; y <= c1[1]; ++y)
+                    for (int x = c0[0]; x <= c1[0]; ++x)
+                        marked_cells[(std::size_t(z) * kGrid + std::size_t(y)) * kGrid + std::size_t(x)] = 1;
+        }
         std::vector<char> hit(asked.size(), 0);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.positions.size(), 1 << 14), [&](const auto& r) {
-            for (std::size_t w = r.begin(); w != r.end(); ++w)
-                index_of_asked.near_point(in.positions[w], [&](std::uint32_t k) {
+            for (std::size_t w = r.begin(); w != r.end(); ++w) {
+                const Vec3f& q = in.positions[w];
+                const std::size_t cell = (std::size_t(cell_of(q.z, 2)) * kGrid + std::size_t(cell_of(q.y, 1))) * kGrid +
+                                         std::size_t(cell_of(q.x, 0));
+                if (!marked_cells[cell]) continue;
+                index_of_asked.near_point(q, [&](std::uint32_t k) {
                     if (asked[k] != w) std::atomic_ref<char>(hit[k]).store(1, std::memory_order_relaxed);
                 });
+            }
         });
         for (std::size_t k = 0; k < asked.size(); ++k) input_answer[asked[k]] = hit[k] ? 1 : 2;
     };
