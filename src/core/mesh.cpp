@@ -1,9 +1,8 @@
 #include "core/mesh.h"
 
-#include "core/uninit_vector.h"
-
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -138,7 +137,9 @@ MeshCheck check_mesh(const Mesh& m) {
     });
     // The large arrays below are left unset by their constructors and written first side by
     // side (a zero fill would map all their pages on one thread).
-    UninitVector<std::size_t> eoff(nv + 1), foff(nv + 1);
+    // (std::make_unique_for_overwrite: trivial elements left unset)
+    const auto eoff = std::make_unique_for_overwrite<std::size_t[]>(nv + 1);
+    const auto foff = std::make_unique_for_overwrite<std::size_t[]>(nv + 1);
     eoff[0] = foff[0] = 0;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
@@ -167,12 +168,13 @@ MeshCheck check_mesh(const Mesh& m) {
             }
         }
     });
-    UninitVector<std::uint64_t> edges(eoff[nv]);  // (higher vertex << 1) | forward, per bucket (each written once)
-    UninitVector<std::uint32_t> vfaces(foff[nv]); // each written once
+    // (higher vertex << 1) | forward, per bucket; each entry of both written once
+    const auto edges = std::make_unique_for_overwrite<std::uint64_t[]>(eoff[nv]);
+    const auto vfaces = std::make_unique_for_overwrite<std::uint32_t[]>(foff[nv]);
     // Components: a union-find the chunks share (roots linked by compare-and-swap, always
     // the larger index under the smaller, so the forest stays one; paths halved on the way).
-    UninitVector<std::uint32_t> parent(nv);
-    UninitVector<char> used(nv);
+    const auto parent = std::make_unique_for_overwrite<std::uint32_t[]>(nv);
+    const auto used = std::make_unique_for_overwrite<char[]>(nv);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
             parent[v] = std::uint32_t(v);
@@ -268,8 +270,8 @@ MeshCheck check_mesh(const Mesh& m) {
         tbb::blocked_range<std::size_t>(0, nv, 4096), EdgeCounts{},
         [&](const tbb::blocked_range<std::size_t>& range, EdgeCounts c) {
             for (std::size_t v = range.begin(); v != range.end(); ++v) {
-                std::uint64_t* b = edges.data() + eoff[v];
-                std::uint64_t* e = edges.data() + eoff[v + 1];
+                std::uint64_t* b = edges.get() + eoff[v];
+                std::uint64_t* e = edges.get() + eoff[v + 1];
                 std::sort(b, e);
                 for (std::uint64_t* i = b; i != e;) {
                     std::uint64_t* j = i;
@@ -300,7 +302,7 @@ MeshCheck check_mesh(const Mesh& m) {
         [&](const tbb::blocked_range<std::size_t>& range, std::size_t c) {
             for (std::size_t v = range.begin(); v != range.end(); ++v) {
                 const std::size_t k = foff[v + 1] - foff[v];
-                if (k >= 2 && !one_fan(m, std::uint32_t(v), vfaces.data() + foff[v], k)) ++c;
+                if (k >= 2 && !one_fan(m, std::uint32_t(v), vfaces.get() + foff[v], k)) ++c;
             }
             return c;
         },

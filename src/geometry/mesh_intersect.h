@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/mesh.h"
-#include "core/uninit_vector.h"
+#include "geometry/uninit_vector.h"
 
 namespace cm {
 

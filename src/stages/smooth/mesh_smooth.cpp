@@ -12,10 +12,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "core/uninit_vector.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
 #include "geometry/mesh_intersect.h"
+#include "geometry/uninit_vector.h"
 
 namespace cm {
 
