@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 
 #include <tbb/blocked_range.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/task_arena.h>
 
 #include "core/error.h"
 #include "geometry/distance_transform.h"
@@ -18,21 +17,18 @@ namespace cm {
 // The field beyond a silhouette's window: every pixel there is outside, farther than the
 // margin from the silhouette, so its value is its distance to the nearest inside pixel less
 // half a pixel. Built on first use from the window's inside pixels (all the inside pixels
-// there are), inside an isolated task arena: a thread that waits for its own parallel work
-// there does not pick up its caller's other tasks, which could ask for the field again.
+// there are), once, as the views' derived data are: threads that ask meanwhile help build it.
 class SdfBeyondWindow {
 public:
     SdfBeyondWindow(std::vector<char> inside, int ox, int oy, int stride, int rows, int w, int h)
         : inside_(std::move(inside)), ox_(ox), oy_(oy), stride_(stride), rows_(rows), w_(w), h_(h) {}
     float at(int i, int j) const {
-        std::call_once(once_, [&] {
-            tbb::this_task_arena::isolate([&] {
-                std::vector<char> seed(std::size_t(w_) * h_, 0);
-                for (int y = 0; y < rows_; ++y)
-                    std::copy_n(inside_.data() + std::size_t(y) * stride_, stride_,
-                                seed.data() + std::size_t(y + oy_) * w_ + ox_);
-                to_in_ = squared_edt(seed, w_, h_);
-            });
+        tbb::collaborative_call_once(once_, [&] {
+            std::vector<char> seed(std::size_t(w_) * h_, 0);
+            for (int y = 0; y < rows_; ++y)
+                std::copy_n(inside_.data() + std::size_t(y) * stride_, stride_,
+                            seed.data() + std::size_t(y + oy_) * w_ + ox_);
+            to_in_ = squared_edt(seed, w_, h_);
         });
         return std::sqrt(to_in_[std::size_t(j) * w_ + i]) - 0.5f;
     }
@@ -40,7 +36,7 @@ public:
 private:
     std::vector<char> inside_; // the window's inside pixels
     int ox_, oy_, stride_, rows_, w_, h_;
-    mutable std::once_flag once_;
+    mutable tbb::collaborative_once_flag once_;
     mutable std::vector<float> to_in_;
 };
 
