@@ -1,6 +1,7 @@
 #include "preview_sheet.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -72,12 +73,35 @@ struct Canvas {
     }
     /// Pastes `src` (RGB or RGBA over white), resized by area averaging to fit box w x h, centred.
     void paste(const Image& src, int x0, int y0, int w, int h, const RenderCheck& check = {}) {
+        const int ch = src.channels;
+        if (src.eight_bit()) {
+            // Each byte's value as Image::value gives it, looked up. An opaque pixel adds its
+            // colour as it is (v * 1 + 0, exactly).
+            std::array<double, 256> lut;
+            for (int b = 0; b < 256; ++b) lut[std::size_t(b)] = double(float(b) * (1.0f / 255.0f));
+            const std::uint8_t* bytes = src.bytes.data();
+            paste_runs(
+                src.width, src.height, x0, y0, w, h,
+                [&, ch](std::size_t first, int n, double acc[3]) {
+                    const std::uint8_t* p = bytes + first * std::size_t(ch);
+                    for (int i = 0; i < n; ++i, p += ch) {
+                        if (ch != 4 || p[3] == 255) {
+                            for (int k = 0; k < 3; ++k) acc[k] += lut[p[ch == 1 ? 0 : k]];
+                            continue;
+                        }
+                        const float a = std::clamp(float(p[3]) * (1.0f / 255.0f), 0.0f, 1.0f);
+                        for (int k = 0; k < 3; ++k) acc[k] += float(lut[p[k]]) * a + (1.0f - a);
+                    }
+                },
+                check);
+            return;
+        }
         paste_pixels(
             src.width, src.height, x0, y0, w, h,
             [&](std::size_t i, float rgb[3], float& a) {
-                const std::size_t s = i * std::size_t(src.channels);
-                a = src.channels == 4 ? std::clamp(src.value(s + 3), 0.0f, 1.0f) : 1.0f;
-                for (int k = 0; k < 3; ++k) rgb[k] = src.value(src.channels == 1 ? s : s + std::size_t(k));
+                const std::size_t s = i * std::size_t(ch);
+                a = ch == 4 ? std::clamp(src.value(s + 3), 0.0f, 1.0f) : 1.0f;
+                for (int k = 0; k < 3; ++k) rgb[k] = src.value(ch == 1 ? s : s + std::size_t(k));
             },
             check);
     }
@@ -85,6 +109,21 @@ struct Canvas {
     /// which need not be stored as an image.
     template <typename Pixel>
     void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel, const RenderCheck& check = {}) {
+        paste_runs(
+            sw, sh, x0, y0, w, h,
+            [&](std::size_t first, int n, double acc[3]) {
+                for (int i = 0; i < n; ++i) {
+                    float v[3], a;
+                    pixel(first + std::size_t(i), v, a);
+                    for (int k = 0; k < 3; ++k) acc[k] += std::clamp(v[k], 0.0f, 1.0f) * a + (1.0f - a);
+                }
+            },
+            check);
+    }
+    /// The resizing itself: `run(first, n, acc)` adds to acc the colours over white of the n
+    /// source pixels from row-major index `first` on (a run of one row), in that order.
+    template <typename Run>
+    void paste_runs(int sw, int sh, int x0, int y0, int w, int h, Run run, const RenderCheck& check) {
         const double f = std::min(double(w) / sw, double(h) / sh);
         const int dw = std::max(1, int(std::lround(sw * f))), dh = std::max(1, int(std::lround(sh * f)));
         const int ox = x0 + (w - dw) / 2, oy = y0 + (h - dh) / 2;
@@ -99,15 +138,11 @@ struct Canvas {
                 if (j1 < j0) j0 = j1 = std::min(sh - 1, int((sy0 + sy1) / 2));
                 i1 = std::min(i1, sw - 1);
                 j1 = std::min(j1, sh - 1);
+                const int ni = std::max(0, i1 - i0 + 1), nj = std::max(0, j1 - j0 + 1);
                 double acc[3] = {0, 0, 0};
-                int cnt = 0;
-                for (int j = j0; j <= j1; ++j)
-                    for (int i = i0; i <= i1; ++i) {
-                        float v[3], a;
-                        pixel(std::size_t(j) * std::size_t(sw) + std::size_t(i), v, a);
-                        for (int k = 0; k < 3; ++k) acc[k] += std::clamp(v[k], 0.0f, 1.0f) * a + (1.0f - a);
-                        ++cnt;
-                    }
+                if (ni > 0)
+                    for (int j = j0; j <= j1; ++j) run(std::size_t(j) * std::size_t(sw) + std::size_t(i0), ni, acc);
+                const int cnt = ni * nj;
                 float c[3];
                 for (int k = 0; k < 3; ++k) c[k] = float(acc[k] / std::max(cnt, 1));
                 put(ox + x, oy + y, c);
@@ -196,16 +231,21 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P, opt.check);
         // 2. the mesh, drawn above
         sheet.paste(drawn[std::size_t(v)], 2 * gap + P, py, P, P, opt.check);
-        // 3. overlay: both grey, input only and mesh only in their colours
+        // 3. overlay: both grey, input only and mesh only in their colours. Each pixel adds
+        // one of four colours; a destination pixel's sum is counted per colour, which is the
+        // same double as adding them one by one (every partial sum of these floats is exact).
         const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
-        sheet.paste_pixels(
+        const float* cover = view.coverage.data();
+        sheet.paste_runs(
             view.width, view.height, 3 * gap + 2 * P, py, P, P,
-            [&](std::size_t i, float rgb[3], float& a) {
-                const bool s = view.coverage[i] >= 0.5f, m = r[i] != 0;
-                const float both[3] = {0.62f, 0.62f, 0.64f}, none[3] = {1.0f, 1.0f, 1.0f};
-                const float* c = s && m ? both : s ? kInputOnly : m ? kMeshOnly : none;
-                for (int k = 0; k < 3; ++k) rgb[k] = c[k];
-                a = 1.0f;
+            [&](std::size_t first, int n, double acc[3]) {
+                int count[4] = {0, 0, 0, 0}; // none, mesh only, input only, both
+                for (std::size_t i = first; i < first + std::size_t(n); ++i)
+                    ++count[(cover[i] >= 0.5f ? 2 : 0) + (r[i] != 0 ? 1 : 0)];
+                static constexpr float kBoth[3] = {0.62f, 0.62f, 0.64f}, kNone[3] = {1.0f, 1.0f, 1.0f};
+                static constexpr const float* kColours[4] = {kNone, kMeshOnly, kInputOnly, kBoth};
+                for (int c = 0; c < 4; ++c)
+                    for (int k = 0; k < 3; ++k) acc[k] += double(count[c]) * double(kColours[c][k]);
             },
             opt.check);
     }
