@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 
 namespace cm {
@@ -10,16 +13,34 @@ namespace cm {
 SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     const int w = view.width, h = view.height;
     if (w <= 0 || h <= 0 || view.coverage.size() != std::size_t(w) * std::size_t(h)) return {};
-    Table sat(std::size_t(w + 1) * std::size_t(h + 1), 0u);
     const std::size_t stride = std::size_t(w) + 1;
+    Table sat;
+    sat.resize(stride * (std::size_t(h) + 1)); // every entry is written below
     const float* cov = view.coverage.data();
-    for (int j = 0; j < h; ++j) {
-        std::uint32_t row = 0;
-        for (int i = 0; i < w; ++i) {
-            row += cov[std::size_t(j) * w + i] >= 0.5f ? 1u : 0u;
-            sat[(j + 1) * stride + i + 1] = sat[j * stride + i + 1] + row;
+    std::fill(sat.begin(), sat.begin() + std::ptrdiff_t(stride), 0u);
+    // Each row's running count on its own (rows side by side), then the rows added down,
+    // columns side by side in strips: the same integers as one pass row after row.
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int j = r.begin(); j != r.end(); ++j) {
+            std::uint32_t* out = sat.data() + std::size_t(j + 1) * stride;
+            const float* c = cov + std::size_t(j) * std::size_t(w);
+            std::uint32_t row = 0;
+            out[0] = 0;
+            for (int i = 0; i < w; ++i) {
+                row += c[i] >= 0.5f ? 1u : 0u;
+                out[i + 1] = row;
+            }
         }
-    }
+    });
+    constexpr std::size_t kStrip = 1024; // columns per task: 4 KB of each row
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(1, stride, kStrip),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (int j = 1; j < h; ++j) {
+                              const std::uint32_t* above = sat.data() + std::size_t(j) * stride;
+                              std::uint32_t* out = sat.data() + std::size_t(j + 1) * stride;
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] += above[i];
+                          }
+                      });
     return sat;
 }
 

@@ -23,6 +23,7 @@
 
 #include "core/vec.h"
 #include "core/views.h"
+#include "geometry/uninit_vector.h"
 
 namespace cm {
 
@@ -31,7 +32,7 @@ public:
     /// The summed-area table of a view's silhouette: (w+1) x (h+1) counts of the pixels
     /// with coverage >= 0.5 above and left of each corner (empty when the coverage does not
     /// match the view's size; the field then refuses the view).
-    using Table = std::vector<std::uint32_t>;
+    using Table = UninitVector<std::uint32_t>;
     static Table summed_area(const View& view);
 
     /// Keeps a reference to `view` (its coverage must outlive the field).

@@ -235,3 +235,40 @@ TEST(SilhouetteField, TransitionsAgreeWithPointTests) {
         }
     }
 }
+
+// The summed-area table (built in row and column strips side by side) counts the inside
+// pixels of every box: checked entry by entry against a count row after row, on an image
+// wider than several strips and taller than several row blocks, with a ragged outline.
+TEST(SilhouetteField, SummedAreaCountsEveryBox) {
+    View v;
+    v.name = "front";
+    v.width = 2600;
+    v.height = 301;
+    v.coverage.resize(std::size_t(v.width) * std::size_t(v.height));
+    std::uint32_t state = 12345;
+    for (int y = 0; y < v.height; ++y)
+        for (int x = 0; x < v.width; ++x) {
+            state = state * 1664525u + 1013904223u;
+            const bool disc = (x - 1300) * (x - 1300) / 16 + (y - 150) * (y - 150) < 140 * 140;
+            v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] =
+                disc ? ((state >> 24) < 200 ? 1.0f : 0.49f) : ((state >> 24) < 8 ? 0.5f : 0.0f);
+        }
+    const SilhouetteField::Table sat = SilhouetteField::summed_area(v);
+    const std::size_t stride = std::size_t(v.width) + 1;
+    ASSERT_EQ(sat.size(), stride * std::size_t(v.height + 1));
+    std::vector<std::uint32_t> above(stride, 0), here(stride, 0);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < stride; ++i) wrong += sat[i] != 0;
+    for (int y = 0; y < v.height; ++y) {
+        std::uint32_t row = 0;
+        here[0] = 0;
+        for (int x = 0; x < v.width; ++x) {
+            row += v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] >= 0.5f ? 1u : 0u;
+            here[std::size_t(x) + 1] = above[std::size_t(x) + 1] + row;
+        }
+        for (std::size_t i = 0; i < stride; ++i) wrong += sat[std::size_t(y + 1) * stride + i] != here[i];
+        std::swap(above, here);
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_GT(sat.back(), 100000u); // the disc is there: the test counts something
+}
