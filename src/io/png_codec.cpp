@@ -9,7 +9,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <limits>
+#include <memory>
+#include <new>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace cm::png {
 
@@ -25,7 +31,6 @@ struct Context {
     std::size_t size = 0, at = 0;
     std::vector<unsigned char>* bytes = nullptr; // writing to memory
     std::vector<png_bytep> rows;
-    std::vector<unsigned char> row;
 };
 
 void on_error(png_structp sp, png_const_charp message) {
@@ -165,43 +170,211 @@ void to_bytes(const float* in, unsigned char* out, std::size_t n) {
     }
 }
 
-bool write_png(Context& c, WriteStruct& ws, const Image& img, int nc) {
+// One row of the first `nc` channels to 8 bits, as OpenImageIO wrote it: a whole row in one
+// run when those are all the image's channels, a pixel at a time otherwise; alpha unassociated.
+void row_to_bytes(const Image& img, int nc, int y, unsigned char* row) {
+    const std::size_t w = std::size_t(img.width);
+    const float* src = img.pixels.data() + std::size_t(y) * w * std::size_t(img.channels);
+    if (nc == img.channels) {
+        to_bytes(src, row, w * std::size_t(nc));
+    } else {
+        for (std::size_t x = 0; x < w; ++x) to_bytes(src + x * img.channels, row + x * nc, std::size_t(nc));
+    }
+    const int alpha = nc == 2 ? 1 : (nc == 4 ? 3 : -1);
+    if (alpha >= 0) // PNG wants unassociated alpha
+        for (std::size_t x = 0; x < w; ++x) {
+            unsigned char* p = row + x * nc;
+            if (p[alpha])
+                for (int k = 0; k < nc; ++k)
+                    if (k != alpha) p[k] = static_cast<unsigned char>(std::min(255u, (p[k] * 255u) / p[alpha]));
+        }
+}
+
+// Stores f(i) at out[i] for i in [from, to) and returns the sum of the bytes' absolute values
+// taken as signed (summed in 16 bits 256 bytes at a time, which the compiler vectorises).
+template <class F>
+std::size_t store_and_sum(std::size_t from, std::size_t to, unsigned char* out, F f) {
+    std::size_t sum = 0;
+    for (std::size_t s = from; s < to;) {
+        const std::size_t e = std::min(to, s + 256);
+        std::uint16_t part = 0; // at most 256 x 128
+        for (std::size_t i = s; i < e; ++i) {
+            const unsigned char v = f(i);
+            out[i] = v;
+            part = std::uint16_t(part + std::min(v, static_cast<unsigned char>(-v)));
+        }
+        sum += part;
+        s = e;
+    }
+    return sum;
+}
+
+// The bytes of a row under PNG filter `type` (0 None, 1 Sub, 2 Up, 3 Average, 4 Paeth) in
+// `out`, given the row above (`prev`, zeros above the first) and the bytes per pixel; the
+// result is the sum of the filtered bytes' absolute values taken as signed, libpng's measure.
+std::size_t filter_row(int type, const unsigned char* row, const unsigned char* prev, std::size_t n, std::size_t bpp,
+                       unsigned char* out) {
+    using u8 = unsigned char;
+    const std::size_t left = std::min(bpp, n); // the bytes with no pixel to their left
+    switch (type) {
+    case 0: return store_and_sum(0, n, out, [&](std::size_t i) { return row[i]; });
+    case 1:
+        return store_and_sum(0, left, out, [&](std::size_t i) { return row[i]; }) +
+               store_and_sum(left, n, out, [&](std::size_t i) { return u8(row[i] - row[i - bpp]); });
+    case 2: return store_and_sum(0, n, out, [&](std::size_t i) { return u8(row[i] - prev[i]); });
+    case 3:
+        return store_and_sum(0, left, out, [&](std::size_t i) { return u8(row[i] - prev[i] / 2); }) +
+               store_and_sum(left, n, out, [&](std::size_t i) { return u8(row[i] - (prev[i] + row[i - bpp]) / 2); });
+    default: // in 16 bits, twice as fast as in int
+        return store_and_sum(0, left, out, [&](std::size_t i) { return u8(row[i] - prev[i]); }) +
+               store_and_sum(left, n, out, [&](std::size_t i) {
+                   using i16 = std::int16_t;
+                   const i16 a = row[i - bpp], b = prev[i], c = prev[i - bpp];
+                   const i16 p = i16(b - c), q = i16(a - c), r = i16(p + q);
+                   const i16 pa = p < 0 ? i16(-p) : p, pb = q < 0 ? i16(-q) : q, pc = r < 0 ? i16(-r) : r;
+                   return u8(row[i] - ((pa <= pb) & (pa <= pc) ? a : (pb <= pc ? b : c)));
+               });
+    }
+}
+
+// The filtered image data, (width x channels + 1) x height bytes at `out`: each row behind
+// its filter type byte, the filter chosen per row as libpng chooses it (the least sum of
+// absolute values, the first such in the order None, Sub, Up, Average, Paeth; a single row
+// leaves out the filters looking up, a single column those looking left). Blocks of rows in
+// parallel, each converting its rows to bytes and the row above it.
+void filter_image(const Image& img, int nc, unsigned char* out) {
+    const std::size_t n = std::size_t(img.width) * std::size_t(nc);
+    const bool use[5] = {true, img.width > 1, img.height > 1, img.width > 1 && img.height > 1,
+                         img.width > 1 && img.height > 1};
+    tbb::parallel_for(tbb::blocked_range<int>(0, img.height, 64), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<unsigned char> prev(n, 0), row(n), best(n), trial(n);
+        if (rows.begin() > 0) row_to_bytes(img, nc, rows.begin() - 1, prev.data());
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+            row_to_bytes(img, nc, y, row.data());
+            std::size_t least = std::numeric_limits<std::size_t>::max();
+            int chosen = 0;
+            for (int type = 0; type < 5; ++type) {
+                if (!use[type]) continue;
+                const std::size_t sum = filter_row(type, row.data(), prev.data(), n, std::size_t(nc), trial.data());
+                if (sum < least) {
+                    least = sum;
+                    chosen = type;
+                    best.swap(trial);
+                }
+            }
+            unsigned char* o = out + std::size_t(y) * (n + 1);
+            o[0] = static_cast<unsigned char>(chosen);
+            std::copy(best.begin(), best.end(), o + 1);
+            prev.swap(row);
+        }
+    });
+}
+
+constexpr std::size_t kPiece = 256 * 1024;  // filtered bytes per deflate piece
+constexpr std::size_t kWindow = 32 * 1024;  // deflate's window: what a piece is primed with
+constexpr std::size_t kChunk = 1024 * 1024; // the most data in one IDAT chunk
+
+// One piece of the stream deflated on its own: raw deflate primed with the 32 kB before it,
+// ending byte-aligned with a sync flush (the last one with the final block).
+struct Piece {
+    std::unique_ptr<unsigned char[]> out; // `size` bytes of deflate data
+    std::size_t size = 0;
+    uLong adler = 1;
+    std::string error;
+};
+
+struct Deflater {
+    z_stream zs{};
+    bool open = false;
+    ~Deflater() {
+        if (open) deflateEnd(&zs);
+    }
+};
+
+void deflate_piece(const unsigned char* data, std::size_t begin, std::size_t end, bool last, Piece& p) {
+    Deflater d;
+    z_stream& zs = d.zs;
+    int err = deflateInit2(&zs, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY);
+    d.open = err == Z_OK;
+    if (err == Z_OK && begin > 0) {
+        const std::size_t from = begin > kWindow ? begin - kWindow : 0;
+        err = deflateSetDictionary(&zs, data + from, uInt(begin - from));
+    }
+    if (err == Z_OK) {
+        std::size_t room = deflateBound(&zs, uLong(end - begin)) + 64; // the sync flush's few bytes too
+        p.out = std::make_unique_for_overwrite<unsigned char[]>(room);
+        zs.next_in = const_cast<Bytef*>(data + begin);
+        zs.avail_in = uInt(end - begin);
+        const int flush = last ? Z_FINISH : Z_SYNC_FLUSH;
+        for (;;) {
+            zs.next_out = p.out.get() + zs.total_out;
+            zs.avail_out = uInt(room - zs.total_out);
+            err = deflate(&zs, flush);
+            if (last ? err == Z_STREAM_END : err == Z_OK && zs.avail_out != 0 && zs.avail_in == 0) {
+                err = Z_OK;
+                break;
+            }
+            if (err != Z_OK && err != Z_BUF_ERROR) break;
+            auto more = std::make_unique_for_overwrite<unsigned char[]>(room * 2); // out of room (never, in theory)
+            std::memcpy(more.get(), p.out.get(), zs.total_out);
+            p.out = std::move(more);
+            room *= 2;
+        }
+        p.size = zs.total_out;
+    }
+    if (err != Z_OK) p.error = zs.msg ? zs.msg : zError(err);
+    p.adler = adler32(adler32(0, nullptr, 0), data + begin, uInt(end - begin));
+}
+
+// The zlib stream of `n` bytes, deflated at level 6 in pieces of about kPiece bytes in
+// parallel (one piece up to 2 kPiece), as pigz does; the pieces concatenated make one
+// deflate stream, between the zlib header and the Adler-32 of the whole. The number of
+// pieces, or 0 with the reason in `why`.
+std::size_t deflate_stream(const unsigned char* data, std::size_t n, std::vector<unsigned char>& out,
+                           std::string& why) {
+    const std::size_t count = n > 2 * kPiece ? (n + kPiece - 1) / kPiece : 1;
+    std::vector<Piece> pieces(count);
+    const auto start = [&](std::size_t k) { return n / count * k + n % count * k / count; }; // n k / count
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k < r.end(); ++k)
+            deflate_piece(data, start(k), start(k + 1), k + 1 == count, pieces[k]);
+    });
+    std::size_t total = 6;
+    uLong adler = pieces[0].adler;
+    for (std::size_t k = 0; k < count; ++k) {
+        if (!pieces[k].error.empty()) return why = "zlib cannot compress the image data: " + pieces[k].error, 0;
+        total += pieces[k].size;
+        if (k > 0) adler = adler32_combine(adler, pieces[k].adler, z_off_t(start(k + 1) - start(k)));
+    }
+    out.clear();
+    out.reserve(total);
+    out.push_back(0x78); // deflate, 32 kB window
+    out.push_back(0x9C); // level 6 (default), no dictionary; the header checksum
+    for (const Piece& p : pieces) out.insert(out.end(), p.out.get(), p.out.get() + p.size);
+    for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<unsigned char>(adler >> shift));
+    return count;
+}
+
+// The signature, IHDR and oFFs chunks written by libpng, then the image data made beforehand
+// (`idat`, a zlib stream) in IDAT chunks and the IEND chunk.
+bool write_png(Context& c, WriteStruct& ws, const Image& img, int nc, const std::vector<unsigned char>& idat) {
     ws.sp = png_create_write_struct(PNG_LIBPNG_VER_STRING, &c, on_error, on_warning);
     if (!ws.sp) return c.error = "cannot make a PNG writer", false;
     ws.ip = png_create_info_struct(ws.sp);
     if (!ws.ip) return c.error = "cannot make a PNG writer", false;
     if (setjmp(png_jmpbuf(ws.sp))) return false;
     png_set_write_fn(ws.sp, &c, write_bytes, flush_bytes);
-    png_set_compression_level(ws.sp, 6);
-    png_set_compression_strategy(ws.sp, Z_DEFAULT_STRATEGY);
-    png_set_filter(ws.sp, 0, PNG_NO_FILTERS); // libpng then picks per row among all filters
     static constexpr int kColour[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                       PNG_COLOR_TYPE_RGB_ALPHA};
     png_set_IHDR(ws.sp, ws.ip, png_uint_32(img.width), png_uint_32(img.height), 8, kColour[nc - 1], PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_oFFs(ws.sp, ws.ip, 0, 0, PNG_OFFSET_PIXEL);
     png_write_info(ws.sp, ws.ip);
-    const int alpha = nc == 2 ? 1 : (nc == 4 ? 3 : -1);
-    const std::size_t w = std::size_t(img.width);
-    c.row.resize(w * std::size_t(nc));
-    for (int y = 0; y < img.height; ++y) {
-        const float* src = img.pixels.data() + std::size_t(y) * w * std::size_t(img.channels);
-        unsigned char* row = c.row.data();
-        if (nc == img.channels) {
-            to_bytes(src, row, w * std::size_t(nc)); // a whole row in one run
-        } else {
-            for (std::size_t x = 0; x < w; ++x) to_bytes(src + x * img.channels, row + x * nc, std::size_t(nc));
-        }
-        if (alpha >= 0) // PNG wants unassociated alpha
-            for (std::size_t x = 0; x < w; ++x) {
-                unsigned char* p = row + x * nc;
-                if (p[alpha])
-                    for (int k = 0; k < nc; ++k)
-                        if (k != alpha) p[k] = static_cast<unsigned char>(std::min(255u, (p[k] * 255u) / p[alpha]));
-            }
-        png_write_row(ws.sp, row);
-    }
-    png_write_end(ws.sp, ws.ip);
+    for (std::size_t at = 0; at < idat.size(); at += kChunk)
+        png_write_chunk(ws.sp, reinterpret_cast<png_const_bytep>("IDAT"), idat.data() + at,
+                        std::min(kChunk, idat.size() - at));
+    // Not png_write_end: libpng has not seen the image data go by and would refuse.
+    png_write_chunk(ws.sp, reinterpret_cast<png_const_bytep>("IEND"), nullptr, 0);
     return true;
 }
 
@@ -255,11 +428,27 @@ bool size(const std::string& file, int& width, int& height) {
     return true;
 }
 
-bool write(const Image& img, int channels, const std::string& file, std::vector<unsigned char>* bytes,
-           std::string& why) {
+bool write(const Image& img, int channels, const std::string& file, std::vector<unsigned char>* bytes, std::string& why,
+           std::size_t* pieces) {
     if (img.width < 1 || img.height < 1 || channels < 1 || channels > 4 || channels > img.channels ||
         img.pixels.size() < std::size_t(img.width) * img.height * img.channels)
         return why = "PNG takes 1 to 4 channels of a non-empty image", false;
+    // The image data first, in parallel, then the file through libpng.
+    std::vector<unsigned char> idat;
+    try {
+        const std::size_t size = (std::size_t(img.width) * std::size_t(channels) + 1) * std::size_t(img.height);
+        const auto filtered = std::make_unique_for_overwrite<unsigned char[]>(size);
+        filter_image(img, channels, filtered.get());
+        const std::size_t count = deflate_stream(filtered.get(), size, idat, why);
+        if (count == 0) return false;
+        if (pieces) *pieces = count;
+        if (bytes) // all the file: nothing allocated inside libpng's callback
+            bytes->reserve(bytes->size() + 128 + idat.size() + 12 * (idat.size() / kChunk + 1));
+    } catch (const std::bad_alloc&) {
+        return why = "out of memory for the image data", false;
+    } catch (const std::exception& e) {
+        return why = e.what(), false;
+    }
     Context c;
     c.bytes = bytes;
     if (!file.empty()) {
@@ -269,7 +458,7 @@ bool write(const Image& img, int channels, const std::string& file, std::vector<
     bool ok;
     {
         WriteStruct ws;
-        ok = write_png(c, ws, img, channels);
+        ok = write_png(c, ws, img, channels, idat);
     }
     if (c.file && std::fclose(c.file) != 0 && ok) {
         c.error = std::strerror(errno);

@@ -1,16 +1,21 @@
 // The textured mesh in every format, opened by the readers a studio uses: tinygltf (and
-// the Khronos glTF validator when node is present), OpenMesh and OpenImageIO.
+// the Khronos glTF validator when node is present), OpenMesh and OpenImageIO; and the PNG
+// files themselves (io/png_codec, written in parallel pieces), opened by OpenImageIO.
 // OpenMesh's colour property trips GCC 12's -Wmaybe-uninitialized inside std::vector (library code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <random>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <tbb/global_control.h>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -26,6 +31,7 @@
 #include "io/image_io.h"
 #include "io/manifest.h"
 #include "io/mesh_io.h"
+#include "io/png_codec.h"
 #include "render/colour.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
@@ -314,4 +320,218 @@ TEST(TexturedWriters, CompareReportsTheColourErrorOfATexturedGlbAgainstItsDrawin
             EXPECT_LT(v["mean_delta_e"].get<double>(), 2.0) << v.dump();
         }
     }
+}
+
+namespace {
+
+// Pixels that do not compress to nothing: a gradient with noise, flat blocks, values on the
+// rounding edges (k + 0.5) / 255, out of range and NaN, and exact 0 and 1 (alpha 0 and 1 too,
+// whichever channel the alpha is).
+Image noisy_image(int w, int h, int channels, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> noise(-0.03f, 0.03f);
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = channels;
+    img.pixels.resize(std::size_t(w) * h * channels);
+    float* p = img.pixels.data();
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < channels; ++k, ++p) {
+                const unsigned r = rng();
+                if ((x / 40 + y / 30 + k) % 4 == 0) *p = 0.2f * float(k + 1); // flat
+                else if (r % 97 == 0) *p = float(r % 256 + 0.5) / 255.0f;     // a rounding edge
+                else if (r % 89 == 0) *p = r % 2 ? -0.2f : 1.3f;
+                else if (r % 83 == 0) *p = r % 2 ? 0.0f : 1.0f;
+                else if (r % 1009 == 0) *p = std::numeric_limits<float>::quiet_NaN();
+                else *p = float(x + 2 * y + 17 * k) / float(w + 2 * h + 60) + noise(rng);
+            }
+    return img;
+}
+
+// A preview sheet: flat grey, flat panels, shaded discs with anti-aliased outlines, glyphs.
+Image sheet_image(int w, int h) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = 3;
+    img.pixels.assign(std::size_t(w) * h * 3, 0.5f);
+    const auto cover = [](double d) { return float(std::clamp(0.5 - d, 0.0, 1.0)); };
+    for (int i = 0; i < 4; ++i) {
+        const int x0 = 20 + (i % 2) * (w / 2), y0 = 60 + (i / 2) * (h / 2), x1 = x0 + w / 2 - 40, y1 = y0 + h / 2 - 80;
+        const double cx = (x0 + x1) / 2.0, cy = (y0 + y1) / 2.0, radius = (x1 - x0) / 3.0;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const double dx = (x + 0.5 - cx) / (1 + 0.3 * i), dy = y + 0.5 - cy;
+                const double d = std::sqrt(dx * dx + dy * dy) - radius;
+                const float a = cover(d), line = cover(std::abs(d) - 1),
+                            shade = float(0.6 + 0.4 * (y - y0) / (y1 - y0));
+                float* q = &img.pixels[(std::size_t(y) * w + x) * 3];
+                for (int k = 0; k < 3; ++k) {
+                    const float fill = (0.3f + 0.2f * float((i + k) % 3)) * shade;
+                    q[k] = (1 - line) * (a * fill + (1 - a) * (0.9f + 0.02f * float(k))) + line * 0.1f;
+                }
+            }
+    }
+    std::mt19937 rng(7);
+    for (int g = 0; g < w / 16; ++g)
+        for (int y = 20; y < 34; ++y)
+            for (int x = 20 + g * 15; x < 30 + g * 15; ++x)
+                if (rng() % 3 == 0)
+                    for (int k = 0; k < 3; ++k) img.pixels[(std::size_t(y) * w + x) * 3 + k] = 0.1f;
+    return img;
+}
+
+// The first `nc` channels through OpenImageIO 2.4's PNG writer (libpng on one thread, level 6
+// and its own conversion to 8 bits): what conceptmesh wrote before its own encoder.
+std::vector<unsigned char> oiio_png(const Image& img, int nc) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create("png");
+    EXPECT_TRUE(out);
+    if (!out) return bytes;
+    out->set_ioproxy(&proxy);
+    const OIIO::ImageSpec spec(img.width, img.height, nc, OIIO::TypeDesc::UINT8);
+    EXPECT_TRUE(out->open("memory.png", spec)) << out->geterror();
+    EXPECT_TRUE(
+        out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data(), OIIO::stride_t(img.channels * sizeof(float))))
+        << out->geterror();
+    out->close();
+    return bytes;
+}
+
+// The 8-bit samples of a PNG (bytes in memory, or the file when `file` is not empty) as
+// OpenImageIO reads it: alpha as stored (`associate` false) or associated as it gives it.
+std::vector<unsigned char> oiio_pixels(const std::vector<unsigned char>& bytes, const fs::path& file, bool associate,
+                                       int& w, int& h, int& nc) {
+    OIIO::Filesystem::IOMemReader mem(const_cast<unsigned char*>(bytes.data()), bytes.size());
+    OIIO::ImageSpec config;
+    if (!associate) config.attribute("oiio:UnassociatedAlpha", 1);
+    void* proxy = &mem;
+    if (file.empty()) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto in = OIIO::ImageInput::open(file.empty() ? "memory.png" : file.string(), &config);
+    EXPECT_TRUE(in) << OIIO::geterror();
+    if (!in) return {};
+    w = in->spec().width;
+    h = in->spec().height;
+    nc = in->spec().nchannels;
+    std::vector<unsigned char> px(std::size_t(w) * h * nc);
+    EXPECT_TRUE(in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, px.data())) << in->geterror();
+    return px;
+}
+
+// The chunk types of a PNG in order.
+std::vector<std::string> png_chunks(const std::vector<unsigned char>& b) {
+    std::vector<std::string> names;
+    for (std::size_t at = 8; at + 12 <= b.size();) {
+        const std::size_t len =
+            std::size_t(b[at]) << 24 | std::size_t(b[at + 1]) << 16 | std::size_t(b[at + 2]) << 8 | b[at + 3];
+        names.emplace_back(reinterpret_cast<const char*>(&b[at + 4]), 4);
+        at += 12 + len;
+    }
+    return names;
+}
+
+} // namespace
+
+TEST(PngWrite, EverySizeAndChannelCountReadsBackAsOpenImageIOWroteIt) {
+    test::TempDir dir("png_write");
+    const std::pair<int, int> sizes[] = {{1, 1}, {3, 2}, {17, 5}, {1000, 1150}, {2500, 1300}};
+    unsigned seed = 1;
+    for (const auto& [w, h] : sizes)
+        for (int from : {0, 4}) // an image of nc channels, or the first nc of four
+            for (int nc = 1; nc <= 4; ++nc) {
+                if (from == 4 && (nc == 4 || w * h > 2'000'000)) continue; // 4 of 4: above; the biggest: time
+                SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(nc) + " of " +
+                             std::to_string(from ? from : nc) + " channels");
+                const Image img = noisy_image(w, h, from ? from : nc, seed++);
+                const std::vector<unsigned char> before = oiio_png(img, nc);
+                int ew = 0, eh = 0, en = 0;
+                const std::vector<unsigned char> expected = oiio_pixels(before, {}, false, ew, eh, en);
+                ASSERT_EQ(ew, w);
+                ASSERT_EQ(en, nc);
+
+                std::vector<unsigned char> bytes = {'x'}; // appended to
+                std::string why;
+                std::size_t pieces = 0;
+                ASSERT_TRUE(png::write(img, nc, {}, &bytes, why, &pieces)) << why;
+                ASSERT_EQ(bytes[0], 'x');
+                bytes.erase(bytes.begin());
+                const fs::path file = dir / "a.png";
+                ASSERT_TRUE(png::write(img, nc, file.string(), nullptr, why)) << why;
+                EXPECT_TRUE(test::read_text(file) == std::string(bytes.begin(), bytes.end()));
+                // The stream is cut in pieces of 256 kB when there is over 512 kB of it.
+                const std::size_t stream = (std::size_t(w) * nc + 1) * h;
+                EXPECT_EQ(pieces, stream > 512 * 1024 ? (stream + 256 * 1024 - 1) / (256 * 1024) : 1u);
+                EXPECT_EQ(png_chunks(bytes).front(), "IHDR");
+                EXPECT_EQ(png_chunks(bytes).back(), "IEND");
+
+                // OpenImageIO reads the samples OpenImageIO wrote, from memory and from the file.
+                int gw = 0, gh = 0, gn = 0;
+                EXPECT_TRUE(oiio_pixels(bytes, {}, false, gw, gh, gn) == expected);
+                EXPECT_EQ(gw, w);
+                EXPECT_EQ(gh, h);
+                EXPECT_EQ(gn, nc);
+                EXPECT_TRUE(oiio_pixels({}, file, false, gw, gh, gn) == expected);
+                // conceptmesh's reader gives what OpenImageIO gives (alpha associated), and the
+                // same as from the file OpenImageIO wrote.
+                const std::vector<unsigned char> associated = oiio_pixels(bytes, {}, true, gw, gh, gn);
+                RawImage raw, raw_before;
+                ASSERT_TRUE(png::read({}, bytes.data(), bytes.size(), 0, raw, why)) << why;
+                ASSERT_TRUE(png::read({}, before.data(), before.size(), 0, raw_before, why)) << why;
+                EXPECT_EQ(raw.width, w);
+                EXPECT_EQ(raw.channels, nc);
+                EXPECT_TRUE(raw.data == associated);
+                EXPECT_TRUE(raw.data == raw_before.data);
+                RawImage from_file;
+                ASSERT_TRUE(png::read(file.string(), nullptr, 0, 0, from_file, why)) << why;
+                EXPECT_TRUE(from_file.data == raw.data);
+                if (w * h > 1'000'000) { // as small as libpng on one thread would make it
+                    EXPECT_LT(std::abs(double(bytes.size()) / double(before.size()) - 1), 0.05)
+                        << bytes.size() << " bytes, " << before.size() << " from OpenImageIO";
+                }
+            }
+}
+
+TEST(PngWrite, ABigImageIsDeflatedInPiecesASmallOneInOne) {
+    const Image big = noisy_image(1000, 1150, 3, 7), small = noisy_image(300, 200, 3, 8);
+    std::vector<unsigned char> a, b;
+    std::string why;
+    std::size_t pieces = 0;
+    ASSERT_TRUE(png::write(big, 3, {}, &a, why, &pieces)) << why;
+    EXPECT_EQ(pieces, 14u); // 3001 x 1150 bytes filtered: 3.3 MB in 256 kB pieces
+    ASSERT_TRUE(png::write(small, 3, {}, &b, why, &pieces)) << why;
+    EXPECT_EQ(pieces, 1u); // 180 kB: one piece, deflated as by libpng
+    // Which cores do the work changes nothing: the pieces follow the size alone.
+    std::vector<unsigned char> again;
+    {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        ASSERT_TRUE(png::write(big, 3, {}, &again, why, &pieces)) << why;
+    }
+    EXPECT_TRUE(again == a);
+}
+
+TEST(PngWrite, APreviewSheetIsAsSmallAsLibpngMadeIt) {
+    const Image sheet = sheet_image(1000, 1150);
+    std::vector<unsigned char> bytes;
+    std::string why;
+    std::size_t pieces = 0;
+    ASSERT_TRUE(png::write(sheet, 3, {}, &bytes, why, &pieces)) << why;
+    EXPECT_GE(pieces, 2u);
+    const std::vector<unsigned char> libpng = oiio_png(sheet, 3); // one thread, level 6
+    EXPECT_LT(std::abs(double(bytes.size()) / double(libpng.size()) - 1), 0.05)
+        << bytes.size() << " bytes, " << libpng.size() << " from libpng on one thread";
+    int w = 0, h = 0, nc = 0;
+    EXPECT_TRUE(oiio_pixels(bytes, {}, false, w, h, nc) == oiio_pixels(libpng, {}, false, w, h, nc));
+}
+
+TEST(PngWrite, FailuresAreReasonsNotExceptions) {
+    const Image img = noisy_image(20, 10, 3, 9);
+    std::string why;
+    EXPECT_FALSE(png::write(img, 3, "/nonexistent-folder/a.png", nullptr, why));
+    EXPECT_EQ(why, "No such file or directory");
+    EXPECT_FALSE(png::write(img, 5, {}, nullptr, why));
+    EXPECT_EQ(why, "PNG takes 1 to 4 channels of a non-empty image");
+    EXPECT_FALSE(png::write(Image{}, 3, {}, nullptr, why));
 }
