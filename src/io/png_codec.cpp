@@ -157,10 +157,13 @@ bool read_png(Context& c, ReadStruct& rs, std::uint64_t max_pixels, RawImage& ou
 void to_bytes(const float* in, unsigned char* out, std::size_t n) {
     std::size_t i = 0;
     for (const std::size_t fours = n - n % 4; i < fours; ++i) {
-        float r = std::roundf(in[i] * 255.0f);
-        r = r > 0.0f ? r : 0.0f;
-        r = r < 255.0f ? r : 255.0f;
-        out[i] = static_cast<unsigned char>(int(r));
+        // roundf, clamped, without a call per sample: 0 for NaN and up to 0, 255 from 254.5,
+        // else the whole part plus one from a half up (every float checked against roundf).
+        const float r = in[i] * 255.0f;
+        const int t = int(r > 0.0f ? std::min(r, 255.0f) : 0.0f);
+        out[i] = !(r > 0.0f)   ? static_cast<unsigned char>(0)
+                 : r >= 254.5f ? static_cast<unsigned char>(255)
+                               : static_cast<unsigned char>(t + (r - float(t) >= 0.5f));
     }
     for (; i < n; ++i) {
         float s = in[i] * 255.0f + 0.5f;
