@@ -111,6 +111,10 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         for (int i = 0; i < nr; ++i) sr[i] = at_vertex(ring[i], pr[i]);
         const P2 pw = pr[iw];
         const double sw = sr[iw];
+        auto sq_len = [&](int i) { // the squared length of the edge from w to ring vertex i, on the image
+            const double dx = pr[i].x - pw.x, dy = pr[i].y - pw.y;
+            return dx * dx + dy * dy;
+        };
         auto along = [&](int i, double s) {
             return e.sdf.sample(pw.x + s * (pr[i].x - pw.x), pw.y + s * (pr[i].y - pw.y));
         };
@@ -122,8 +126,13 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
             if (sw >= -tol_)
                 for (int i = 0; i < nr; ++i) {
                     if (i == iw || sr[i] < -tol_) continue;
-                    for (double t : {0.25, 0.5, 0.75})
-                        if (along(i, t) < -tol_) return false;
+                    // The middle first; a quarter of the edge from an end is no deeper than
+                    // the deeper-reaching of that end and the middle allows (1-Lipschitz).
+                    const double mid = along(i, 0.5);
+                    if (mid < -tol_) return false;
+                    const double q = 0.25 * std::sqrt(sq_len(i));
+                    if (std::max(sw, mid) - q < -tol_ && along(i, 0.25) < -tol_) return false;
+                    if (std::max(sr[i], mid) - q < -tol_ && along(i, 0.75) < -tol_) return false;
                 }
         }
         // Growth: the new edges from w may not leave the drawing, nor go farther out than their ends.
@@ -132,10 +141,15 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
                 if (i == iw) continue;
                 const double limit = std::max({tol_, sw, sr[i]});
                 // No point of the edge is farther out than (sw + sx + length) / 2.
-                const double dx = pr[i].x - pw.x, dy = pr[i].y - pw.y;
-                if (sw + sr[i] + std::sqrt(dx * dx + dy * dy) <= 2 * limit) continue;
-                for (double t : {0.25, 0.5, 0.75})
-                    if (along(i, t) > limit) return false;
+                const double len = std::sqrt(sq_len(i));
+                if (sw + sr[i] + len <= 2 * limit) continue;
+                // The middle first; a quarter of the edge from an end is no farther out than
+                // the nearer of that end and the middle allows (1-Lipschitz).
+                const double mid = along(i, 0.5);
+                if (mid > limit) return false;
+                const double q = 0.25 * len;
+                if (std::min(sw, mid) + q > limit && along(i, 0.25) > limit) return false;
+                if (std::min(sr[i], mid) + q > limit && along(i, 0.75) > limit) return false;
             }
     }
     return true;
