@@ -304,25 +304,16 @@ void deflate_piece(const unsigned char* data, std::size_t begin, std::size_t end
         err = deflateSetDictionary(&zs, data + from, uInt(begin - from));
     }
     if (err == Z_OK) {
-        std::size_t room = deflateBound(&zs, uLong(end - begin)) + 64; // the sync flush's few bytes too
+        // deflateBound holds the deflated data; a sync flush adds its few bytes of marker.
+        const std::size_t room = deflateBound(&zs, uLong(end - begin)) + 64;
         p.out = std::make_unique_for_overwrite<unsigned char[]>(room);
         zs.next_in = const_cast<Bytef*>(data + begin);
         zs.avail_in = uInt(end - begin);
-        const int flush = last ? Z_FINISH : Z_SYNC_FLUSH;
-        for (;;) {
-            zs.next_out = p.out.get() + zs.total_out;
-            zs.avail_out = uInt(room - zs.total_out);
-            err = deflate(&zs, flush);
-            if (last ? err == Z_STREAM_END : err == Z_OK && zs.avail_out != 0 && zs.avail_in == 0) {
-                err = Z_OK;
-                break;
-            }
-            if (err != Z_OK && err != Z_BUF_ERROR) break;
-            auto more = std::make_unique_for_overwrite<unsigned char[]>(room * 2); // out of room (never, in theory)
-            std::memcpy(more.get(), p.out.get(), zs.total_out);
-            p.out = std::move(more);
-            room *= 2;
-        }
+        zs.next_out = p.out.get();
+        zs.avail_out = uInt(room);
+        err = deflate(&zs, last ? Z_FINISH : Z_SYNC_FLUSH);
+        const bool done = last ? err == Z_STREAM_END : err == Z_OK && zs.avail_in == 0 && zs.avail_out != 0;
+        err = done ? Z_OK : (err == Z_OK || err == Z_STREAM_END ? Z_BUF_ERROR : err);
         p.size = zs.total_out;
     }
     if (err != Z_OK) p.error = zs.msg ? zs.msg : zError(err);
