@@ -137,6 +137,34 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
     // over several pixels at once (no arrays returned per pixel).
     const double v = ((y + oy) + 0.5) / nh * 2 - 1;
     const auto& c = model.coef;
+    bool constant = true; // the same colour everywhere (a flat background: a mask's black)
+    for (int k = 0; k < 3; ++k)
+        for (int i = 1; i < 6; ++i) constant = constant && c[k][i] == 0.0;
+    if (constant) {
+        // m = c[k][0] to the last bit wherever the pixel is (each further term adds a zero), so a
+        // pixel's distance depends on its colour alone: runs of one colour (nearly all of a
+        // flat drawing) reuse the distance of the run's first pixel.
+        double m[3];
+        for (int k = 0; k < 3; ++k) m[k] = 0.0 + c[k][0] * 1.0;
+        double last[3] = {std::nan(""), std::nan(""), std::nan("")}, last_out = 0;
+        for (int x = 0; x < count; ++x) {
+            const double s0 = double(sample(4 * x)), s1 = double(sample(4 * x + 1)), s2 = double(sample(4 * x + 2));
+            if (s0 == last[0] && s1 == last[1] && s2 == last[2]) {
+                out[x] = last_out;
+                continue;
+            }
+            const double d0 = s0 - m[0], d1 = s1 - m[1], d2 = s2 - m[2];
+            double sum = 0;
+            sum += d0 * d0;
+            sum += d1 * d1;
+            sum += d2 * d2;
+            last[0] = s0;
+            last[1] = s1;
+            last[2] = s2;
+            out[x] = last_out = std::sqrt(sum / 3.0);
+        }
+        return;
+    }
     for (int x = 0; x < count; ++x) {
         const double u = ((x + ox) + 0.5) / nw * 2 - 1;
         const double uu = u * u, vv = v * v, uv = u * v;
