@@ -60,21 +60,37 @@ const ImageBackend& backend(const std::string& prefix) {
 template <typename T, typename Value>
 void expand_rgba(const RawImage& raw, T* out, Value&& value, T opaque) {
     const int nc = raw.channels, alpha = raw.alpha, w = raw.width;
-    tbb::parallel_for(tbb::blocked_range<int>(0, raw.height, 16), [&](const tbb::blocked_range<int>& rows) {
-        const std::size_t b = std::size_t(rows.begin()) * w, e = std::size_t(rows.end()) * w;
-        for (std::size_t i = b; i < e; ++i) {
-            const std::size_t s = i * std::size_t(nc);
-            T* d = out + i * 4;
-            if (nc >= 3) {
-                d[0] = value(s);
-                d[1] = value(s + 1);
-                d[2] = value(s + 2);
-            } else {
-                d[0] = d[1] = d[2] = value(s);
-            }
-            d[3] = alpha >= 0 ? value(s + std::size_t(alpha)) : opaque;
-        }
-    });
+    // One loop per layout, so that no pixel asks which layout it has.
+    auto rows_of = [&](auto&& pixel) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, raw.height, 16), [&](const tbb::blocked_range<int>& rows) {
+            const std::size_t b = std::size_t(rows.begin()) * w, e = std::size_t(rows.end()) * w;
+            for (std::size_t i = b; i < e; ++i) pixel(i * std::size_t(nc), out + i * 4);
+        });
+    };
+    if (nc >= 3 && alpha >= 0)
+        rows_of([&](std::size_t s, T* d) {
+            d[0] = value(s);
+            d[1] = value(s + 1);
+            d[2] = value(s + 2);
+            d[3] = value(s + std::size_t(alpha));
+        });
+    else if (nc >= 3)
+        rows_of([&](std::size_t s, T* d) {
+            d[0] = value(s);
+            d[1] = value(s + 1);
+            d[2] = value(s + 2);
+            d[3] = opaque;
+        });
+    else if (alpha >= 0)
+        rows_of([&](std::size_t s, T* d) {
+            d[0] = d[1] = d[2] = value(s);
+            d[3] = value(s + std::size_t(alpha));
+        });
+    else
+        rows_of([&](std::size_t s, T* d) {
+            d[0] = d[1] = d[2] = value(s);
+            d[3] = opaque;
+        });
 }
 
 // Float RGBA in [0,1] from pixels at their own depth.

@@ -1,7 +1,10 @@
 #include "background_model.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "io/manifest.h"
 
@@ -126,6 +129,46 @@ void background_from_border(const Image& img, const std::string& option, Backgro
 
 namespace {
 
+// Whether the model is the same colour everywhere (a flat background: a mask's black), and
+// that colour, `m`, as distance_row computes it: c[k][0] to the last bit wherever the pixel
+// is (each further term adds a zero). A pixel's distance then depends on its colour alone,
+// and runs of one colour (nearly all of a flat drawing) reuse the distance of their first pixel.
+bool constant_model(const BackgroundModel& model, double (&m)[3]) {
+    for (int k = 0; k < 3; ++k)
+        for (int i = 1; i < 6; ++i)
+            if (model.coef[k][i] != 0.0) return false;
+    for (int k = 0; k < 3; ++k) m[k] = 0.0 + model.coef[k][0] * 1.0;
+    return true;
+}
+
+// The distance of one colour to the constant colour m, as distance_row computes it.
+double constant_distance(const double (&m)[3], double s0, double s1, double s2) {
+    const double d0 = s0 - m[0], d1 = s1 - m[1], d2 = s2 - m[2];
+    double sum = 0;
+    sum += d0 * d0;
+    sum += d1 * d1;
+    sum += d2 * d2;
+    return std::sqrt(sum / 3.0);
+}
+
+// distance_row for RGBA bytes under a constant model: the runs of one colour are found on
+// the pixels' RGB bytes, read four at a time.
+void constant_row_bytes(const double (&m)[3], int count, const std::uint8_t* b, double* out) {
+    constexpr std::uint32_t kRgb = std::endian::native == std::endian::little ? 0x00FFFFFFu : 0xFFFFFF00u;
+    auto rgb = [b](int x) {
+        std::uint32_t p;
+        std::memcpy(&p, b + 4 * std::size_t(x), 4);
+        return p & kRgb;
+    };
+    auto sample = [b](int k) { return double(float(b[k]) * (1.0f / 255.0f)); };
+    for (int x = 0; x < count;) {
+        const double d = constant_distance(m, sample(4 * x), sample(4 * x + 1), sample(4 * x + 2));
+        const std::uint32_t colour = rgb(x);
+        out[x++] = d;
+        while (x < count && rgb(x) == colour) out[x++] = d;
+    }
+}
+
 // model_distance_row over samples of one kind: `sample(k)` is sample k of the row as a float.
 // The row is row y of a window of `count` pixels starting at (ox, oy) in an image of nw x nh
 // pixels (the window may be the whole image).
@@ -137,15 +180,7 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
     // over several pixels at once (no arrays returned per pixel).
     const double v = ((y + oy) + 0.5) / nh * 2 - 1;
     const auto& c = model.coef;
-    bool constant = true; // the same colour everywhere (a flat background: a mask's black)
-    for (int k = 0; k < 3; ++k)
-        for (int i = 1; i < 6; ++i) constant = constant && c[k][i] == 0.0;
-    if (constant) {
-        // m = c[k][0] to the last bit wherever the pixel is (each further term adds a zero), so a
-        // pixel's distance depends on its colour alone: runs of one colour (nearly all of a
-        // flat drawing) reuse the distance of the run's first pixel.
-        double m[3];
-        for (int k = 0; k < 3; ++k) m[k] = 0.0 + c[k][0] * 1.0;
+    if (double m[3]; constant_model(model, m)) {
         double last[3] = {std::nan(""), std::nan(""), std::nan("")}, last_out = 0;
         for (int x = 0; x < count; ++x) {
             const double s0 = double(sample(4 * x)), s1 = double(sample(4 * x + 1)), s2 = double(sample(4 * x + 2));
@@ -153,15 +188,10 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
                 out[x] = last_out;
                 continue;
             }
-            const double d0 = s0 - m[0], d1 = s1 - m[1], d2 = s2 - m[2];
-            double sum = 0;
-            sum += d0 * d0;
-            sum += d1 * d1;
-            sum += d2 * d2;
             last[0] = s0;
             last[1] = s1;
             last[2] = s2;
-            out[x] = last_out = std::sqrt(sum / 3.0);
+            out[x] = last_out = constant_distance(m, s0, s1, s2);
         }
         return;
     }
@@ -190,6 +220,7 @@ void BackgroundField::model_distance_row(const Image& img, int y, double* out) c
     const std::size_t row = std::size_t(y) * std::size_t(w) * 4;
     if (img.eight_bit()) {
         const std::uint8_t* b = img.bytes.data() + row;
+        if (double m[3]; constant_model(model, m)) return constant_row_bytes(m, w, b, out);
         distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out,
                      [b](int k) { return float(b[k]) * (1.0f / 255.0f); });
     } else {
