@@ -175,24 +175,20 @@ HullDistance::HullDistance(const Views& views) {
     fields_ = view_sdfs(views);
 }
 
-double HullDistance::view_distance(const Entry& e, const Vec3d& p) const {
+double HullDistance::perspective_distance(const Entry& e, const Vec3d& p) const {
     const Vec2d q = e.camera.project(p);
     const double px = e.sdf.sample(q.x, q.y);
-    double pixel_size; // world units per pixel at p
-    if (e.camera.orthographic()) {
-        pixel_size = 1.0 / e.camera.scale;
-    } else {
-        // Local scale of the projection, from finite differences along the axes.
-        const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
-        double s = 0;
-        for (int a = 0; a < 3; ++a) {
-            Vec3d o = p;
-            o[a] += h;
-            const Vec2d qa = e.camera.project(o);
-            s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
-        }
-        pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
+    // Local scale of the projection (world units per pixel at p), from finite differences
+    // along the axes.
+    const double h = 1e-3 * (1.0 + std::fabs(e.camera.depth(p)));
+    double s = 0;
+    for (int a = 0; a < 3; ++a) {
+        Vec3d o = p;
+        o[a] += h;
+        const Vec2d qa = e.camera.project(o);
+        s = std::max(s, std::hypot(qa.x - q.x, qa.y - q.y) / h);
     }
+    const double pixel_size = s > 0 ? 1.0 / s : finest_pixel_;
     return px * pixel_size;
 }
 

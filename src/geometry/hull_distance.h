@@ -119,8 +119,14 @@ public:
 
 private:
     using Entry = ViewSdf;
-    // View e's distance at p in world units.
-    double view_distance(const Entry& e, const Vec3d& p) const;
+    // View e's distance at p in world units. Inline for orthographic views (the smoothing asks
+    // it millions of times a run).
+    double view_distance(const Entry& e, const Vec3d& p) const {
+        if (!e.camera.orthographic()) return perspective_distance(e, p);
+        const Vec2d q = e.camera.project(p);
+        return e.sdf.sample(q.x, q.y) * (1.0 / e.camera.scale);
+    }
+    double perspective_distance(const Entry& e, const Vec3d& p) const;
     const std::vector<Entry>& fields() const { return *fields_; }
     std::shared_ptr<const std::vector<Entry>> fields_;
     double finest_pixel_ = 1.0;
