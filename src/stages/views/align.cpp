@@ -8,6 +8,8 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
@@ -28,18 +30,25 @@ Extent silhouette_extent(const View& v) {
     const int w = v.width, h = v.height;
     // The largest coverage per column and row, taken over the floats (exact, and a loop the
     // compiler runs over several pixels at once), then widened.
-    std::vector<float> colf(static_cast<std::size_t>(w), 0.0f);
+    // Blocks of rows side by side, each with its own column maxima (a maximum is the same in
+    // any order).
     std::vector<double> row(static_cast<std::size_t>(h), 0.0);
-    for (int y = 0; y < h; ++y) {
-        const float* c = v.coverage.data() + std::size_t(y) * std::size_t(w);
-        float r = 0.0f;
-        for (int x = 0; x < w; ++x) {
-            colf[std::size_t(x)] = std::max(colf[std::size_t(x)], c[x]);
-            r = std::max(r, c[x]);
+    tbb::enumerable_thread_specific<std::vector<float>> cols(std::vector<float>(std::size_t(w), 0.0f));
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 64), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<float>& colf = cols.local();
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            const float* c = v.coverage.data() + std::size_t(y) * std::size_t(w);
+            float r = 0.0f;
+            for (int x = 0; x < w; ++x) {
+                colf[std::size_t(x)] = std::max(colf[std::size_t(x)], c[x]);
+                r = std::max(r, c[x]);
+            }
+            row[std::size_t(y)] = double(r);
         }
-        row[std::size_t(y)] = double(r);
-    }
-    const std::vector<double> col(colf.begin(), colf.end());
+    });
+    std::vector<double> col(static_cast<std::size_t>(w), 0.0);
+    for (const auto& colf : cols)
+        for (std::size_t x = 0; x < colf.size(); ++x) col[x] = std::max(col[x], double(colf[x]));
     auto range = [](const std::vector<double>& a, double& lo, double& hi) {
         int first = -1, last = -1;
         for (int i = 0; i < int(a.size()); ++i)
