@@ -114,7 +114,11 @@ inline double edge(const SV& p, const SV& q, double x, double y) {
 
 // Visits the pixels whose centre lies inside triangle abc, rows [row0, row1).
 // f(index, k) with k interpolated in screen space (affine there for both camera kinds).
-template <typename F>
+// With `Spans`, f(rowbase, first, last) instead, once per row, for the pixels first..last
+// of the row starting at rowbase: each edge function, computed in one fixed order per
+// edge, is monotone along a row (a difference in x times a constant, from a constant), so
+// the pixels inside all three are one run, found by testing from its two ends inwards.
+template <bool Spans = false, typename F>
 void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
     double area = edge(a, b, c.x, c.y);
     if (!(std::abs(area) > 0)) return; // degenerate or not finite
@@ -134,15 +138,25 @@ void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
     auto row = [&](int j, int s0, int s1) {
         const double y = j + 0.5;
         const std::size_t rowbase = std::size_t(j) * width;
-        for (int i = s0; i <= s1; ++i) {
-            const double x = i + 0.5;
-            const double e0 = edge(b, c, x, y);
-            if (e0 < 0) continue;
-            const double e1 = edge(c, a, x, y);
-            if (e1 < 0) continue;
-            const double e2 = edge(a, b, x, y);
-            if (e2 < 0) continue;
-            f(rowbase + i, (e0 * a.k + e1 * b.k + e2 * c.k) * inv);
+        if constexpr (Spans) {
+            auto inside = [&](int i) {
+                const double x = i + 0.5;
+                return edge(b, c, x, y) >= 0 && edge(c, a, x, y) >= 0 && edge(a, b, x, y) >= 0;
+            };
+            while (s0 <= s1 && !inside(s0)) ++s0;
+            while (s1 >= s0 && !inside(s1)) --s1;
+            if (s0 <= s1) f(rowbase, s0, s1);
+        } else {
+            for (int i = s0; i <= s1; ++i) {
+                const double x = i + 0.5;
+                const double e0 = edge(b, c, x, y);
+                if (e0 < 0) continue;
+                const double e1 = edge(c, a, x, y);
+                if (e1 < 0) continue;
+                const double e2 = edge(a, b, x, y);
+                if (e2 < 0) continue;
+                f(rowbase + i, (e0 * a.k + e1 * b.k + e2 * c.k) * inv);
+            }
         }
     };
     // A box a few pixels wide is tested whole.
@@ -197,17 +211,19 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
     std::vector<std::uint8_t> mask(std::size_t(width) * height, 0);
     const Projected p = project_vertices(mesh, cam);
     std::uint8_t* out = mask.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          if (check) check();
-                          for (std::size_t t = r.begin(); t != r.end(); ++t)
-                              screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
-                                  raster_triangle(a, b, c, width, 0, height, [&](std::size_t i, double) {
-                                      // Several triangles may set one pixel at once; all write 1.
-                                      std::atomic_ref<std::uint8_t>(out[i]).store(1, std::memory_order_relaxed);
-                                  });
-                              });
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            if (check) check();
+            for (std::size_t t = r.begin(); t != r.end(); ++t)
+                screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
+                    raster_triangle<true>(a, b, c, width, 0, height, [&](std::size_t row, int first, int last) {
+                        // Several triangles may set one pixel at once; all write 1.
+                        for (int i = first; i <= last; ++i)
+                            std::atomic_ref<std::uint8_t>(out[row + std::size_t(i)])
+                                .store(1, std::memory_order_relaxed);
+                    });
+                });
+        });
     return mask;
 }
 
@@ -292,11 +308,22 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vect
         const Counts c = tbb::parallel_reduce(
             tbb::blocked_range<std::size_t>(0, r.size(), 65536), Counts{},
             [&](const tbb::blocked_range<std::size_t>& rg, Counts acc) {
-                for (std::size_t i = rg.begin(); i != rg.end(); ++i) {
-                    const bool s = v.coverage[i] >= 0.5f, m = r[i] != 0;
+                // 32-bit counts over at most 2^31 pixels at a time: a loop over several pixels at once.
+                const float* cov = v.coverage.data();
+                const std::uint8_t* mask = r.data();
+                for (std::size_t b = rg.begin(); b < rg.end();) {
+                    const std::size_t e = std::min(rg.end(), b + (std::size_t(1) << 31));
+                    std::uint32_t s = 0, m = 0, both = 0;
+                    for (std::size_t i = b; i < e; ++i) {
+                        const std::uint32_t si = cov[i] >= 0.5f ? 1u : 0u, mi = mask[i] != 0 ? 1u : 0u;
+                        s += si;
+                        m += mi;
+                        both += si & mi;
+                    }
                     acc.s += s;
                     acc.r += m;
-                    acc.both += s && m;
+                    acc.both += both;
+                    b = e;
                 }
                 return acc;
             },
