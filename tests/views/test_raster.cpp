@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <numeric>
+#include <random>
 #include <thread>
 
 #include <tbb/global_control.h>
@@ -56,6 +57,37 @@ TEST(Raster, SharedEdgesThroughPixelCentresLeaveNoGap) {
     const Mesh box = test::make_box({10.5f, -40.5f, -5}, {50.5f, -20.5f, 5});
     const auto m = render_mask(box, unit_front(), 64, 64);
     EXPECT_EQ(count(m), 41u * 21u); // centres on the boundary count as inside
+}
+
+TEST(Raster, MaskRowsAreTheSamePixelsAsThePixelByPixelTest) {
+    // render_mask fills a row's run between the first and last pixel the exact test keeps;
+    // render_depth tests every pixel. On triangles of every size and slope, many of them
+    // thin, with vertices on pixel centres and edges, both keep the same pixels.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> at(-5.0f, 69.0f), small(-3.0f, 3.0f);
+    std::uniform_int_distribution<int> grid(0, 64);
+    Mesh soup;
+    for (int t = 0; t < 3000; ++t) {
+        Vec3f a{at(rng), -at(rng), 0.0f};
+        if (t % 3 == 0) a = {float(grid(rng)) + 0.5f, -float(grid(rng)) - 0.5f, 0.0f}; // on centres
+        const float s = t % 2 ? 1.0f : 8.0f;
+        const Vec3f b = t % 5 == 0 ? Vec3f{at(rng), -at(rng), 0.0f} : a + Vec3f{s * small(rng), s * small(rng), 0.0f};
+        const Vec3f c =
+            t % 7 == 0 ? b + Vec3f{0.01f * small(rng), 20.0f, 0.0f} : a + Vec3f{s * small(rng), s * small(rng), 0.0f};
+        const auto k = std::uint32_t(soup.positions.size());
+        soup.positions.insert(soup.positions.end(), {a, b, c});
+        soup.triangles.push_back({k, k + 1, k + 2});
+        Mesh one;
+        one.positions = {a, b, c};
+        one.triangles = {{0, 1, 2}};
+        const auto m = render_mask(one, unit_front(), 64, 64);
+        const DepthImage d = render_depth(one, unit_front(), 64, 64);
+        for (std::size_t i = 0; i < m.size(); ++i)
+            ASSERT_EQ(m[i] != 0, d.face[i] != DepthImage::kNoFace) << "triangle " << t << ", pixel " << i;
+    }
+    const auto m = render_mask(soup, unit_front(), 64, 64);
+    const DepthImage d = render_depth(soup, unit_front(), 64, 64);
+    for (std::size_t i = 0; i < m.size(); ++i) EXPECT_EQ(m[i] != 0, d.face[i] != DepthImage::kNoFace) << i;
 }
 
 TEST(Raster, SphereAreaMatchesTheDisc) {
