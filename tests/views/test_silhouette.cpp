@@ -1,12 +1,14 @@
 // Silhouette extraction on drawings generated here, each against its known mask.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
 
 #include <OpenImageIO/imageio.h>
 
+#include "background_model.h"
 #include "core/error.h"
 #include "io/image_io.h"
 #include "silhouette.h"
@@ -252,4 +254,55 @@ TEST(Silhouette, BadOptionsAreClearErrors) {
     EXPECT_THROW(extract(img, false, o), Error);
     o.background = "255,255,255";
     EXPECT_NO_THROW(extract(img, false, o));
+}
+
+// BackgroundField::model_distance_row gives colour_distance(pixel, of_model(x, y)) to the last
+// bit, for 8-bit and float images, under a constant model (a mask's black, or any colour: the
+// runs of one colour reuse their first pixel's distance) and under a varying one.
+TEST(BackgroundDistance, RowsAreEachPixelsColourDistanceToTheLastBit) {
+    const int w = 301, h = 7;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> byte(0, 255), run(1, 40);
+    Image bytes, floats;
+    bytes.width = floats.width = w;
+    bytes.height = floats.height = h;
+    bytes.channels = floats.channels = 4;
+    bytes.bytes.resize(std::size_t(w) * h * 4);
+    // Runs of one colour, alpha varying inside them; each run changes one channel of the last
+    // run's colour (red, green, blue in turn), so a run told apart by fewer channels shows.
+    std::array<std::uint8_t, 3> colour{10, 20, 30};
+    for (std::size_t i = 0, k = 0; i < bytes.bytes.size(); ++k) {
+        colour[k % 3] = std::uint8_t(colour[k % 3] + 1 + byte(rng) % 255);
+        for (int n = run(rng); n > 0 && i < bytes.bytes.size(); --n, i += 4) {
+            bytes.bytes[i] = colour[0];
+            bytes.bytes[i + 1] = colour[1];
+            bytes.bytes[i + 2] = colour[2];
+            bytes.bytes[i + 3] = std::uint8_t(byte(rng));
+        }
+    }
+    floats.pixels.resize(bytes.bytes.size());
+    for (std::size_t i = 0; i < bytes.bytes.size(); ++i) floats.pixels[i] = bytes.value(i);
+    floats.pixels[5 * 4] = -0.0f; // a negative zero beside a zero
+    std::vector<BackgroundModel> models(4);
+    models[0].set_constant({0, 0, 0});
+    models[1].set_constant({0.93, 0.91, 0.88});
+    models[2] = models[1];
+    models[2].coef[1][4] = 1e-17; // varying, however little
+    models[3].coef = {{{0.9, -0.01, 0.02, -0.03, 0.01, 0.005}, {0.8, 0, 0, 0, 0, 0}, {0.7, 0.1, 0, 0, 0, 0}}};
+    for (const Image* img : {&bytes, &floats})
+        for (const auto& model : models) {
+            BackgroundField field;
+            field.model = model;
+            field.w = w;
+            field.h = h;
+            std::vector<double> row(static_cast<std::size_t>(w));
+            for (int y = 0; y < h; ++y) {
+                field.model_distance_row(*img, y, row.data());
+                for (int x = 0; x < w; ++x) {
+                    const auto p = img->rgba(std::size_t(y) * w + x);
+                    ASSERT_EQ(row[std::size_t(x)], colour_distance({p[0], p[1], p[2]}, field.of_model(x, y)))
+                        << (img->eight_bit() ? "bytes" : "floats") << " at " << x << "," << y;
+                }
+            }
+        }
 }
