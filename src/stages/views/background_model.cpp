@@ -129,26 +129,16 @@ void background_from_border(const Image& img, const std::string& option, Backgro
 
 namespace {
 
-// Whether the model is the same colour everywhere (a flat background: a mask's black), and
-// that colour, `m`, as distance_row computes it: c[k][0] to the last bit wherever the pixel
-// is (each further term adds a zero). A pixel's distance then depends on its colour alone,
-// and runs of one colour (nearly all of a flat drawing) reuse the distance of their first pixel.
+// Whether the model is the same colour everywhere (a mask's black border), and that colour,
+// `m`, as distance_row computes it: c[k][0] to the last bit wherever the pixel is (each
+// further term adds a zero). A pixel's distance then depends on its colour alone, and runs
+// of one colour (nearly all of a mask) reuse the distance of their first pixel.
 bool constant_model(const BackgroundModel& model, double (&m)[3]) {
     for (int k = 0; k < 3; ++k)
         for (int i = 1; i < 6; ++i)
             if (model.coef[k][i] != 0.0) return false;
     for (int k = 0; k < 3; ++k) m[k] = 0.0 + model.coef[k][0] * 1.0;
     return true;
-}
-
-// The distance of one colour to the constant colour m, as distance_row computes it.
-double constant_distance(const double (&m)[3], double s0, double s1, double s2) {
-    const double d0 = s0 - m[0], d1 = s1 - m[1], d2 = s2 - m[2];
-    double sum = 0;
-    sum += d0 * d0;
-    sum += d1 * d1;
-    sum += d2 * d2;
-    return std::sqrt(sum / 3.0);
 }
 
 // distance_row for RGBA bytes under a constant model: the runs of one colour are found on
@@ -160,9 +150,17 @@ void constant_row_bytes(const double (&m)[3], int count, const std::uint8_t* b, 
         std::memcpy(&p, b + 4 * std::size_t(x), 4);
         return p & kRgb;
     };
-    auto sample = [b](int k) { return double(float(b[k]) * (1.0f / 255.0f)); };
+    // The distance as distance_row computes it: each further term of the model adds a zero.
+    auto distance = [&](int x) {
+        double sum = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double d = double(float(b[4 * x + k]) * (1.0f / 255.0f)) - m[k];
+            sum += d * d;
+        }
+        return std::sqrt(sum / 3.0);
+    };
     for (int x = 0; x < count;) {
-        const double d = constant_distance(m, sample(4 * x), sample(4 * x + 1), sample(4 * x + 2));
+        const double d = distance(x);
         const std::uint32_t colour = rgb(x);
         out[x++] = d;
         while (x < count && rgb(x) == colour) out[x++] = d;
@@ -180,21 +178,6 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
     // over several pixels at once (no arrays returned per pixel).
     const double v = ((y + oy) + 0.5) / nh * 2 - 1;
     const auto& c = model.coef;
-    if (double m[3]; constant_model(model, m)) {
-        double last[3] = {std::nan(""), std::nan(""), std::nan("")}, last_out = 0;
-        for (int x = 0; x < count; ++x) {
-            const double s0 = double(sample(4 * x)), s1 = double(sample(4 * x + 1)), s2 = double(sample(4 * x + 2));
-            if (s0 == last[0] && s1 == last[1] && s2 == last[2]) {
-                out[x] = last_out;
-                continue;
-            }
-            last[0] = s0;
-            last[1] = s1;
-            last[2] = s2;
-            out[x] = last_out = constant_distance(m, s0, s1, s2);
-        }
-        return;
-    }
     for (int x = 0; x < count; ++x) {
         const double u = ((x + ox) + 0.5) / nw * 2 - 1;
         const double uu = u * u, vv = v * v, uv = u * v;
