@@ -209,39 +209,6 @@ TEST(HostileInput, ATruncatedImageIsAnErrorNotAGreyDrawing) {
     }
 }
 
-TEST(HostileInput, AJpegWhoseIptcBlockReachesPastItselfIsRefused) {
-    // A Photoshop block (APP13) right after the start of a good JPEG, whose 8BIM IPTC resource
-    // says it holds 72 bytes and holds 8, or whose IPTC record says 67 bytes and holds 3. Its
-    // reader (OpenImageIO 2.4) would copy past the block's end; the file is refused first, in
-    // one line naming it.
-    test::TempDir dir("hostile_iptc");
-    const Image front = read_image(test::source_dir() / "examples" / "spot" / "front.png");
-    write_image(front, dir / "good.jpg");
-    const std::string good = test::read_text(dir / "good.jpg");
-    // "Photoshop 3.0", then one 8BIM resource: id 0x0404 (IPTC), an empty name, a size, and
-    // 8 bytes holding one IPTC record (0x1C, record 2, dataset 0x41, a length, 3 bytes).
-    auto jpeg_with = [&](std::uint8_t resource_size, std::uint8_t record_length) {
-        const std::string block = std::string("Photoshop 3.0\0", 14) + "8BIM" + std::string("\x04\x04\0\0", 4) +
-                                  std::string("\0\0\0", 3) + char(resource_size) + std::string("\x1c\x02\x41\0", 4) +
-                                  char(record_length) + "Ope";
-        const std::size_t len = block.size() + 2;
-        return good.substr(0, 2) + "\xff\xed" + char(len >> 8) + char(len & 0xff) + block + good.substr(2);
-    };
-    for (const auto& [resource, record] : {std::pair{72, 3}, std::pair{8, 67}}) {
-        SCOPED_TRACE(std::to_string(resource) + " " + std::to_string(record));
-        test::write_text(dir / "broken.jpg", jpeg_with(std::uint8_t(resource), std::uint8_t(record)));
-        try {
-            read_image(dir / "broken.jpg");
-            ADD_FAILURE() << "a broken IPTC block went to the reader";
-        } catch (const Error& e) {
-            EXPECT_HAS(e.what(), "cannot read image \"" + (dir / "broken.jpg").string() + "\": its Photoshop metadata");
-        }
-    }
-    // The same block with the sizes it holds reads.
-    test::write_text(dir / "ok.jpg", jpeg_with(8, 3));
-    EXPECT_NO_THROW(read_image(dir / "ok.jpg"));
-}
-
 namespace {
 
 // A PNG whose header claims width x height, with the pixel data of an all-white RGB image

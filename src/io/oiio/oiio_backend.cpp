@@ -5,9 +5,6 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
-#include <cstring>
-#include <fstream>
-#include <vector>
 
 #include "core/data.h"
 #include "io/image_backend.h"
@@ -49,68 +46,7 @@ bool read_open(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, RawImage& out,
     return true;
 }
 
-// Whether the Photoshop block of one APP13 segment (its bytes after the length: "Photoshop
-// 3.0", then 8BIM resources, IPTC records in resource 0x0404) keeps each size within what
-// holds it.
-bool photoshop_block_fits(const std::vector<unsigned char>& seg) {
-    auto u16 = [&](std::size_t at) { return std::size_t(seg[at]) << 8 | seg[at + 1]; };
-    static const char kPhotoshop[] = "Photoshop 3.0"; // with its terminating zero: 14 bytes
-    if (seg.size() < 14 || std::memcmp(seg.data(), kPhotoshop, 14) != 0) return true;
-    for (std::size_t at = 14; at + 4 <= seg.size() && std::memcmp(&seg[at], "8BIM", 4) == 0;) {
-        if (at + 7 > seg.size()) return false;
-        const std::size_t id = u16(at + 4);
-        std::size_t name = 1 + seg[at + 6]; // a Pascal string, padded to an even length
-        name += name & 1;
-        const std::size_t sized = at + 6 + name;
-        if (sized + 4 > seg.size()) return false;
-        const std::size_t size = u16(sized) << 16 | u16(sized + 2), data = sized + 4;
-        if (size > seg.size() - data) return false;
-        const std::size_t end = data + size;
-        if (id == 0x0404) // IPTC: records 0x1C, record, dataset, a 2-byte length (or a longer one)
-            for (std::size_t r = data; r < end && seg[r] == 0x1C;) {
-                if (r + 5 > end) return false;
-                std::size_t n = u16(r + 3), body = r + 5;
-                if (n & 0x8000) { // the length's own length, then the length
-                    const std::size_t k = n & 0x7FFF;
-                    if (k > 4 || body + k > end) return false;
-                    n = 0;
-                    for (std::size_t i = 0; i < k; ++i) n = n << 8 | seg[body + i];
-                    body += k;
-                }
-                if (n > end - body) return false;
-                r = body + n;
-            }
-        at = end + (size & 1);
-    }
-    return true;
-}
-
-// Whether a JPEG's Photoshop blocks fit (photoshop_block_fits), its markers before the image
-// data read through `next(n, into)` (the next n bytes; false at the end). OpenImageIO 2.4
-// copies an IPTC record past the end of its block when the sizes say more than there is (an
-// out-of-bounds read, found by fuzz_silhouette), so such a file is refused before it is
-// opened; everything else is the reader's to judge.
-template <typename Next>
-bool jpeg_photoshop_blocks_fit(Next&& next) {
-    std::vector<unsigned char> head, seg;
-    if (!next(2, head) || head[0] != 0xFF || head[1] != 0xD8) return true;
-    while (next(4, head) && head[0] == 0xFF && head[1] != 0xDA) {
-        const std::size_t len = std::size_t(head[2]) << 8 | head[3];
-        if (len < 2 || !next(len - 2, seg)) return true; // the reader's to refuse
-        if (head[1] == 0xED && !photoshop_block_fits(seg)) return false;
-    }
-    return true;
-}
-
-const char* const kBrokenPhotoshop = "its Photoshop metadata (an IPTC block) is broken: sizes reach past their block";
-
 bool read(const std::string& file, std::uint64_t max_pixels, RawImage& out, std::string& why) {
-    std::ifstream f(file, std::ios::binary);
-    auto next = [&f](std::size_t n, std::vector<unsigned char>& into) {
-        into.resize(n);
-        return bool(f.read(reinterpret_cast<char*>(into.data()), std::streamsize(n)));
-    };
-    if (!jpeg_photoshop_blocks_fit(next)) return why = kBrokenPhotoshop, false;
     auto in = OIIO::ImageInput::open(file);
     if (!in) return why = OIIO::geterror(), false;
     const OIIO::ImageSpec& spec = in->spec();
@@ -133,14 +69,6 @@ bool decode(const unsigned char* data, std::size_t size, RawImage& out, std::str
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
     const bool jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
     if (!jpeg) return why = "the image is neither PNG nor JPEG", false;
-    std::size_t at = 0;
-    auto next = [&](std::size_t n, std::vector<unsigned char>& into) {
-        if (n > size - at) return false;
-        into.assign(data + at, data + at + n);
-        at += n;
-        return true;
-    };
-    if (!jpeg_photoshop_blocks_fit(next)) return why = kBrokenPhotoshop, false;
     auto in = OIIO::ImageInput::create("jpeg");
     if (!in) return why = OIIO::geterror(), false;
     in->set_ioproxy(&proxy);
