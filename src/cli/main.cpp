@@ -142,6 +142,19 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
+        // A word that is not a command (`conceptmesh silhouette x.png`): say so, and which are.
+        const bool missing = dynamic_cast<const CLI::RequiredError*>(&e) || dynamic_cast<const CLI::ExtrasError*>(&e);
+        if (missing && app.get_subcommands().empty()) {
+            const std::vector<std::string> rest = app.remaining();
+            std::string names;
+            for (const CLI::App* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
+            const bool word = !rest.empty() && !rest.front().empty() && rest.front()[0] != '-';
+            cm::cli::print_error((word           ? "unknown command \"" + rest.front() + "\""
+                                  : rest.empty() ? std::string("no command")
+                                                 : "unknown option \"" + rest.front() + "\" before the command") +
+                                 "; the commands are " + names + " (see conceptmesh --help)");
+            return 2;
+        }
         cm::cli::print_error(cm::cli::plain_parse_error(e.what()) + " (see conceptmesh --help)");
         return 2;
     }

@@ -35,15 +35,16 @@ struct ImageBackend {
     int abi;
     /// Reads a file; refuses more than `max_pixels` (0: no limit) from the header.
     bool (*read)(const std::string& file, std::uint64_t max_pixels, RawImage& out, std::string& why);
-    /// Reads image bytes in memory (JPEG).
-    bool (*decode)(const unsigned char* data, std::size_t size, RawImage& out, std::string& why);
+    /// Reads image bytes in memory (JPEG); refuses more than `max_pixels` (0: no limit).
+    bool (*decode)(const unsigned char* data, std::size_t size, std::uint64_t max_pixels, RawImage& out,
+                   std::string& why);
     /// Writes 1 to 4 float channels; the format follows the extension.
     bool (*write)(const Image& img, const std::string& file, std::string& why);
     /// Width and height from the header.
     bool (*size)(const std::string& file, int& width, int& height);
 };
 
-constexpr int kImageBackendAbi = 1;
+constexpr int kImageBackendAbi = 2;
 
 } // namespace cm
 

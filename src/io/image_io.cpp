@@ -181,7 +181,9 @@ Image decode_image(const unsigned char* data, std::size_t size, const std::strin
     std::string why;
     const bool png = png::is_png(data, size), jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
     if (!png && !jpeg) throw Error(what + ": the image is neither PNG nor JPEG");
-    const bool ok = png ? png::read({}, data, size, 0, raw, why) : backend(what + ": ").decode(data, size, raw, why);
+    const std::uint64_t limit = resource_limits().max_image_pixels;
+    const bool ok =
+        png ? png::read({}, data, size, limit, raw, why) : backend(what + ": ").decode(data, size, limit, raw, why);
     if (!ok) throw Error(what + ": " + why);
     if (raw.width <= 0 || raw.height <= 0 || raw.channels <= 0) throw Error(what + ": the image is empty");
     return to_rgba(raw);

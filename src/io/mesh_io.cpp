@@ -1,6 +1,8 @@
 // OpenMesh's colour property (Vec3uc) trips GCC 12's -Wmaybe-uninitialized inside
 // std::vector; a false positive in library code, silenced for this file only.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "io/mesh_io.h"
 
 #include <algorithm>

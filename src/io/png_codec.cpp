@@ -235,7 +235,7 @@ std::size_t filter_row(int type, const unsigned char* row, const unsigned char* 
                    const i16 a = row[i - bpp], b = prev[i], c = prev[i - bpp];
                    const i16 p = i16(b - c), q = i16(a - c), r = i16(p + q);
                    const i16 pa = p < 0 ? i16(-p) : p, pb = q < 0 ? i16(-q) : q, pc = r < 0 ? i16(-r) : r;
-                   return u8(row[i] - ((pa <= pb) & (pa <= pc) ? a : (pb <= pc ? b : c)));
+                   return u8(row[i] - (((pa <= pb) & (pa <= pc)) ? a : (pb <= pc ? b : c)));
                });
     }
 }

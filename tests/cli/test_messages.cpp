@@ -70,6 +70,10 @@ TEST(Messages, UnknownOptionMissingArgumentAndBadNumberExit2ForEverySubCommand) 
             {"check m.obj --list abc", "--list: \"abc\" is not a number; give a number >= 0"},
             {"batch", "name the ASSETS.yaml to run"},
             {"--max-memory 5Q run " + p, "--max-memory"},
+            {"silhouette front.png", "unknown command \"silhouette\"; the commands are run, validate, stages"},
+            {"", "no command; the commands are run, validate"},
+            {"--bogus", "unknown option \"--bogus\" before the command; the commands are run"},
+            {"--bogus run " + p, "not expected: --bogus"},
         },
         dir.path());
 }

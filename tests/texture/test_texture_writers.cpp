@@ -2,7 +2,9 @@
 // the Khronos glTF validator when node is present), OpenMesh and OpenImageIO; and the PNG
 // files themselves (io/png_codec, written in parallel pieces), opened by OpenImageIO.
 // OpenMesh's colour property trips GCC 12's -Wmaybe-uninitialized inside std::vector (library code).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -209,6 +209,49 @@ TEST(HostileInput, ATruncatedImageIsAnErrorNotAGreyDrawing) {
     }
 }
 
+TEST(HostileInput, AJpegWithBrokenPhotoshopMetadataReadsAsItsPixels) {
+    // A Photoshop block (APP13) right after the start of a good JPEG, whose 8BIM IPTC resource
+    // says it holds 72 bytes and holds 8, or whose IPTC record says 67 bytes and holds 3.
+    // OpenImageIO 2.4's reader copies past such a block's end; the metadata is not used, so
+    // the JPEG is decoded without it, to the same pixels as without the block. A block that
+    // runs past the end of the file leaves the file short, which is an error.
+    test::TempDir dir("hostile_iptc");
+    const Image front = read_image(test::source_dir() / "examples" / "spot" / "front.png");
+    write_image(front, dir / "good.jpg");
+    const Image good_pixels = read_image(dir / "good.jpg");
+    const std::string good = test::read_text(dir / "good.jpg");
+    // "Photoshop 3.0", then one 8BIM resource: id 0x0404 (IPTC), an empty name, a size, and
+    // 8 bytes holding one IPTC record (0x1C, record 2, dataset 0x41, a length, 3 bytes).
+    auto jpeg_with = [&](std::uint8_t resource_size, std::uint8_t record_length, std::size_t extra = 0) {
+        const std::string block = std::string("Photoshop 3.0\0", 14) + "8BIM" + std::string("\x04\x04\0\0", 4) +
+                                  std::string("\0\0\0", 3) + char(resource_size) + std::string("\x1c\x02\x41\0", 4) +
+                                  char(record_length) + "Ope";
+        const std::size_t len = block.size() + 2 + extra;
+        return good.substr(0, 2) + "\xff\xed" + char(len >> 8) + char(len & 0xff) + block + good.substr(2);
+    };
+    for (const auto& [resource, record] : {std::pair{72, 3}, std::pair{8, 67}, std::pair{8, 3}}) {
+        SCOPED_TRACE(std::to_string(resource) + " " + std::to_string(record));
+        test::write_text(dir / "broken.jpg", jpeg_with(std::uint8_t(resource), std::uint8_t(record)));
+        Image img;
+        ASSERT_NO_THROW(img = read_image(dir / "broken.jpg"));
+        EXPECT_EQ(img.width, good_pixels.width);
+        EXPECT_EQ(img.height, good_pixels.height);
+        EXPECT_TRUE(img.pixels == good_pixels.pixels) << "the metadata changed the pixels";
+        int w = 0, h = 0;
+        EXPECT_TRUE(image_size(dir / "broken.jpg", w, h));
+        EXPECT_EQ(w, good_pixels.width);
+    }
+    std::string cut = jpeg_with(8, 3, 4000); // the block says 4000 bytes more than it holds
+    cut.resize(200);                         // and the file ends within it
+    test::write_text(dir / "short.jpg", cut);
+    try {
+        read_image(dir / "short.jpg");
+        ADD_FAILURE() << "a JPEG whose metadata block runs past its end was read";
+    } catch (const Error& e) {
+        EXPECT_HAS(e.what(), "cannot read image \"" + (dir / "short.jpg").string() + "\"");
+    }
+}
+
 namespace {
 
 // A PNG whose header claims width x height, with the pixel data of an all-white RGB image

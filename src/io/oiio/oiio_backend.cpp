@@ -4,7 +4,12 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <vector>
 
 #include "core/data.h"
 #include "io/image_backend.h"
@@ -46,10 +51,92 @@ bool read_open(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, RawImage& out,
     return true;
 }
 
-bool read(const std::string& file, std::uint64_t max_pixels, RawImage& out, std::string& why) {
-    auto in = OIIO::ImageInput::open(file);
-    if (!in) return why = OIIO::geterror(), false;
-    const OIIO::ImageSpec& spec = in->spec();
+bool is_jpeg(const unsigned char* data, std::size_t size) { return size >= 2 && data[0] == 0xFF && data[1] == 0xD8; }
+
+// Drops a JPEG's metadata segments that conceptmesh does not use (APP1-APP13, APP15: Exif,
+// XMP, ICC, Photoshop/IPTC...; kept: APP0 JFIF and APP14 Adobe, which the decoder reads, and
+// everything else). OpenImageIO 2.4 parses that metadata when it opens the file, and its
+// IPTC parser reads past the end of a Photoshop block whose sizes are wrong; the pixels do
+// not depend on it. The walk finds markers as libjpeg does (fill 0xFF bytes skipped, 0xFF00
+// and RSTn inside entropy-coded data), through the whole file, so a segment between the
+// scans of a progressive JPEG is dropped too. A dropped segment that runs past the end
+// ends the copy: the decoder then finds the file short and says so.
+std::vector<unsigned char> without_metadata(const unsigned char* d, std::size_t n) {
+    std::vector<unsigned char> out;
+    out.reserve(n);
+    std::size_t i = 0, copied = 0;
+    auto copy_to = [&](std::size_t end) {
+        out.insert(out.end(), d + copied, d + end);
+        copied = end;
+    };
+    i = 2; // SOI
+    while (i < n) {
+        if (d[i] != 0xFF) {
+            ++i;
+            continue;
+        }
+        const std::size_t start = i;
+        while (i < n && d[i] == 0xFF) ++i;
+        if (i >= n) break;
+        const unsigned char m = d[i++];
+        if (m == 0x00 || m == 0x01 || (m >= 0xD0 && m <= 0xD9)) continue; // data, TEM, RSTn, SOI, EOI
+        if (i + 2 > n) break;
+        const std::size_t length = (std::size_t(d[i]) << 8) | d[i + 1];
+        if (length < 2) break; // the decoder refuses it
+        const std::size_t end = i + length;
+        const bool metadata = (m >= 0xE1 && m <= 0xED) || m == 0xEF;
+        if (!metadata) {
+            i = std::min(end, n);
+            continue;
+        }
+        copy_to(start);
+        if (end > n) return out; // cut short: the decoder reports a file that ends early
+        copied = i = end;
+    }
+    copy_to(n);
+    return out;
+}
+
+// OpenImageIO's words for an error in bytes read from memory, without the name "memory" it
+// gives them (the caller names the file) and one line long.
+std::string without_memory_name(std::string why) {
+    for (const std::string name : {" (\"memory\")", " for \"memory\""})
+        for (auto at = why.find(name); at != std::string::npos; at = why.find(name)) why.erase(at, name.size());
+    for (auto at = why.find('\n'); at != std::string::npos; at = why.find('\n')) why.replace(at, 1, "; ");
+    while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
+    return why;
+}
+
+// Opens JPEG bytes through the in-memory reader (which `proxy` must outlive).
+std::unique_ptr<OIIO::ImageInput> open_jpeg(OIIO::Filesystem::IOMemReader& proxy, std::string& why) {
+    auto in = OIIO::ImageInput::create("jpeg");
+    if (!in) return why = OIIO::geterror(), nullptr;
+    OIIO::ImageSpec config;
+    void* ptr = &proxy;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
+    in->set_ioproxy(&proxy);
+    if (!in->open("memory", config)) {
+        why = without_memory_name(in->geterror());
+        if (why.empty()) why = "it is not a valid JPEG";
+        return nullptr;
+    }
+    return in;
+}
+
+// A JPEG file's bytes without its metadata, or false when the file is not a JPEG.
+bool jpeg_file(const std::string& file, std::vector<unsigned char>& bytes) {
+    std::ifstream f(file, std::ios::binary);
+    unsigned char magic[2] = {0, 0};
+    if (!f.read(reinterpret_cast<char*>(magic), 2) || !is_jpeg(magic, 2)) return false;
+    f.seekg(0);
+    const std::vector<unsigned char> all{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+    bytes = without_metadata(all.data(), all.size());
+    return true;
+}
+
+// The header's checks, then the pixels.
+bool read_checked(OIIO::ImageInput& in, std::uint64_t max_pixels, RawImage& out, std::string& why) {
+    const OIIO::ImageSpec spec = in.spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return why = "it is empty", false;
     // The size is in the header: refuse a huge image before a pixel of it is allocated (a
     // few hundred bytes of PNG can claim 20000 x 20000).
@@ -57,26 +144,31 @@ bool read(const std::string& file, std::uint64_t max_pixels, RawImage& out, std:
     if (max_pixels != 0 && pixels > max_pixels)
         return why = cm::over_pixel_limit(spec.width, spec.height, max_pixels), false;
     if (spec.nchannels > 64) return why = "it has " + std::to_string(spec.nchannels) + " channels", false;
-    const bool ok = read_open(*in, spec, out, why);
-    in->close();
+    const bool ok = read_open(in, spec, out, why);
+    in.close();
     return ok;
 }
 
-bool decode(const unsigned char* data, std::size_t size, RawImage& out, std::string& why) {
-    OIIO::Filesystem::IOMemReader proxy(const_cast<unsigned char*>(data), size);
-    OIIO::ImageSpec config;
-    void* ptr = &proxy;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &ptr);
-    const bool jpeg = size >= 2 && data[0] == 0xFF && data[1] == 0xD8;
-    if (!jpeg) return why = "the image is neither PNG nor JPEG", false;
-    auto in = OIIO::ImageInput::create("jpeg");
+bool read(const std::string& file, std::uint64_t max_pixels, RawImage& out, std::string& why) {
+    std::vector<unsigned char> bytes;
+    if (jpeg_file(file, bytes)) {
+        OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
+        const auto in = open_jpeg(proxy, why);
+        return in && read_checked(*in, max_pixels, out, why);
+    }
+    const auto in = OIIO::ImageInput::open(file);
     if (!in) return why = OIIO::geterror(), false;
-    in->set_ioproxy(&proxy);
-    if (!in->open("memory", config)) return why = in->geterror(), false;
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return why = "the image is empty", false;
-    if (!read_open(*in, spec, out, why)) return false;
-    out.alpha = spec.nchannels == 4 ? 3 : (spec.nchannels == 2 ? 1 : -1);
+    return read_checked(*in, max_pixels, out, why);
+}
+
+bool decode(const unsigned char* data, std::size_t size, std::uint64_t max_pixels, RawImage& out, std::string& why) {
+    if (!is_jpeg(data, size)) return why = "the image is neither PNG nor JPEG", false;
+    std::vector<unsigned char> bytes = without_metadata(data, size);
+    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
+    const auto in = open_jpeg(proxy, why);
+    if (!in) return false;
+    if (!read_checked(*in, max_pixels, out, why)) return false;
+    out.alpha = out.channels == 4 ? 3 : (out.channels == 2 ? 1 : -1);
     return true;
 }
 
@@ -93,7 +185,16 @@ bool write(const cm::Image& img, const std::string& file, std::string& why) {
 }
 
 bool size(const std::string& file, int& width, int& height) {
-    auto in = OIIO::ImageInput::open(file);
+    std::vector<unsigned char> bytes;
+    std::string why;
+    std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy; // outlives the input
+    std::unique_ptr<OIIO::ImageInput> in;
+    if (jpeg_file(file, bytes)) {
+        proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
+        in = open_jpeg(*proxy, why);
+    } else {
+        in = OIIO::ImageInput::open(file);
+    }
     if (!in) return false;
     width = in->spec().width;
     height = in->spec().height;
