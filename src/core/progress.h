@@ -26,7 +26,8 @@ std::atomic<bool>& cancel_requested();
 /// that node's first look at its interrupter (at or past that progress) prints
 /// "conceptmesh: test hold: node <id> at <n>%" to stderr and waits there until a stop is
 /// asked for, then goes on as if it had not seen it: the stop must be taken at the node's
-/// next look. A test then knows the stage is running when it signals, and from the
+/// next look. Other threads of the node that look while it is held wait there too, and take
+/// the stop at that look. A test then knows the stage is running when it signals, and from the
 /// progress in the message ("stopped at 53%") how soon the stage looked again.
 class Interrupter : public openvdb::util::NullInterrupter {
 public:
@@ -48,6 +49,7 @@ private:
     ProgressSink* sink_;
     std::atomic<int> last_percent_{-1};
     std::atomic<bool> hold_{false};
+    std::atomic<bool> holding_{false}; ///< the hold has begun: every look of the node waits for the stop
     int hold_at_ = 0;
 };
 

@@ -158,8 +158,9 @@ TEST(Cancel, SigintWhileComparingSilhouettesStopsWithinARender) {
 
 TEST(Cancel, EveryStageOfThePaperPipelineStopsSoonAfterTheHold) {
     // Each node of pipelines/paper.yaml held half-way through its progress: the stop is seen
-    // in that node, before its end, within a step of its progress (views.load: a sixth, one
-    // step of one of its three views).
+    // in that node, before its end, within a step of its progress. views.load looks twice per
+    // view (0 to 66 %, a sixth of 80 % each, from the view's worker) and at 80 % after the
+    // views: held at 53 %, it may next look at 80 % when the other views' looks came first.
     test::TempDir dir("cancel-paper");
     std::string yaml = test::read_text(test::source_dir() / "pipelines" / "paper.yaml");
     const std::string from = "examples/spot/views.yaml";
@@ -170,6 +171,6 @@ TEST(Cancel, EveryStageOfThePaperPipelineStopsSoonAfterTheHold) {
     for (const char* node : {"views", "hull", "refine", "surface", "smooth", "reduce"}) {
         SCOPED_TRACE(node);
         const Stopped s = run_held(dir, node, 50, SIGINT);
-        expect_stopped_in(s, dir, node, 130, 20);
+        expect_stopped_in(s, dir, node, 130, std::string(node) == "views" ? 27 : 20);
     }
 }
