@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -222,16 +223,21 @@ TEST(HostileInput, AJpegWithBrokenPhotoshopMetadataReadsAsItsPixels) {
     const std::string good = test::read_text(dir / "good.jpg");
     // "Photoshop 3.0", then one 8BIM resource: id 0x0404 (IPTC), an empty name, a size, and
     // 8 bytes holding one IPTC record (0x1C, record 2, dataset 0x41, a length, 3 bytes).
-    auto jpeg_with = [&](std::uint8_t resource_size, std::uint8_t record_length, std::size_t extra = 0) {
+    // `fill`: 0xFF bytes before the marker (JPEG allows them; the decoder skips them).
+    auto jpeg_with = [&](std::uint8_t resource_size, std::uint8_t record_length, std::size_t extra = 0,
+                         std::size_t fill = 0) {
         const std::string block = std::string("Photoshop 3.0\0", 14) + "8BIM" + std::string("\x04\x04\0\0", 4) +
                                   std::string("\0\0\0", 3) + char(resource_size) + std::string("\x1c\x02\x41\0", 4) +
                                   char(record_length) + "Ope";
         const std::size_t len = block.size() + 2 + extra;
-        return good.substr(0, 2) + "\xff\xed" + char(len >> 8) + char(len & 0xff) + block + good.substr(2);
+        return good.substr(0, 2) + std::string(fill, '\xff') + "\xff\xed" + char(len >> 8) + char(len & 0xff) + block +
+               good.substr(2);
     };
-    for (const auto& [resource, record] : {std::pair{72, 3}, std::pair{8, 67}, std::pair{8, 3}}) {
-        SCOPED_TRACE(std::to_string(resource) + " " + std::to_string(record));
-        test::write_text(dir / "broken.jpg", jpeg_with(std::uint8_t(resource), std::uint8_t(record)));
+    for (const auto& [resource, record, fill] :
+         {std::tuple{72, 3, 0}, std::tuple{8, 67, 0}, std::tuple{8, 3, 0}, std::tuple{72, 3, 3}}) {
+        SCOPED_TRACE(std::to_string(resource) + " " + std::to_string(record) + " " + std::to_string(fill));
+        test::write_text(dir / "broken.jpg",
+                         jpeg_with(std::uint8_t(resource), std::uint8_t(record), 0, std::size_t(fill)));
         Image img;
         ASSERT_NO_THROW(img = read_image(dir / "broken.jpg"));
         EXPECT_EQ(img.width, good_pixels.width);
