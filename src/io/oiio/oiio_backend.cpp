@@ -55,21 +55,21 @@ bool is_jpeg(const unsigned char* data, std::size_t size) { return size >= 2 && 
 
 // Drops a JPEG's metadata segments that conceptmesh does not use (APP1-APP13, APP15: Exif,
 // XMP, ICC, Photoshop/IPTC...; kept: APP0 JFIF and APP14 Adobe, which the decoder reads, and
-// everything else). OpenImageIO 2.4 parses that metadata when it opens the file, and its
-// IPTC parser reads past the end of a Photoshop block whose sizes are wrong; the pixels do
-// not depend on it. The walk finds markers as libjpeg does (fill 0xFF bytes skipped, 0xFF00
-// and RSTn inside entropy-coded data), through the whole file, so a segment between the
-// scans of a progressive JPEG is dropped too. A dropped segment that runs past the end
-// ends the copy: the decoder then finds the file short and says so.
-std::vector<unsigned char> without_metadata(const unsigned char* d, std::size_t n) {
-    std::vector<unsigned char> out;
-    out.reserve(n);
-    std::size_t i = 0, copied = 0;
-    auto copy_to = [&](std::size_t end) {
-        out.insert(out.end(), d + copied, d + end);
+// everything else), in place. OpenImageIO 2.4 parses that metadata when it opens the file,
+// and its IPTC parser reads past the end of a Photoshop block whose sizes are wrong; the
+// pixels do not depend on it. The walk finds markers as libjpeg does (fill 0xFF bytes
+// skipped, 0xFF00 and RSTn inside entropy-coded data), through the whole file, so a segment
+// between the scans of a progressive JPEG is dropped too. A dropped segment that runs past
+// the end ends the bytes: the decoder then finds the file short and says so.
+void drop_metadata(std::vector<unsigned char>& d) {
+    const std::size_t n = d.size();
+    std::size_t i = 2, kept = 0, copied = 0; // after SOI; bytes [copied, i) are not moved yet
+    auto keep_to = [&](std::size_t end) {    // moves [copied, end) down to `kept`
+        std::copy(d.begin() + std::ptrdiff_t(copied), d.begin() + std::ptrdiff_t(end),
+                  d.begin() + std::ptrdiff_t(kept));
+        kept += end - copied;
         copied = end;
     };
-    i = 2; // SOI
     while (i < n) {
         if (d[i] != 0xFF) {
             ++i;
@@ -89,12 +89,15 @@ std::vector<unsigned char> without_metadata(const unsigned char* d, std::size_t 
             i = std::min(end, n);
             continue;
         }
-        copy_to(start);
-        if (end > n) return out; // cut short: the decoder reports a file that ends early
+        keep_to(start);
+        if (end > n) { // cut short: the decoder reports a file that ends early
+            d.resize(kept);
+            return;
+        }
         copied = i = end;
     }
-    copy_to(n);
-    return out;
+    keep_to(n);
+    d.resize(kept);
 }
 
 // OpenImageIO's words for an error in bytes read from memory, without the name "memory" it
@@ -129,9 +132,28 @@ bool jpeg_file(const std::string& file, std::vector<unsigned char>& bytes) {
     unsigned char magic[2] = {0, 0};
     if (!f.read(reinterpret_cast<char*>(magic), 2) || !is_jpeg(magic, 2)) return false;
     f.seekg(0);
-    const std::vector<unsigned char> all{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-    bytes = without_metadata(all.data(), all.size());
+    bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    drop_metadata(bytes);
     return true;
+}
+
+// A file opened for reading: a JPEG from its bytes without metadata (which the input reads
+// through `proxy`), anything else by OpenImageIO from the file.
+struct OpenFile {
+    std::vector<unsigned char> bytes;
+    std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy; // declared before `in`: outlives it
+    std::unique_ptr<OIIO::ImageInput> in;
+};
+
+bool open_file(const std::string& file, OpenFile& f, std::string& why) {
+    if (jpeg_file(file, f.bytes)) {
+        f.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(f.bytes.data(), f.bytes.size());
+        f.in = open_jpeg(*f.proxy, why);
+    } else {
+        f.in = OIIO::ImageInput::open(file);
+        if (!f.in) why = OIIO::geterror();
+    }
+    return f.in != nullptr;
 }
 
 // The header's checks, then the pixels.
@@ -150,26 +172,17 @@ bool read_checked(OIIO::ImageInput& in, std::uint64_t max_pixels, RawImage& out,
 }
 
 bool read(const std::string& file, std::uint64_t max_pixels, RawImage& out, std::string& why) {
-    std::vector<unsigned char> bytes;
-    if (jpeg_file(file, bytes)) {
-        OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-        const auto in = open_jpeg(proxy, why);
-        return in && read_checked(*in, max_pixels, out, why);
-    }
-    const auto in = OIIO::ImageInput::open(file);
-    if (!in) return why = OIIO::geterror(), false;
-    return read_checked(*in, max_pixels, out, why);
+    OpenFile f;
+    return open_file(file, f, why) && read_checked(*f.in, max_pixels, out, why);
 }
 
 bool decode(const unsigned char* data, std::size_t size, std::uint64_t max_pixels, RawImage& out, std::string& why) {
     if (!is_jpeg(data, size)) return why = "the image is neither PNG nor JPEG", false;
-    std::vector<unsigned char> bytes = without_metadata(data, size);
+    std::vector<unsigned char> bytes(data, data + size);
+    drop_metadata(bytes);
     OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
     const auto in = open_jpeg(proxy, why);
-    if (!in) return false;
-    if (!read_checked(*in, max_pixels, out, why)) return false;
-    out.alpha = out.channels == 4 ? 3 : (out.channels == 2 ? 1 : -1);
-    return true;
+    return in && read_checked(*in, max_pixels, out, why);
 }
 
 bool write(const cm::Image& img, const std::string& file, std::string& why) {
@@ -185,19 +198,11 @@ bool write(const cm::Image& img, const std::string& file, std::string& why) {
 }
 
 bool size(const std::string& file, int& width, int& height) {
-    std::vector<unsigned char> bytes;
+    OpenFile f;
     std::string why;
-    std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy; // outlives the input
-    std::unique_ptr<OIIO::ImageInput> in;
-    if (jpeg_file(file, bytes)) {
-        proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
-        in = open_jpeg(*proxy, why);
-    } else {
-        in = OIIO::ImageInput::open(file);
-    }
-    if (!in) return false;
-    width = in->spec().width;
-    height = in->spec().height;
+    if (!open_file(file, f, why)) return false;
+    width = f.in->spec().width;
+    height = f.in->spec().height;
     return true;
 }
 
