@@ -7,7 +7,7 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       libopenimageio-dev openimageio-tools libopenexr-dev
       libopenmesh-dev libyaml-cpp-dev libvalijson-dev libtinygltf-dev
       nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
-      libmeshoptimizer-dev libpng-dev
+      libmeshoptimizer-dev libpng-dev libmimalloc-dev
       libssl-dev libjs-three)
 pkgs+=(libeigen3-dev) # the 3x3 QEF of extract.dual_marching_cubes
 missing=()

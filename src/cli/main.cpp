@@ -10,6 +10,9 @@
 #include <regex>
 
 #include <tbb/global_control.h>
+#if defined(CONCEPTMESH_MIMALLOC)
+#include <mimalloc.h>
+#endif
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -84,17 +87,48 @@ extern "C" void on_sigint(int sig) {
     [[maybe_unused]] auto n = ::write(2, msg, sizeof(msg) - 1);
 }
 
+#if defined(CONCEPTMESH_MIMALLOC)
+// mimalloc, on transparent huge pages (2 MB: one fault where glibc's 4 kB pages take 512), from
+// each thread's first segment on, keeping what it frees for reuse. This must be set before the
+// first allocation, which the libraries' initialisers make: the executable's preinit array runs
+// before any of them, with the environment as its third argument (libc is not initialised yet,
+// so nothing here calls it). Where the environment names an option (MIMALLOC_LARGE_OS_PAGES=0
+// for the least memory), it decides. Up to a quarter more peak memory at high resolutions.
+bool names(char** env, const char* option) {
+    for (; env && *env; ++env) {
+        const char* e = *env;
+        const char* o = option;
+        while (*o && *e == *o) ++e, ++o;
+        if (!*o && *e == '=') return true;
+    }
+    return false;
+}
+
+void set_allocator_options(int, char**, char** env) {
+    if (!names(env, "MIMALLOC_LARGE_OS_PAGES")) mi_option_set(mi_option_large_os_pages, 1);
+    if (!names(env, "MIMALLOC_EAGER_COMMIT_DELAY")) mi_option_set(mi_option_eager_commit_delay, 0);
+}
+
+[[gnu::section(".preinit_array"), gnu::used]] void (*const preinit_allocator)(int, char**,
+                                                                              char**) = set_allocator_options;
+#endif
+
 } // namespace
 
 int main(int argc, char** argv) {
     // Stages allocate and free images and meshes of megabytes to tens of megabytes one after
-    // the other. By default glibc returns freed heap tops above 128 kB to the system, so
-    // every new buffer is faulted in and zeroed by the kernel again: a third of the CPU time
-    // of a preview, a seventh of a whole pipeline run (docs/results/speed.md). Freed memory
-    // is kept for reuse, and blocks up to 32 MB (glibc's largest mmap threshold; setting
-    // any threshold fixes it, so it is set too) come from the heap. About a tenth more peak memory.
+    // the other, and each first touch of a fresh 4 kB page costs a fault (on a virtual machine,
+    // several microseconds each). docs/results/speed.md has the figures.
+#if defined(CONCEPTMESH_MIMALLOC)
+    // mimalloc (its options are set before anything is allocated: set_allocator_options).
+#else
+    // glibc: freed memory is kept for reuse (by default, heap tops above 128 kB go back to the
+    // system and every new buffer is faulted in and zeroed again), and blocks up to 32 MB
+    // (glibc's largest mmap threshold; setting any threshold fixes it, so it is set too) come
+    // from the heap. About a tenth more peak memory.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
     struct sigaction sa {};
     sa.sa_handler = on_sigint;
     sigemptyset(&sa.sa_mask);
