@@ -1,5 +1,6 @@
 // The conceptmesh command end to end: runs the built binary.
 #include <gtest/gtest.h>
+#include <cstdlib>
 
 #include <chrono>
 
@@ -52,6 +53,29 @@ TEST(Cli, VersionAndHelp) {
     r = test::run_cli("frobnicate");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(line_count(r.err), 1u) << r.err;
+}
+
+// The command allocates through mimalloc on huge pages, with its options set before the
+// libraries' first allocation (src/cli/main.cpp); where the environment names an option, it decides.
+TEST(Cli, AllocatorOptionsAreSetBeforeAnythingIsAllocatedAndTheEnvironmentDecides) {
+#if !defined(CM_MIMALLOC)
+    GTEST_SKIP() << "this build's command uses glibc's malloc (CONCEPTMESH_MIMALLOC off, or no libmimalloc-dev)";
+#else
+    ::setenv("MIMALLOC_VERBOSE", "1", 1);
+    auto r = test::run_cli("--version");
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.err.find("option 'large_os_pages': 1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("option 'eager_commit_delay': 0"), std::string::npos) << r.err;
+    ::setenv("MIMALLOC_LARGE_OS_PAGES", "0", 1);
+    ::setenv("MIMALLOC_EAGER_COMMIT_DELAY", "2", 1);
+    r = test::run_cli("--version");
+    ::unsetenv("MIMALLOC_VERBOSE");
+    ::unsetenv("MIMALLOC_LARGE_OS_PAGES");
+    ::unsetenv("MIMALLOC_EAGER_COMMIT_DELAY");
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.err.find("option 'large_os_pages': 0"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("option 'eager_commit_delay': 2"), std::string::npos) << r.err;
+#endif
 }
 
 TEST(Cli, SetOverridesReachTheStage) {
