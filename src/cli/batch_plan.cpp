@@ -80,11 +80,12 @@ double manifest_pixels(const fs::path& manifest) {
 // A run's peak memory, from docs/results/speed.md (spot and armadillo, 256 to 2048): the
 // views take at most about 48 bytes per input pixel (RGBA float, coverage, masks; an 8-bit
 // drawing, kept as its bytes, 12 less), the grids and the mesh grow with the surface, about
-// 400 bytes per resolution^2 at 1024 and 2048; plus the process itself (about 165 MiB:
-// plugins and libraries loaded, measured on a run that fails at its first stage). A quarter
-// more for safety.
+// 520 bytes per resolution^2 at 1024 and 2048 (400 under glibc's malloc: the command's
+// mimalloc keeps what it frees on huge pages, a third more at the peak); plus the process
+// itself (about 165 MiB: plugins and libraries loaded, measured on a run that fails at its
+// first stage). A quarter more for safety.
 double memory_estimate_mib(double pixels, double resolution) {
-    const double bytes = 48.0 * pixels + 400.0 * resolution * resolution + 200.0 * 1048576.0;
+    const double bytes = 48.0 * pixels + 520.0 * resolution * resolution + 200.0 * 1048576.0;
     return std::ceil(1.25 * bytes / 1048576.0);
 }
 

@@ -93,7 +93,7 @@ extern "C" void on_sigint(int sig) {
 // first allocation, which the libraries' initialisers make: the executable's preinit array runs
 // before any of them, with the environment as its third argument (libc is not initialised yet,
 // so nothing here calls it). Where the environment names an option (MIMALLOC_LARGE_OS_PAGES=0
-// for the least memory), it decides. Up to a quarter more peak memory at high resolutions.
+// for the least memory), it decides. Up to a third more peak memory at high resolutions.
 bool names(char** env, const char* option) {
     for (; env && *env; ++env) {
         const char* e = *env;
