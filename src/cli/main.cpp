@@ -119,9 +119,7 @@ int main(int argc, char** argv) {
     // Stages allocate and free images and meshes of megabytes to tens of megabytes one after
     // the other, and each first touch of a fresh 4 kB page costs a fault (on a virtual machine,
     // several microseconds each). docs/results/speed.md has the figures.
-#if defined(CONCEPTMESH_MIMALLOC)
-    // mimalloc (its options are set before anything is allocated: set_allocator_options).
-#else
+#if !defined(CONCEPTMESH_MIMALLOC) // mimalloc's options are set before main: set_allocator_options
     // glibc: freed memory is kept for reuse (by default, heap tops above 128 kB go back to the
     // system and every new buffer is faulted in and zeroed again), and blocks up to 32 MB
     // (glibc's largest mmap threshold; setting any threshold fixes it, so it is set too) come

@@ -58,7 +58,7 @@ TEST(Cli, VersionAndHelp) {
 // The command allocates through mimalloc on huge pages, with its options set before the
 // libraries' first allocation (src/cli/main.cpp); where the environment names an option, it decides.
 TEST(Cli, AllocatorOptionsAreSetBeforeAnythingIsAllocatedAndTheEnvironmentDecides) {
-#if !defined(CM_MIMALLOC)
+#if !defined(CONCEPTMESH_MIMALLOC)
     GTEST_SKIP() << "this build's command uses glibc's malloc (CONCEPTMESH_MIMALLOC off, or no libmimalloc-dev)";
 #else
     ::setenv("MIMALLOC_VERBOSE", "1", 1);
