@@ -45,6 +45,11 @@ struct Volume {
     openvdb::GridPtrVec extra;
     /// The views the volume was carved from (same world frame).
     std::shared_ptr<const Views> views;
+    /// Data derived from `views` that the stages reading this volume reuse, kept alive with
+    /// it: hull.carve and hull.marching_intersections put the silhouettes' summed-area tables
+    /// here (silhouette_tables(), which the views hold only while something else does). Null
+    /// when there is none.
+    std::shared_ptr<const void> view_data;
 
     const openvdb::math::Transform& transform() const { return occupancy->transform(); }
     double voxel_size() const { return occupancy->voxelSize()[0]; }

@@ -3,7 +3,9 @@
 #include <algorithm>
 
 #include <memory>
+#include <mutex>
 
+#include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
@@ -14,25 +16,62 @@ namespace {
 
 using Tables = std::vector<std::shared_ptr<const SilhouetteField::Table>>;
 
-// The views' summed-area tables, made side by side by the first hull of a run and kept with
-// the views (Views::derived) for the next: a run builds several hulls of the same views
-// (carving's box estimate, the carving, the crossings), and each table is a serial pass
-// over a whole image.
+// The views' summed-area tables are made side by side by the first hull that asks and shared
+// by every hull of the same views while something holds them (a run builds several: carving's
+// box estimate, the carving, the crossings, and each table is a pass over a whole image).
+// The views hold them only weakly (Views::derived): once the last holder goes, the 4 bytes per
+// drawing pixel are freed (50 MB for three 2048 px views, kept through smoothing and reduction
+// before, the run's peak at 512). A generation is one making of them; a new one starts when
+// the last has been let go.
+struct TableGeneration {
+    tbb::collaborative_once_flag once;
+    std::weak_ptr<const Tables> tables;
+};
+struct TableCache { // shared as const by Views::derived; used only under its mutex
+    mutable std::mutex mutex;
+    mutable std::shared_ptr<TableGeneration> current;
+};
+
 std::shared_ptr<const Tables> summed_areas(const Views& views) {
-    return std::static_pointer_cast<const Tables>(views.derived.get("silhouette_sat", [&] {
-        auto tables = std::make_shared<Tables>(views.views.size());
-        tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
-            (*tables)[i] = std::make_shared<const SilhouetteField::Table>(SilhouetteField::summed_area(views.views[i]));
+    const auto cache = std::static_pointer_cast<const TableCache>(views.derived.get(
+        "silhouette_sat", [] { return std::shared_ptr<const void>(std::make_shared<TableCache>()); }));
+    const TableCache& c = *cache;
+    for (;;) {
+        std::shared_ptr<TableGeneration> gen;
+        {
+            std::lock_guard<std::mutex> lock(c.mutex);
+            if (!c.current) c.current = std::make_shared<TableGeneration>();
+            gen = c.current;
+        }
+        std::shared_ptr<const Tables> made;
+        tbb::collaborative_call_once(gen->once, [&] {
+            auto tables = std::make_shared<Tables>(views.views.size());
+            tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
+                (*tables)[i] =
+                    std::make_shared<const SilhouetteField::Table>(SilhouetteField::summed_area(views.views[i]));
+            });
+            made = std::move(tables);
+            gen->tables = made;
         });
-        return std::shared_ptr<const void>(std::move(tables));
-    }));
+        if (made) return made;
+        if (auto held = gen->tables.lock()) return held;
+        // Let go since: the next asker of this generation starts the next.
+        std::lock_guard<std::mutex> lock(c.mutex);
+        if (c.current == gen) c.current.reset();
+    }
 }
 
 } // namespace
 
+std::shared_ptr<const void> silhouette_tables(const Views& views) {
+    if (views.views.empty()) return nullptr;
+    return summed_areas(views);
+}
+
 VisualHull::VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi) : clip_lo_(clip_lo), clip_hi_(clip_hi) {
     if (views.views.empty()) throw Error("no views: the visual hull needs at least one view");
     const auto tables = summed_areas(views);
+    tables_ = tables;
     fields_.reserve(views.views.size());
     for (std::size_t i = 0; i < views.views.size(); ++i) fields_.emplace_back(views.views[i], (*tables)[i]);
 }

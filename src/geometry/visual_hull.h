@@ -6,6 +6,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/silhouette_field.h"
@@ -26,6 +27,8 @@ public:
     const SilhouetteField& field(std::size_t i) const { return fields_[i]; }
     const Vec3d& clip_lo() const { return clip_lo_; }
     const Vec3d& clip_hi() const { return clip_hi_; }
+    /// The views' summed-area tables this hull reads (see silhouette_tables()).
+    const std::shared_ptr<const void>& tables() const { return tables_; }
 
     bool in_clip(const Vec3d& p) const {
         return p.x >= clip_lo_.x && p.y >= clip_lo_.y && p.z >= clip_lo_.z && p.x <= clip_hi_.x && p.y <= clip_hi_.y &&
@@ -60,7 +63,15 @@ public:
 private:
     std::vector<SilhouetteField> fields_;
     Vec3d clip_lo_, clip_hi_;
+    std::shared_ptr<const void> tables_;
 };
+
+/// The views' summed-area tables (one SilhouetteField::Table per view), which every VisualHull
+/// of these views reads: made once and shared for as long as something holds them, a hull or
+/// the pointer returned here (hull.carve and hull.marching_intersections keep it in the
+/// volume they make, Volume::view_data). When nothing does they are freed, and the next hull
+/// makes them again. Null for no views.
+std::shared_ptr<const void> silhouette_tables(const Views& views);
 
 namespace hull_detail {
 

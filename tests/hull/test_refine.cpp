@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
 #include "carve.h"
 #include "geometry/silhouette_field.h"
+#include "geometry/visual_hull.h"
 #include "hull_steps.h"
 #include "refine.h"
 #include "support/shapes.h"
@@ -271,4 +273,43 @@ TEST(SilhouetteField, SummedAreaCountsEveryBox) {
     }
     EXPECT_EQ(wrong, 0u);
     EXPECT_GT(sat.back(), 100000u); // the disc is there: the test counts something
+}
+
+// The views' summed-area tables are made once for every hull of a run, and freed when the
+// last volume or hull that reads them goes (they are a run's largest view data after the
+// hull stages: 4 bytes per drawing pixel).
+TEST(SilhouetteField, SummedAreaTablesLiveAsLongAsAVolumeOrAHullHoldsThem) {
+    auto views = sphere_views(1.0, 320, 150.0);
+    CarveOptions opt;
+    opt.resolution = 32;
+    auto vol = carve(views, opt);
+    ASSERT_TRUE(vol->view_data);
+    const std::weak_ptr<const void> tables = vol->view_data;
+    auto ref = refine(*vol, nullptr, {}, {});
+    EXPECT_EQ(ref->view_data, vol->view_data); // the crossings read the carving's tables
+    vol.reset();
+    EXPECT_FALSE(tables.expired()); // the refined volume still holds them
+    {
+        const VisualHull hull(*views, {-2, -2, -2}, {2, 2, 2});
+        EXPECT_EQ(hull.tables(), tables.lock());
+    }
+    ref.reset();
+    EXPECT_TRUE(tables.expired()); // nothing reads them any more: freed, though the views live on
+    // Made again for the next hull, and shared by the hulls alive together.
+    std::weak_ptr<const void> again;
+    {
+        const VisualHull a(*views, {-2, -2, -2}, {2, 2, 2});
+        ASSERT_TRUE(a.tables());
+        const VisualHull b(*views, {-1, -1, -1}, {1, 1, 1});
+        EXPECT_EQ(a.tables(), b.tables());
+        EXPECT_TRUE(a.inside({0, 0, 0}));
+        EXPECT_FALSE(a.inside({0.9, 0.9, 0.9}));
+        again = a.tables();
+    }
+    EXPECT_TRUE(again.expired());
+    // A copy of the views starts without them (Views::derived) and makes its own.
+    const Views copy = *views;
+    const auto held = silhouette_tables(*views);
+    EXPECT_NE(silhouette_tables(copy), held);
+    EXPECT_EQ(silhouette_tables(*views), held);
 }

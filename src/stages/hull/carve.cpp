@@ -264,6 +264,9 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     for (const auto& v : views->views)
         if (v.coverage.empty() || v.width <= 0 || v.height <= 0)
             throw Error("view \"" + v.name + "\" has no silhouette");
+    // The silhouettes' summed-area tables, held from here: the box estimate's hulls and the
+    // carving's read the same ones, and the volume keeps them for the crossings.
+    std::shared_ptr<const void> tables = silhouette_tables(*views);
     CarveStats local;
     CarveStats& st = stats ? *stats : local;
     Vec3d lo, hi;
@@ -348,6 +351,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     auto vol = std::make_shared<Volume>();
     vol->occupancy = grid;
     vol->views = std::move(views);
+    vol->view_data = std::move(tables);
     return vol;
 }
 

@@ -571,6 +571,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     auto out = std::make_shared<Volume>();
     out->occupancy = in.occupancy;
     out->views = views;
+    out->view_data = hull.tables(); // for a stage that reads the views' hull again (dual_mc's normals)
     out->extra = in.extra;
     auto cgrid = openvdb::Vec3fGrid::create(ctree);
     cgrid->setTransform(in.occupancy->transform().copy());
