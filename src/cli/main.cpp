@@ -4,7 +4,6 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 #include <cctype>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -107,8 +106,8 @@ bool names(char** env, const char* option) {
     return false;
 }
 
-// Whether mimalloc's blocks of more than 16 MB go on huge pages too (see mmap below): where large
-// pages are on, as they are unless the environment turns them off.
+// Whether mimalloc's blocks of more than 16 MB go on huge pages too (see mmap below): unless the
+// environment names MIMALLOC_LARGE_OS_PAGES, which then leaves huge pages to mimalloc alone.
 bool huge_mappings = false;
 
 void set_allocator_options(int, char**, char** env) {
@@ -128,15 +127,12 @@ void set_allocator_options(int, char**, char** env) {
 // pages only for mappings that are multiples of 2 MB: those blocks came on 4 kB pages, and for
 // some sizes each allocation was mapped afresh (a mesh's faces, an adjacency table: 26 MB at
 // resolution 1024), faulted in page by page: 75-80 ms for 26 MB on a machine where a fault
-// costs about 12 us, against 2 ms on huge pages (man at 1024: 21 k faults a run, now 1.7 k). The executable's mmap is the one mimalloc calls: it maps
-// as libc does (the system call; an offset must be page-aligned) and advises anonymous
-// writable mappings of 2 MB or more onto transparent huge pages. Every other caller of mmap in
-// the process gets the same advice for such mappings; libc's own (thread stacks) do not come here.
+// costs about 12 us, against 2 ms on huge pages (man at 1024: 21 k faults a run, now 1.7 k).
+// The executable's mmap is the one mimalloc calls: it is the system call, as libc's is on
+// these machines (the kernel checks the arguments), and advises anonymous writable mappings
+// of 2 MB or more onto transparent huge pages. Every other caller of mmap in the process gets
+// the same advice for such mappings; libc's own (thread stacks) do not come here.
 extern "C" void* mmap(void* addr, std::size_t length, int prot, int flags, int fd, off_t offset) {
-    if (offset & (::sysconf(_SC_PAGESIZE) - 1)) {
-        errno = EINVAL;
-        return MAP_FAILED;
-    }
     const long r = ::syscall(SYS_mmap, addr, length, prot, flags, fd, offset);
     if (r == -1) return MAP_FAILED; // syscall() sets errno
     void* p = reinterpret_cast<void*>(r);
