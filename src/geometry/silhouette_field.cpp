@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 
@@ -12,21 +14,51 @@ namespace cm {
 
 SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     const int w = view.width, h = view.height;
-    if (w <= 0 || h <= 0 || view.coverage.size() != std::size_t(w) * std::size_t(h)) return {};
-    const std::size_t stride = std::size_t(w) + 1;
     Table sat;
-    sat.resize(stride * (std::size_t(h) + 1)); // every entry is written below
+    if (w <= 0 || h <= 0 || view.coverage.size() != std::size_t(w) * std::size_t(h)) return sat;
+    sat.width = w;
+    sat.height = h;
     const float* cov = view.coverage.data();
-    std::fill(sat.begin(), sat.begin() + std::ptrdiff_t(stride), 0u);
+    // The box of the inside pixels: rows side by side, each row's first and last.
+    struct Box {
+        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
+    };
+    const Box box = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, h, 64), Box{},
+        [&](const tbb::blocked_range<int>& r, Box b) {
+            for (int j = r.begin(); j != r.end(); ++j) {
+                const float* c = cov + std::size_t(j) * std::size_t(w);
+                int first = 0;
+                while (first < w && !(c[first] >= 0.5f)) ++first;
+                if (first == w) continue;
+                int last = w - 1;
+                while (!(c[last] >= 0.5f)) --last;
+                b = {std::min(b.x0, first), std::min(b.y0, j), std::max(b.x1, last), std::max(b.y1, j)};
+            }
+            return b;
+        },
+        [](const Box& a, const Box& b) {
+            return Box{std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+        });
+    if (box.x1 >= 0) {
+        sat.box_x = box.x0;
+        sat.box_y = box.y0;
+        sat.box_w = box.x1 - box.x0 + 1;
+        sat.box_h = box.y1 - box.y0 + 1;
+    }
+    const int bw = sat.box_w, bh = sat.box_h;
+    const std::size_t stride = std::size_t(bw) + 1;
+    sat.counts.resize(stride * (std::size_t(bh) + 1)); // every entry is written below
+    std::fill(sat.counts.begin(), sat.counts.begin() + std::ptrdiff_t(stride), 0u);
     // Each row's running count on its own (rows side by side), then the rows added down,
     // columns side by side in strips: the same integers as one pass row after row.
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 64), [&](const tbb::blocked_range<int>& r) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, bh, 64), [&](const tbb::blocked_range<int>& r) {
         for (int j = r.begin(); j != r.end(); ++j) {
-            std::uint32_t* out = sat.data() + std::size_t(j + 1) * stride;
-            const float* c = cov + std::size_t(j) * std::size_t(w);
+            std::uint32_t* out = sat.counts.data() + std::size_t(j + 1) * stride;
+            const float* c = cov + std::size_t(sat.box_y + j) * std::size_t(w) + std::size_t(sat.box_x);
             std::uint32_t row = 0;
             out[0] = 0;
-            for (int i = 0; i < w; ++i) {
+            for (int i = 0; i < bw; ++i) {
                 row += c[i] >= 0.5f ? 1u : 0u;
                 out[i + 1] = row;
             }
@@ -35,9 +67,9 @@ SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     constexpr std::size_t kStrip = 1024; // columns per task: 4 KB of each row
     tbb::parallel_for(tbb::blocked_range<std::size_t>(1, stride, kStrip),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (int j = 1; j < h; ++j) {
-                              const std::uint32_t* above = sat.data() + std::size_t(j) * stride;
-                              std::uint32_t* out = sat.data() + std::size_t(j + 1) * stride;
+                          for (int j = 1; j < bh; ++j) {
+                              const std::uint32_t* above = sat.counts.data() + std::size_t(j) * stride;
+                              std::uint32_t* out = sat.counts.data() + std::size_t(j + 1) * stride;
                               for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] += above[i];
                           }
                       });
@@ -89,7 +121,7 @@ SilhouetteField::SilhouetteField(const View& view, std::shared_ptr<const Table> 
         if (det < 0)
             for (double& v : m_) v = -v;
     }
-    if (!sat_ || sat_->size() != std::size_t(w_ + 1) * std::size_t(h_ + 1))
+    if (!sat_ || !sat_->of(w_, h_))
         throw Error("view \"" + view.name + "\": its summed-area table is not of its silhouette");
 }
 
@@ -112,10 +144,8 @@ SilhouetteField::Class SilhouetteField::classify_rect(double x0, double y0, doub
         return std::clamp(int(std::floor(std::clamp(v - 0.5, -4.0, double(n) + 4.0))) + 1, 0, n - 1);
     };
     const int i0 = lo(x0, w_), i1 = hi(x1, w_), j0 = lo(y0, h_), j1 = hi(y1, h_);
-    const std::size_t stride = std::size_t(w_) + 1;
-    const std::uint32_t* sat = sat_->data();
-    const std::uint32_t n = sat[(j1 + 1) * stride + i1 + 1] - sat[j0 * stride + i1 + 1] - sat[(j1 + 1) * stride + i0] +
-                            sat[j0 * stride + i0];
+    const Table& sat = *sat_;
+    const std::uint32_t n = sat.at(i1 + 1, j1 + 1) - sat.at(i1 + 1, j0) - sat.at(i0, j1 + 1) + sat.at(i0, j0);
     if (n == 0) return Outside;
     if (n == std::uint32_t(i1 - i0 + 1) * std::uint32_t(j1 - j0 + 1)) return Inside;
     return Mixed;

@@ -16,6 +16,7 @@
 // bounding rectangle of its projected corners (exact for orthographic views, and
 // for perspective views when the box is in front of the camera).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -29,10 +30,27 @@ namespace cm {
 
 class SilhouetteField {
 public:
-    /// The summed-area table of a view's silhouette: (w+1) x (h+1) counts of the pixels
-    /// with coverage >= 0.5 above and left of each corner (empty when the coverage does not
-    /// match the view's size; the field then refuses the view).
-    using Table = UninitVector<std::uint32_t>;
+    /// The summed-area table of a view's silhouette: the count of the pixels with coverage
+    /// >= 0.5 above and left of each pixel corner (x, y), 0 <= x <= width, 0 <= y <= height.
+    /// Stored over the bounding box of those pixels only: beyond it the counts repeat the
+    /// box's edge (no pixel there adds to them), so a corner clamped into the box reads the
+    /// same count. For a drawing that fills a third of its image that is a third of the
+    /// memory and of the work. Empty (`valid()` false) when the coverage does not match the
+    /// view's size; the field then refuses the view.
+    struct Table {
+        UninitVector<std::uint32_t> counts; ///< (box_w + 1) x (box_h + 1), row-major
+        int width = 0, height = 0;          ///< the image's size
+        int box_x = 0, box_y = 0, box_w = 0, box_h = 0;
+        bool valid() const { return counts.size() == std::size_t(box_w + 1) * std::size_t(box_h + 1); }
+        bool of(int w, int h) const { return valid() && width == w && height == h; }
+        /// The count at image corner (x, y) (any integers: clamped to the image as well).
+        std::uint32_t at(int x, int y) const {
+            x = std::clamp(x - box_x, 0, box_w);
+            y = std::clamp(y - box_y, 0, box_h);
+            return counts[std::size_t(y) * std::size_t(box_w + 1) + std::size_t(x)];
+        }
+        std::size_t bytes() const { return counts.size() * sizeof(std::uint32_t); }
+    };
     static Table summed_area(const View& view);
 
     /// Keeps a reference to `view` (its coverage must outlive the field).

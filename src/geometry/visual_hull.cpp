@@ -19,10 +19,10 @@ using Tables = std::vector<std::shared_ptr<const SilhouetteField::Table>>;
 // The views' summed-area tables are made side by side by the first hull that asks and shared
 // by every hull of the same views while something holds them (a run builds several: carving's
 // box estimate, the carving, the crossings, and each table is a pass over a whole image).
-// The views hold them only weakly (Views::derived): once the last holder goes, the 4 bytes per
-// drawing pixel are freed (50 MB for three 2048 px views, kept through smoothing and reduction
-// before, the run's peak at 512). A generation is one making of them; a new one starts when
-// the last has been let go.
+// The views hold them only weakly (Views::derived): once the last holder goes, their 4 bytes
+// per pixel of each silhouette's box are freed (up to 50 MB for three 2048 px views, kept
+// through smoothing and reduction before). A generation is one making of them; a new one
+// starts when the last has been let go.
 struct TableGeneration {
     tbb::collaborative_once_flag once;
     std::weak_ptr<const Tables> tables;

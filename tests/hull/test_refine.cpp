@@ -238,41 +238,63 @@ TEST(SilhouetteField, TransitionsAgreeWithPointTests) {
     }
 }
 
-// The summed-area table (built in row and column strips side by side) counts the inside
-// pixels of every box: checked entry by entry against a count row after row, on an image
-// wider than several strips and taller than several row blocks, with a ragged outline.
+// The summed-area table (built in row and column strips side by side, over the box of the
+// inside pixels) counts the inside pixels of every box: checked corner by corner, and beyond
+// the image, against a count row after row, on an image wider than several strips and taller
+// than several row blocks, with a ragged outline; once with stray inside pixels all over the
+// image (the box is the image) and once with the disc alone (the box is the disc's).
 TEST(SilhouetteField, SummedAreaCountsEveryBox) {
-    View v;
-    v.name = "front";
-    v.width = 2600;
-    v.height = 301;
-    v.coverage.resize(std::size_t(v.width) * std::size_t(v.height));
-    std::uint32_t state = 12345;
-    for (int y = 0; y < v.height; ++y)
-        for (int x = 0; x < v.width; ++x) {
-            state = state * 1664525u + 1013904223u;
-            const bool disc = (x - 1300) * (x - 1300) / 16 + (y - 150) * (y - 150) < 140 * 140;
-            v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] =
-                disc ? ((state >> 24) < 200 ? 1.0f : 0.49f) : ((state >> 24) < 8 ? 0.5f : 0.0f);
+    for (const bool strays : {true, false}) {
+        View v;
+        v.name = "front";
+        v.width = 2600;
+        v.height = 301;
+        v.coverage.resize(std::size_t(v.width) * std::size_t(v.height));
+        std::uint32_t state = 12345;
+        for (int y = 0; y < v.height; ++y)
+            for (int x = 0; x < v.width; ++x) {
+                state = state * 1664525u + 1013904223u;
+                const bool disc = (x - 1300) * (x - 1300) / 16 + (y - 150) * (y - 150) < 140 * 140;
+                const float stray = strays && (state >> 24) < 8 ? 0.5f : 0.0f;
+                v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] =
+                    disc ? ((state >> 24) < 200 ? 1.0f : 0.49f) : stray;
+            }
+        const SilhouetteField::Table sat = SilhouetteField::summed_area(v);
+        ASSERT_TRUE(sat.of(v.width, v.height));
+        const std::size_t stride = std::size_t(v.width) + 1;
+        if (strays) {
+            EXPECT_EQ(sat.box_w * sat.box_h, v.width * v.height);
+        } else {
+            EXPECT_LE(sat.box_w, 1119); // the disc's box: 2 * 4 * 140 px wide, 2 * 140 px tall
+            EXPECT_LE(sat.box_h, 279);
+            EXPECT_LT(2 * sat.bytes(), 4 * stride * std::size_t(v.height + 1)); // under half the image's table
         }
-    const SilhouetteField::Table sat = SilhouetteField::summed_area(v);
-    const std::size_t stride = std::size_t(v.width) + 1;
-    ASSERT_EQ(sat.size(), stride * std::size_t(v.height + 1));
-    std::vector<std::uint32_t> above(stride, 0), here(stride, 0);
-    std::size_t wrong = 0;
-    for (std::size_t i = 0; i < stride; ++i) wrong += sat[i] != 0;
-    for (int y = 0; y < v.height; ++y) {
-        std::uint32_t row = 0;
-        here[0] = 0;
-        for (int x = 0; x < v.width; ++x) {
-            row += v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] >= 0.5f ? 1u : 0u;
-            here[std::size_t(x) + 1] = above[std::size_t(x) + 1] + row;
+        std::vector<std::uint32_t> above(stride, 0), here(stride, 0);
+        std::size_t wrong = 0;
+        for (int x = -3; x <= v.width + 3; ++x) wrong += sat.at(x, 0) != 0 || sat.at(x, -5) != 0;
+        for (int y = 0; y < v.height; ++y) {
+            std::uint32_t row = 0;
+            here[0] = 0;
+            for (int x = 0; x < v.width; ++x) {
+                row += v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] >= 0.5f ? 1u : 0u;
+                here[std::size_t(x) + 1] = above[std::size_t(x) + 1] + row;
+            }
+            for (int x = 0; x <= v.width; ++x) wrong += sat.at(x, y + 1) != here[std::size_t(x)];
+            wrong += sat.at(-1, y + 1) != 0 || sat.at(v.width + 7, y + 1) != here[stride - 1];
+            std::swap(above, here);
         }
-        for (std::size_t i = 0; i < stride; ++i) wrong += sat[std::size_t(y + 1) * stride + i] != here[i];
-        std::swap(above, here);
+        EXPECT_EQ(wrong, 0u) << (strays ? "with strays" : "the disc alone");
+        EXPECT_EQ(sat.at(v.width + 1, v.height + 9), above[stride - 1]);
+        EXPECT_GT(sat.at(v.width, v.height), 100000u); // the disc is there: the test counts something
     }
-    EXPECT_EQ(wrong, 0u);
-    EXPECT_GT(sat.back(), 100000u); // the disc is there: the test counts something
+    View empty;
+    empty.width = 40;
+    empty.height = 30;
+    empty.coverage.assign(1200, 0.2f);
+    const SilhouetteField::Table none = SilhouetteField::summed_area(empty);
+    ASSERT_TRUE(none.of(40, 30));
+    EXPECT_EQ(none.at(40, 30), 0u);
+    EXPECT_EQ(none.bytes(), sizeof(std::uint32_t));
 }
 
 // The views' summed-area tables are made once for every hull of a run, and freed when the
