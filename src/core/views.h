@@ -26,15 +26,27 @@ struct Image {
     bool eight_bit() const { return !bytes.empty(); }
     /// Sample k (pixel * channels + channel).
     float value(std::size_t k) const { return bytes.empty() ? pixels[k] : float(bytes[k]) * (1.0f / 255.0f); }
-    /// The first four samples of pixel i (an RGBA image's colour and alpha).
+    /// Pixel i as RGBA, whatever the layout: grey (1 channel, or 2 with alpha) gives
+    /// R = G = B, and a layout without alpha (1 or 3 channels) alpha 1.
     std::array<float, 4> rgba(std::size_t i) const {
         const std::size_t k = i * std::size_t(channels);
-        if (bytes.empty()) return {pixels[k], pixels[k + 1], pixels[k + 2], pixels[k + 3]};
-        constexpr float s = 1.0f / 255.0f;
-        return {float(bytes[k]) * s, float(bytes[k + 1]) * s, float(bytes[k + 2]) * s, float(bytes[k + 3]) * s};
+        if (channels == 4) {
+            if (bytes.empty()) return {pixels[k], pixels[k + 1], pixels[k + 2], pixels[k + 3]};
+            constexpr float s = 1.0f / 255.0f;
+            return {float(bytes[k]) * s, float(bytes[k + 1]) * s, float(bytes[k + 2]) * s, float(bytes[k + 3]) * s};
+        }
+        if (channels >= 3) return {value(k), value(k + 1), value(k + 2), 1.0f};
+        const float g = value(k);
+        return {g, g, g, channels == 2 ? value(k + 1) : 1.0f};
     }
     std::size_t samples() const { return bytes.empty() ? pixels.size() : bytes.size(); }
-    float at(int x, int y, int c) const { return value((std::size_t(y) * width + x) * channels + c); }
+    /// RGBA channel c (0 red, 1 green, 2 blue, 3 alpha) of pixel (x, y), as rgba() gives it.
+    float at(int x, int y, int c) const {
+        const std::size_t k = (std::size_t(y) * width + x) * channels;
+        if (c < channels && (channels >= 3 || c == 0)) return value(k + std::size_t(c));
+        if (c == 3) return channels == 2 ? value(k + 1) : 1.0f;
+        return value(k); // green or blue of a grey image
+    }
     /// Float samples only (an image written into).
     float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
     bool empty() const { return pixels.empty() && bytes.empty(); }
@@ -43,7 +55,7 @@ struct Image {
 struct View {
     std::string name;             ///< "front", "right", or the manifest key
     std::filesystem::path source; ///< image file it came from
-    Image image;                  ///< the drawing, RGBA
+    Image image;                  ///< the drawing: RGBA, or one channel (8-bit grey without alpha, as read)
     /// Silhouette as coverage in [0,1], width*height, row-major, row 0 at the top.
     /// Anti-aliased edges keep fractional coverage for sub-pixel boundaries.
     std::vector<float> coverage;

@@ -138,6 +138,17 @@ Image to_rgba_bytes(const RawImage& raw) {
     return img;
 }
 
+// An 8-bit grey source as it is (one byte per pixel: a quarter of RGBA; Image::rgba and
+// Image::at read it as grey).
+Image grey_bytes(RawImage&& raw) {
+    Image img;
+    img.width = raw.width;
+    img.height = raw.height;
+    img.channels = 1;
+    img.bytes = std::move(raw.data);
+    return img;
+}
+
 } // namespace
 
 Image read_image(const fs::path& file, ImageInfo* info, bool keep_bytes) {
@@ -152,7 +163,8 @@ Image read_image(const fs::path& file, ImageInfo* info, bool keep_bytes) {
     const bool ok = png::is_png_file(file.string()) ? png::read(file.string(), nullptr, 0, limit, raw, why)
                                                     : backend(prefix).read(file.string(), limit, raw, why);
     if (!ok) throw Error(prefix + why);
-    Image img = keep_bytes && raw.bits == 8 ? to_rgba_bytes(raw) : to_rgba(raw);
+    const bool grey = raw.channels == 1 && raw.alpha < 0;
+    Image img = keep_bytes && raw.bits == 8 ? (grey ? grey_bytes(std::move(raw)) : to_rgba_bytes(raw)) : to_rgba(raw);
     if (info) {
         info->has_alpha = raw.alpha >= 0;
         info->bits = raw.file_bits;

@@ -16,8 +16,9 @@ struct ImageInfo {
 
 /// Reads any format OpenImageIO reads into float RGBA in [0,1] (grey is
 /// replicated; missing alpha becomes 1). Throws cm::Error naming the file.
-/// `keep_bytes`: an 8-bit file is kept as RGBA bytes (Image::bytes, a quarter of the
-/// memory; the same values through Image::value and Image::rgba).
+/// `keep_bytes`: an 8-bit file is kept as bytes (Image::bytes, a quarter of the memory):
+/// RGBA, or one channel for grey without alpha (a sixteenth; Image::rgba and Image::at give
+/// the same values as for its RGBA expansion).
 Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr, bool keep_bytes = false);
 
 /// Writes an image (1, 3 or 4 channels, float in [0,1]); the format follows the

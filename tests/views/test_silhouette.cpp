@@ -283,13 +283,28 @@ TEST(BackgroundDistance, RowsAreEachPixelsColourDistanceToTheLastBit) {
     floats.pixels.resize(bytes.bytes.size());
     for (std::size_t i = 0; i < bytes.bytes.size(); ++i) floats.pixels[i] = bytes.value(i);
     floats.pixels[5 * 4] = -0.0f; // a negative zero beside a zero
+    // The same kind of rows in grey (one byte or float per pixel) and in RGB floats.
+    Image grey, grey_floats, rgb;
+    grey.width = grey_floats.width = rgb.width = w;
+    grey.height = grey_floats.height = rgb.height = h;
+    grey.channels = grey_floats.channels = 1;
+    rgb.channels = 3;
+    grey.bytes.resize(std::size_t(w) * h);
+    for (std::size_t i = 0; i < grey.bytes.size();) {
+        const auto g = std::uint8_t(byte(rng));
+        for (int n = run(rng); n > 0 && i < grey.bytes.size(); --n) grey.bytes[i++] = g;
+    }
+    for (std::size_t i = 0; i < grey.bytes.size(); ++i) {
+        grey_floats.pixels.push_back(grey.value(i));
+        for (int k = 0; k < 3; ++k) rgb.pixels.push_back(bytes.value(i * 4 + std::size_t(k)));
+    }
     std::vector<BackgroundModel> models(4);
     models[0].set_constant({0, 0, 0});
     models[1].set_constant({0.93, 0.91, 0.88});
     models[2] = models[1];
     models[2].coef[1][4] = 1e-17; // varying, however little
     models[3].coef = {{{0.9, -0.01, 0.02, -0.03, 0.01, 0.005}, {0.8, 0, 0, 0, 0, 0}, {0.7, 0.1, 0, 0, 0, 0}}};
-    for (const Image* img : {&bytes, &floats})
+    for (const Image* img : {&bytes, &floats, &grey, &grey_floats, &rgb})
         for (const auto& model : models) {
             BackgroundField field;
             field.model = model;
@@ -301,8 +316,41 @@ TEST(BackgroundDistance, RowsAreEachPixelsColourDistanceToTheLastBit) {
                 for (int x = 0; x < w; ++x) {
                     const auto p = img->rgba(std::size_t(y) * w + x);
                     ASSERT_EQ(row[std::size_t(x)], colour_distance({p[0], p[1], p[2]}, field.of_model(x, y)))
-                        << (img->eight_bit() ? "bytes" : "floats") << " at " << x << "," << y;
+                        << img->channels << (img->eight_bit() ? " bytes" : " floats") << " at " << x << "," << y;
                 }
             }
         }
+}
+
+// An 8-bit grey drawing is kept as it is read, one byte per pixel (a quarter of RGBA bytes):
+// every pixel reads as its RGBA expansion, and the silhouette is the same to the last bit.
+TEST(Silhouette, GreyDrawingKeptAsOneChannelGivesTheSameSilhouette) {
+    test::TempDir dir("sil_grey");
+    const int w = 220, h = 200;
+    Image grey;
+    grey.width = w;
+    grey.height = h;
+    grey.channels = 1;
+    grey.pixels.resize(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) // a dark figure on light paper, with a ramp across the paper
+            grey.pixels[std::size_t(y) * w + x] = figure(x + 0.5, y + 0.5) ? 0.15f : 0.8f + 0.1f * float(x) / float(w);
+    write_image(grey, dir / "grey.png");
+    ImageInfo info_bytes, info_rgba;
+    const Image kept = read_image(dir / "grey.png", &info_bytes, true);
+    const Image rgba = read_image(dir / "grey.png", &info_rgba);
+    ASSERT_EQ(kept.channels, 1);
+    ASSERT_TRUE(kept.eight_bit());
+    EXPECT_EQ(kept.bytes.size(), std::size_t(w) * h);
+    ASSERT_EQ(rgba.channels, 4);
+    EXPECT_FALSE(info_bytes.has_alpha);
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+        ASSERT_EQ(kept.rgba(i), rgba.rgba(i)) << i;
+        const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+        for (int c = 0; c < 4; ++c) ASSERT_EQ(kept.at(x, y, c), rgba.at(x, y, c)) << i << " channel " << c;
+    }
+    const SilhouetteResult a = extract_silhouette(kept, info_bytes, {}), b = extract_silhouette(rgba, info_rgba, {});
+    EXPECT_EQ(a.method, "background");
+    EXPECT_GT(iou(a.coverage, w, h, figure), 0.99);
+    EXPECT_EQ(a.coverage, b.coverage);
 }

@@ -232,7 +232,7 @@ TEST(ViewsLoad, TumBunnyCalibratedSilhouettes) {
         // Object = black pixels (threshold 128), as the data set defines it.
         std::size_t inter = 0, uni = 0;
         for (std::size_t i = 0; i < view.coverage.size(); ++i) {
-            const bool s = view.coverage[i] >= 0.5f, t = view.image.value(i * 4) < 0.5f;
+            const bool s = view.coverage[i] >= 0.5f, t = view.image.rgba(i)[0] < 0.5f;
             inter += s && t;
             uni += s || t;
         }

@@ -141,33 +141,37 @@ bool constant_model(const BackgroundModel& model, double (&m)[3]) {
     return true;
 }
 
-// distance_row for RGBA bytes under a constant model: the runs of one colour are found on
-// the pixels' RGB bytes, read four at a time.
-void constant_row_bytes(const double (&m)[3], int count, const std::uint8_t* b, double* out) {
+// distance_row for RGBA (or grey) bytes under a constant model: the runs of one colour are
+// found on the pixels' RGB bytes, read four at a time (a grey pixel's one byte).
+void constant_row_bytes(const double (&m)[3], int count, const std::uint8_t* b, double* out, int channels) {
     constexpr std::uint32_t kRgb = std::endian::native == std::endian::little ? 0x00FFFFFFu : 0xFFFFFF00u;
-    auto rgb = [b](int x) {
-        std::uint32_t p;
-        std::memcpy(&p, b + 4 * std::size_t(x), 4);
-        return p & kRgb;
-    };
     // The distance as distance_row computes it: each further term of the model adds a zero.
     auto distance = [&](int x) {
         double sum = 0;
         for (int k = 0; k < 3; ++k) {
-            const double d = double(float(b[4 * x + k]) * (1.0f / 255.0f)) - m[k];
+            const double d = double(float(b[channels * x + (channels == 1 ? 0 : k)]) * (1.0f / 255.0f)) - m[k];
             sum += d * d;
         }
         return std::sqrt(sum / 3.0);
     };
-    for (int x = 0; x < count;) {
-        const double d = distance(x);
-        const std::uint32_t colour = rgb(x);
-        out[x++] = d;
-        while (x < count && rgb(x) == colour) out[x++] = d;
-    }
+    auto runs = [&](auto&& colour_of) {
+        for (int x = 0; x < count;) {
+            const double d = distance(x);
+            const auto colour = colour_of(x);
+            out[x++] = d;
+            while (x < count && colour_of(x) == colour) out[x++] = d;
+        }
+    };
+    if (channels == 1) return runs([b](int x) { return b[x]; });
+    runs([b](int x) {
+        std::uint32_t p;
+        std::memcpy(&p, b + 4 * std::size_t(x), 4);
+        return p & kRgb;
+    });
 }
 
-// model_distance_row over samples of one kind: `sample(k)` is sample k of the row as a float.
+// model_distance_row over samples of one kind: `sample(x, k)` is channel k (red, green, blue)
+// of pixel x of the row as a float.
 // The row is row y of a window of `count` pixels starting at (ox, oy) in an image of nw x nh
 // pixels (the window may be the whole image).
 template <typename Sample>
@@ -190,7 +194,7 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
             m += c[k][3] * uu;
             m += c[k][4] * vv;
             m += c[k][5] * uv;
-            const double d = double(sample(4 * x + k)) - m;
+            const double d = double(sample(x, k)) - m;
             sum += d * d;
         }
         out[x] = std::sqrt(sum / 3.0);
@@ -200,15 +204,27 @@ void distance_row(const BackgroundModel& model, int count, int ox, int oy, int n
 } // namespace
 
 void BackgroundField::model_distance_row(const Image& img, int y, double* out) const {
-    const std::size_t row = std::size_t(y) * std::size_t(w) * 4;
+    const int nc = img.channels;
+    if (nc != 1 && nc != 4) { // other layouts (not read for drawings) through Image::rgba
+        const std::size_t row = std::size_t(y) * std::size_t(w);
+        distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out,
+                     [&](int x, int k) { return img.rgba(row + std::size_t(x))[std::size_t(k)]; });
+        return;
+    }
+    const std::size_t row = std::size_t(y) * std::size_t(w) * std::size_t(nc);
     if (img.eight_bit()) {
         const std::uint8_t* b = img.bytes.data() + row;
-        if (double m[3]; constant_model(model, m)) return constant_row_bytes(m, w, b, out);
+        if (double m[3]; constant_model(model, m)) return constant_row_bytes(m, w, b, out, nc);
+        if (nc == 1)
+            return distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out,
+                                [b](int x, int) { return float(b[x]) * (1.0f / 255.0f); });
         distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out,
-                     [b](int k) { return float(b[k]) * (1.0f / 255.0f); });
+                     [b](int x, int k) { return float(b[4 * x + k]) * (1.0f / 255.0f); });
     } else {
         const float* f = img.pixels.data() + row;
-        distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out, [f](int k) { return f[k]; });
+        if (nc == 1)
+            return distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out, [f](int x, int) { return f[x]; });
+        distance_row(model, w, ox, oy, norm_w(), norm_h(), y, out, [f](int x, int k) { return f[4 * x + k]; });
     }
 }
 

@@ -495,7 +495,8 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         throw Error("photo must be auto, on or off, got \"" + opt.photo + "\"");
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
-    if (w <= 0 || h <= 0 || img.channels != 4 || img.samples() != n * 4) throw Error("the image is empty or not RGBA");
+    if (w <= 0 || h <= 0 || img.channels < 1 || img.channels > 4 || img.samples() != n * std::size_t(img.channels))
+        throw Error("the image is empty or not grey, RGB or RGBA");
     SilhouetteResult res;
     res.coverage.assign(n, 0.0f);
 
@@ -504,14 +505,14 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
     if (opt.background == "auto" && info.has_alpha) {
         // Alpha is meaningful when it separates something: some pixels transparent, some opaque.
         std::size_t transparent = 0;
-        for (std::size_t i = 0; i < n; ++i) transparent += img.value(i * 4 + 3) < 0.5f;
+        for (std::size_t i = 0; i < n; ++i) transparent += img.rgba(i)[3] < 0.5f;
         use_alpha = transparent > 0 && transparent < n;
     }
     std::optional<Window> win;
     std::vector<float> part; // the window's coverage, when only the window was analysed
     if (use_alpha) {
         res.method = "alpha";
-        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.value(i * 4 + 3), 0.0f, 1.0f);
+        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.rgba(i)[3], 0.0f, 1.0f);
         res.analysed_pixels = n;
     } else {
         win = coverage_from_background(img, opt, res, part);
