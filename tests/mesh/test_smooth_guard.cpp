@@ -313,3 +313,35 @@ TEST(SelfIntersections, NonFiniteCoordinatesAreAClearError) {
         EXPECT_NE(std::string(e.what()).find("NaN"), std::string::npos) << e.what();
     }
 }
+
+// The answers kept by content: a mesh asked again (or a copy of it) gets the same pairs, and
+// any change of a position or a triangle is asked afresh, so no answer goes stale.
+TEST(SelfIntersections, KeptAnswersFollowTheMeshContent) {
+    std::uint32_t seed = 1;
+    Mesh m;
+    std::vector<FacePair> first;
+    for (; seed <= 8 && first.empty(); ++seed) {
+        m = smoothed(random_voxel_surface(seed, 9, 0.45), false);
+        first = find_self_intersections(m);
+    }
+    ASSERT_FALSE(first.empty()) << "one of these surfaces should have crossings to find";
+    --seed;
+    EXPECT_EQ(find_self_intersections(m), first);
+    const Mesh copy = m;
+    EXPECT_EQ(find_self_intersections(copy), first);
+    // Each crossing taken away by moving the vertices back where Marching Cubes put them,
+    // one face at a time: each state's answer is the brute force's.
+    const Mesh clean = random_voxel_surface(seed, 9, 0.45);
+    ASSERT_EQ(clean.positions.size(), m.positions.size());
+    for (std::size_t k = 0; k < 3 && k < first.size(); ++k) {
+        for (auto v : m.triangles[first[k][0]]) m.positions[v] = clean.positions[v];
+        EXPECT_EQ(find_self_intersections(m), brute_force(m)) << "after putting back face " << first[k][0];
+    }
+    m.positions = clean.positions;
+    EXPECT_TRUE(find_self_intersections(m).empty());
+    // A change of the triangles alone (one face turned over) is a new question too.
+    Mesh turned = copy;
+    std::swap(turned.triangles[first[0][1]][1], turned.triangles[first[0][1]][2]);
+    EXPECT_EQ(find_self_intersections(turned), brute_force(turned));
+    EXPECT_EQ(find_self_intersections(copy), first);
+}
