@@ -496,7 +496,9 @@ Fingerprint fingerprint_of(const Mesh& m) {
     };
     Fingerprint f{mum(m.positions.size() ^ 0x9E3779B97F4A7C15ull, 0xD6E8FEB86659FD93ull),
                   mum(m.triangles.size() ^ 0xC2B2AE3D27D4EB4Full, 0x165667B19E3779F9ull)};
-    for (const auto& [data, bytes] : {words(m.positions), words(m.triangles)}) {
+    for (const auto& span : {words(m.positions), words(m.triangles)}) {
+        const unsigned char* data = span.first; // (named, not bound: a lambda below reads them)
+        const std::size_t bytes = span.second;
         constexpr std::size_t kChunk = 1 << 15; // words per chunk
         const std::size_t nwords = (bytes + 7) / 8, nchunks = (nwords + kChunk - 1) / kChunk;
         std::vector<Fingerprint> part(nchunks);
