@@ -85,17 +85,4 @@ HullNormal hull_normal(const VisualHull& hull, const Vec3d& p, double smooth_px)
     return best;
 }
 
-std::unique_ptr<VisualHull> carved_hull(const openvdb::BoolGrid& occupancy, const Views& views) {
-    Vec3d lo{-1e300, -1e300, -1e300}, hi{1e300, 1e300, 1e300};
-    if (auto m = occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_min")) {
-        const auto v = m->value();
-        lo = {v.x(), v.y(), v.z()};
-    }
-    if (auto m = occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
-        const auto v = m->value();
-        hi = {v.x(), v.y(), v.z()};
-    }
-    return std::make_unique<VisualHull>(views, lo, hi);
-}
-
 } // namespace cm

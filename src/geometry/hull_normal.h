@@ -7,7 +7,6 @@
 #pragma once
 #include <memory>
 
-#include "core/volume.h"
 #include "geometry/visual_hull.h"
 
 namespace cm {
@@ -28,11 +27,5 @@ struct HullNormal {
 /// shape rather than its pixels; symmetric, so straight edges and circles keep their
 /// exact normals.
 HullNormal hull_normal(const VisualHull& hull, const Vec3d& p, double smooth_px = 0);
-
-/// @brief The visual hull `occupancy` was carved from: the cones of `views` clipped to the
-/// box hull.carve recorded in the grid's "hull_clip_min"/"hull_clip_max" metadata (no clip
-/// box when it has none). Keeps references into `views`.
-/// @throw cm::Error when there are no views.
-std::unique_ptr<VisualHull> carved_hull(const openvdb::BoolGrid& occupancy, const Views& views);
 
 } // namespace cm

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/mesh.h"
 #include "dual_mc.h"
+#include "geometry/carved_hull.h"
 #include "geometry/hull_normal.h"
 #include "geometry/mesh_intersect.h"
 #include "marching_cubes.h"

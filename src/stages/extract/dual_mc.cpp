@@ -33,6 +33,7 @@
 
 #include "core/error.h"
 #include "dmc_octree.h"
+#include "geometry/carved_hull.h"
 #include "geometry/hull_normal.h"
 
 namespace cm {

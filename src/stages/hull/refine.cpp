@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "geometry/carved_hull.h"
 #include "geometry/hull_normal.h"
 #include "geometry/visual_hull.h"
 
