@@ -15,19 +15,18 @@
 #include "geometry/carved_hull.h"
 #include "geometry/hull_normal.h"
 #include "geometry/visual_hull.h"
+#include "refine_lattice.h"
+#include "refine_thin.h"
 
 namespace cm {
 
 namespace {
 
-using Coord = openvdb::Coord;
+using namespace refining;
 using BoolLeaf = openvdb::BoolTree::LeafNodeType;
 using VecTree = openvdb::Vec3fTree;
 using VecLeaf = VecTree::LeafNodeType;
 using Word = std::uint64_t;
-using OccAccessor = openvdb::tree::ValueAccessor<const openvdb::BoolTree>;
-constexpr int kDim = 8;
-const openvdb::Vec3f kUnset(-1.f, -1.f, -1.f);
 
 // Occupancy of one 8^3 block as 8 words (word x, bit 8 y + z), as in OpenVDB's leaf masks.
 using BlockBits = std::array<Word, 8>;
@@ -42,12 +41,6 @@ BlockBits block_bits(const OccAccessor& acc, const Coord& origin) {
     return b;
 }
 
-struct Lattice {
-    Vec3d origin;
-    double h = 1;
-    Vec3d at(const Coord& c) const { return {origin.x + h * c.x(), origin.y + h * c.y(), origin.z + h * c.z()}; }
-};
-
 // Per axis, the bits of the block where the edge p -> p + e_a joins differing occupancy.
 void edge_diffs(const BlockBits& w, const BlockBits& nx, const BlockBits& ny, const BlockBits& nz,
                 std::array<BlockBits, 3>& d) {
@@ -60,12 +53,6 @@ void edge_diffs(const BlockBits& w, const BlockBits& nx, const BlockBits& ny, co
         d[2][x] = ((wx ^ (wx >> 1)) & kZ7) | ((((wx >> 7) ^ nz[x]) & kZ0) << 7);
     }
 }
-
-struct ThinHit {
-    Coord p;
-    int axis;
-    float t0, t1;
-};
 
 // Blocks that can hold a crossing: every occupancy leaf and its -x, -y, -z neighbours (an
 // outside point there may have an inside neighbour in the leaf). Tiles never touch the
@@ -105,99 +92,6 @@ double cell_pixels(const openvdb::BoolTree& occ, const Lattice& lat, const Visua
     for (std::size_t i = 0; i < hull.size(); ++i) finest = std::min(finest, hull.field(i).pixel_size_at(centre));
     return lat.h / finest;
 }
-
-// What the views seen along a world axis (orthographic, drop axis d) said about the edges of
-// 8^3 blocks. Such a view sees every edge along one line of the d axis alike (its projection
-// ignores the d coordinate exactly), and on the part of the hull that view carves (a cone
-// extruded along d) the edges of a line cross it alike too: the view's class, start and flips
-// for a line are found once and given again to the line's other edges, in the block and in
-// the blocks after it along d (a thread takes the blocks in order). Answers are those of the
-// view itself, so the crossings are the same.
-class LineAnswers {
-public:
-    explicit LineAnswers(const VisualHull& hull) : hull_(hull), slot_(hull.size(), -1) {
-        for (std::size_t i = 0; i < hull.size() && i < 64 && kept_ < kViews; ++i)
-            if (const int d = hull.field(i).drop_axis(); d >= 0) {
-                drop_[kept_] = d;
-                slot_[i] = kept_++;
-            }
-    }
-    // The block at `o` comes next: a view keeps its answers when the block lies on the same
-    // lines as the last one (the next block along the view's axis), and forgets them otherwise.
-    void new_block(const Coord& o) {
-        for (int s = 0; s < kept_; ++s) {
-            const int d = drop_[s], u = (d + 1) % 3, w = (d + 2) % 3;
-            if (has_[s] && at_[s][0] == o[u] && at_[s][1] == o[w]) continue;
-            std::fill_n(known_ + s * kPerView, kPerView, std::uint8_t(0));
-            has_[s] = true;
-            at_[s][0] = o[u];
-            at_[s][1] = o[w];
-        }
-    }
-
-    // The views' answers about the edge from `p` (the block's local coordinates, 0 to 7) along
-    // axis `a`, whose ends are the world points `wa` and `wb`.
-    class Edge {
-    public:
-        Edge(LineAnswers& cache, const Coord& p, int a, const Vec3d& wa, const Vec3d& wb)
-            : c_(cache), p_(p), a_(a), wa_(wa), wb_(wb) {}
-        SilhouetteField::Class classify(std::size_t i) const {
-            const int k = entry(i);
-            if (k < 0) return c_.hull_.field(i).classify_segment(wa_, wb_);
-            if (!(c_.known_[k] & kClass)) {
-                c_.class_[k] = static_cast<signed char>(c_.hull_.field(i).classify_segment(wa_, wb_));
-                c_.known_[k] |= kClass;
-            }
-            return static_cast<SilhouetteField::Class>(c_.class_[k]);
-        }
-        int transitions(std::size_t i, bool& st, double* out, int max) const {
-            const int k = entry(i);
-            if (k >= 0 && (c_.known_[k] & kFlips) && c_.count_[k] < max) {
-                st = c_.start_[k] != 0;
-                std::copy_n(c_.flips_[k], c_.count_[k], out);
-                return c_.count_[k];
-            }
-            const int n = c_.hull_.field(i).transitions(wa_, wb_, st, out, max);
-            if (k >= 0 && n <= kKeep && n < max) {
-                c_.start_[k] = st;
-                c_.count_[k] = static_cast<std::uint8_t>(n);
-                std::copy_n(out, n, c_.flips_[k]);
-                c_.known_[k] |= kFlips;
-            }
-            return n;
-        }
-
-    private:
-        // The entry of view i's line through the edge, or -1 for a view asked every time.
-        int entry(std::size_t i) const {
-            const int s = c_.slot_[i];
-            if (s < 0) return -1;
-            const int d = c_.drop_[s];
-            return ((s * 3 + a_) * 8 + p_[(d + 1) % 3]) * 8 + p_[(d + 2) % 3];
-        }
-        LineAnswers& c_;
-        const Coord p_;
-        const int a_;
-        const Vec3d &wa_, &wb_;
-    };
-
-private:
-    static constexpr int kViews = 8; ///< views kept per block (more are asked every time)
-    static constexpr int kKeep = 6;  ///< flips kept per line (a line with more is asked again)
-    static constexpr int kPerView = 3 * 64;
-    static constexpr int kEntries = kViews * kPerView;
-    static constexpr std::uint8_t kClass = 1, kFlips = 2;
-    const VisualHull& hull_;
-    std::vector<int> slot_; ///< per view: its place among the kept views, or -1
-    int kept_ = 0;
-    int drop_[kViews] = {};
-    bool has_[kViews] = {};  ///< whether the view's entries are of some block's lines
-    int at_[kViews][2] = {}; ///< those lines' block coordinates
-    std::uint8_t known_[kEntries];
-    signed char class_[kEntries];
-    std::uint8_t start_[kEntries], count_[kEntries];
-    double flips_[kEntries][kKeep];
-};
 
 // The crossing of each edge whose ends differ in occupancy, found in the views.
 class CrossingFinder {
@@ -302,208 +196,6 @@ std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const Cross
     return ctree;
 }
 
-// The lattice points whose edges the thin-part search covers: those of the clip box (one
-// more on each side); without a clip box, the occupied region grown by a leaf.
-openvdb::CoordBBox thin_region(const openvdb::BoolGrid& occupancy, const Lattice& lat, const Vec3d& clip_lo,
-                               const Vec3d& clip_hi) {
-    openvdb::CoordBBox region;
-    occupancy.tree().evalActiveVoxelBoundingBox(region);
-    region.expand(kDim);
-    if (occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_min") &&
-        occupancy.getMetadata<openvdb::Vec3DMetadata>("hull_clip_max")) {
-        Coord lo, hi;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = int(std::floor((clip_lo[a] - lat.origin[a]) / lat.h)) - 1;
-            hi[a] = int(std::ceil((clip_hi[a] - lat.origin[a]) / lat.h)) + 1;
-        }
-        region = openvdb::CoordBBox(lo, hi);
-    }
-    return region;
-}
-
-// The class (SilhouetteField::Class) of a lattice edge in each view seen along a world axis
-// (orthographic, drop axis d), kept as it is first asked: such a view sees every edge along
-// one line of the d axis alike (the projection ignores the d coordinate exactly), so the
-// thin-part search, which asks about the same few thousand lines near each outline millions
-// of times, classifies each line once. Answers are those of classify_segment itself.
-class EdgeClasses {
-public:
-    // Lines whose other two coordinates lie in [lo, hi) (per axis); views whose tables would
-    // pass kMaxEntries (a 4096^2 face of the region: 16 MB per edge axis) are left to
-    // classify_segment.
-    EdgeClasses(const VisualHull& hull, const Coord& lo, const Coord& hi) : lo_(lo) {
-        constexpr std::size_t kMaxEntries = std::size_t(1) << 24;
-        for (std::size_t i = 0; i < hull.size() && i < 64; ++i) {
-            const int d = hull.field(i).drop_axis();
-            if (d < 0) continue;
-            View v;
-            v.index = i;
-            v.u = (d + 1) % 3;
-            v.w = (d + 2) % 3;
-            v.nw = std::size_t(hi[v.w] - lo[v.w]);
-            const std::size_t n = std::size_t(hi[v.u] - lo[v.u]) * v.nw;
-            if (n == 0 || n > kMaxEntries) continue;
-            for (auto& t : v.table) t.assign(n, kUnknown);
-            views_.push_back(std::move(v));
-        }
-    }
-    // Whether a view of `mask` among those kept here sees the edge p -> p + e_a all outside.
-    bool outside(const VisualHull& hull, const Lattice& lat, const Coord& p, int a, VisualHull::ViewMask mask) {
-        for (auto& v : views_) {
-            if (!((mask >> v.index) & 1u)) continue;
-            signed char& slot =
-                v.table[std::size_t(a)][std::size_t(p[v.u] - lo_[v.u]) * v.nw + std::size_t(p[v.w] - lo_[v.w])];
-            std::atomic_ref<signed char> cell(slot);
-            signed char c = cell.load(std::memory_order_relaxed);
-            if (c == kUnknown) {
-                Coord q = p;
-                q[a] += 1;
-                c = static_cast<signed char>(hull.field(v.index).classify_segment(lat.at(p), lat.at(q)));
-                cell.store(c, std::memory_order_relaxed); // racing threads store the same answer
-            }
-            if (c == SilhouetteField::Outside) return true;
-        }
-        return false;
-    }
-
-private:
-    static constexpr signed char kUnknown = 2;
-    struct View {
-        std::size_t index = 0;
-        int u = 0, w = 0;                              ///< the two axes the view sees
-        std::size_t nw = 0;                            ///< table row length (the w extent)
-        std::array<std::vector<signed char>, 3> table; ///< per edge axis, by (u, w) of the edge's start
-    };
-    Coord lo_;
-    std::vector<View> views_;
-};
-
-// Thin parts: edges whose two ends are outside but which pass through the hull. Blocks are
-// decided hierarchically on the box their edges sweep ([o, o + n] in index space); only
-// blocks the silhouettes cannot decide are tested edge by edge, and an edge a view along an
-// axis already saw outside (EdgeClasses) is not tested again.
-class ThinSearch {
-public:
-    ThinSearch(const VisualHull& hull, const Lattice& lat, EdgeClasses& classes)
-        : hull_(hull), lat_(lat), classes_(classes) {}
-
-    // The thin edges starting in the n^3 points at o, tested in the views of `mask`.
-    void search(const OccAccessor& acc, const Coord& o, int n, VisualHull::ViewMask mask, double* flips,
-                std::vector<ThinHit>& out, LineAnswers& lines) const {
-        const auto c = hull_.classify(lat_.at(o), lat_.at(o.offsetBy(n)), mask);
-        if (c != VisualHull::Class::Mixed) return; // all outside, or all inside (no outside ends)
-        if (n > 4) {
-            const int hn = n / 2;
-            for (int k = 0; k < 8; ++k)
-                search(acc, o.offsetBy((k & 4) ? hn : 0, (k & 2) ? hn : 0, (k & 1) ? hn : 0), hn, mask, flips, out,
-                       lines);
-            return;
-        }
-        // The views' answers by lines of the 8^3 block holding the leaf.
-        const Coord block(o.x() & ~7, o.y() & ~7, o.z() & ~7);
-        lines.new_block(block);
-        // Occupancy of the (n + 1)^3 points the edges join, read once.
-        constexpr int kSide = 5;
-        bool in[kSide][kSide][kSide];
-        for (int x = 0; x <= n; ++x)
-            for (int y = 0; y <= n; ++y)
-                for (int z = 0; z <= n; ++z) in[x][y][z] = acc.isValueOn(o.offsetBy(x, y, z));
-        for (int x = 0; x < n; ++x)
-            for (int y = 0; y < n; ++y)
-                for (int z = 0; z < n; ++z) {
-                    if (in[x][y][z]) continue;
-                    const Coord p = o.offsetBy(x, y, z);
-                    for (int a = 0; a < 3; ++a) {
-                        if (in[x + (a == 0)][y + (a == 1)][z + (a == 2)]) continue;
-                        if (classes_.outside(hull_, lat_, p, a, mask)) continue;
-                        Coord q = p;
-                        q[a] += 1;
-                        const Vec3d wp = lat_.at(p), wq = lat_.at(q);
-                        bool start = false;
-                        const int nf = hull_.transitions(wp, wq, start, flips, 256, mask,
-                                                         LineAnswers::Edge(lines, p - block, a, wp, wq));
-                        if (nf < 2) continue;
-                        // Inside intervals between the two outside ends; keep the longest.
-                        double best0 = 0, best1 = 0;
-                        bool cur = start;
-                        double pos = 0;
-                        for (int k = 0; k < nf; ++k) {
-                            if (cur && flips[k] - pos > best1 - best0) best0 = pos, best1 = flips[k];
-                            cur = !cur;
-                            pos = flips[k];
-                        }
-                        if (best1 - best0 > 1e-6 && best0 > 0 && best1 < 1)
-                            out.push_back({p, a, float(best0), float(best1)});
-                    }
-                }
-    }
-
-private:
-    const VisualHull& hull_;
-    const Lattice& lat_;
-    EdgeClasses& classes_;
-};
-
-// The thin edges of `region`, in parallel over 64^3 tops; progress runs from
-// nblocks / total_work to 2 nblocks / total_work.
-std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const VisualHull& hull, const Lattice& lat,
-                               const openvdb::CoordBBox& region, std::size_t nblocks, double total_work,
-                               const std::function<void(double)>& progress) {
-    constexpr int kTop = 64;
-    std::vector<Coord> tops;
-    auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
-    for (int x = align(region.min().x()); x <= region.max().x(); x += kTop)
-        for (int y = align(region.min().y()); y <= region.max().y(); y += kTop)
-            for (int z = align(region.min().z()); z <= region.max().z(); z += kTop) tops.emplace_back(x, y, z);
-    if (tops.empty()) return {};
-    // The edges start in the tops' points.
-    const Coord first(align(region.min().x()), align(region.min().y()), align(region.min().z()));
-    EdgeClasses classes(hull, first, tops.back().offsetBy(kTop));
-    const ThinSearch search(hull, lat, classes);
-    tbb::enumerable_thread_specific<std::vector<ThinHit>> hits;
-    const std::size_t tchunk = std::max<std::size_t>(1, tops.size() / 50);
-    for (std::size_t c0 = 0; c0 < tops.size(); c0 += tchunk) {
-        const std::size_t c1 = std::min(tops.size(), c0 + tchunk);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(c0, c1, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            OccAccessor acc(occ);
-            auto& mine = hits.local();
-            const auto lines = std::make_unique<LineAnswers>(hull);
-            double flips[256];
-            for (std::size_t i = r.begin(); i < r.end(); ++i)
-                search.search(acc, tops[i], kTop, VisualHull::kAllViews, flips, mine, *lines);
-        });
-        if (progress) progress((double(nblocks) + double(nblocks) * double(c1) / tops.size()) / total_work);
-    }
-    std::vector<ThinHit> all;
-    for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
-    return all;
-}
-
-// The thin edges as the grids "thin_enter" and "thin_leave" of `out` (replacing any it had):
-// per lattice point and axis, where its edge's inside interval starts and ends.
-void add_thin_grids(Volume& out, const std::vector<ThinHit>& all, const openvdb::math::Transform& xform) {
-    auto enter = openvdb::Vec3fGrid::create(kUnset), leave = openvdb::Vec3fGrid::create(kUnset);
-    auto ea = enter->getAccessor();
-    auto la = leave->getAccessor();
-    for (const ThinHit& t : all) {
-        openvdb::Vec3f e = ea.isValueOn(t.p) ? ea.getValue(t.p) : kUnset;
-        openvdb::Vec3f l = la.isValueOn(t.p) ? la.getValue(t.p) : kUnset;
-        e[t.axis] = t.t0;
-        l[t.axis] = t.t1;
-        ea.setValueOn(t.p, e);
-        la.setValueOn(t.p, l);
-    }
-    for (auto& g : {enter, leave}) g->setTransform(xform.copy());
-    enter->setName("thin_enter");
-    leave->setName("thin_leave");
-    // Replace any previous thin grids.
-    std::erase_if(out.extra, [](const openvdb::GridBase::Ptr& g) {
-        return g && (g->getName() == "thin_enter" || g->getName() == "thin_leave");
-    });
-    out.extra.push_back(enter);
-    out.extra.push_back(leave);
-}
-
 } // namespace
 
 void add_normal_grids(Volume& vol, const VisualHull& hull, double normal_px) {
@@ -556,7 +248,6 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     }
     const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views);
     const VisualHull& hull = *hull_ptr;
-    const Vec3d clip_lo = hull.clip_lo(), clip_hi = hull.clip_hi();
     const openvdb::BoolTree& occ = in.occupancy->tree();
 
     // Topology of the crossings.
@@ -579,13 +270,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     cgrid->setName("crossings");
     out->crossings = cgrid;
 
-    std::size_t n_thin = 0;
-    if (do_thin) {
-        const openvdb::CoordBBox region = thin_region(*in.occupancy, lat, clip_lo, clip_hi);
-        const std::vector<ThinHit> all = find_thin(occ, hull, lat, region, blocks.size(), total_work, progress);
-        if (!all.empty()) add_thin_grids(*out, all, in.occupancy->transform());
-        n_thin = all.size();
-    }
+    const std::size_t n_thin =
+        do_thin ? add_thin_parts(*out, *in.occupancy, hull, lat, blocks.size(), total_work, progress) : 0;
     if (opt.normals) add_normal_grids(*out, hull, opt.normal_px);
     if (progress) progress(1.0);
     if (stats) {
