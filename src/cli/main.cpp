@@ -111,9 +111,9 @@ bool names(char** env, const char* option) {
 bool huge_mappings = false;
 
 void set_allocator_options(int, char**, char** env) {
-    if (!names(env, "MIMALLOC_LARGE_OS_PAGES")) mi_option_set(mi_option_large_os_pages, 1);
-    if (!names(env, "MIMALLOC_EAGER_COMMIT_DELAY")) mi_option_set(mi_option_eager_commit_delay, 0);
     huge_mappings = !names(env, "MIMALLOC_LARGE_OS_PAGES");
+    if (huge_mappings) mi_option_set(mi_option_large_os_pages, 1);
+    if (!names(env, "MIMALLOC_EAGER_COMMIT_DELAY")) mi_option_set(mi_option_eager_commit_delay, 0);
 }
 
 [[gnu::section(".preinit_array"), gnu::used]] void (*const preinit_allocator)(int, char**,

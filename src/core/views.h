@@ -41,12 +41,7 @@ struct Image {
     }
     std::size_t samples() const { return bytes.empty() ? pixels.size() : bytes.size(); }
     /// RGBA channel c (0 red, 1 green, 2 blue, 3 alpha) of pixel (x, y), as rgba() gives it.
-    float at(int x, int y, int c) const {
-        const std::size_t k = (std::size_t(y) * width + x) * channels;
-        if (c < channels && (channels >= 3 || c == 0)) return value(k + std::size_t(c));
-        if (c == 3) return channels == 2 ? value(k + 1) : 1.0f;
-        return value(k); // green or blue of a grey image
-    }
+    float at(int x, int y, int c) const { return rgba(std::size_t(y) * width + x)[std::size_t(c)]; }
     /// Float samples only (an image written into).
     float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
     bool empty() const { return pixels.empty() && bytes.empty(); }
