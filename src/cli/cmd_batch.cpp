@@ -49,11 +49,12 @@ int default_jobs(const std::vector<const AssetPlan*>& plans) {
 }
 
 // Checks every asset as `conceptmesh validate` does; returns asset name -> one-line cause.
-std::map<std::string, std::string> validate_assets(const AssetsFile& f, const std::vector<AssetPlan>& plans) {
+std::map<std::string, std::string> validate_assets(const AssetsFile& f, const std::vector<AssetPlan>& plans,
+                                                   const GlobalOptions& g) {
     std::map<std::string, std::string> bad;
     for (const auto& p : plans) {
         try {
-            load_checked(p.spec->pipeline.string(), p.sets);
+            load_checked(p.spec->pipeline.string(), p.sets, g);
         } catch (const std::exception& e) {
             bad[p.spec->name] = f.where(*p.spec) + e.what();
         }
@@ -145,7 +146,7 @@ int run_batch(const BatchOptions& o, const GlobalOptions& g) {
     const fs::path out = fs::absolute(o.out).lexically_normal();
     if (fs::exists(out) && !fs::is_directory(out)) throw Error("-o \"" + o.out + "\" is a file; name a folder");
     const std::vector<AssetPlan> plans = plan_assets(f, out);
-    const auto invalid = validate_assets(f, plans);
+    const auto invalid = validate_assets(f, plans, g);
     if (o.dry_run) {
         for (const auto& p : plans) {
             auto it = invalid.find(p.spec->name);

@@ -20,7 +20,9 @@ struct RunCommandOptions {
 
 int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
     print_plugin_diagnostics(g);
-    Pipeline p = load_checked(o.pipeline, o.sets);
+    // Validated by run_pipeline, which starts the views while it validates the rest.
+    Pipeline p = Pipeline::load(o.pipeline);
+    for (const auto& s : o.sets) p.apply_override(s);
     if (!o.report.empty()) {
         const fs::path dir = fs::absolute(o.report).parent_path();
         if (!fs::is_directory(dir))
@@ -40,7 +42,15 @@ int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
     }
     if (!o.labels.empty() && o.report.empty())
         throw Error("--label needs --report: labels are written into the run report");
-    RunResult r = run_pipeline(p, Registry::global(), opt);
+    RunResult r = [&] {
+        try {
+            return run_pipeline(p, Registry::global(), opt);
+        } catch (...) {
+            print_plugin_diagnostics(g); // those of the plugins loaded on the way
+            throw;
+        }
+    }();
+    print_plugin_diagnostics(g);
     if (!g.quiet) {
         for (const auto& out : r.outputs) std::cerr << "conceptmesh: wrote " << out.string() << "\n";
         std::cerr << "conceptmesh: finished in " << std::fixed << std::setprecision(2) << r.seconds

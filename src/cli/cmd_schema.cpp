@@ -28,6 +28,7 @@ void add_schema_command(CLI::App& app, GlobalOptions& g, std::function<int()>& a
         for (const auto& n : reg.names())
             write_file_atomic(fs::path(*dir) / "stages" / (n + ".schema.json"),
                               stage_schema_json(reg.create(n)->info()));
+        print_plugin_diagnostics(g); // the plugins load on first use
         if (!g.quiet) std::cerr << "conceptmesh: wrote " << reg.names().size() + 3 << " schemas into " << *dir << "\n";
         return 0;
     });

@@ -109,6 +109,7 @@ int run_stages(const std::string& name, bool as_json, const GlobalOptions& g) {
     print_plugin_diagnostics(g);
     const Registry& reg = Registry::global();
     const std::vector<std::string> names = name.empty() ? reg.names() : std::vector<std::string>{name};
+    print_plugin_diagnostics(g); // the plugins load on first use
     std::vector<StageInfo> infos;
     if (!name.empty() && !reg.find(name)) {
         try {

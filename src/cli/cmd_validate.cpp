@@ -14,7 +14,7 @@ void add_validate_command(CLI::App& app, GlobalOptions& g, std::function<int()>&
     cmd->add_option("--set", *sets, "Override a parameter: NODE.PARAM=VALUE (repeatable)");
     set_action(cmd, action, [&g, file, sets] {
         print_plugin_diagnostics(g);
-        Pipeline p = load_checked(*file, *sets);
+        Pipeline p = load_checked(*file, *sets, g);
         std::cout << *file << ": valid (" << p.nodes.size() << " nodes:";
         for (auto i : p.order) std::cout << " " << p.nodes[i].id;
         std::cout << ")\n";

@@ -65,8 +65,12 @@ std::string plain_parse_error(std::string text) {
 }
 
 void print_plugin_diagnostics(const GlobalOptions& g) {
-    if (g.quiet) return;
-    for (const auto& d : Registry::global().diagnostics()) print_warning(d);
+    // Plugins load on first use: a call after more of them loaded prints what they added.
+    static std::size_t printed = 0;
+    const auto all = Registry::global().diagnostics();
+    if (!g.quiet)
+        for (std::size_t i = printed; i < all.size(); ++i) print_warning(all[i]);
+    printed = all.size();
 }
 
 } // namespace cm::cli

@@ -79,7 +79,8 @@ std::shared_ptr<const Views> load_views_through_registry(const std::string& mani
 /// The inputs of an eval stage: a mesh and views.
 Inputs mesh_and_views(Mesh mesh, std::shared_ptr<const Views> views);
 
-/// A pipeline file with --set overrides applied, validated against the registry.
-Pipeline load_checked(const std::string& file, const std::vector<std::string>& sets);
+/// A pipeline file with --set overrides applied, validated against the registry; prints the
+/// warnings of the plugins that loaded on the way.
+Pipeline load_checked(const std::string& file, const std::vector<std::string>& sets, const GlobalOptions& g);
 
 } // namespace cm::cli

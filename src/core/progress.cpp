@@ -15,7 +15,8 @@ std::atomic<bool>& cancel_requested() {
     return flag;
 }
 
-Interrupter::Interrupter(std::string node, ProgressSink* sink) : node_(std::move(node)), sink_(sink) {
+Interrupter::Interrupter(std::string node, ProgressSink* sink, const std::atomic<bool>* stop)
+    : node_(std::move(node)), sink_(sink), stop_(stop) {
     // "<node>" or "<node>@<percent>": the node's first look at or past that progress.
     const char* env = std::getenv("CONCEPTMESH_TEST_HOLD_NODE");
     if (!env) return;
@@ -64,7 +65,7 @@ bool Interrupter::wasInterrupted(int percent) {
         }
     }
     if (held()) return false;
-    return cancel_requested().load(std::memory_order_relaxed);
+    return stop_asked();
 }
 
 void Interrupter::step(double fraction, const std::string& what) {
@@ -77,7 +78,7 @@ void Interrupter::step(double fraction, const std::string& what) {
 }
 
 void Interrupter::check() {
-    if (held() || !cancel_requested().load(std::memory_order_relaxed)) return;
+    if (held() || !stop_asked()) return;
     const int at = last_percent_.load();
     throw Cancelled(at >= 0 ? "stopped at " + std::to_string(at) + "%" : std::string("stopped"));
 }

@@ -31,7 +31,9 @@ std::atomic<bool>& cancel_requested();
 /// progress in the message ("stopped at 53%") how soon the stage looked again.
 class Interrupter : public openvdb::util::NullInterrupter {
 public:
-    Interrupter(std::string node, ProgressSink* sink);
+    /// `stop` (may be null): a stop of this run alone (a run given up before its later
+    /// stages start), looked at beside the process-wide one.
+    Interrupter(std::string node, ProgressSink* sink, const std::atomic<bool>* stop = nullptr);
     void start(const char* name = nullptr) override;
     void end() override;
     /// True once a cancel was requested; reports `percent` (0-100, -1 for none).
@@ -43,10 +45,14 @@ public:
 
 private:
     bool held(); ///< the test hold; true when it just waited for the stop
+    bool stop_asked() const {
+        return cancel_requested().load(std::memory_order_relaxed) || (stop_ && stop_->load(std::memory_order_relaxed));
+    }
     std::string node_;
     std::mutex what_mutex_; ///< step() may be called from worker threads
     std::string what_;
     ProgressSink* sink_;
+    const std::atomic<bool>* stop_;
     std::atomic<int> last_percent_{-1};
     std::atomic<bool> hold_{false};
     std::atomic<bool> holding_{false}; ///< the hold has begun: every look of the node waits for the stop

@@ -30,7 +30,10 @@ DataKind kind_of(const Data& d) {
 }
 
 Context::Context(std::string node, std::string stage, Hooks hooks)
-    : node_(std::move(node)), stage_(std::move(stage)), hooks_(std::move(hooks)), interrupter_(node_, hooks_.sink) {}
+    : node_(std::move(node)),
+      stage_(std::move(stage)),
+      hooks_(std::move(hooks)),
+      interrupter_(node_, hooks_.sink, hooks_.stop) {}
 
 void Context::warn(const std::string& text) {
     {

@@ -70,6 +70,8 @@ public:
         /// Side outputs (silhouette PNGs, preview sheets) go here.
         std::filesystem::path side_output_dir = ".";
         std::function<void(const std::filesystem::path& tmp, const std::filesystem::path& final)> stage_file;
+        /// A stop of this run alone (may be null; see Interrupter).
+        const std::atomic<bool>* stop = nullptr;
     };
     Context(std::string node, std::string stage, Hooks hooks);
 

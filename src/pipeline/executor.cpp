@@ -5,6 +5,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <fstream>
+#include <functional>
 #include <thread>
 
 #include <openvdb/Exceptions.h>
@@ -122,11 +123,54 @@ private:
     std::thread thread_;
 };
 
+/// Passes progress on to the run's sink, or, while the run is not yet validated, keeps it:
+/// what the first nodes report is told once the checks have passed (held()'s false), and
+/// never when they fail. A user reads "started" only of a run that goes ahead.
+class HeldSink : public ProgressSink {
+public:
+    HeldSink(ProgressSink* to, bool hold) : to_(to), holding_(hold && to) {}
+    void started(const std::string& node, const std::string& stage) override {
+        pass([=](ProgressSink& s) { s.started(node, stage); });
+    }
+    void progress(const std::string& node, double percent, const std::string& what) override {
+        pass([=](ProgressSink& s) { s.progress(node, percent, what); });
+    }
+    void finished(const std::string& node, double seconds) override {
+        pass([=](ProgressSink& s) { s.finished(node, seconds); });
+    }
+    void message(const std::string& node, const std::string& level, const std::string& text) override {
+        pass([=](ProgressSink& s) { s.message(node, level, text); });
+    }
+    /// Tells what was kept, then passes everything on as it comes.
+    void release() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& e : kept_) e(*to_);
+        kept_.clear();
+        holding_ = false;
+    }
+    ProgressSink* sink() { return to_ ? this : nullptr; }
+
+private:
+    void pass(std::function<void(ProgressSink&)> e) {
+        if (!to_) return;
+        std::lock_guard<std::mutex> lock(mutex_); // one event at a time, in order
+        if (holding_) kept_.push_back(std::move(e));
+        else e(*to_);
+    }
+    ProgressSink* to_;
+    std::mutex mutex_;
+    bool holding_;
+    std::vector<std::function<void(ProgressSink&)>> kept_;
+};
+
 /// One run of a validated pipeline: each node is launched on the task group once all its
 /// inputs are done, and an output is released once its last consumer has run.
 class PipelineRun {
 public:
-    PipelineRun(const Pipeline& p, std::vector<std::unique_ptr<Stage>> stages, const RunOptions& opt)
+    /// `gated`: the stages of the nodes with inputs come later, by open(); until then only
+    /// the nodes start() is given run (see run_pipeline).
+    PipelineRun(const Pipeline& p, std::vector<std::unique_ptr<Stage>> stages, const RunOptions& opt,
+                bool gated = false)
         : p_(p),
           opt_(opt),
           index_(p.node_index()),
@@ -137,8 +181,38 @@ public:
           consumers_(n_),
           outputs_(n_),
           records_(n_),
-          memory_(n_) {
+          memory_(n_),
+          sink_(opt.sink, gated),
+          open_(!gated) {
         schedule();
+    }
+    /// Starts these nodes (inputs none, stages given) while the rest is validated.
+    void start(const std::vector<std::size_t>& nodes) {
+        for (std::size_t i : nodes) {
+            started_[i] = 1;
+            launch(i);
+        }
+    }
+    /// The other nodes' stages: a node whose inputs are ready starts now, the others as
+    /// their inputs are done.
+    void open(std::vector<std::unique_ptr<Stage>> stages) {
+        std::vector<std::size_t> ready;
+        {
+            std::lock_guard<std::mutex> lock(gate_mutex_);
+            for (std::size_t i = 0; i < n_; ++i)
+                if (!stages_[i]) stages_[i] = std::move(stages[i]);
+            open_ = true;
+            ready.swap(waiting_);
+        }
+        sink_.release();
+        for (std::size_t i : ready) launch(i);
+    }
+    /// Gives the run up before it was opened: the started nodes are asked to stop, waited
+    /// for, and whatever they staged is deleted.
+    void abandon() {
+        stop_ = true;
+        group_.wait();
+        files_.discard();
     }
     /// Runs every node; commits the staged files when all succeeded, else discards them
     /// and throws the first failure (prefixed with its node).
@@ -148,6 +222,17 @@ private:
     void schedule();
     void launch(std::size_t i) {
         group_.run([this, i] { execute(i); });
+    }
+    /// Launches a node whose inputs are done, or keeps it for open().
+    void ready(std::size_t i) {
+        {
+            std::lock_guard<std::mutex> lock(gate_mutex_);
+            if (!open_) {
+                waiting_.push_back(i);
+                return;
+            }
+        }
+        launch(i);
     }
     void execute(std::size_t i);
     Context context(const PipelineNode& node);
@@ -175,6 +260,12 @@ private:
     std::string first_error_;
     bool cancelled_ = false;
     MemoryMonitor memory_;
+    HeldSink sink_;
+    std::atomic<bool> stop_{false}; ///< this run given up (abandon)
+    std::mutex gate_mutex_;
+    bool open_;                        ///< every node's stage is there
+    std::vector<std::size_t> waiting_; ///< nodes ready before open()
+    std::vector<char> started_ = std::vector<char>(n_, 0);
     tbb::task_group group_;
     const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
@@ -196,7 +287,7 @@ RunResult PipelineRun::run() {
     // dependents' counters, which must not make them look like roots here too.
     std::vector<std::size_t> roots;
     for (std::size_t i = 0; i < n_; ++i)
-        if (p_.nodes[i].inputs.empty()) roots.push_back(i);
+        if (p_.nodes[i].inputs.empty() && !started_[i]) roots.push_back(i);
     for (std::size_t i : roots) launch(i);
     group_.wait();
     // A stop asked for while the last stages ran (a stage that does not look, such as a
@@ -216,9 +307,10 @@ RunResult PipelineRun::run() {
 
 Context PipelineRun::context(const PipelineNode& node) {
     Context::Hooks hooks;
-    hooks.sink = opt_.sink;
+    hooks.sink = sink_.sink();
     hooks.side_output_dir = opt_.side_output_dir;
     hooks.stage_file = [this](const fs::path& tmp, const fs::path& fin) { files_.add(tmp, fin); };
+    hooks.stop = &stop_;
     return Context(node.id, node.stage, hooks);
 }
 
@@ -228,7 +320,7 @@ void PipelineRun::execute(std::size_t i) {
     Context ctx = context(node);
     Inputs in;
     for (const auto& [port, src] : node.inputs) in.set(port, outputs_[index_.at(src)]);
-    if (opt_.sink) opt_.sink->started(node.id, node.stage);
+    if (auto* sink = sink_.sink()) sink->started(node.id, node.stage);
     const std::size_t rss0 = memory_.begin(i);
     const auto t0 = std::chrono::steady_clock::now();
     const double cpu0 = process_cpu_seconds();
@@ -237,7 +329,7 @@ void PipelineRun::execute(std::size_t i) {
     if (!ok) return;
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     record(i, ctx, secs, process_cpu_seconds() - cpu0, rss0, peak);
-    if (opt_.sink) opt_.sink->finished(node.id, secs);
+    if (auto* sink = sink_.sink()) sink->finished(node.id, secs);
     in = Inputs();
     release(i);
 }
@@ -281,7 +373,7 @@ void PipelineRun::release(std::size_t i) {
     for (const auto& [port, src] : p_.nodes[i].inputs)
         if (--consumers_[index_.at(src)] == 0) outputs_[index_.at(src)] = Data{};
     for (std::size_t d : dependents_[i])
-        if (--pending_[d] == 0) launch(d);
+        if (--pending_[d] == 0) ready(d);
 }
 
 RunResult PipelineRun::commit() {
@@ -310,8 +402,55 @@ RunResult PipelineRun::commit() {
 } // namespace
 
 RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
-    if (p.order.size() != p.nodes.size()) p.validate(registry);
-    PipelineRun run(p, configure_stages(p, registry), opt);
+    if (p.order.size() == p.nodes.size()) {
+        PipelineRun run(p, configure_stages(p, registry), opt);
+        return run.run();
+    }
+    // Not validated yet: the nodes without inputs (the views, as a rule) start as soon as
+    // each is checked on its own, and run while the rest is validated, which loads the
+    // later stages' plugins (OpenVDB's take about 60 ms to load). The later nodes wait
+    // until all of it passed. When it fails, the started nodes are stopped, their staged
+    // files deleted, and the validation's error is the run's, as if nothing had run. The
+    // run reads its own copy of the pipeline: validate() writes into `p` meanwhile.
+    Pipeline copy = p;
+    std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
+    std::vector<std::size_t> early;
+    for (std::size_t i = 0; i < copy.nodes.size(); ++i) {
+        if (!copy.nodes[i].inputs.empty()) continue;
+        try {
+            copy.resolve_node(i, registry);
+            if (copy.nodes[i].info.output == DataKind::File) continue; // a writer waits for the checks
+            auto stage = registry.create(copy.nodes[i].stage);
+            stage->configure(copy.nodes[i].params);
+            stages[i] = std::move(stage);
+            early.push_back(i);
+        } catch (const std::exception&) {
+            // validate() reports it, in its own order.
+        }
+    }
+    if (early.empty()) {
+        p.validate(registry);
+        PipelineRun run(p, configure_stages(p, registry), opt);
+        return run.run();
+    }
+    PipelineRun run(copy, std::move(stages), opt, true);
+    run.start(early);
+    std::vector<std::unique_ptr<Stage>> rest;
+    try {
+        p.validate(registry);
+        rest = configure_stages(p, registry);
+    } catch (...) {
+        run.abandon();
+        throw;
+    }
+    // The rest of the copy, from the validated pipeline (nodes the run does not read yet).
+    for (std::size_t i = 0; i < p.nodes.size(); ++i)
+        if (!copy.nodes[i].inputs.empty()) {
+            copy.nodes[i].info = p.nodes[i].info;
+            copy.nodes[i].params = p.nodes[i].params;
+        }
+    copy.order = p.order;
+    run.open(std::move(rest));
     return run.run();
 }
 

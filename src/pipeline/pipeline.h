@@ -67,6 +67,9 @@ struct Pipeline {
     /// port kind mismatch, missing input, cycle). Throws cm::Error naming the
     /// file, line, node and stage.
     void validate(const Registry& registry);
+    /// The first step of validate() for one node: its stage (loading its plugin), its
+    /// parameters, and its connections to known nodes and ports.
+    void resolve_node(std::size_t i, const Registry& registry);
 
     /// "file:line: node "id" (stage): " — the prefix of every message about a node.
     std::string where(const PipelineNode& n, int line = 0) const;

@@ -53,7 +53,7 @@ namespace {
 using NodeIndex = std::map<std::string, std::size_t>;
 
 /// Creates the node's stage to learn its info, and resolves its parameters against it.
-void resolve_node(const Pipeline& p, PipelineNode& n, const Registry& registry) {
+void resolve_stage(const Pipeline& p, PipelineNode& n, const Registry& registry) {
     if (!registry.find(n.stage)) {
         std::string known;
         for (const auto& s : registry.names()) known += (known.empty() ? "" : ", ") + s;
@@ -192,10 +192,15 @@ std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Re
     return stages;
 }
 
+void Pipeline::resolve_node(std::size_t i, const Registry& registry) {
+    resolve_stage(*this, nodes.at(i), registry);
+    check_connections(*this, nodes[i], node_index());
+}
+
 void Pipeline::validate(const Registry& registry) {
     const NodeIndex index = node_index();
     for (auto& n : nodes) {
-        resolve_node(*this, n, registry);
+        resolve_stage(*this, n, registry);
         check_connections(*this, n, index);
     }
     check_kinds(*this, index);

@@ -12,7 +12,7 @@ class Stage;
 }
 
 /// Bumped whenever Stage, the data types or this descriptor change incompatibly.
-#define CONCEPTMESH_PLUGIN_ABI_VERSION 3u
+#define CONCEPTMESH_PLUGIN_ABI_VERSION 4u
 #define CONCEPTMESH_PLUGIN_ENTRY conceptmesh_plugin_entry
 #define CONCEPTMESH_PLUGIN_ENTRY_NAME "conceptmesh_plugin_entry"
 

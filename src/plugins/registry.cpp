@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include "plugins/plugin_abi.h"
@@ -50,7 +51,46 @@ Registry& Registry::global() {
     return r;
 }
 
+Registry::Registry(Registry&& o) noexcept {
+    std::lock_guard<std::mutex> lock(o.mutex_);
+    stages_ = std::move(o.stages_);
+    diagnostics_ = std::move(o.diagnostics_);
+    handles_ = std::move(o.handles_);
+    loaded_ = std::move(o.loaded_);
+    files_ = std::move(o.files_);
+    lazy_ = std::move(o.lazy_);
+}
+
+namespace {
+
+// A folder's index: plugin file name -> the stages it says the plugin has. Empty when the
+// folder has none; lines that do not parse are skipped with a diagnostic.
+std::map<std::string, std::vector<std::string>> read_index(const fs::path& dir, std::vector<std::string>& diagnostics) {
+    std::map<std::string, std::vector<std::string>> index;
+    const fs::path file = dir / Registry::kIndexFile;
+    std::ifstream in(file);
+    if (!in) return index;
+    std::string line;
+    for (int n = 1; std::getline(in, line); ++n) {
+        std::istringstream words(line);
+        std::string name;
+        if (!(words >> name) || name[0] == '#') continue;
+        std::vector<std::string> stages;
+        for (std::string s; words >> s;) stages.push_back(s);
+        if (!is_plugin_file(name) || stages.empty()) {
+            diagnostics.push_back("plugin index \"" + file.string() + "\" line " + std::to_string(n) +
+                                  ": expected a plugin file (libcm_*.so) and its stages; the line is skipped");
+            continue;
+        }
+        index[name] = std::move(stages);
+    }
+    return index;
+}
+
+} // namespace
+
 void Registry::load_directories(const std::vector<fs::path>& dirs) {
+    std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& dir : dirs) {
         std::error_code ec;
         if (!fs::is_directory(dir, ec)) continue;
@@ -58,12 +98,35 @@ void Registry::load_directories(const std::vector<fs::path>& dirs) {
         for (const auto& e : fs::directory_iterator(dir, ec))
             if (e.is_regular_file() && is_plugin_file(e.path())) files.push_back(e.path());
         std::sort(files.begin(), files.end()); // deterministic "first wins"
-        for (const auto& f : files) load_library(f);
+        const auto index = read_index(dir, diagnostics_);
+        for (const auto& f : files) {
+            const auto it = index.find(f.filename().string());
+            PluginFile pf;
+            pf.path = f;
+            pf.indexed = it != index.end();
+            if (pf.indexed) pf.stages = it->second;
+            files_.push_back(std::move(pf));
+            if (!files_.back().indexed) {
+                load_locked(files_.size() - 1);
+                continue;
+            }
+            for (const auto& s : files_.back().stages) lazy_.emplace(s, files_.size() - 1);
+        }
     }
 }
 
 bool Registry::load_library(const fs::path& file) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    files_.push_back({file, false, {}, false});
+    return load_locked(files_.size() - 1);
+}
+
+bool Registry::load_locked(std::size_t at) const {
+    if (files_[at].loaded) return false;
+    files_[at].loaded = true;
+    const fs::path file = files_[at].path;
     const std::string name = file.string();
+    loaded_.push_back(file);
     // RTLD_NODELETE: a plugin is never unmapped, not even when the last registry holding
     // it goes. Its stages run TBB tasks whose code (the parallel_for templates) lives in
     // the plugin; a worker thread can still be returning through that code after the
@@ -111,6 +174,7 @@ bool Registry::load_library(const fs::path& file) {
     const std::string pname = d->name ? d->name : file.stem().string();
     const std::string pversion = d->version ? d->version : "?";
     bool any = false;
+    std::vector<std::string> found;
     for (std::size_t i = 0; i < d->stage_count; ++i) {
         const ConceptmeshStageFactory& f = d->stages[i];
         if (!f.stage_name || !f.create) {
@@ -118,6 +182,10 @@ bool Registry::load_library(const fs::path& file) {
                                    std::to_string(i));
             continue;
         }
+        found.emplace_back(f.stage_name);
+        // The first plugin in the search order that has the stage keeps it: one that an index
+        // says has it and that comes earlier is loaded first.
+        if (auto it = lazy_.find(f.stage_name); it != lazy_.end() && it->second < at) load_locked(it->second);
         if (auto it = stages_.find(f.stage_name); it != stages_.end()) {
             diagnostics_.push_back("stage \"" + std::string(f.stage_name) + "\" is defined by both \"" +
                                    it->second.library.string() + "\" and \"" + name + "\"; using the first");
@@ -134,10 +202,23 @@ bool Registry::load_library(const fs::path& file) {
         any = true;
     }
     if (any) handles_.push_back(handle);
+    for (const auto& s : files_[at].stages)
+        if (std::find(found.begin(), found.end(), s) == found.end()) {
+            diagnostics_.push_back("plugin index \"" + (file.parent_path() / kIndexFile).string() +
+                                   "\" is out of date: \"" + name + "\" has no stage \"" + s +
+                                   "\"; every plugin is loaded instead");
+            load_all_locked();
+            break;
+        }
     return any;
 }
 
+void Registry::load_all_locked() const {
+    for (std::size_t i = 0; i < files_.size(); ++i) load_locked(i);
+}
+
 void Registry::add(StageEntry e) {
+    std::lock_guard<std::mutex> lock(mutex_);
     if (auto it = stages_.find(e.name); it != stages_.end()) {
         diagnostics_.push_back("stage \"" + e.name + "\" is defined twice; using the first");
         return;
@@ -145,16 +226,28 @@ void Registry::add(StageEntry e) {
     stages_.emplace(e.name, std::move(e));
 }
 
-const StageEntry* Registry::find(const std::string& stage) const {
+const StageEntry* Registry::find_locked(const std::string& stage) const {
+    if (auto it = stages_.find(stage); it != stages_.end()) return &it->second;
+    if (auto it = lazy_.find(stage); it != lazy_.end() && !files_[it->second].loaded) {
+        load_locked(it->second);
+        if (auto s = stages_.find(stage); s != stages_.end()) return &s->second;
+    }
+    // No index names it (or its plugin did not have it): it may be in any plugin not loaded yet.
+    load_all_locked();
     auto it = stages_.find(stage);
     return it == stages_.end() ? nullptr : &it->second;
+}
+
+const StageEntry* Registry::find(const std::string& stage) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return find_locked(stage);
 }
 
 std::unique_ptr<Stage> Registry::create(const std::string& stage) const {
     const StageEntry* e = find(stage);
     if (!e) {
         std::string known;
-        for (const auto& [n, _] : stages_) known += (known.empty() ? "" : ", ") + n;
+        for (const auto& n : names()) known += (known.empty() ? "" : ", ") + n;
         throw Error("unknown stage \"" + stage +
                     "\" (known stages: " + (known.empty() ? "none; no plugin was found" : known) + ")");
     }
@@ -173,9 +266,21 @@ std::unique_ptr<Stage> Registry::create(const std::string& stage) const {
 }
 
 std::vector<std::string> Registry::names() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    load_all_locked();
     std::vector<std::string> v;
     for (const auto& [n, _] : stages_) v.push_back(n);
     return v;
+}
+
+std::vector<std::string> Registry::diagnostics() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return diagnostics_;
+}
+
+std::vector<fs::path> Registry::loaded_files() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return loaded_;
 }
 
 } // namespace cm

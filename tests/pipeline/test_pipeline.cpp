@@ -245,3 +245,58 @@ TEST(Pipeline, StagePrepareRejectsBeforeAnythingRuns) {
         EXPECT_HAS(e.what(), "unknown extension");
     }
 }
+
+// A pipeline not validated yet: its first node starts as soon as it is checked, while the
+// rest is validated (and the later stages' plugins load); the later nodes wait for that.
+TEST(Pipeline, TheFirstNodeRunsWhileTheRestIsValidated) {
+    test::TempDir dir("pipeline-early");
+    const std::string yaml =
+        "nodes:\n"
+        "  - {id: box, stage: test.slow_box, params: {seconds: 0.3}}\n"
+        "  - {id: checked, stage: test.slow_check, inputs: {mesh: box}, params: {seconds: 0.2}}\n"
+        "  - {id: write, stage: mesh.write, inputs: {mesh: checked}, params: {path: " +
+        (dir / "box.obj").string() + "}}\n";
+    auto& order = testkit::start_order();
+    order.box_started = 0;
+    order.check_ended = 0;
+    Pipeline p = Pipeline::parse(yaml, "p.yaml");
+    const RunResult r = run_pipeline(p, registry(), {});
+    ASSERT_NE(order.box_started.load(), 0);
+    ASSERT_NE(order.check_ended.load(), 0);
+    // The box started before the first check of the later node had ended (0.2 s of sleep).
+    EXPECT_LT(order.box_started.load(), order.check_ended.load());
+    EXPECT_TRUE(fs::exists(dir / "box.obj"));
+    ASSERT_EQ(p.order.size(), 3u); // `p` is validated as run_pipeline always left it
+    ASSERT_EQ(r.nodes.size(), 3u);
+    EXPECT_EQ(r.nodes[0].id, "box");
+    EXPECT_EQ(r.nodes[2].id, "write");
+}
+
+// When the rest fails its checks, the started node is stopped, whatever it staged is gone,
+// and the error is the validation's, word for word.
+TEST(Pipeline, ALaterNodeThatFailsItsChecksStopsTheStartedOnes) {
+    test::TempDir dir("pipeline-early-fail");
+    const std::string yaml =
+        "nodes:\n"
+        "  - {id: box, stage: test.slow_box, params: {seconds: 60}}\n"
+        "  - {id: checked, stage: test.slow_check, inputs: {mesh: box}, params: {seconds: 0.1}}\n"
+        "  - {id: write, stage: mesh.write, inputs: {mesh: checked}, params: {path: " +
+        (dir / "box.obj").string() + ", colour: blue}}\n";
+    const std::string expected = rejection(yaml);
+    ASSERT_FALSE(expected.empty());
+    EXPECT_HAS(expected, "p.yaml:4: node \"write\" (mesh.write): unknown parameter \"colour\"");
+    auto& order = testkit::start_order();
+    order.box_started = 0;
+    order.box_stopped = false;
+    Pipeline p = Pipeline::parse(yaml, "p.yaml");
+    try {
+        run_pipeline(p, registry(), {});
+        FAIL() << "expected the validation's error";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()), expected);
+    }
+    EXPECT_NE(order.box_started.load(), 0) << "the first node did not start early";
+    EXPECT_TRUE(order.box_stopped.load()) << "the first node was not stopped";
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+    EXPECT_FALSE(cancel_requested().load()) << "a run's own stop must not stop the process";
+}

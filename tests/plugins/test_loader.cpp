@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
+#include <algorithm>
 #include <filesystem>
 #include <initializer_list>
 
@@ -126,4 +127,80 @@ TEST(Loader, DefaultSearchPathFindsTheBuiltPluginsAndHonoursTheEnvironment) {
     EXPECT_NE(r.find("mesh.write"), nullptr);
     EXPECT_NE(r.find("views.load"), nullptr);
     EXPECT_NE(r.find("test.box"), nullptr);
+}
+
+// A plugin its folder's index names is loaded when one of its stages is first asked for.
+TEST(Loader, AnIndexedPluginLoadsOnFirstUse) {
+    Registry r;
+    r.load_directories({kRoot / "indexed"});
+    EXPECT_TRUE(r.loaded_files().empty()) << "loaded before any stage was asked for";
+    ASSERT_NE(r.find("test.box"), nullptr);
+    ASSERT_EQ(r.loaded_files().size(), 1u);
+    EXPECT_EQ(r.loaded_files()[0].filename(), "libcm_testkit.so");
+    EXPECT_EQ(r.create("test.sleep")->info().name, "test.sleep");
+    EXPECT_EQ(r.loaded_files().size(), 1u); // once
+    EXPECT_TRUE(r.diagnostics().empty());
+}
+
+// An unknown stage may be in any plugin: every one is loaded before the answer is no.
+TEST(Loader, AStageNoIndexNamesLoadsEveryPlugin) {
+    Registry r;
+    r.load_directories({kRoot / "indexed"});
+    EXPECT_EQ(r.find("no.such.stage"), nullptr);
+    EXPECT_EQ(r.loaded_files().size(), 1u);
+    try {
+        r.create("no.such.stage");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_TRUE(contains(e.what(), "test.box")) << e.what(); // the known stages are listed
+    }
+}
+
+// An index that names a stage its plugin lacks is reported, and then every plugin is
+// loaded: a stale index costs time, never a stage. A line that is not a plugin is skipped.
+TEST(Loader, AStaleIndexIsReportedAndEveryPluginIsLoaded) {
+    Registry r;
+    r.load_directories({kRoot / "stale_index"});
+    ASSERT_EQ(r.diagnostics().size(), 1u);
+    EXPECT_TRUE(contains(r.diagnostics()[0], "not-a-plugin.txt") || contains(r.diagnostics()[0], "line 2"))
+        << r.diagnostics()[0];
+    EXPECT_EQ(r.find("test.removed_stage"), nullptr);
+    const auto d = r.diagnostics();
+    ASSERT_EQ(d.size(), 2u);
+    EXPECT_TRUE(contains(d[1], "plugins.index")) << d[1];
+    EXPECT_TRUE(contains(d[1], "out of date")) << d[1];
+    EXPECT_TRUE(contains(d[1], "test.removed_stage")) << d[1];
+    // The stages the plugin does have are all there, the ones the index missed too.
+    EXPECT_NE(r.find("test.box"), nullptr);
+    EXPECT_NE(r.find("test.needs_views"), nullptr);
+}
+
+// A plugin the index names that cannot load is reported when its stage is asked for; a
+// plugin the index does not name is loaded at once.
+TEST(Loader, AnIndexedPluginThatFailsIsReportedWhenUsed) {
+    Registry r;
+    r.load_directories({kRoot / "indexed_broken"});
+    ASSERT_EQ(r.loaded_files().size(), 1u);
+    EXPECT_EQ(r.loaded_files()[0].filename(), "libcm_testkit.so");
+    EXPECT_TRUE(r.diagnostics().empty());
+    EXPECT_EQ(r.find("test.garbage"), nullptr);
+    const auto d = r.diagnostics();
+    ASSERT_GE(d.size(), 1u);
+    EXPECT_TRUE(contains(d[0], "libcm_garbage.so")) << d[0];
+    EXPECT_TRUE(contains(d[0], "could not be loaded")) << d[0];
+}
+
+// The built plugin folder has an index naming every plugin it holds, with the stages each
+// really has: the index is the build's, never out of date.
+TEST(Loader, TheBuiltPluginFolderIsIndexedRightly) {
+    const fs::path dir = Registry::default_dirs()[0];
+    ASSERT_TRUE(fs::exists(dir / Registry::kIndexFile)) << dir;
+    Registry lazy;
+    lazy.load_directories({dir});
+    EXPECT_TRUE(lazy.loaded_files().empty()) << "a plugin of the built folder is missing from its index";
+    ASSERT_NE(lazy.find("views.load"), nullptr);
+    EXPECT_EQ(lazy.loaded_files().size(), 1u) << "views.load should need its own plugin only";
+    const auto names = lazy.names(); // loads the rest, checking each against the index
+    EXPECT_TRUE(lazy.diagnostics().empty()) << lazy.diagnostics()[0];
+    EXPECT_NE(std::find(names.begin(), names.end(), "hull.carve"), names.end());
 }
