@@ -1,6 +1,8 @@
 // Reading and writing images: PNG through libpng, every other format OpenImageIO reads
 // through OpenImageIO, whose library is opened on the first such image.
 #pragma once
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -21,9 +23,29 @@ struct ImageInfo {
 /// the same values as for its RGBA expansion).
 Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr, bool keep_bytes = false);
 
-/// Writes an image (1, 3 or 4 channels, float in [0,1]); the format follows the
+/// Writes an image (1, 3 or 4 channels, float in [0,1], or 8-bit); the format follows the
 /// extension (.png is 8-bit; .tif/.exr keep more). Writes exactly to `file`.
 void write_image(const Image& img, const std::filesystem::path& file);
+
+/// The byte the PNG writer stores for the float sample `v`, as OpenImageIO 2.4 converts a
+/// row of samples: in fours, rounded half away from zero; the row's last n % 4 samples
+/// (`tail`) as trunc(v * 255 + 0.5). Clamped to [0, 255], NaN to 0. An 8-bit image filled
+/// with these bytes writes the same PNG as the float image.
+inline std::uint8_t png_byte(float v, bool tail) {
+    if (tail) {
+        float s = v * 255.0f + 0.5f;
+        if (!(0.0f <= s)) s = 0.0f;
+        if (s > 255.0f) s = 255.0f;
+        return static_cast<std::uint8_t>(s);
+    }
+    // roundf, clamped, without a call per sample: 0 for NaN and up to 0, 255 from 254.5,
+    // else the whole part plus one from a half up (every float checked against roundf).
+    const float r = v * 255.0f;
+    const int t = int(r > 0.0f ? std::min(r, 255.0f) : 0.0f);
+    return !(r > 0.0f)   ? std::uint8_t(0)
+           : r >= 254.5f ? std::uint8_t(255)
+                         : static_cast<std::uint8_t>(t + (r - float(t) >= 0.5f));
+}
 
 } // namespace cm
 

@@ -1,5 +1,7 @@
 #include "io/png_codec.h"
 
+#include "io/image_io.h"
+
 #include <png.h>
 #include <zlib.h>
 
@@ -152,36 +154,28 @@ bool read_png(Context& c, ReadStruct& rs, std::uint64_t max_pixels, RawImage& ou
     return true;
 }
 
-// Float to 8 bits as OpenImageIO 2.4 converts a run of n values: in fours, rounded half
-// away from zero and clamped (NaN to 0); the last n % 4 as trunc(v * 255 + 0.5), clamped.
+// Float to 8 bits as OpenImageIO 2.4 converts a run of n values (see png_byte).
 void to_bytes(const float* in, unsigned char* out, std::size_t n) {
-    std::size_t i = 0;
-    for (const std::size_t fours = n - n % 4; i < fours; ++i) {
-        // roundf, clamped, without a call per sample: 0 for NaN and up to 0, 255 from 254.5,
-        // else the whole part plus one from a half up (every float checked against roundf).
-        const float r = in[i] * 255.0f;
-        const int t = int(r > 0.0f ? std::min(r, 255.0f) : 0.0f);
-        out[i] = !(r > 0.0f)   ? static_cast<unsigned char>(0)
-                 : r >= 254.5f ? static_cast<unsigned char>(255)
-                               : static_cast<unsigned char>(t + (r - float(t) >= 0.5f));
-    }
-    for (; i < n; ++i) {
-        float s = in[i] * 255.0f + 0.5f;
-        if (!(0.0f <= s)) s = 0.0f;
-        if (s > 255.0f) s = 255.0f;
-        out[i] = static_cast<unsigned char>(s);
-    }
+    const std::size_t fours = n - n % 4;
+    for (std::size_t i = 0; i < fours; ++i) out[i] = png_byte(in[i], false);
+    for (std::size_t i = fours; i < n; ++i) out[i] = png_byte(in[i], true);
 }
 
 // One row of the first `nc` channels to 8 bits, as OpenImageIO wrote it: a whole row in one
 // run when those are all the image's channels, a pixel at a time otherwise; alpha unassociated.
 void row_to_bytes(const Image& img, int nc, int y, unsigned char* row) {
     const std::size_t w = std::size_t(img.width);
-    const float* src = img.pixels.data() + std::size_t(y) * w * std::size_t(img.channels);
-    if (nc == img.channels) {
-        to_bytes(src, row, w * std::size_t(nc));
+    const std::size_t first = std::size_t(y) * w * std::size_t(img.channels);
+    if (img.eight_bit()) { // as stored
+        const unsigned char* b = img.bytes.data() + first;
+        if (nc == img.channels) std::copy_n(b, w * std::size_t(nc), row);
+        else
+            for (std::size_t x = 0; x < w; ++x) std::copy_n(b + x * img.channels, nc, row + x * nc);
+    } else if (nc == img.channels) {
+        to_bytes(img.pixels.data() + first, row, w * std::size_t(nc));
     } else {
-        for (std::size_t x = 0; x < w; ++x) to_bytes(src + x * img.channels, row + x * nc, std::size_t(nc));
+        for (std::size_t x = 0; x < w; ++x)
+            to_bytes(img.pixels.data() + first + x * img.channels, row + x * nc, std::size_t(nc));
     }
     const int alpha = nc == 2 ? 1 : (nc == 4 ? 3 : -1);
     if (alpha >= 0) // PNG wants unassociated alpha
@@ -425,7 +419,7 @@ bool size(const std::string& file, int& width, int& height) {
 bool write(const Image& img, int channels, const std::string& file, std::vector<unsigned char>* bytes, std::string& why,
            std::size_t* pieces) {
     if (img.width < 1 || img.height < 1 || channels < 1 || channels > 4 || channels > img.channels ||
-        img.pixels.size() < std::size_t(img.width) * img.height * img.channels)
+        img.samples() < std::size_t(img.width) * img.height * img.channels)
         return why = "PNG takes 1 to 4 channels of a non-empty image", false;
     // The image data first, in parallel, then the file through libpng.
     std::vector<unsigned char> idat;

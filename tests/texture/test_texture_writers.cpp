@@ -496,6 +496,43 @@ TEST(PngWrite, EverySizeAndChannelCountReadsBackAsOpenImageIOWroteIt) {
             }
 }
 
+// An 8-bit image holding png_byte() of each float sample (by its place in the row) writes
+// the very PNG the float image writes: what the preview sheet relies on to draw in bytes.
+TEST(PngWrite, AnImageOfPngBytesWritesTheSamePngAsItsFloats) {
+    unsigned seed = 40;
+    for (const auto& [w, h] : {std::pair{1, 1}, {3, 2}, {17, 5}, {333, 7}, {1003, 3}})
+        for (int nc = 1; nc <= 4; ++nc) {
+            SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", " + std::to_string(nc) + " channels");
+            Image img = noisy_image(w, h, nc, seed++);
+            // Every rounding edge, just below and above, and what is clamped, in each place of a row.
+            const float edges[] = {std::nanf(""), -1.0f, 0.0f, 1.0f, 2.0f, 254.5f / 255.0f, 0.5f / 255.0f};
+            for (std::size_t i = 0; i < img.pixels.size(); i += 5) {
+                const float e = edges[(i / 5) % 7] + (i % 3 == 0 ? 0.0f : (i % 3 == 1 ? -1e-7f : 1e-7f));
+                img.pixels[i] = e;
+            }
+            for (std::size_t i = 3; i < img.pixels.size(); i += 11)
+                img.pixels[i] = std::nextafter(float(i % 256 + 0.5) / 255.0f, i % 2 ? 2.0f : -2.0f);
+            Image bytes;
+            bytes.width = w;
+            bytes.height = h;
+            bytes.channels = nc;
+            const std::size_t row = std::size_t(w) * nc, tail = row - row % 4;
+            for (std::size_t i = 0; i < img.pixels.size(); ++i)
+                bytes.bytes.push_back(png_byte(img.pixels[i], i % row >= tail));
+            std::vector<unsigned char> a, b;
+            std::string why;
+            ASSERT_TRUE(png::write(img, nc, {}, &a, why)) << why;
+            ASSERT_TRUE(png::write(bytes, nc, {}, &b, why)) << why;
+            EXPECT_TRUE(a == b);
+            // And an 8-bit image writes the bytes it holds.
+            RawImage back;
+            ASSERT_TRUE(png::read({}, b.data(), b.size(), 0, back, why)) << why;
+            if (nc % 2 == 1) { // no alpha to (un)associate
+                EXPECT_TRUE(back.data == bytes.bytes);
+            }
+        }
+}
+
 TEST(PngWrite, ABigImageIsDeflatedInPiecesASmallOneInOne) {
     const Image big = noisy_image(1000, 1150, 3, 7), small = noisy_image(300, 200, 3, 8);
     std::vector<unsigned char> a, b;

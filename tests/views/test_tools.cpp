@@ -213,10 +213,10 @@ TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
     const Image sheet = make_preview_sheet(moved, views, opt, err);
     EXPECT_NEAR(err.xor_pct, 100.0 * 10 / 108, 0.01); // 5 columns each side of 108
     std::size_t input_only = 0, mesh_only = 0;
-    for (std::size_t i = 0; i < sheet.pixels.size(); i += 3) {
+    for (std::size_t i = 0; i < sheet.samples(); i += 3) {
         auto is = [&](const float* c) {
-            return std::abs(sheet.pixels[i] - c[0]) < 0.01f && std::abs(sheet.pixels[i + 1] - c[1]) < 0.01f &&
-                   std::abs(sheet.pixels[i + 2] - c[2]) < 0.01f;
+            return std::abs(sheet.value(i) - c[0]) < 0.01f && std::abs(sheet.value(i + 1) - c[1]) < 0.01f &&
+                   std::abs(sheet.value(i + 2) - c[2]) < 0.01f;
         };
         input_only += is(kInputOnly);
         mesh_only += is(kMeshOnly);

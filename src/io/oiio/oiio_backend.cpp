@@ -192,7 +192,9 @@ bool write(const cm::Image& img, const std::string& file, std::string& why) {
     const bool eight = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
     OIIO::ImageSpec spec(img.width, img.height, img.channels, eight ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     if (!out->open(file, spec)) return why = out->geterror(), false;
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data())) return why = out->geterror(), false;
+    const bool ok = img.eight_bit() ? out->write_image(OIIO::TypeDesc::UINT8, img.bytes.data())
+                                    : out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+    if (!ok) return why = out->geterror(), false;
     out->close();
     return true;
 }

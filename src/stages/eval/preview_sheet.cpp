@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "io/image_io.h"
 #include "render/shade.h"
 #include "render/textured.h"
 
@@ -40,20 +41,28 @@ constexpr Glyph kFont[] = {
     {',', {0, 0, 0, 0, 12, 4, 8}},       {'+', {0, 4, 4, 31, 4, 4, 0}},       {'|', {4, 4, 4, 4, 4, 4, 4}},
 };
 
+// The sheet, in the bytes its PNG holds: each colour as the PNG writer would store it (a
+// quarter of the memory of float RGB, and no conversion when it is written).
 struct Canvas {
     Image img;
+    std::size_t tail_from; ///< a row's samples from here on are its last n % 4 (see png_byte)
     Canvas(int w, int h, float grey) {
         img.width = w;
         img.height = h;
         img.channels = 3;
-        img.pixels.assign(std::size_t(w) * h * 3, grey);
+        const std::size_t row = std::size_t(w) * 3;
+        tail_from = row - row % 4;
+        img.bytes.resize(row * std::size_t(h));
+        const float c[3] = {grey, grey, grey};
+        tbb::parallel_for(0, h, [&](int y) {
+            for (int x = 0; x < w; ++x) put(x, y, c);
+        });
     }
     void put(int x, int y, const float* c) {
         if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-        float* p = &img.pixels[(std::size_t(y) * img.width + x) * 3];
-        p[0] = c[0];
-        p[1] = c[1];
-        p[2] = c[2];
+        const std::size_t k = std::size_t(x) * 3;
+        std::uint8_t* p = &img.bytes[std::size_t(y) * std::size_t(img.width) * 3 + k];
+        for (std::size_t i = 0; i < 3; ++i) p[i] = png_byte(c[i], k + i >= tail_from);
     }
     void rect(int x0, int y0, int w, int h, const float* c) {
         for (int y = y0; y < y0 + h; ++y)
