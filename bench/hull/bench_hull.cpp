@@ -38,7 +38,7 @@ std::shared_ptr<const Views> model_views(const std::string& model) {
         v.width = v.height = kImage;
         v.camera = framed_camera(*Camera::named(n), Vec3d(lo), Vec3d(hi), kImage, kImage);
         const auto mask = render_mask(mesh, v.camera, kImage, kImage);
-        v.coverage.assign(mask.begin(), mask.end());
+        v.coverage = Coverage(std::vector<float>(mask.begin(), mask.end()), v.width, v.height);
         views->views.push_back(std::move(v));
     }
     views->has_bounds = true;

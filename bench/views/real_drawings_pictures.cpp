@@ -52,8 +52,8 @@ Image render(const std::function<Colour(double, double)>& f) {
 void sheet(const Image& in, const SilhouetteOptions& before, const SilhouetteOptions& after, const fs::path& file,
            int shrink = 1) {
     const ImageInfo info;
-    const std::vector<float> a = extract_silhouette(in, info, before).coverage;
-    const std::vector<float> b = extract_silhouette(in, info, after).coverage;
+    const std::vector<float> a = extract_silhouette(in, info, before).coverage.full();
+    const std::vector<float> b = extract_silhouette(in, info, after).coverage.full();
     const int w = in.width / shrink, h = in.height / shrink;
     Image out;
     out.width = 3 * w + 8;

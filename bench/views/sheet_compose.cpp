@@ -21,7 +21,7 @@ void outline_panels(const char* out, const char* sheet) {
     cm::SilhouetteOptions so;
     so.keep = "all";
     so.holes = "fill";
-    const auto found = cm::find_panels(cm::extract_silhouette(img, info, so).coverage, img.width, img.height);
+    const auto found = cm::find_panels(cm::extract_silhouette(img, info, so).coverage.full(), img.width, img.height);
     for (std::size_t k = 0; k < found.panels.size(); ++k) {
         const cm::SheetPanel& p = found.panels[k];
         const float t = found.panels.size() > 1 ? float(k) / float(found.panels.size() - 1) : 0.0f;

@@ -141,6 +141,11 @@ int run_batch(const BatchOptions& o, const GlobalOptions& g) {
     if (o.assets.empty()) throw UsageError("name the ASSETS.yaml to run (or --scan FOLDER, --status DIR)");
     if (o.engine != "local" && o.engine != "slurm")
         throw Error("--engine must be local or slurm, got \"" + o.engine + "\"");
+    // A batch checks every asset's pipeline, which needs the plugins anyway: they are all
+    // loaded first, before the batch's own work starts threads. (Loaded later, on first use,
+    // the sanitized build's leak check misreads their thread-local storage at exit: clang
+    // 14's LeakSanitizer with this glibc.)
+    Registry::global().names();
     print_plugin_diagnostics(g);
     const AssetsFile f = read_assets(o.assets, o.pipeline);
     const fs::path out = fs::absolute(o.out).lexically_normal();

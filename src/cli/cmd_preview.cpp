@@ -39,7 +39,7 @@ Views self_views(const Mesh& mesh, const std::vector<ViewSpec>& specs, int size)
         v.camera = framed_camera(s.dir, Vec3d(lo), Vec3d(hi), size, size);
         v.image = render_art(mesh, v.camera, size, size);
         const auto m = render_mask(mesh, v.camera, size, size);
-        v.coverage.assign(m.begin(), m.end());
+        v.coverage = Coverage(std::vector<float>(m.begin(), m.end()), size, size);
         views.views.push_back(std::move(v));
     }
     return views;

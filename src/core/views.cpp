@@ -1,6 +1,8 @@
 #include "core/views.h"
 
+#include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 #include <tbb/collaborative_call_once.h>
 
@@ -22,6 +24,50 @@ std::shared_ptr<const void> DerivedData::get(const std::string& key,
     }
     tbb::collaborative_call_once(slot->once, [&] { slot->item = make(); });
     return slot->item;
+}
+
+Coverage Coverage::of_window(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h) {
+    if (width < 0 || height < 0 || w < 0 || h < 0 || part.size() != std::size_t(w) * std::size_t(h) || x0 < 0 ||
+        y0 < 0 || x0 + w > width || y0 + h > height)
+        throw std::invalid_argument("Coverage: the window does not fit the image");
+    Coverage c;
+    c.width_ = width;
+    c.height_ = height;
+    // The box of the nonzero values within the window.
+    int bx0 = w, by0 = h, bx1 = -1, by1 = -1;
+    for (int y = 0; y < h; ++y) {
+        const float* row = part.data() + std::size_t(y) * std::size_t(w);
+        int first = 0;
+        while (first < w && row[first] == 0.0f) ++first;
+        if (first == w) continue;
+        int last = w - 1;
+        while (row[last] == 0.0f) --last;
+        bx0 = std::min(bx0, first);
+        bx1 = std::max(bx1, last);
+        by0 = std::min(by0, y);
+        by1 = y;
+    }
+    if (bx1 < 0) return c; // all zero: an empty window
+    c.x0_ = x0 + bx0;
+    c.y0_ = y0 + by0;
+    c.w_ = bx1 - bx0 + 1;
+    c.h_ = by1 - by0 + 1;
+    c.values_.resize(std::size_t(c.w_) * std::size_t(c.h_));
+    for (int y = 0; y < c.h_; ++y)
+        std::copy_n(part.data() + std::size_t(by0 + y) * std::size_t(w) + std::size_t(bx0), c.w_,
+                    c.values_.data() + std::size_t(y) * std::size_t(c.w_));
+    return c;
+}
+
+Coverage::Coverage(const std::vector<float>& full, int width, int height)
+    : Coverage(of_window(full, width, height, 0, 0, width, height)) {}
+
+std::vector<float> Coverage::full() const {
+    std::vector<float> out(size(), 0.0f);
+    for (int y = 0; y < h_; ++y)
+        std::copy_n(values_.data() + std::size_t(y) * std::size_t(w_), w_,
+                    out.data() + std::size_t(y0_ + y) * std::size_t(width_) + std::size_t(x0_));
+    return out;
 }
 
 double Views::finest_pixel() const {

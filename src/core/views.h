@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -47,16 +48,92 @@ struct Image {
     bool empty() const { return pixels.empty() && bytes.empty(); }
 };
 
+/// A silhouette's coverage in [0, 1] over a width x height image, row 0 at the top: stored
+/// over a window, the box of its nonzero values, and zero beyond it (an object that fills a
+/// third of a drawing keeps a third of the floats). Read by pixel (at, operator[]) or by
+/// the window's rows; full() gives every value.
+class Coverage {
+public:
+    Coverage() = default;
+    /// The whole image's values, row-major; kept over the box of the nonzero ones.
+    Coverage(const std::vector<float>& full, int width, int height);
+    /// The values of a window w x h at (x0, y0) of a width x height image (row-major), zero
+    /// beyond it; kept over the box of the nonzero ones.
+    static Coverage of_window(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    /// width * height: the image's pixel count (0: no coverage).
+    std::size_t size() const { return std::size_t(width_) * std::size_t(height_); }
+    bool empty() const { return size() == 0; }
+    /// Pixel (x, y); 0 beyond the window (and beyond the image).
+    float at(int x, int y) const {
+        const unsigned dx = unsigned(x - x0_), dy = unsigned(y - y0_);
+        return dx < unsigned(w_) && dy < unsigned(h_) ? values_[std::size_t(dy) * std::size_t(w_) + dx] : 0.0f;
+    }
+    /// Pixel i = y * width + x.
+    float operator[](std::size_t i) const { return at(int(i % std::size_t(width_)), int(i / std::size_t(width_))); }
+    /// The window: every nonzero value lies in x0 <= x < x0 + w, y0 <= y < y0 + h (w or h 0: none).
+    int x0() const { return x0_; }
+    int y0() const { return y0_; }
+    int window_width() const { return w_; }
+    int window_height() const { return h_; }
+    /// The window's values, row-major (window_width() per row).
+    const std::vector<float>& window_values() const { return values_; }
+    /// The window's part of image row y (window_width() values from x0()); null for a row
+    /// beyond the window.
+    const float* window_row(int y) const {
+        return unsigned(y - y0_) < unsigned(h_) ? values_.data() + std::size_t(y - y0_) * std::size_t(w_) : nullptr;
+    }
+    /// Every value, row-major.
+    std::vector<float> full() const;
+
+    /// Every pixel's value in row-major order (for range-for and algorithms).
+    class Iterator {
+    public:
+        using iterator_category = std::forward_iterator_tag;
+        using value_type = float;
+        using difference_type = std::ptrdiff_t;
+        using pointer = const float*;
+        using reference = float;
+        Iterator(const Coverage* c, std::size_t i) : c_(c), i_(i) {}
+        float operator*() const { return (*c_)[i_]; }
+        Iterator& operator++() {
+            ++i_;
+            return *this;
+        }
+        Iterator operator++(int) {
+            Iterator t = *this;
+            ++i_;
+            return t;
+        }
+        bool operator==(const Iterator& o) const { return i_ == o.i_; }
+        bool operator!=(const Iterator& o) const { return i_ != o.i_; }
+
+    private:
+        const Coverage* c_;
+        std::size_t i_;
+    };
+    Iterator begin() const { return {this, 0}; }
+    Iterator end() const { return {this, size()}; }
+
+private:
+    int width_ = 0, height_ = 0;
+    int x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
+    std::vector<float> values_;
+};
+
 struct View {
     std::string name;             ///< "front", "right", or the manifest key
     std::filesystem::path source; ///< image file it came from
     Image image;                  ///< the drawing: RGBA, or one channel (8-bit grey without alpha, as read)
-    /// Silhouette as coverage in [0,1], width*height, row-major, row 0 at the top.
-    /// Anti-aliased edges keep fractional coverage for sub-pixel boundaries.
-    std::vector<float> coverage;
+    /// Silhouette as coverage in [0,1] over the image (width x height), kept over the box
+    /// of its nonzero values. Anti-aliased edges keep fractional coverage for sub-pixel
+    /// boundaries.
+    Coverage coverage;
     int width = 0, height = 0;
     Camera camera;
-    float coverage_at(int x, int y) const { return coverage[std::size_t(y) * width + x]; }
+    float coverage_at(int x, int y) const { return coverage.at(x, y); }
     bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height && coverage_at(x, y) >= 0.5f; }
 };
 

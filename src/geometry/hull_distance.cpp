@@ -43,24 +43,31 @@ private:
 SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, const std::string& view_name) {
     if (w <= 0 || h <= 0 || coverage.size() != std::size_t(w) * h)
         throw Error("view \"" + view_name + "\": the silhouette does not match the image size");
-    // The box of the inside pixels, per row then over the rows.
+    return silhouette_sdf(Coverage(coverage, w, h), view_name);
+}
+
+SilhouetteSdf silhouette_sdf(const Coverage& coverage, const std::string& view_name) {
+    const int w = coverage.width(), h = coverage.height();
+    if (w <= 0 || h <= 0) throw Error("view \"" + view_name + "\" has no silhouette");
+    // The box of the inside pixels (within the coverage's window), per row then over the rows.
     struct Box {
         int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
         void add(const Box& o) {
             x0 = std::min(x0, o.x0), y0 = std::min(y0, o.y0), x1 = std::max(x1, o.x1), y1 = std::max(y1, o.y1);
         }
     };
+    const int ww = coverage.window_width(), cx0 = coverage.x0();
     const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, h, 16), Box{},
+        tbb::blocked_range<int>(coverage.y0(), coverage.y0() + coverage.window_height(), 16), Box{},
         [&](const tbb::blocked_range<int>& r, Box acc) {
             for (int y = r.begin(); y != r.end(); ++y) {
-                const float* row = coverage.data() + std::size_t(y) * w;
+                const float* row = coverage.window_row(y);
                 int x = 0;
-                while (x < w && !(row[x] >= 0.5f)) ++x;
-                if (x == w) continue;
-                int xe = w - 1;
+                while (x < ww && !(row[x] >= 0.5f)) ++x;
+                if (x == ww) continue;
+                int xe = ww - 1;
                 while (!(row[xe] >= 0.5f)) --xe;
-                acc.add({x, y, xe, y});
+                acc.add({cx0 + x, y, cx0 + xe, y});
             }
             return acc;
         },
@@ -84,11 +91,10 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
         tbb::blocked_range<int>(0, sh, 16), std::size_t(0),
         [&](const tbb::blocked_range<int>& r, std::size_t k) {
             for (int y = r.begin(); y != r.end(); ++y) {
-                const float* c = coverage.data() + std::size_t(y + s.oy) * w + s.ox;
                 char* in = inside.data() + std::size_t(y) * sw;
                 char* out = outside.data() + std::size_t(y) * sw;
                 for (int x = 0; x < sw; ++x) {
-                    in[x] = c[x] >= 0.5f;
+                    in[x] = coverage.at(x + s.ox, y + s.oy) >= 0.5f;
                     out[x] = !in[x];
                     k += std::size_t(in[x]);
                 }
@@ -106,7 +112,7 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
                 const std::size_t i = std::size_t(y) * sw + x;
                 // The binary border lies half-way between an inside and an outside pixel centre.
                 float d = inside[i] ? -(std::sqrt(to_out[i]) - 0.5f) : (std::sqrt(to_in[i]) - 0.5f);
-                const float c = coverage[std::size_t(y + s.oy) * w + std::size_t(x + s.ox)];
+                const float c = coverage.at(x + s.ox, y + s.oy);
                 if (c > 0.0f && c < 1.0f && std::fabs(d) <= 0.5f) d = 0.5f - c;
                 s.sdf[i] = d;
             }
@@ -152,7 +158,7 @@ std::vector<ViewSdf> build_view_sdfs(const Views& views) {
     tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
         const View& v = views.views[i];
         try {
-            out[i] = {v.camera, silhouette_sdf(v.coverage, v.width, v.height, v.name)};
+            out[i] = {v.camera, silhouette_sdf(v.coverage, v.name)};
         } catch (const std::exception& e) {
             errors[i] = e.what();
         }

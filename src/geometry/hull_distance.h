@@ -63,6 +63,8 @@ struct SilhouetteSdf {
 /// of the binary mask, with pixels of fractional coverage refined to 0.5 - coverage
 /// (the sub-pixel position of a straight border through the pixel).
 /// @throw cm::Error when the mask has no inside pixel.
+SilhouetteSdf silhouette_sdf(const Coverage& coverage, const std::string& view_name);
+/// The same from every pixel's coverage (width * height, row-major).
 SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int width, int height, const std::string& view_name);
 
 /// A view's camera and the signed distance field of its drawing.

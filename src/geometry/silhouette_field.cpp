@@ -18,22 +18,25 @@ SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     if (w <= 0 || h <= 0 || view.coverage.size() != std::size_t(w) * std::size_t(h)) return sat;
     sat.width = w;
     sat.height = h;
-    const float* cov = view.coverage.data();
-    // The box of the inside pixels: rows side by side, each row's first and last.
+    const Coverage& cov = view.coverage;
+    // The box of the inside pixels (within the coverage's window): rows side by side, each
+    // row's first and last.
     struct Box {
         int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
     };
+    const int ww = cov.window_width();
     const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, h, 64), Box{},
+        tbb::blocked_range<int>(cov.y0(), cov.y0() + cov.window_height(), 64), Box{},
         [&](const tbb::blocked_range<int>& r, Box b) {
             for (int j = r.begin(); j != r.end(); ++j) {
-                const float* c = cov + std::size_t(j) * std::size_t(w);
+                const float* c = cov.window_row(j);
                 int first = 0;
-                while (first < w && !(c[first] >= 0.5f)) ++first;
-                if (first == w) continue;
-                int last = w - 1;
+                while (first < ww && !(c[first] >= 0.5f)) ++first;
+                if (first == ww) continue;
+                int last = ww - 1;
                 while (!(c[last] >= 0.5f)) --last;
-                b = {std::min(b.x0, first), std::min(b.y0, j), std::max(b.x1, last), std::max(b.y1, j)};
+                b = {std::min(b.x0, cov.x0() + first), std::min(b.y0, j), std::max(b.x1, cov.x0() + last),
+                     std::max(b.y1, j)};
             }
             return b;
         },
@@ -55,7 +58,8 @@ SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     tbb::parallel_for(tbb::blocked_range<int>(0, bh, 64), [&](const tbb::blocked_range<int>& r) {
         for (int j = r.begin(); j != r.end(); ++j) {
             std::uint32_t* out = sat.counts.data() + std::size_t(j + 1) * stride;
-            const float* c = cov + std::size_t(sat.box_y + j) * std::size_t(w) + std::size_t(sat.box_x);
+            // (the box lies within the coverage's window)
+            const float* c = cov.window_row(sat.box_y + j) + (sat.box_x - cov.x0());
             std::uint32_t row = 0;
             out[0] = 0;
             for (int i = 0; i < bw; ++i) {
@@ -80,7 +84,7 @@ SilhouetteField::SilhouetteField(const View& view)
     : SilhouetteField(view, std::make_shared<const Table>(summed_area(view))) {}
 
 SilhouetteField::SilhouetteField(const View& view, std::shared_ptr<const Table> table)
-    : view_(&view), cov_(view.coverage.data()), w_(view.width), h_(view.height), sat_(std::move(table)) {
+    : view_(&view), cov_(&view.coverage), w_(view.width), h_(view.height), sat_(std::move(table)) {
     if (w_ <= 0 || h_ <= 0 || view.coverage.size() != std::size_t(w_) * std::size_t(h_))
         throw Error("view \"" + view.name + "\" has no silhouette (coverage size does not match " + std::to_string(w_) +
                     "x" + std::to_string(h_) + ")");

@@ -103,13 +103,13 @@ private:
     float pix(int i, int j) const {
         i = i < 0 ? 0 : (i >= w_ ? w_ - 1 : i);
         j = j < 0 ? 0 : (j >= h_ ? h_ - 1 : j);
-        return cov_[std::size_t(j) * w_ + i];
+        return cov_->at(i, j);
     }
     // Transitions of the 2D segment p0 -> p1 in pixel coordinates, s in [0, 1].
     int transitions_2d(double x0, double y0, double x1, double y1, bool start, double* flips, int max_flips) const;
 
     const View* view_;
-    const float* cov_;
+    const Coverage* cov_;
     int w_, h_;
     std::array<double, 12> m_{};       ///< 3x4 projection; orthographic third row is (0,0,0,1)
     std::shared_ptr<const Table> sat_; ///< summed_area(view)

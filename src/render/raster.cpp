@@ -305,25 +305,26 @@ SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, std::vect
         struct Counts {
             std::size_t s = 0, r = 0, both = 0;
         };
+        // By rows: the mask's pixels over the whole row, the silhouette's over its window (zero
+        // beyond it). 32-bit counts per row: a loop over several pixels at once.
+        const Coverage& cov = v.coverage;
+        const int x0 = cov.x0(), ww = cov.window_width();
         const Counts c = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, r.size(), 65536), Counts{},
-            [&](const tbb::blocked_range<std::size_t>& rg, Counts acc) {
-                // 32-bit counts over at most 2^31 pixels at a time: a loop over several pixels at once.
-                const float* cov = v.coverage.data();
-                const std::uint8_t* mask = r.data();
-                for (std::size_t b = rg.begin(); b < rg.end();) {
-                    const std::size_t e = std::min(rg.end(), b + (std::size_t(1) << 31));
+            tbb::blocked_range<int>(0, v.height, 32), Counts{},
+            [&](const tbb::blocked_range<int>& rows, Counts acc) {
+                for (int y = rows.begin(); y != rows.end(); ++y) {
+                    const std::uint8_t* mask = r.data() + std::size_t(y) * std::size_t(v.width);
                     std::uint32_t s = 0, m = 0, both = 0;
-                    for (std::size_t i = b; i < e; ++i) {
-                        const std::uint32_t si = cov[i] >= 0.5f ? 1u : 0u, mi = mask[i] != 0 ? 1u : 0u;
-                        s += si;
-                        m += mi;
-                        both += si & mi;
-                    }
+                    for (int x = 0; x < v.width; ++x) m += mask[x] != 0 ? 1u : 0u;
+                    if (const float* row = cov.window_row(y))
+                        for (int x = 0; x < ww; ++x) {
+                            const std::uint32_t si = row[x] >= 0.5f ? 1u : 0u, mi = mask[x0 + x] != 0 ? 1u : 0u;
+                            s += si;
+                            both += si & mi;
+                        }
                     acc.s += s;
                     acc.r += m;
                     acc.both += both;
-                    b = e;
                 }
                 return acc;
             },

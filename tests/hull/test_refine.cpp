@@ -249,16 +249,17 @@ TEST(SilhouetteField, SummedAreaCountsEveryBox) {
         v.name = "front";
         v.width = 2600;
         v.height = 301;
-        v.coverage.resize(std::size_t(v.width) * std::size_t(v.height));
+        std::vector<float> cov(std::size_t(v.width) * std::size_t(v.height));
         std::uint32_t state = 12345;
         for (int y = 0; y < v.height; ++y)
             for (int x = 0; x < v.width; ++x) {
                 state = state * 1664525u + 1013904223u;
                 const bool disc = (x - 1300) * (x - 1300) / 16 + (y - 150) * (y - 150) < 140 * 140;
                 const float stray = strays && (state >> 24) < 8 ? 0.5f : 0.0f;
-                v.coverage[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] =
+                cov[std::size_t(y) * std::size_t(v.width) + std::size_t(x)] =
                     disc ? ((state >> 24) < 200 ? 1.0f : 0.49f) : stray;
             }
+        v.coverage = Coverage(cov, v.width, v.height);
         const SilhouetteField::Table sat = SilhouetteField::summed_area(v);
         ASSERT_TRUE(sat.of(v.width, v.height));
         const std::size_t stride = std::size_t(v.width) + 1;
@@ -290,7 +291,7 @@ TEST(SilhouetteField, SummedAreaCountsEveryBox) {
     View empty;
     empty.width = 40;
     empty.height = 30;
-    empty.coverage.assign(1200, 0.2f);
+    empty.coverage = Coverage(std::vector<float>(1200, 0.2f), 40, 30);
     const SilhouetteField::Table none = SilhouetteField::summed_area(empty);
     ASSERT_TRUE(none.of(40, 30));
     EXPECT_EQ(none.at(40, 30), 0u);

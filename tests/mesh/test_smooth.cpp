@@ -302,7 +302,11 @@ TEST(HullDistance, FieldsAreBuiltOncePerViewsAndNotSharedWithACopy) {
     const auto a = view_sdfs(views), b = view_sdfs(views);
     EXPECT_EQ(a.get(), b.get());
     Views copy = views;
-    for (float& c : copy.views[0].coverage) c = 1.0f - c; // the copy's front view inverted
+    { // the copy's front view inverted
+        std::vector<float> cov = copy.views[0].coverage.full();
+        for (float& c : cov) c = 1.0f - c;
+        copy.views[0].coverage = Coverage(cov, copy.views[0].width, copy.views[0].height);
+    }
     const auto c = view_sdfs(copy);
     EXPECT_NE(c.get(), a.get());
     EXPECT_LT((*a)[0].sdf.at(32, 32), 0.0f);
@@ -314,7 +318,8 @@ TEST(HullDistance, FieldsAreBuiltOncePerViewsAndNotSharedWithACopy) {
 
 TEST(HullDistance, EmptySilhouetteIsAnErrorNamingTheView) {
     Views views = test::make_box_views(-1.0f, 1.0f, 32);
-    std::fill(views.views[1].coverage.begin(), views.views[1].coverage.end(), 0.0f);
+    views.views[1].coverage =
+        Coverage(std::vector<float>(views.views[1].coverage.size(), 0.0f), views.views[1].width, views.views[1].height);
     try {
         HullDistance h(views);
         FAIL() << "expected an error";

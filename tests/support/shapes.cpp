@@ -138,7 +138,7 @@ Views make_box_views(float lo, float hi, int width) {
         v.camera.cy = 0.5 * width + scale * dot(c, v.camera.u);
         // The box projects to the square [a, b]^2 in pixels.
         const double a = 0.5 * width - 0.5 * scale * (hi - lo), b = 0.5 * width + 0.5 * scale * (hi - lo);
-        v.coverage.assign(std::size_t(width) * width, 0.0f);
+        std::vector<float> cov(std::size_t(width) * width, 0.0f);
         for (int y = 0; y < width; ++y)
             for (int x = 0; x < width; ++x) {
                 int in = 0;
@@ -147,8 +147,9 @@ Views make_box_views(float lo, float hi, int width) {
                         const double px = x + (sx + 0.5) / 4, py = y + (sy + 0.5) / 4;
                         in += px >= a && px < b && py >= a && py < b;
                     }
-                v.coverage[std::size_t(y) * width + x] = float(in) / 16.0f;
+                cov[std::size_t(y) * width + x] = float(in) / 16.0f;
             }
+        v.coverage = Coverage(cov, width, width);
         vs.views.push_back(std::move(v));
     }
     vs.has_bounds = true;
@@ -197,13 +198,14 @@ View ortho_view(const std::string& name, int size, double scale, const Outline& 
     v.camera.scale = scale;
     v.camera.cx = v.camera.cy = size / 2.0;
     v.width = v.height = size;
-    v.coverage.resize(std::size_t(size) * size);
+    std::vector<float> cov(std::size_t(size) * size);
     for (int j = 0; j < size; ++j)
         for (int i = 0; i < size; ++i) {
             const double a = (i + 0.5 - v.camera.cx) / scale, b = (v.camera.cy - (j + 0.5)) / scale;
             const Vec3d q = v.camera.r * a + v.camera.u * b;
-            v.coverage[std::size_t(j) * size + i] = float(ramp_coverage(outline(q) * scale));
+            cov[std::size_t(j) * size + i] = float(ramp_coverage(outline(q) * scale));
         }
+    v.coverage = Coverage(cov, size, size);
     return v;
 }
 
@@ -261,7 +263,7 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
     v.camera = Camera::perspective(P);
     v.width = w;
     v.height = h;
-    v.coverage.resize(std::size_t(w) * h);
+    std::vector<float> cov(std::size_t(w) * h);
     const Vec3d eye = v.camera.center();
     const double dist = length(c - eye);
     const double cone = std::asin(r / dist);
@@ -271,8 +273,9 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
             v.camera.ray(i + 0.5, j + 0.5, o, dir);
             const double ang = std::acos(std::clamp(dot(dir, normalize(c - eye)), -1.0, 1.0));
             // Angle to pixels: about f pixels per radian near the centre of the image.
-            v.coverage[std::size_t(j) * w + i] = float(ramp_coverage((cone - ang) * f));
+            cov[std::size_t(j) * w + i] = float(ramp_coverage((cone - ang) * f));
         }
+    v.coverage = Coverage(cov, w, h);
     return v;
 }
 

@@ -446,7 +446,7 @@ TEST(HostileInput, ACameraWithNaNFromCodeIsNamedByTheHull) {
     View v;
     v.name = "side";
     v.width = v.height = 8;
-    v.coverage.assign(64, 1.0f);
+    v.coverage = Coverage(std::vector<float>(64, 1.0f), 8, 8);
     std::array<double, 12> P{1, 0, 0, 4, 0, -1, 0, 4, 0, 0, 1, 10};
     P[0] = std::numeric_limits<double>::quiet_NaN();
     v.camera = Camera::perspective(P);

@@ -84,7 +84,7 @@ SilhouetteResult extract(const Image& img, const std::string& photo) {
     return extract_silhouette(img, info, opt);
 }
 
-double iou(const std::vector<float>& coverage) { return test::coverage_iou(coverage, kSize, kSize, object); }
+double iou(const Coverage& coverage) { return test::coverage_iou(coverage.full(), kSize, kSize, object); }
 
 } // namespace
 

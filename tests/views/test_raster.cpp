@@ -25,8 +25,9 @@ View view_from_mask(const std::string& name, const Camera& cam, const std::vecto
     v.width = w;
     v.height = h;
     v.camera = cam;
-    v.coverage.resize(mask.size());
-    for (std::size_t i = 0; i < mask.size(); ++i) v.coverage[i] = mask[i] ? 1.0f : 0.0f;
+    std::vector<float> cov(mask.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) cov[i] = mask[i] ? 1.0f : 0.0f;
+    v.coverage = Coverage(cov, w, h);
     return v;
 }
 

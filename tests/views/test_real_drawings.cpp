@@ -54,8 +54,8 @@ Image render(int w, int h, const Sampler& colour) {
     return img;
 }
 
-double iou(const std::vector<float>& coverage, int w, int h, const std::function<bool(double, double)>& truth) {
-    return test::coverage_iou(coverage, w, h, truth);
+double iou(const Coverage& coverage, int w, int h, const std::function<bool(double, double)>& truth) {
+    return test::coverage_iou(coverage.full(), w, h, truth);
 }
 
 // Breaks in a stroke: points on the outline, each with a width (px) across which the stroke

@@ -55,8 +55,8 @@ void paint(Image& img, const Shape& shape, std::array<float, 3> colour) {
         }
 }
 
-double iou(const std::vector<float>& coverage, int w, int h, const Shape& truth) {
-    return test::coverage_iou(coverage, w, h, truth);
+double iou(const Coverage& coverage, int w, int h, const Shape& truth) {
+    return test::coverage_iou(coverage.full(), w, h, truth);
 }
 
 // A character-like object: a body (ellipse) with a head (disc) and a leg (rectangle).
@@ -352,5 +352,5 @@ TEST(Silhouette, GreyDrawingKeptAsOneChannelGivesTheSameSilhouette) {
     const SilhouetteResult a = extract_silhouette(kept, info_bytes, {}), b = extract_silhouette(rgba, info_rgba, {});
     EXPECT_EQ(a.method, "background");
     EXPECT_GT(iou(a.coverage, w, h, figure), 0.99);
-    EXPECT_EQ(a.coverage, b.coverage);
+    EXPECT_EQ(a.coverage.full(), b.coverage.full());
 }

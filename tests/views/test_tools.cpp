@@ -32,7 +32,7 @@ View front_view_of(const Mesh& mesh, int size) {
     v.width = v.height = size;
     v.camera = framed_camera(*Camera::named("front"), {-1, -1, -1}, {1, 1, 1}, size, size);
     const auto m = render_mask(mesh, v.camera, size, size);
-    v.coverage.assign(m.begin(), m.end());
+    v.coverage = Coverage(std::vector<float>(m.begin(), m.end()), v.width, v.height);
     return v;
 }
 
@@ -234,7 +234,7 @@ TEST(EvalStages, SilhouetteErrorReportsPerViewAndOverall) {
         v.width = v.height = 100;
         v.camera = framed_camera(*Camera::named(name), {-1, -1, -1}, {1, 1, 1}, 100, 100);
         const auto m = render_mask(box, v.camera, 100, 100);
-        v.coverage.assign(m.begin(), m.end());
+        v.coverage = Coverage(std::vector<float>(m.begin(), m.end()), v.width, v.height);
         views->views.push_back(v);
     }
     test::StageHarness h("eval.silhouette_error");

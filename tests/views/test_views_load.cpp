@@ -38,9 +38,10 @@ View rect_view(const std::string& name, int w, int h, int x0, int y0, int x1, in
     v.width = w;
     v.height = h;
     v.camera = *Camera::named(name);
-    v.coverage.assign(std::size_t(w) * h, 0.0f);
+    std::vector<float> cov(std::size_t(w) * h, 0.0f);
     for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) v.coverage[std::size_t(y) * w + x] = 1.0f;
+        for (int x = x0; x < x1; ++x) cov[std::size_t(y) * w + x] = 1.0f;
+    v.coverage = Coverage(cov, w, h);
     return v;
 }
 
@@ -258,7 +259,7 @@ TEST(ViewsLoad, ObliqueViewIsPlacedThroughTheHullOfTheAxisViews) {
         v.width = v.height = 240;
         v.camera = dir; // direction only, as views.load sets it
         const auto mask = render_mask(m, cam, 240, 240);
-        v.coverage.assign(mask.begin(), mask.end());
+        v.coverage = Coverage(std::vector<float>(mask.begin(), mask.end()), v.width, v.height);
         views.views.push_back(v);
     }
     std::vector<std::string> warnings;
@@ -296,10 +297,11 @@ TEST(ViewsLoad, AntiAliasedSilhouettesGiveSubPixelExtents) {
             v.name = name;
             v.width = v.height = 300;
             v.camera = *Camera::named(name);
-            v.coverage.assign(300 * 300, 0.0f);
+            std::vector<float> cov(300 * 300, 0.0f);
             for (int y = 0; y < 1200; ++y)
                 for (int x = 0; x < 1200; ++x)
-                    v.coverage[std::size_t(y / 4) * 300 + x / 4] += fine[std::size_t(y) * 1200 + x] / 16.0f;
+                    cov[std::size_t(y / 4) * 300 + x / 4] += fine[std::size_t(y) * 1200 + x] / 16.0f;
+            v.coverage = Coverage(cov, 300, 300);
             views.views.push_back(v);
         }
         std::vector<std::string> warnings;
@@ -449,9 +451,10 @@ TEST(ViewsLoad, FreeViewsAlignToTheFixedOnes) {
         views.views.push_back(known_view(kFront, true));
         views.views.push_back(known_view(kTop, true));
         View right = known_view(kRight, false);
-        right.coverage.assign(right.coverage.size(), 0.0f); // 30 units deep but 66 high
+        std::vector<float> cov(right.coverage.size(), 0.0f); // 30 units deep but 66 high
         for (int y = 0; y < 132; ++y)
-            for (int x = 20; x < 80; ++x) right.coverage[std::size_t(y) * 100 + x] = 1.0f;
+            for (int x = 20; x < 80; ++x) cov[std::size_t(y) * 100 + x] = 1.0f;
+        right.coverage = Coverage(cov, right.width, right.height);
         views.views.push_back(right);
         AlignOptions opt;
         opt.fixed = {true, true, false};
@@ -551,7 +554,7 @@ TEST(ViewsLoad, FreeObliqueViewIsPlacedAgainstFixedAxisViews) {
         v.width = v.height = 240;
         v.camera = truth.back();
         const auto mask = render_mask(m, truth.back(), 240, 240);
-        v.coverage.assign(mask.begin(), mask.end());
+        v.coverage = Coverage(std::vector<float>(mask.begin(), mask.end()), v.width, v.height);
         views.views.push_back(v);
     }
     views.views[3].camera = Camera::from_azimuth_elevation(45, 30); // direction only

@@ -244,13 +244,14 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
         // one of four colours; a destination pixel's sum is counted per colour, which is the
         // same double as adding them one by one (every partial sum of these floats is exact).
         const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
-        const float* cover = view.coverage.data();
+        const Coverage& cover = view.coverage;
         sheet.paste_runs(
             view.width, view.height, 3 * gap + 2 * P, py, P, P,
             [&](std::size_t first, int n, double acc[3]) {
                 int count[4] = {0, 0, 0, 0}; // none, mesh only, input only, both
-                for (std::size_t i = first; i < first + std::size_t(n); ++i)
-                    ++count[(cover[i] >= 0.5f ? 2 : 0) + (r[i] != 0 ? 1 : 0)];
+                const int y = int(first / std::size_t(view.width)), x0 = int(first % std::size_t(view.width));
+                for (int k = 0; k < n; ++k)
+                    ++count[(cover.at(x0 + k, y) >= 0.5f ? 2 : 0) + (r[first + std::size_t(k)] != 0 ? 1 : 0)];
                 static constexpr float kBoth[3] = {0.62f, 0.62f, 0.64f}, kNone[3] = {1.0f, 1.0f, 1.0f};
                 static constexpr const float* kColours[4] = {kNone, kMeshOnly, kInputOnly, kBoth};
                 for (int c = 0; c < 4; ++c)

@@ -169,7 +169,7 @@ std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const V
         // hull projects into it), its distance to the outline and local inscribed radius. The
         // distance is the drawing's own (sub-pixel), in cells; cells the hull reaches although
         // their centre is outside the drawing get 0.
-        const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.width, view.height, view.name);
+        const SilhouetteSdf sdf = silhouette_sdf(view.coverage, view.name);
         std::vector<char> outside(ncell, 0);
         std::vector<float> dist(ncell, 0.0f);
         tbb::parallel_for(tbb::blocked_range<int>(0, R.h), [&](const tbb::blocked_range<int>& rows) {

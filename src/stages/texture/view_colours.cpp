@@ -18,10 +18,13 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
     vc.rgb.resize(n);
     vc.confidence.assign(n, 0.0f);
     std::vector<char> inside(n), outside(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        inside[i] = view.coverage.size() == n ? view.coverage[i] >= 0.5f : 1;
-        outside[i] = !inside[i];
-    }
+    const bool given = view.coverage.size() == n;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            inside[i] = given ? view.coverage.at(x, y) >= 0.5f : 1;
+            outside[i] = !inside[i];
+        }
     const std::vector<float> d_out = squared_edt(outside, w, h);
     // valid: the pixel's own colour is taken. drawn: the drawing gives a colour there, the
     // pixel's own or, on the one-pixel fringe of an ink stroke (anti-aliased, part ink), the

@@ -36,11 +36,14 @@ Extent silhouette_extent(const View& v) {
     tbb::enumerable_thread_specific<std::vector<float>> cols(std::vector<float>(std::size_t(w), 0.0f));
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 64), [&](const tbb::blocked_range<int>& rows) {
         std::vector<float>& colf = cols.local();
+        // Beyond the coverage's window every value is 0, which changes no maximum.
+        const int x0 = v.coverage.x0(), ww = v.coverage.window_width();
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            const float* c = v.coverage.data() + std::size_t(y) * std::size_t(w);
+            const float* c = v.coverage.window_row(y);
+            if (!c) continue;
             float r = 0.0f;
-            for (int x = 0; x < w; ++x) {
-                colf[std::size_t(x)] = std::max(colf[std::size_t(x)], c[x]);
+            for (int x = 0; x < ww; ++x) {
+                colf[std::size_t(x0 + x)] = std::max(colf[std::size_t(x0 + x)], c[x]);
                 r = std::max(r, c[x]);
             }
             row[std::size_t(y)] = double(r);

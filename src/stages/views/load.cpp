@@ -35,11 +35,12 @@ SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image
     const bool alpha = transparent > 0 && transparent < n;
     SilhouetteResult res;
     res.method = "mask";
-    res.coverage.resize(n);
+    std::vector<float> coverage(n);
     for (std::size_t i = 0; i < n; ++i) {
         const float* p = &m.pixels[i * 4];
-        res.coverage[i] = std::clamp(alpha ? p[3] : (p[0] + p[1] + p[2]) / 3.0f, 0.0f, 1.0f);
+        coverage[i] = std::clamp(alpha ? p[3] : (p[0] + p[1] + p[2]) / 3.0f, 0.0f, 1.0f);
     }
+    res.coverage = Coverage(coverage, m.width, m.height);
     return res;
 }
 
@@ -130,7 +131,8 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
     if (progress) progress(0.8);
 
     for (const auto& v : views.views) {
-        if (std::none_of(v.coverage.begin(), v.coverage.end(), [](float c) { return c >= 0.5f; }))
+        const auto& values = v.coverage.window_values(); // every nonzero value is in the window
+        if (std::none_of(values.begin(), values.end(), [](float c) { return c >= 0.5f; }))
             throw Error("view \"" + v.name + "\" (" + v.source.string() +
                         ") has an empty silhouette: no object was found in it");
     }
@@ -158,7 +160,7 @@ Image silhouette_image(const View& v) {
     img.width = v.width;
     img.height = v.height;
     img.channels = 1;
-    img.pixels = v.coverage;
+    img.pixels = v.coverage.full();
     return img;
 }
 

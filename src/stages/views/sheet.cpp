@@ -189,7 +189,7 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
             // the test sheets fall into twice their panels).
             so.shadow = "keep";
             so.close_gaps = 0;
-            found = find_panels(extract_silhouette(img, info, so).coverage, img.width, img.height, opt);
+            found = find_panels(extract_silhouette(img, info, so).coverage.full(), img.width, img.height, opt);
         } catch (const Error& e) {
             throw Error(where + ": " + e.what());
         }

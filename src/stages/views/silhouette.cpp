@@ -366,10 +366,11 @@ std::optional<Window> ink_window(const Image& img, const BackgroundModel& model,
 }
 
 // The coverage of a drawing without meaningful alpha, from its background colour: into
-// res.coverage (zero on entry) when the whole image was analysed, and returns nothing; or
-// the window's coverage into `part` (zero beyond the window), and returns the window.
+// `whole` (the image's size, zero on entry) when the whole image was analysed, and returns
+// nothing; or the window's coverage into `part` (zero beyond the window), and returns the
+// window.
 std::optional<Window> coverage_from_background(const Image& img, const SilhouetteOptions& opt, SilhouetteResult& res,
-                                               std::vector<float>& part) {
+                                               std::vector<float>& whole, std::vector<float>& part) {
     res.method = "background";
     BackgroundModel model;
     double noise = 0;
@@ -393,7 +394,8 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
         res.holes_kept = photo.holes_kept;
         res.regions_filled = photo.holes_filled;
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
-        cut.coverage(res.coverage);
+        whole.assign(std::size_t(img.width) * img.height, 0.0f);
+        cut.coverage(whole);
         res.analysed_pixels = std::size_t(img.width) * img.height;
         return std::nullopt;
     }
@@ -421,7 +423,8 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
         }
     }
     BackgroundCut cut(img, model, t, more);
-    analyse(cut, res.coverage);
+    whole.assign(std::size_t(img.width) * img.height, 0.0f);
+    analyse(cut, whole);
     res.analysed_pixels = std::size_t(img.width) * img.height;
     return std::nullopt;
 }
@@ -498,7 +501,6 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
     if (w <= 0 || h <= 0 || img.channels < 1 || img.channels > 4 || img.samples() != n * std::size_t(img.channels))
         throw Error("the image is empty or not grey, RGB or RGBA");
     SilhouetteResult res;
-    res.coverage.assign(n, 0.0f);
 
     bool use_alpha = opt.background == "alpha";
     if (use_alpha && !info.has_alpha) throw Error("background: alpha, but the image has no alpha channel");
@@ -509,23 +511,25 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
         use_alpha = transparent > 0 && transparent < n;
     }
     std::optional<Window> win;
-    std::vector<float> part; // the window's coverage, when only the window was analysed
+    std::vector<float> whole; // the image's coverage, when the whole image was analysed
+    std::vector<float> part;  // the window's coverage, when only the window was analysed
     if (use_alpha) {
         res.method = "alpha";
-        for (std::size_t i = 0; i < n; ++i) res.coverage[i] = std::clamp(img.rgba(i)[3], 0.0f, 1.0f);
+        whole.resize(n);
+        for (std::size_t i = 0; i < n; ++i) whole[i] = std::clamp(img.rgba(i)[3], 0.0f, 1.0f);
         res.analysed_pixels = n;
     } else {
-        win = coverage_from_background(img, opt, res, part);
+        win = coverage_from_background(img, opt, res, whole, part);
     }
     if (!win) {
-        keep_components(w, h, opt.keep, res.coverage, res);
+        keep_components(w, h, opt.keep, whole, res);
+        res.coverage = Coverage(whole, w, h);
         return res;
     }
-    // Beyond the window the coverage is zero: the components are the window's.
+    // Beyond the window the coverage is zero: the components are the window's, and the
+    // window is what is kept (the box of its nonzero values).
     keep_components(win->width, win->height, opt.keep, part, res);
-    for (int y = 0; y < win->height; ++y)
-        std::copy_n(part.begin() + std::ptrdiff_t(std::size_t(y) * win->width), win->width,
-                    res.coverage.begin() + std::ptrdiff_t(std::size_t(win->y0 + y) * w + std::size_t(win->x0)));
+    res.coverage = Coverage::of_window(part, w, h, win->x0, win->y0, win->width, win->height);
     return res;
 }
 

@@ -35,10 +35,10 @@ struct SilhouetteOptions {
 };
 
 struct SilhouetteResult {
-    std::vector<float> coverage; ///< width*height, row 0 at the top
-    std::string method;          ///< "alpha" or "background"
-    double threshold = 0;        ///< the colour distance used (background method)
-    double noise = 0;            ///< spread of the border around the background model
+    Coverage coverage;    ///< over the image, row 0 at the top
+    std::string method;   ///< "alpha" or "background"
+    double threshold = 0; ///< the colour distance used (background method)
+    double noise = 0;     ///< spread of the border around the background model
     int components_kept = 0, components_dropped = 0;
     int holes_kept = 0, regions_filled = 0; ///< enclosed background-like regions
     double close_gaps = 0;                  ///< the gap closed (pixels), background method

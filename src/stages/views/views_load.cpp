@@ -74,7 +74,18 @@ public:
             const double area = tbb::parallel_deterministic_reduce(
                 tbb::blocked_range<std::size_t>(0, v.coverage.size(), std::size_t(1) << 16), 0.0,
                 [&](const tbb::blocked_range<std::size_t>& r, double sum) {
-                    for (std::size_t i = r.begin(); i != r.end(); ++i) sum += v.coverage[i];
+                    // In pixel order, leaving out the zeros beyond the window (adding them
+                    // changes no sum).
+                    const Coverage& c = v.coverage;
+                    const std::size_t W = std::size_t(c.width());
+                    for (std::size_t y = r.begin() / W; y * W < r.end(); ++y) {
+                        const float* row = c.window_row(int(y));
+                        if (!row) continue;
+                        const std::size_t left = y * W + std::size_t(c.x0());
+                        const std::size_t a = std::max(r.begin(), left);
+                        const std::size_t b = std::min(r.end(), left + std::size_t(c.window_width()));
+                        for (std::size_t i = a; i < b; ++i) sum += row[i - left];
+                    }
                     return sum;
                 },
                 [](double x, double y) { return x + y; });
