@@ -42,15 +42,7 @@ int run_run(const RunCommandOptions& o, const GlobalOptions& g) {
     }
     if (!o.labels.empty() && o.report.empty())
         throw Error("--label needs --report: labels are written into the run report");
-    RunResult r = [&] {
-        try {
-            return run_pipeline(p, Registry::global(), opt);
-        } catch (...) {
-            print_plugin_diagnostics(g); // those of the plugins loaded on the way
-            throw;
-        }
-    }();
-    print_plugin_diagnostics(g);
+    const RunResult r = with_plugin_warnings(g, [&] { return run_pipeline(p, Registry::global(), opt); });
     if (!g.quiet) {
         for (const auto& out : r.outputs) std::cerr << "conceptmesh: wrote " << out.string() << "\n";
         std::cerr << "conceptmesh: finished in " << std::fixed << std::setprecision(2) << r.seconds

@@ -5,7 +5,6 @@
 #include <regex>
 #include <sstream>
 
-#include "cli/commands.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "pipeline/run_stage.h"
@@ -160,13 +159,7 @@ Inputs mesh_and_views(Mesh mesh, std::shared_ptr<const Views> views) {
 Pipeline load_checked(const std::string& file, const std::vector<std::string>& sets, const GlobalOptions& g) {
     Pipeline p = Pipeline::load(file);
     for (const auto& s : sets) p.apply_override(s);
-    try {
-        p.validate(Registry::global());
-    } catch (...) {
-        print_plugin_diagnostics(g); // those of the plugins loaded on the way
-        throw;
-    }
-    print_plugin_diagnostics(g);
+    with_plugin_warnings(g, [&] { p.validate(Registry::global()); });
     return p;
 }
 

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -78,6 +79,25 @@ private:
 std::shared_ptr<const Views> load_views_through_registry(const std::string& manifest, const GlobalOptions& g);
 /// The inputs of an eval stage: a mesh and views.
 Inputs mesh_and_views(Mesh mesh, std::shared_ptr<const Views> views);
+
+/// f(), then the warnings of the plugins it loaded (plugins load on first use), whether it
+/// returns or throws.
+template <typename F>
+auto with_plugin_warnings(const GlobalOptions& g, F&& f) -> decltype(f()) {
+    try {
+        if constexpr (std::is_void_v<decltype(f())>) {
+            f();
+            print_plugin_diagnostics(g);
+        } else {
+            auto r = f();
+            print_plugin_diagnostics(g);
+            return r;
+        }
+    } catch (...) {
+        print_plugin_diagnostics(g);
+        throw;
+    }
+}
 
 /// A pipeline file with --set overrides applied, validated against the registry; prints the
 /// warnings of the plugins that loaded on the way.

@@ -33,7 +33,7 @@ Coverage Coverage::of_window(const std::vector<float>& part, int width, int heig
     Coverage c;
     c.width_ = width;
     c.height_ = height;
-    // The box of the nonzero values within the window.
+    // The box of the nonzero values within the window, and that of the inside ones (>= 0.5).
     int bx0 = w, by0 = h, bx1 = -1, by1 = -1;
     for (int y = 0; y < h; ++y) {
         const float* row = part.data() + std::size_t(y) * std::size_t(w);
@@ -46,6 +46,14 @@ Coverage Coverage::of_window(const std::vector<float>& part, int width, int heig
         bx1 = std::max(bx1, last);
         by0 = std::min(by0, y);
         by1 = y;
+        int in_first = first;
+        while (in_first <= last && !(row[in_first] >= 0.5f)) ++in_first;
+        if (in_first > last) continue;
+        int in_last = last;
+        while (!(row[in_last] >= 0.5f)) --in_last;
+        Box& b = c.inside_;
+        if (b.empty()) b = {x0 + in_first, y0 + y, x0 + in_last, y0 + y};
+        b = {std::min(b.x0, x0 + in_first), b.y0, std::max(b.x1, x0 + in_last), y0 + y};
     }
     if (bx1 < 0) return c; // all zero: an empty window
     c.x0_ = x0 + bx0;

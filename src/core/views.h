@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <iterator>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -87,40 +86,19 @@ public:
     }
     /// Every value, row-major.
     std::vector<float> full() const;
-
-    /// Every pixel's value in row-major order (for range-for and algorithms).
-    class Iterator {
-    public:
-        using iterator_category = std::forward_iterator_tag;
-        using value_type = float;
-        using difference_type = std::ptrdiff_t;
-        using pointer = const float*;
-        using reference = float;
-        Iterator(const Coverage* c, std::size_t i) : c_(c), i_(i) {}
-        float operator*() const { return (*c_)[i_]; }
-        Iterator& operator++() {
-            ++i_;
-            return *this;
-        }
-        Iterator operator++(int) {
-            Iterator t = *this;
-            ++i_;
-            return t;
-        }
-        bool operator==(const Iterator& o) const { return i_ == o.i_; }
-        bool operator!=(const Iterator& o) const { return i_ != o.i_; }
-
-    private:
-        const Coverage* c_;
-        std::size_t i_;
+    /// A box of pixels, x0 <= x <= x1, y0 <= y <= y1 (empty when x1 < x0).
+    struct Box {
+        int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+        bool empty() const { return x1 < x0; }
     };
-    Iterator begin() const { return {this, 0}; }
-    Iterator end() const { return {this, size()}; }
+    /// The box of the pixels inside the silhouette (coverage >= 0.5); found when made.
+    const Box& inside_box() const { return inside_; }
 
 private:
     int width_ = 0, height_ = 0;
     int x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
     std::vector<float> values_;
+    Box inside_;
 };
 
 struct View {

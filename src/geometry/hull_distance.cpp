@@ -49,33 +49,8 @@ SilhouetteSdf silhouette_sdf(const std::vector<float>& coverage, int w, int h, c
 SilhouetteSdf silhouette_sdf(const Coverage& coverage, const std::string& view_name) {
     const int w = coverage.width(), h = coverage.height();
     if (w <= 0 || h <= 0) throw Error("view \"" + view_name + "\" has no silhouette");
-    // The box of the inside pixels (within the coverage's window), per row then over the rows.
-    struct Box {
-        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
-        void add(const Box& o) {
-            x0 = std::min(x0, o.x0), y0 = std::min(y0, o.y0), x1 = std::max(x1, o.x1), y1 = std::max(y1, o.y1);
-        }
-    };
-    const int ww = coverage.window_width(), cx0 = coverage.x0();
-    const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(coverage.y0(), coverage.y0() + coverage.window_height(), 16), Box{},
-        [&](const tbb::blocked_range<int>& r, Box acc) {
-            for (int y = r.begin(); y != r.end(); ++y) {
-                const float* row = coverage.window_row(y);
-                int x = 0;
-                while (x < ww && !(row[x] >= 0.5f)) ++x;
-                if (x == ww) continue;
-                int xe = ww - 1;
-                while (!(row[xe] >= 0.5f)) --xe;
-                acc.add({cx0 + x, y, cx0 + xe, y});
-            }
-            return acc;
-        },
-        [](Box a, const Box& b) {
-            a.add(b);
-            return a;
-        });
-    if (box.x1 < 0) throw Error("view \"" + view_name + "\" has an empty silhouette");
+    const Coverage::Box box = coverage.inside_box();
+    if (box.empty()) throw Error("view \"" + view_name + "\" has an empty silhouette");
     SilhouetteSdf s;
     s.width = w;
     s.height = h;

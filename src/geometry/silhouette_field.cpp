@@ -6,7 +6,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 
@@ -19,31 +18,7 @@ SilhouetteField::Table SilhouetteField::summed_area(const View& view) {
     sat.width = w;
     sat.height = h;
     const Coverage& cov = view.coverage;
-    // The box of the inside pixels (within the coverage's window): rows side by side, each
-    // row's first and last.
-    struct Box {
-        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
-    };
-    const int ww = cov.window_width();
-    const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(cov.y0(), cov.y0() + cov.window_height(), 64), Box{},
-        [&](const tbb::blocked_range<int>& r, Box b) {
-            for (int j = r.begin(); j != r.end(); ++j) {
-                const float* c = cov.window_row(j);
-                int first = 0;
-                while (first < ww && !(c[first] >= 0.5f)) ++first;
-                if (first == ww) continue;
-                int last = ww - 1;
-                while (!(c[last] >= 0.5f)) --last;
-                b = {std::min(b.x0, cov.x0() + first), std::min(b.y0, j), std::max(b.x1, cov.x0() + last),
-                     std::max(b.y1, j)};
-            }
-            return b;
-        },
-        [](const Box& a, const Box& b) {
-            return Box{std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
-        });
-    if (box.x1 >= 0) {
+    if (const Coverage::Box box = cov.inside_box(); !box.empty()) {
         sat.box_x = box.x0;
         sat.box_y = box.y0;
         sat.box_w = box.x1 - box.x0 + 1;

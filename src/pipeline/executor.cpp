@@ -402,34 +402,34 @@ RunResult PipelineRun::commit() {
 } // namespace
 
 RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
-    if (p.order.size() == p.nodes.size()) {
-        PipelineRun run(p, configure_stages(p, registry), opt);
-        return run.run();
-    }
     // Not validated yet: the nodes without inputs (the views, as a rule) start as soon as
     // each is checked on its own, and run while the rest is validated, which loads the
     // later stages' plugins (OpenVDB's take about 60 ms to load). The later nodes wait
     // until all of it passed. When it fails, the started nodes are stopped, their staged
     // files deleted, and the validation's error is the run's, as if nothing had run. The
     // run reads its own copy of the pipeline: validate() writes into `p` meanwhile.
-    Pipeline copy = p;
+    const bool validated = p.order.size() == p.nodes.size();
+    Pipeline copy;
     std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
     std::vector<std::size_t> early;
-    for (std::size_t i = 0; i < copy.nodes.size(); ++i) {
-        if (!copy.nodes[i].inputs.empty()) continue;
-        try {
-            copy.resolve_node(i, registry);
-            if (copy.nodes[i].info.output == DataKind::File) continue; // a writer waits for the checks
-            auto stage = registry.create(copy.nodes[i].stage);
-            stage->configure(copy.nodes[i].params);
-            stages[i] = std::move(stage);
-            early.push_back(i);
-        } catch (const std::exception&) {
-            // validate() reports it, in its own order.
+    if (!validated) {
+        copy = p;
+        for (std::size_t i = 0; i < copy.nodes.size(); ++i) {
+            if (!copy.nodes[i].inputs.empty()) continue;
+            try {
+                copy.resolve_node(i, registry);
+                if (copy.nodes[i].info.output == DataKind::File) continue; // a writer waits for the checks
+                auto stage = registry.create(copy.nodes[i].stage);
+                stage->configure(copy.nodes[i].params);
+                stages[i] = std::move(stage);
+                early.push_back(i);
+            } catch (const std::exception&) {
+                // validate() reports it, in its own order.
+            }
         }
     }
     if (early.empty()) {
-        p.validate(registry);
+        if (!validated) p.validate(registry);
         PipelineRun run(p, configure_stages(p, registry), opt);
         return run.run();
     }

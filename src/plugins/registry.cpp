@@ -56,7 +56,6 @@ Registry::Registry(Registry&& o) noexcept {
     stages_ = std::move(o.stages_);
     diagnostics_ = std::move(o.diagnostics_);
     handles_ = std::move(o.handles_);
-    loaded_ = std::move(o.loaded_);
     files_ = std::move(o.files_);
     lazy_ = std::move(o.lazy_);
 }
@@ -126,7 +125,6 @@ bool Registry::load_locked(std::size_t at) const {
     files_[at].loaded = true;
     const fs::path file = files_[at].path;
     const std::string name = file.string();
-    loaded_.push_back(file);
     // RTLD_NODELETE: a plugin is never unmapped, not even when the last registry holding
     // it goes. Its stages run TBB tasks whose code (the parallel_for templates) lives in
     // the plugin; a worker thread can still be returning through that code after the
@@ -280,7 +278,10 @@ std::vector<std::string> Registry::diagnostics() const {
 
 std::vector<fs::path> Registry::loaded_files() const {
     std::lock_guard<std::mutex> lock(mutex_);
-    return loaded_;
+    std::vector<fs::path> v;
+    for (const auto& f : files_)
+        if (f.loaded) v.push_back(f.path);
+    return v;
 }
 
 } // namespace cm

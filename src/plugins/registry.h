@@ -55,7 +55,7 @@ public:
     std::vector<std::string> names() const;
     /// Warnings and refusals seen while loading so far, one sentence each.
     std::vector<std::string> diagnostics() const;
-    /// The plugin files loaded so far, in load order.
+    /// The plugin files loaded so far (refused ones too), in search order.
     std::vector<std::filesystem::path> loaded_files() const;
 
     /// The default search path: the plugin folder next to the executable, then
@@ -81,7 +81,6 @@ private:
     mutable std::map<std::string, StageEntry> stages_;
     mutable std::vector<std::string> diagnostics_;
     mutable std::vector<std::shared_ptr<void>> handles_;
-    mutable std::vector<std::filesystem::path> loaded_;
     mutable std::vector<PluginFile> files_;           ///< in search order
     mutable std::map<std::string, std::size_t> lazy_; ///< stage -> the first indexed file naming it
 };

@@ -1,6 +1,7 @@
 // The silhouette coverage kept over the box of its nonzero values (core/views.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -42,9 +43,20 @@ TEST(Coverage, KeepsTheBoxOfItsNonzeroValuesAndReadsZeroBeyondIt) {
     EXPECT_EQ(c.window_height(), 17);
     EXPECT_EQ(c.window_values().size(), std::size_t(25 * 17));
     EXPECT_EQ(c.full(), full);
-    std::size_t wrong = 0, i = 0;
-    for (float v : c) wrong += v != full[i++];
-    EXPECT_EQ(i, full.size());
+    // The box of the inside pixels, against a scan of every pixel.
+    Coverage::Box in;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (full[std::size_t(y) * w + x] >= 0.5f) {
+                if (in.empty()) in = {x, y, x, y};
+                in = {std::min(in.x0, x), std::min(in.y0, y), std::max(in.x1, x), std::max(in.y1, y)};
+            }
+    ASSERT_FALSE(in.empty());
+    EXPECT_EQ(c.inside_box().x0, in.x0);
+    EXPECT_EQ(c.inside_box().y0, in.y0);
+    EXPECT_EQ(c.inside_box().x1, in.x1);
+    EXPECT_EQ(c.inside_box().y1, in.y1);
+    std::size_t wrong = 0;
     for (int y = -2; y < h + 2; ++y)
         for (int x = -2; x < w + 2; ++x) {
             const bool in = x >= 0 && y >= 0 && x < w && y < h;
@@ -82,6 +94,11 @@ TEST(Coverage, AWindowIsCutToItsNonzeroBoxAndAnEmptyOneKeepsNothing) {
     EXPECT_EQ(none.at(20, 20), 0.0f);
     EXPECT_EQ(none.window_row(20), nullptr);
     EXPECT_EQ(none.full(), std::vector<float>(std::size_t(w) * h, 0.0f));
+    EXPECT_TRUE(none.inside_box().empty());
+    // Nonzero but nowhere inside: a window kept, no inside box.
+    const Coverage faint(std::vector<float>(12, 0.3f), 4, 3);
+    EXPECT_EQ(faint.window_values().size(), 12u);
+    EXPECT_TRUE(faint.inside_box().empty());
 
     EXPECT_TRUE(Coverage().empty());
     EXPECT_THROW(Coverage::of_window(part, w, h, 30, 8, 30, 20), std::invalid_argument); // beyond the image

@@ -273,7 +273,7 @@ TEST(RealDrawings, MaskFileIsTheCoverage) {
     EXPECT_GE(iou(v.views[0].coverage, kSize, kSize, object), 0.99);
     EXPECT_EQ(v.views[0].image.width, kSize); // the image is still read
     std::size_t grey = 0;
-    for (float c : v.views[0].coverage) grey += c > 0.05f && c < 0.95f;
+    for (float c : v.views[0].coverage.full()) grey += c > 0.05f && c < 0.95f;
     EXPECT_GT(grey, 300u);
     // Segmented instead, the clutter defeats the border model (no object, or a wrong one).
     test::write_text(dir / "seg.yaml", "views:\n  front: photo.png\n");

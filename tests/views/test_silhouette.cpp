@@ -95,7 +95,7 @@ TEST(Silhouette, AlphaPngIsTheCoverage) {
     EXPECT_GT(iou(s.coverage, 220, 200, figure), 0.99);
     // Anti-aliased edges stay fractional.
     std::size_t fractional = 0;
-    for (float c : s.coverage) fractional += c > 0.05f && c < 0.95f;
+    for (float c : s.coverage.full()) fractional += c > 0.05f && c < 0.95f;
     EXPECT_GT(fractional, 100u);
 }
 

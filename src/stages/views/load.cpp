@@ -131,8 +131,7 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
     if (progress) progress(0.8);
 
     for (const auto& v : views.views) {
-        const auto& values = v.coverage.window_values(); // every nonzero value is in the window
-        if (std::none_of(values.begin(), values.end(), [](float c) { return c >= 0.5f; }))
+        if (v.coverage.inside_box().empty())
             throw Error("view \"" + v.name + "\" (" + v.source.string() +
                         ") has an empty silhouette: no object was found in it");
     }
