@@ -298,9 +298,25 @@ std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
                                           : 0u;
                 items.push_back({b_ ? face_box(p, t) : u, t, f, first, fan});
             }
-            // Sweep along x over the cell's faces, sorted by the low end of their boxes at p
-            // (only faces whose boxes at p overlap can cross there; within the boxes of both
-            // poses, those are fewer).
+            // Sweep over the cell's faces, sorted by the low end of their boxes at p (only faces
+            // whose boxes at p overlap can cross there; within the boxes of both poses, those
+            // are fewer), along the axis the boxes spread most on: a piece of surface in a cell
+            // lies across the axis it faces, and the boxes overlap least along the others.
+            // The boxes' axes are put in that order (the sweep's first) for the pass below.
+            if (items.size() > 2) {
+                Vec3f lo = items[0].now.lo, hi = lo;
+                for (const Item& it : items) {
+                    lo = vmin(lo, it.now.lo);
+                    hi = vmax(hi, it.now.lo);
+                }
+                const Vec3f spread = hi - lo;
+                const int axis = spread.x >= spread.y ? (spread.x >= spread.z ? 0 : 2) : (spread.y >= spread.z ? 1 : 2);
+                if (axis != 0)
+                    for (Item& it : items) {
+                        std::swap(it.now.lo.x, it.now.lo[axis]);
+                        std::swap(it.now.hi.x, it.now.hi[axis]);
+                    }
+            }
             std::sort(items.begin(), items.end(), [](const Item& u, const Item& v) { return u.now.lo.x < v.now.lo.x; });
             for (std::size_t x = 0; x < items.size(); ++x) {
                 const Item& ia = items[x];

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 
 #include "core/mesh.h"
 #include "geometry/mesh_intersect.h"
@@ -385,4 +386,79 @@ TEST(Reduce, OutlineGuardWorksThroughPerspectiveViews) {
     const double error = reduce(&guard);
     EXPECT_LT(error, 0.75 * free_error);
     std::printf("xor_pct %.3f unguarded, %.3f guarded\n", free_error, error);
+}
+
+// The outline guard's shortcut: where it says a collapse leaves a view's coverage as it is,
+// the faces around the vertex and the faces replacing them cover the same pixel centres. Fans
+// of random rings around a point, some folded over (a ring out of angular order, the vertex
+// outside its ring), and stars (a ring winding twice around its vertex), each collapsed into
+// each of its neighbours.
+TEST(OutlineGuard, SameCoverHoldsOnlyWhereTheCoverIsTheSame) {
+    using decimate::ImagePoint;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    auto covers = [](const ImagePoint& a, const ImagePoint& b, const ImagePoint& c, double x, double y) {
+        auto side = [&](const ImagePoint& p, const ImagePoint& q) {
+            return (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+        };
+        const double d0 = side(a, b), d1 = side(b, c), d2 = side(c, a);
+        return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
+    };
+    int said_same = 0, said_not = 0, differ_when_not = 0, stars_same = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const bool star = trial % 5 == 1, folded = trial % 3 == 0;
+        const int nr = star ? 5 + 2 * int(unit(rng) * 2) : 3 + int(unit(rng) * 6);
+        ImagePoint ring[16];
+        for (int i = 0; i < nr; ++i) {
+            // A star of 5 or 7 points steps 2 of them at a time: twice around.
+            double angle = 2 * 3.14159265358979 * ((star ? 2 * i : i) + 0.3 * unit(rng)) / nr;
+            if (folded && i == 1) angle += 3.0 * unit(rng); // out of order: the fan may fold over
+            const double radius = 2.0 + 6.0 * unit(rng);
+            ring[i] = {100 + radius * std::cos(angle), 100 + radius * std::sin(angle)};
+        }
+        // The vertex near the middle, or (sometimes) out beyond its ring.
+        const ImagePoint pv = trial % 7 == 0 ? ImagePoint{100 + 9 * unit(rng), 100 - 9 * unit(rng)}
+                                             : ImagePoint{100 + unit(rng) - 0.5, 100 + unit(rng) - 0.5};
+        int next[16];
+        double reach2 = 0;
+        for (int i = 0; i < nr; ++i) {
+            next[i] = (i + 1) % nr;
+            reach2 =
+                std::max(reach2, (ring[i].x - pv.x) * (ring[i].x - pv.x) + (ring[i].y - pv.y) * (ring[i].y - pv.y));
+        }
+        for (int w = 0; w < nr; ++w) {
+            std::array<int, 3> tris[16];
+            int nt = 0;
+            for (int i = 0; i < nr; ++i)
+                if (i != w && next[i] != w) tris[nt++] = {w, i, next[i]};
+            const bool same = decimate::same_cover(pv, ring, next, nr, tris, nt, reach2);
+            (same ? said_same : said_not) += 1;
+            stars_same += star && same;
+            // Both covers over a grid of points 0.125 px apart around the ring.
+            bool differ = false;
+            for (double y = 90.0625; y < 110 && !(differ && !same); y += 0.125)
+                for (double x = 90.0625; x < 110; x += 0.125) {
+                    bool before = false, after = false;
+                    for (int i = 0; i < nr; ++i) before |= covers(pv, ring[i], ring[next[i]], x, y);
+                    for (int i = 0; i < nt; ++i)
+                        after |= covers(ring[tris[i][0]], ring[tris[i][1]], ring[tris[i][2]], x, y);
+                    if (before != after) {
+                        differ = true;
+                        if (same)
+                            ADD_FAILURE() << "trial " << trial << ", collapse into " << w
+                                          << ": said the same, differs at (" << x << ", " << y << ")";
+                        break;
+                    }
+                }
+            differ_when_not += !same && differ;
+        }
+    }
+    // Both answers come up, and the cover does change in some of the cases the shortcut leaves
+    // to the full test.
+    EXPECT_GT(said_same, 200);
+    EXPECT_GT(said_not, 100);
+    EXPECT_GT(differ_when_not, 50);
+    EXPECT_GT(stars_same, 5);
+    std::printf("same cover %d (stars %d), not shown %d (of which %d change the cover)\n", said_same, stars_same,
+                said_not, differ_when_not);
 }

@@ -11,11 +11,7 @@ namespace cm {
 
 namespace {
 
-// A point on a view's image. Trivially constructible, unlike Vec2d: keeps() holds an array of
-// them per call, which would otherwise be zeroed (a kilobyte) on every collapse asked about.
-struct P2 {
-    double x, y;
-};
+using P2 = decimate::ImagePoint;
 
 double cross2(const P2& a, const P2& b, const P2& c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 
@@ -38,13 +34,38 @@ double nearest_on_segment(const P2& p, const P2& a, const P2& b, P2& q) {
 
 } // namespace
 
+// The faces around pv make a fan over the closed ring (r_i to r_next[i], all of them): a
+// point x lies in as many of its faces, counted with their turn (+1 one way, -1 the other), as
+// the ring winds around x, since the fan's spokes cancel. The new faces make a fan from w over
+// the same closed ring (the two faces at w are gone, and w's spokes cancel alike), with the same
+// count. When every face, old and new, turns the same way, each count is the number of faces
+// holding x, and both fans cover {x : the ring winds around x} (up to their edges).
+bool decimate::same_cover(const P2& pv, const P2* ring, const int* next, int nr, const std::array<int, 3>* tris, int nt,
+                          double reach2) {
+    // Rounding of a cross product of image coordinates (a few thousand pixels) is far below
+    // this; a face seen nearly edge-on is left to the full test.
+    const double margin = 1e-9 * std::max(reach2, 1.0);
+    bool positive = false;
+    for (int i = 0; i < nr; ++i) {
+        const double d = cross2(pv, ring[i], ring[next[i]]);
+        if (!(std::fabs(d) > margin)) return false;
+        if (i == 0) positive = d > 0;
+        else if ((d > 0) != positive) return false;
+    }
+    for (int i = 0; i < nt; ++i) {
+        const double d = cross2(ring[tris[i][0]], ring[tris[i][1]], ring[tris[i][2]]);
+        if (!(std::fabs(d) > margin) || (d > 0) != positive) return false;
+    }
+    return true;
+}
+
 OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : views_(view_sdfs(views)), tol_(tolerance_px) {}
 
 bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w, Samples* samples) const {
     // v's ring (each neighbour follows v in one face), the new faces as indices into it
     // (v replaced by w), and how far the ring reaches from v.
     constexpr int kMax = 64;
-    std::uint32_t ring[kMax];
+    std::uint32_t ring[kMax], before[kMax];
     std::array<int, 3> tris[kMax];
     int nr = 0, nt = 0, iw = -1;
     const Vec3d p(c.point(v));
@@ -52,13 +73,26 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
     c.for_faces(v, [&](std::uint32_t f) {
         if (nr == kMax) return;
         const auto& t = c.tri(f);
-        const std::uint32_t x = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
+        const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        const std::uint32_t x = t[std::size_t((k + 1) % 3)];
         if (x == w) iw = nr;
         reach3 = std::max(reach3, length(Vec3d(c.point(x)) - p));
+        before[nr] = t[std::size_t((k + 2) % 3)];
         ring[nr++] = x;
     });
     if (nr == kMax || iw < 0) return false;
     auto index = [&](std::uint32_t x) { return int(std::find(ring, ring + nr, x) - ring); };
+    // The faces around v as one cycle: face i is (v, ring[i], ring[next[i]]), and following
+    // next from any face visits every face once (otherwise the shortcut below is not taken).
+    int next[kMax];
+    bool cycle = true;
+    for (int i = 0; i < nr && cycle; ++i) cycle = (next[i] = index(before[i])) < nr;
+    if (cycle) {
+        int i = 0, steps = 0;
+        do i = next[i], ++steps;
+        while (i != 0 && steps <= nr);
+        cycle = steps == nr;
+    }
     c.for_faces(v, [&](std::uint32_t f) {
         const auto& t = c.tri(f);
         if (t[0] == w || t[1] == w || t[2] == w) return;
@@ -90,6 +124,10 @@ bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uin
         }
         const double reach = std::sqrt(reach2);
         if (sv + reach < -tol_) continue;
+        // Where the view sees v's faces and the new faces all turned one way, both cover the
+        // same region (decimate::same_cover): what the view sees is unchanged, and so is the
+        // outline.
+        if (cycle && nt == nr - 2 && decimate::same_cover(pv, pr, next, nr, tris, nt, reach2)) continue;
         // Recession: v's projection left uncovered by the new faces.
         bool covered = nt == 0;
         double best = std::numeric_limits<double>::infinity();

@@ -12,6 +12,7 @@
 // Distances are read from each view's signed distance field (src/geometry/hull_distance.h),
 // in that view's pixels, against the drawing itself, so the steps do not add up.
 #pragma once
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -24,7 +25,23 @@ namespace cm {
 
 namespace decimate {
 class Collapser;
-}
+
+/// A point on a view's image, in pixels. Trivially constructible, unlike Vec2d: the guard holds
+/// an array of them per collapse asked about, which would otherwise be zeroed every time.
+struct ImagePoint {
+    double x, y;
+};
+
+/// @brief Whether the faces around a vertex seen at `pv` on an image and the faces a collapse
+/// puts in their place cover the same region of it, shown by their orientations alone: then
+/// the collapse leaves what the view sees, and so its outline, as it is. Face i around the
+/// vertex is (pv, ring[i], ring[next[i]]), the nr faces one cycle; the nt new faces are
+/// `tris` (indices into `ring`; the faces at the ring vertex taken are gone). True when every
+/// face, old and new, turns the same way on the image, by a margin (relative to `reach2`, the
+/// ring's squared reach from pv); false otherwise (not necessarily a change).
+bool same_cover(const ImagePoint& pv, const ImagePoint* ring, const int* next, int nr, const std::array<int, 3>* tris,
+                int nt, double reach2);
+} // namespace decimate
 
 class OutlineGuard {
 public:

@@ -149,14 +149,35 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             const Vec3d p0(p), s(step);
             const double reach = length(s);
             double lo = 1; // the part of the step taken
-            // The largest part of the step (to 1/2^kBisections) whose end `keeps`.
-            auto bisect = [&](auto&& keeps) {
+            // The largest part of the step (to 1/2^kBisections) whose end `keeps`, by bisection;
+            // `guess` (in (0, 1), when known) is where the hull distance, taken as linear along
+            // the step, leaves the band. The search asks there and one unit further first, and
+            // bisects what is left between the answers: where `keeps` holds up to one point
+            // along the step and not beyond (the distance is monotone over a step of a fraction
+            // of a pixel, as a rule), that is bisection's answer, in two questions instead of
+            // kBisections.
+            auto bisect = [&](auto&& keeps, double guess = -1) {
+                constexpr double unit = 1.0 / double(1 << kBisections);
                 double kept = 0, refused = 1;
-                for (int k = 0; k < kBisections; ++k) {
-                    const double mid = 0.5 * (kept + refused);
+                if (guess > 0 && guess < 1) {
+                    const double t = std::floor(guess / unit) * unit;
+                    if (t > 0 && !keeps(p0 + s * t)) refused = t;
+                    else {
+                        kept = t;
+                        (keeps(p0 + s * (t + unit)) ? kept : refused) = t + unit;
+                    }
+                }
+                while (refused - kept > 1.5 * unit) {
+                    const double mid = kept + std::floor(0.5 * (refused - kept) / unit) * unit;
                     (keeps(p0 + s * mid) ? kept : refused) = mid;
                 }
                 return kept;
+            };
+            // Where the distance h, from h0 at the start to h1 at the end, reaches the band's
+            // side that h1 lies beyond.
+            auto crossing = [](double h0, double h1, double bound) {
+                const double target = h1 > 0 ? bound : -bound;
+                return (target - h0) / (h1 - h0);
             };
             double h_end = std::numeric_limits<double>::infinity(); // |hull distance| at the end, when known
             if (asked.valid(v, reach)) {
@@ -167,10 +188,11 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 } else if (asked.surely_within(v, reach)) {
                     h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
                 } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
-                    const double bound = std::max(tol, std::fabs(asked.distance(v, p0)));
+                    const double h0 = asked.distance(v, p0), bound = std::max(tol, std::fabs(h0));
                     std::size_t first = 0; // the view that refused the last point
                     if (std::fabs(h1) > bound)
-                        lo = bisect([&](const Vec3d& x) { return asked.within(v, x, bound, first); });
+                        lo = bisect([&](const Vec3d& x) { return asked.within(v, x, bound, first); },
+                                    crossing(h0, h1, bound));
                     else h_end = std::fabs(h1);
                 } else {
                     h_end = std::fabs(h1);
@@ -182,10 +204,11 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 if (free && (*free)[v]) {
                     if (h1 > tol) lo = bisect([&](const Vec3d& x) { return (*hull)(x) <= tol; });
                 } else if (std::fabs(h1) > tol) {
-                    const double bound = std::max(tol, std::fabs((*hull)(p0)));
+                    const double h0 = (*hull)(p0), bound = std::max(tol, std::fabs(h0));
                     std::size_t first = 0;
                     if (std::fabs(h1) > bound)
-                        lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); });
+                        lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); },
+                                    crossing(h0, h1, bound));
                 }
                 if (lo == 1) h_end = std::fabs(h1);
                 asked.moved(v, reach * (1 - lo)); // the mask is about p0 + s
