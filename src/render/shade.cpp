@@ -130,66 +130,72 @@ std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
     return crease;
 }
 
-// The colour (RGB) of every sample: paper, ink on the lines, or the shaded fill.
-std::vector<float> shade_samples(const ArtScene& s, const std::vector<char>& on_line, const ArtOptions& opt) {
-    const int W = s.W, H = s.H;
-    const Mesh& mesh = s.mesh;
-    const DepthImage& D = s.D;
-    // Camera frame for the light: from the upper left, in front.
-    Vec3d d = s.cam.d, u = s.cam.u, r = s.cam.r;
-    if (!s.cam.orthographic()) {
-        const Vec3d up{0, 1, 0};
-        r = normalize(cross(d, up));
-        if (length(r) < 0.5) r = {1, 0, 0};
-        u = cross(r, d);
-    }
-    const Vec3d light = normalize(d * -0.55 + u * 0.65 - r * 0.45);
-
-    std::vector<float> hires(std::size_t(W) * H * 3);
-    tbb::parallel_for(0, H, [&](int y) {
-        for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * W + x;
-            float* out = &hires[i * 3];
-            if (s.empty[i]) {
-                // Paper with a mild vignette.
-                const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
-                const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
-                for (int k = 0; k < 3; ++k) out[k] = float(opt.paper[std::size_t(k)] * v);
-                continue;
-            }
-            if (opt.lines && on_line[i]) {
-                for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
-                continue;
-            }
-            // Smooth normal at the pixel centre: barycentric coordinates of the ray's hit.
-            const std::uint32_t t = D.face[i];
-            const auto& f = mesh.triangles[t];
-            const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
-            Vec3d o, dir;
-            s.hi.ray(x + 0.5, y + 0.5, o, dir);
-            const Vec3d e1 = b - a, e2 = c - a, pv = cross(dir, e2);
-            const double det = dot(e1, pv);
-            Vec3d n = s.fnormal[t];
-            if (std::abs(det) > 1e-300) {
-                const Vec3d tv = o - a;
-                const double bu = std::clamp(dot(tv, pv) / det, 0.0, 1.0);
-                const double bv = std::clamp(dot(dir, cross(tv, e1)) / det, 0.0, 1.0 - bu);
-                const Vec3d sn = Vec3d(mesh.normals[f[0]]) * (1 - bu - bv) + Vec3d(mesh.normals[f[1]]) * bu +
-                                 Vec3d(mesh.normals[f[2]]) * bv;
-                if (length(sn) > 1e-12) n = normalize(sn);
-            }
-            if (dot(n, d) > 0) n = -n; // seen from behind (open or inconsistently wound meshes)
-            const double diffuse = std::max(0.0, dot(n, light));
-            // Two tones with a soft terminator, as a painted study would have.
-            const double tone = 0.60 + 0.32 * smoothstep(0.18, 0.38, diffuse) + 0.12 * diffuse;
-            for (int k = 0; k < 3; ++k) out[k] = float(std::min(1.0, opt.fill[std::size_t(k)] * tone));
+// The colour (RGB) of a sample: paper, ink on the lines, or the shaded fill. Made per sample
+// as the picture averages them (no image of the samples' colours is held).
+class SampleShader {
+public:
+    SampleShader(const ArtScene& s, const std::vector<char>& on_line, const ArtOptions& opt)
+        : s_(s), on_line_(on_line), opt_(opt), d_(s.cam.d) {
+        // Camera frame for the light: from the upper left, in front.
+        Vec3d u = s.cam.u, r = s.cam.r;
+        if (!s.cam.orthographic()) {
+            const Vec3d up{0, 1, 0};
+            r = normalize(cross(d_, up));
+            if (length(r) < 0.5) r = {1, 0, 0};
+            u = cross(r, d_);
         }
-    });
-    return hires;
-}
+        light_ = normalize(d_ * -0.55 + u * 0.65 - r * 0.45);
+    }
+    void operator()(int x, int y, float out[3]) const {
+        const int W = s_.W, H = s_.H;
+        const Mesh& mesh = s_.mesh;
+        const DepthImage& D = s_.D;
+        const ArtOptions& opt = opt_;
+        const std::size_t i = std::size_t(y) * W + x;
+        if (s_.empty[i]) {
+            // Paper with a mild vignette.
+            const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
+            const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
+            for (int k = 0; k < 3; ++k) out[k] = float(opt.paper[std::size_t(k)] * v);
+            return;
+        }
+        if (opt.lines && on_line_[i]) {
+            for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
+            return;
+        }
+        // Smooth normal at the pixel centre: barycentric coordinates of the ray's hit.
+        const std::uint32_t t = D.face[i];
+        const auto& f = mesh.triangles[t];
+        const Vec3d a(mesh.positions[f[0]]), b(mesh.positions[f[1]]), c(mesh.positions[f[2]]);
+        Vec3d o, dir;
+        s_.hi.ray(x + 0.5, y + 0.5, o, dir);
+        const Vec3d e1 = b - a, e2 = c - a, pv = cross(dir, e2);
+        const double det = dot(e1, pv);
+        Vec3d n = s_.fnormal[t];
+        if (std::abs(det) > 1e-300) {
+            const Vec3d tv = o - a;
+            const double bu = std::clamp(dot(tv, pv) / det, 0.0, 1.0);
+            const double bv = std::clamp(dot(dir, cross(tv, e1)) / det, 0.0, 1.0 - bu);
+            const Vec3d sn = Vec3d(mesh.normals[f[0]]) * (1 - bu - bv) + Vec3d(mesh.normals[f[1]]) * bu +
+                             Vec3d(mesh.normals[f[2]]) * bv;
+            if (length(sn) > 1e-12) n = normalize(sn);
+        }
+        if (dot(n, d_) > 0) n = -n; // seen from behind (open or inconsistently wound meshes)
+        const double diffuse = std::max(0.0, dot(n, light_));
+        // Two tones with a soft terminator, as a painted study would have.
+        const double tone = 0.60 + 0.32 * smoothstep(0.18, 0.38, diffuse) + 0.12 * diffuse;
+        for (int k = 0; k < 3; ++k) out[k] = float(std::min(1.0, opt.fill[std::size_t(k)] * tone));
+    }
+
+private:
+    const ArtScene& s_;
+    const std::vector<char>& on_line_;
+    const ArtOptions& opt_;
+    Vec3d d_, light_;
+};
 
 // The picture: each pixel the mean of its samples, with paper grain where it shows paper.
-Image average_down(const ArtScene& s, const std::vector<float>& hires, int width, int height, const ArtOptions& opt) {
+Image average_down(const ArtScene& s, const SampleShader& shade, int width, int height, const ArtOptions& opt) {
     const int ss = s.ss, W = s.W;
     Image img;
     img.width = width;
@@ -203,9 +209,10 @@ Image average_down(const ArtScene& s, const std::vector<float>& hires, int width
             int covered = 0;
             for (int sy = 0; sy < ss; ++sy)
                 for (int sx = 0; sx < ss; ++sx) {
-                    const std::size_t i = std::size_t(y * ss + sy) * W + std::size_t(x * ss + sx);
-                    for (int k = 0; k < 3; ++k) acc[k] += hires[i * 3 + k];
-                    covered += !s.empty[i];
+                    float c[3];
+                    shade(x * ss + sx, y * ss + sy, c);
+                    for (int k = 0; k < 3; ++k) acc[k] += c[k];
+                    covered += !s.empty[std::size_t(y * ss + sy) * W + std::size_t(x * ss + sx)];
                 }
             const double g =
                 opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
@@ -246,9 +253,7 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
         for (std::size_t i = 0; i < N; ++i) on_line[i] |= near_crease[i];
     }
     if (opt.check) opt.check();
-    const std::vector<float> hires = shade_samples(scene, on_line, opt);
-    if (opt.check) opt.check();
-    return average_down(scene, hires, width, height, opt);
+    return average_down(scene, SampleShader(scene, on_line, opt), width, height, opt);
 }
 
 } // namespace cm
