@@ -59,6 +59,8 @@ public:
     /// The values of a window w x h at (x0, y0) of a width x height image (row-major), zero
     /// beyond it; kept over the box of the nonzero ones.
     static Coverage of_window(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h);
+    /// The same, keeping `part`'s own memory (no second array of the values).
+    static Coverage of_window(std::vector<float>&& part, int width, int height, int x0, int y0, int w, int h);
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -95,6 +97,8 @@ public:
     const Box& inside_box() const { return inside_; }
 
 private:
+    static Coverage frame(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h,
+                          int (&box)[4]);
     int width_ = 0, height_ = 0;
     int x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
     std::vector<float> values_;

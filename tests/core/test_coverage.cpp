@@ -104,3 +104,24 @@ TEST(Coverage, AWindowIsCutToItsNonzeroBoxAndAnEmptyOneKeepsNothing) {
     EXPECT_THROW(Coverage::of_window(part, w, h, 30, 8, 30, 20), std::invalid_argument); // beyond the image
     EXPECT_THROW(Coverage::of_window(part, w, h, 10, 8, 30, 21), std::invalid_argument); // too few values
 }
+
+// A window handed over (an rvalue) keeps its own memory, moved into the box's layout, with
+// the same values and boxes as a copy.
+TEST(Coverage, AWindowHandedOverKeepsItsMemoryAndTheSameValues) {
+    const int w = 50, h = 40;
+    const std::vector<float> part = blob(30, 20, 4, 2, 21, 15, 11);
+    const Coverage copied = Coverage::of_window(part, w, h, 10, 8, 30, 20);
+    std::vector<float> handed = part;
+    const float* memory = handed.data();
+    const Coverage moved = Coverage::of_window(std::move(handed), w, h, 10, 8, 30, 20);
+    EXPECT_EQ(moved.window_values().data(), memory);
+    EXPECT_EQ(moved.window_values(), copied.window_values());
+    EXPECT_EQ(moved.x0(), copied.x0());
+    EXPECT_EQ(moved.y0(), copied.y0());
+    EXPECT_EQ(moved.window_width(), copied.window_width());
+    EXPECT_EQ(moved.window_height(), copied.window_height());
+    EXPECT_EQ(moved.inside_box().x0, copied.inside_box().x0);
+    EXPECT_EQ(moved.inside_box().y1, copied.inside_box().y1);
+    EXPECT_EQ(moved.full(), copied.full());
+    EXPECT_THROW(Coverage::of_window(std::vector<float>(5, 1.0f), w, h, 10, 8, 30, 20), std::invalid_argument);
+}

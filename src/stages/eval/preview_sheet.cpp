@@ -250,8 +250,26 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
             [&](std::size_t first, int n, double acc[3]) {
                 int count[4] = {0, 0, 0, 0}; // none, mesh only, input only, both
                 const int y = int(first / std::size_t(view.width)), x0 = int(first % std::size_t(view.width));
-                for (int k = 0; k < n; ++k)
-                    ++count[(cover.at(x0 + k, y) >= 0.5f ? 2 : 0) + (r[first + std::size_t(k)] != 0 ? 1 : 0)];
+                // The run's pixels in the coverage's window [a, b) read its row; the others are
+                // outside the drawing.
+                const float* row = cover.window_row(y);
+                const int a = row ? std::clamp(cover.x0() - x0, 0, n) : n;
+                const int b = row ? std::clamp(cover.x0() + cover.window_width() - x0, a, n) : n;
+                const std::uint8_t* mask = r.data() + first;
+                int mesh = 0, inside = 0, both = 0;
+                for (int k = 0; k < a; ++k) mesh += mask[k] != 0;
+                for (int k = b; k < n; ++k) mesh += mask[k] != 0;
+                const float* in = row ? row + (x0 + a - cover.x0()) : nullptr;
+                for (int k = a; k < b; ++k) {
+                    const int i = in[k - a] >= 0.5f, m = mask[k] != 0;
+                    mesh += m;
+                    inside += i;
+                    both += i & m;
+                }
+                count[1] = mesh - both;
+                count[2] = inside - both;
+                count[3] = both;
+                count[0] = n - count[1] - count[2] - count[3];
                 static constexpr float kBoth[3] = {0.62f, 0.62f, 0.64f}, kNone[3] = {1.0f, 1.0f, 1.0f};
                 static constexpr const float* kColours[4] = {kNone, kMeshOnly, kInputOnly, kBoth};
                 for (int c = 0; c < 4; ++c)

@@ -53,9 +53,11 @@ std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double g
             const int ix = cx0 + x - pad, iy = cy0 + y - pad; // image pixel
             if (ix >= 0 && iy >= 0 && ix < w && iy < h) seed[std::size_t(y) * cw + x] = ink[std::size_t(iy) * w + ix];
         }
-    // Dilation: within the radius of the ink.
-    const std::vector<float> to_ink = squared_edt(seed, cw, ch);
-    for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_ink[i] > r2; // outside the dilation
+    // Dilation: within the radius of the ink (its distances let go before the next ones).
+    {
+        const std::vector<float> to_ink = squared_edt(seed, cw, ch);
+        for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_ink[i] > r2; // outside the dilation
+    }
     // Erosion of the dilation, by one pixel less than the radius: a disc's tip is one pixel,
     // and on the grid the full radius would let it reach through a break in a thin stroke.
     // The barrier is so up to one pixel thicker than the ink; the caller gives that back.
@@ -83,8 +85,10 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
     const int pad = int(std::ceil(radius)) + 1;
     const int pw = w + 2 * pad, ph = h + 2 * pad;
     std::vector<char> seed = padded(bg, w, h, pad, 1);
-    const std::vector<float> to_bg = squared_edt(seed, pw, ph);
-    for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_bg[i] > r2; // the eroded object
+    {
+        const std::vector<float> to_bg = squared_edt(seed, pw, ph);
+        for (std::size_t i = 0; i < seed.size(); ++i) seed[i] = to_bg[i] > r2; // the eroded object
+    }
     const std::vector<float> to_core = squared_edt(seed, pw, ph);
     std::vector<char> residue(n, 0);
     for (int y = 0; y < h; ++y)

@@ -523,13 +523,13 @@ SilhouetteResult extract_silhouette(const Image& img, const ImageInfo& info, con
     }
     if (!win) {
         keep_components(w, h, opt.keep, whole, res);
-        res.coverage = Coverage(whole, w, h);
+        res.coverage = Coverage::of_window(std::move(whole), w, h, 0, 0, w, h);
         return res;
     }
     // Beyond the window the coverage is zero: the components are the window's, and the
     // window is what is kept (the box of its nonzero values).
     keep_components(win->width, win->height, opt.keep, part, res);
-    res.coverage = Coverage::of_window(part, w, h, win->x0, win->y0, win->width, win->height);
+    res.coverage = Coverage::of_window(std::move(part), w, h, win->x0, win->y0, win->width, win->height);
     return res;
 }
 
