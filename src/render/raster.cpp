@@ -112,14 +112,21 @@ inline double edge(const SV& p, const SV& q, double x, double y) {
     return -((p.x - q.x) * (y - q.y) - (p.y - q.y) * (x - q.x));
 }
 
-// Visits the pixels whose centre lies inside triangle abc, rows [row0, row1).
-// f(index, k) with k interpolated in screen space (affine there for both camera kinds).
-// With `Spans`, f(rowbase, first, last) instead, once per row, for the pixels first..last
-// of the row starting at rowbase: each edge function, computed in one fixed order per
-// edge, is monotone along a row (a difference in x times a constant, from a constant), so
-// the pixels inside all three are one run, found by testing from its two ends inwards.
+// Where a raster writes: the columns [x0, x0 + width) and rows [y0, ...) of the image, pixel
+// (i, j) of the image at index (j - y0) * width + (i - x0). The whole image: x0 = y0 = 0.
+struct Frame {
+    int width = 0, x0 = 0, y0 = 0;
+};
+
+// Visits the pixels of `frame` whose centre lies inside triangle abc, rows [row0, row1) (of
+// the image). f(index, k) with k interpolated in screen space (affine there for both camera
+// kinds). With `Spans`, f(rowbase, first, last) instead, once per row, for the pixels
+// first..last of the row (frame columns) starting at rowbase: each edge function, computed
+// in one fixed order per edge, is monotone along a row (a difference in x times a constant,
+// from a constant), so the pixels inside all three are one run, found by testing from its
+// two ends inwards. The tests are made at the image's pixel centres, whatever the frame.
 template <bool Spans = false, typename F>
-void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
+void raster_triangle(SV a, SV b, SV c, const Frame& frame, int row0, int row1, F&& f) {
     double area = edge(a, b, c.x, c.y);
     if (!(std::abs(area) > 0)) return; // degenerate or not finite
     if (area < 0) {
@@ -129,15 +136,16 @@ void raster_triangle(SV a, SV b, SV c, int width, int row0, int row1, F&& f) {
     const double xmin = std::min({a.x, b.x, c.x}), xmax = std::max({a.x, b.x, c.x});
     const double ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
     if (!std::isfinite(xmin) || !std::isfinite(xmax) || !std::isfinite(ymin) || !std::isfinite(ymax)) return;
-    const int i0 = int(std::max(0.0, std::ceil(xmin - 0.5)));
-    const int i1 = int(std::min(double(width - 1), std::floor(xmax - 0.5)));
+    const int i0 = int(std::max(double(frame.x0), std::ceil(xmin - 0.5)));
+    const int i1 = int(std::min(double(frame.x0 + frame.width - 1), std::floor(xmax - 0.5)));
     const int j0 = int(std::max(double(row0), std::ceil(ymin - 0.5)));
     const int j1 = int(std::min(double(row1 - 1), std::floor(ymax - 0.5)));
     const double inv = 1.0 / area;
     // The exact test over pixels [s0, s1] of row j.
     auto row = [&](int j, int s0, int s1) {
         const double y = j + 0.5;
-        const std::size_t rowbase = std::size_t(j) * width;
+        // Pixel i of this row is at rowbase + i (i a column of the image, at least frame.x0).
+        const std::size_t rowbase = std::size_t(j - frame.y0) * std::size_t(frame.width) - std::size_t(frame.x0);
         if constexpr (Spans) {
             auto inside = [&](int i) {
                 const double x = i + 0.5;
@@ -216,7 +224,7 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
             if (check) check();
             for (std::size_t t = r.begin(); t != r.end(); ++t)
                 screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
-                    raster_triangle<true>(a, b, c, width, 0, height, [&](std::size_t row, int first, int last) {
+                    raster_triangle<true>(a, b, c, Frame{width}, 0, height, [&](std::size_t row, int first, int last) {
                         // Several triangles may set one pixel at once; all write 1.
                         for (int i = first; i <= last; ++i)
                             std::atomic_ref<std::uint8_t>(out[row + std::size_t(i)])
@@ -228,10 +236,23 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
 }
 
 DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check) {
-    check_size(width, height);
+    return render_depth(mesh, cam, width, height, {0, 0, width, height}, check);
+}
+
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int full_width, int full_height, const PixelWindow& window,
+                        const RenderCheck& check) {
+    check_size(full_width, full_height);
+    if (window.x0 < 0 || window.y0 < 0 || window.width <= 0 || window.height <= 0 ||
+        window.x0 + window.width > full_width || window.y0 + window.height > full_height)
+        throw Error("the window to render does not lie within the " + std::to_string(full_width) + "x" +
+                    std::to_string(full_height) + " image");
+    const int width = window.width, height = window.height, y0 = window.y0;
+    const Frame frame{width, window.x0, window.y0};
     DepthImage img;
     img.width = width;
     img.height = height;
+    img.x0 = window.x0;
+    img.y0 = window.y0;
     const std::size_t npx = std::size_t(width) * height;
     img.depth.assign(npx, std::numeric_limits<float>::infinity());
     img.face.assign(npx, DepthImage::kNoFace);
@@ -250,11 +271,11 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
                 ymax = std::max({ymax, a.y, b.y, c.y});
             });
             if (!(ymin <= ymax) || !std::isfinite(ymin) || !std::isfinite(ymax)) continue;
-            const double j0 = std::max(0.0, std::ceil(ymin - 0.5));
-            const double j1 = std::min(double(height - 1), std::floor(ymax - 0.5));
+            const double j0 = std::max(double(y0), std::ceil(ymin - 0.5));
+            const double j1 = std::min(double(y0 + height - 1), std::floor(ymax - 0.5));
             if (j0 > j1) continue;
-            band_lo[t] = std::int32_t(j0) / kBand;
-            band_hi[t] = std::int32_t(j1) / kBand;
+            band_lo[t] = (std::int32_t(j0) - y0) / kBand;
+            band_hi[t] = (std::int32_t(j1) - y0) / kBand;
         }
     });
     std::vector<std::size_t> start(std::size_t(nbands) + 1, 0);
@@ -272,11 +293,11 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
     std::vector<double> nearness(npx, -std::numeric_limits<double>::infinity());
     tbb::parallel_for(0, nbands, [&](int b) {
         if (check && b % 16 == 0) check();
-        const int row0 = b * kBand, row1 = std::min(height, row0 + kBand);
+        const int row0 = y0 + b * kBand, row1 = std::min(y0 + height, row0 + kBand);
         for (std::size_t k = start[std::size_t(b)]; k < start[std::size_t(b) + 1]; ++k) {
             const std::uint32_t t = faces[k];
             screen_triangles(mesh, p, t, [&](const SV& a, const SV& bb, const SV& c) {
-                raster_triangle(a, bb, c, width, row0, row1, [&](std::size_t i, double near) {
+                raster_triangle(a, bb, c, frame, row0, row1, [&](std::size_t i, double near) {
                     if (near > nearness[i] || img.face[i] == DepthImage::kNoFace) {
                         nearness[i] = near;
                         img.face[i] = t;

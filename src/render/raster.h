@@ -30,6 +30,7 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
 /// Nearest surface per pixel (pixel centre sampling, as render_mask).
 struct DepthImage {
     int width = 0, height = 0;
+    int x0 = 0, y0 = 0;              ///< where it lies in the image rendered (a window of it; 0, 0: the whole)
     std::vector<float> depth;        ///< Camera::depth of the nearest surface; +inf where empty
     std::vector<std::uint32_t> face; ///< triangle index of the nearest surface; kNoFace where empty
     static constexpr std::uint32_t kNoFace = 0xffffffffu;
@@ -39,6 +40,16 @@ struct DepthImage {
 /// @brief Z-buffer render (TBB-parallel over image bands). The covered pixels are exactly
 /// those render_mask() sets.
 DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check = {});
+
+/// A rectangle of pixels: columns [x0, x0 + width), rows [y0, y0 + height).
+struct PixelWindow {
+    int x0 = 0, y0 = 0, width = 0, height = 0;
+};
+/// @brief The same over a window of the full_width x full_height image: the pixels, faces and
+/// depths there are those of the whole image's render (the same tests at the same pixel
+/// centres), from a window's memory and work. @throw cm::Error for a window beyond the image.
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int full_width, int full_height, const PixelWindow& window,
+                        const RenderCheck& check = {});
 
 struct ViewError {
     std::string view;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 #include "render/raster.h"
@@ -74,7 +75,9 @@ double smoothstep(double e0, double e1, double x) {
 }
 
 // What the phases of a drawing share: the mesh (with vertex normals), the caller's camera
-// and the supersampled one with its depth image, the face normals, and the empty samples.
+// and the supersampled one (W x H samples) with its depth image, the face normals, and the
+// empty samples. The depth image and the arrays of samples cover a window of the samples
+// (D.x0, D.y0, w x h): every sample beyond it is empty paper.
 struct ArtScene {
     const Mesh& mesh;
     const Camera& cam;
@@ -82,7 +85,15 @@ struct ArtScene {
     const DepthImage& D;
     const int W, H, ss;
     std::vector<Vec3d> fnormal;
-    std::vector<char> empty;
+    std::vector<char> empty; ///< over the window
+    int w() const { return D.width; }
+    int h() const { return D.height; }
+    /// The window's index of sample (x, y) of the picture; -1 beyond the window.
+    std::ptrdiff_t at(int x, int y) const {
+        const unsigned dx = unsigned(x - D.x0), dy = unsigned(y - D.y0);
+        return dx < unsigned(D.width) && dy < unsigned(D.height) ? std::ptrdiff_t(dy) * D.width + std::ptrdiff_t(dx)
+                                                                 : -1;
+    }
 };
 
 std::vector<Vec3d> face_normals(const Mesh& mesh) {
@@ -98,7 +109,7 @@ std::vector<Vec3d> face_normals(const Mesh& mesh) {
 // Creases and inner contours: samples next to one of another face that turns by more than
 // crease_deg or lies at another depth.
 std::vector<char> crease_samples(const ArtScene& s, const ArtOptions& opt) {
-    const int W = s.W, H = s.H;
+    const int W = s.w(), H = s.h(); // the window (beyond it every sample is empty)
     const DepthImage& D = s.D;
     const Camera& cam = s.cam;
     std::vector<char> crease(std::size_t(W) * H, 0);
@@ -151,8 +162,9 @@ public:
         const Mesh& mesh = s_.mesh;
         const DepthImage& D = s_.D;
         const ArtOptions& opt = opt_;
-        const std::size_t i = std::size_t(y) * W + x;
-        if (s_.empty[i]) {
+        const std::ptrdiff_t at = s_.at(x, y);
+        const std::size_t i = std::size_t(at);
+        if (at < 0 || s_.empty[i]) {
             // Paper with a mild vignette.
             const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
             const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
@@ -196,7 +208,7 @@ private:
 
 // The picture: each pixel the mean of its samples, with paper grain where it shows paper.
 Image average_down(const ArtScene& s, const SampleShader& shade, int width, int height, const ArtOptions& opt) {
-    const int ss = s.ss, W = s.W;
+    const int ss = s.ss;
     Image img;
     img.width = width;
     img.height = height;
@@ -212,7 +224,8 @@ Image average_down(const ArtScene& s, const SampleShader& shade, int width, int 
                     float c[3];
                     shade(x * ss + sx, y * ss + sy, c);
                     for (int k = 0; k < 3; ++k) acc[k] += c[k];
-                    covered += !s.empty[std::size_t(y * ss + sy) * W + std::size_t(x * ss + sx)];
+                    const std::ptrdiff_t at = s.at(x * ss + sx, y * ss + sy);
+                    covered += at >= 0 && !s.empty[std::size_t(at)];
                 }
             const double g =
                 opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
@@ -222,6 +235,39 @@ Image average_down(const ArtScene& s, const SampleShader& shade, int width, int 
         }
     });
     return img;
+}
+
+// The samples a drawing can cover, with a rim of two empty ones: the box of the projected
+// vertices (an orthographic view sees each face within it), within the picture. The whole
+// picture for a perspective view (a face crossing the camera plane is clipped there) or when
+// the box is not finite.
+PixelWindow drawn_window(const Mesh& mesh, const Camera& hi, int W, int H) {
+    const PixelWindow all{0, 0, W, H};
+    if (!hi.orthographic() || mesh.positions.empty()) return all;
+    struct Box {
+        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+    };
+    const Box b = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 8192), Box{},
+        [&](const tbb::blocked_range<std::size_t>& r, Box x) {
+            for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                const Vec2d q = hi.project(Vec3d(mesh.positions[v]));
+                x = {std::min(x.x0, q.x), std::min(x.y0, q.y), std::max(x.x1, q.x), std::max(x.y1, q.y)};
+            }
+            return x;
+        },
+        [](const Box& a, const Box& c) {
+            return Box{std::min(a.x0, c.x0), std::min(a.y0, c.y0), std::max(a.x1, c.x1), std::max(a.y1, c.y1)};
+        });
+    if (!std::isfinite(b.x0 + b.y0 + b.x1 + b.y1)) return all;
+    // Sample i's centre i + 0.5 lies in [lo, hi] for i in [ceil(lo - 0.5), floor(hi - 0.5)].
+    constexpr double kRim = 2;
+    const double i0 = std::max(0.0, std::ceil(b.x0 - 0.5) - kRim),
+                 i1 = std::min(W - 1.0, std::floor(b.x1 - 0.5) + kRim);
+    const double j0 = std::max(0.0, std::ceil(b.y0 - 0.5) - kRim),
+                 j1 = std::min(H - 1.0, std::floor(b.y1 - 0.5) + kRim);
+    if (i0 > i1 || j0 > j1) return all; // nothing in the picture
+    return {int(i0), int(j0), int(i1 - i0) + 1, int(j1 - j0) + 1};
 }
 
 } // namespace
@@ -236,8 +282,9 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     const Camera hi = resized_camera(cam, ss);
     Mesh mesh = mesh_in;
     if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
-    const DepthImage D = render_depth(mesh, hi, W, H, opt.check);
-    const std::size_t N = std::size_t(W) * H;
+    const DepthImage D = render_depth(mesh, hi, W, H, drawn_window(mesh, hi, W, H), opt.check);
+    const int w = D.width, h = D.height;
+    const std::size_t N = std::size_t(w) * h;
     ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
     for (std::size_t i = 0; i < N; ++i) scene.empty[i] = D.face[i] == DepthImage::kNoFace;
 
@@ -245,11 +292,12 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
     if (opt.check) opt.check();
     // A sample is on a line within the outline's width of the outside or half a crease's width
-    // of a crease.
+    // of a crease. Over the window: its rim is empty (or the picture's edge, outside as there),
+    // and nearer to any sample in it than an empty sample beyond it.
     std::vector<char> on_line;
     if (opt.lines) {
-        on_line = within_chamfer(scene.empty, W, H, true, opt.outline_px * float(ss));
-        const std::vector<char> near_crease = within_chamfer(crease, W, H, false, 0.5f * opt.crease_px * float(ss));
+        on_line = within_chamfer(scene.empty, w, h, true, opt.outline_px * float(ss));
+        const std::vector<char> near_crease = within_chamfer(crease, w, h, false, 0.5f * opt.crease_px * float(ss));
         for (std::size_t i = 0; i < N; ++i) on_line[i] |= near_crease[i];
     }
     if (opt.check) opt.check();

@@ -280,3 +280,63 @@ TEST(Raster, RejectsBadImageSizes) {
     EXPECT_THROW(render_mask(box, unit_front(), 0, 10), Error);
     EXPECT_THROW(render_depth(box, unit_front(), 10, -1), Error);
 }
+
+// A window of the depth render is that part of the whole render: the same pixel centres
+// tested, so the same faces and depths, on triangles of every size and slope (thin ones,
+// vertices on pixel centres), for windows inside the image and at its edges.
+TEST(Raster, DepthWindowIsThatPartOfTheWholeRender) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> at(-5.0f, 69.0f), small(-3.0f, 3.0f), depth(-2.0f, 2.0f);
+    std::uniform_int_distribution<int> grid(0, 64);
+    Mesh soup;
+    for (int t = 0; t < 2000; ++t) {
+        Vec3f a{at(rng), -at(rng), depth(rng)};
+        if (t % 3 == 0) a = {float(grid(rng)) + 0.5f, -float(grid(rng)) - 0.5f, depth(rng)};
+        const Vec3f b = a + Vec3f{8 * small(rng), 8 * small(rng), small(rng)};
+        const Vec3f c =
+            t % 7 == 0 ? b + Vec3f{0.01f * small(rng), 20.0f, 0.0f} : a + Vec3f{8 * small(rng), 8 * small(rng), 0.0f};
+        const auto k = std::uint32_t(soup.positions.size());
+        soup.positions.insert(soup.positions.end(), {a, b, c});
+        soup.triangles.push_back({k, k + 1, k + 2});
+    }
+    const DepthImage whole = render_depth(soup, unit_front(), 64, 64);
+    for (const PixelWindow& w : {PixelWindow{0, 0, 64, 64}, PixelWindow{10, 7, 31, 40}, PixelWindow{0, 50, 64, 14},
+                                 PixelWindow{63, 0, 1, 64}, PixelWindow{5, 5, 1, 1}}) {
+        const DepthImage part = render_depth(soup, unit_front(), 64, 64, w);
+        ASSERT_EQ(part.width, w.width);
+        ASSERT_EQ(part.height, w.height);
+        EXPECT_EQ(part.x0, w.x0);
+        EXPECT_EQ(part.y0, w.y0);
+        std::size_t differ = 0;
+        for (int j = 0; j < w.height; ++j)
+            for (int i = 0; i < w.width; ++i) {
+                const std::size_t p = std::size_t(j) * w.width + i, q = std::size_t(j + w.y0) * 64 + (i + w.x0);
+                differ += part.face[p] != whole.face[q] || !(part.depth[p] == whole.depth[q] ||
+                                                             (std::isinf(part.depth[p]) && std::isinf(whole.depth[q])));
+            }
+        EXPECT_EQ(differ, 0u) << w.x0 << "," << w.y0 << " " << w.width << "x" << w.height;
+    }
+    EXPECT_THROW(render_depth(soup, unit_front(), 64, 64, {60, 0, 5, 10}), Error);
+    EXPECT_THROW(render_depth(soup, unit_front(), 64, 64, {0, 0, 0, 10}), Error);
+}
+
+// A drawing works over the samples its mesh can cover (the box of the projected vertices)
+// and takes the rest for paper: a face added far outside the picture widens that box to the
+// whole picture, and the picture stays the same, sample for sample.
+TEST(Raster, ArtOverTheMeshsBoxIsTheWholePicturesArt) {
+    const Mesh m = test::make_lopsided();
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    Mesh wider = m; // with a face far beyond each corner of the box, seen from any side
+    const float far = 10 * length(hi - lo);
+    for (const Vec3f& corner : {hi + Vec3f(far, far, far), lo - Vec3f(far, far, far)}) {
+        const auto k = std::uint32_t(wider.positions.size());
+        wider.positions.insert(wider.positions.end(), {corner, corner + Vec3f(1, 0, 0), corner + Vec3f(0, 1, 0)});
+        wider.triangles.push_back({k, k + 1, k + 2});
+    }
+    for (const Camera& direction :
+         {*Camera::named("front"), *Camera::named("top"), Camera::from_azimuth_elevation(30, 20)}) {
+        const Camera c = framed_camera(direction, Vec3d(lo), Vec3d(hi), 300, 200);
+        EXPECT_EQ(render_art(m, c, 300, 200).pixels, render_art(wider, c, 300, 200).pixels) << direction.azimuth_deg;
+    }
+}
