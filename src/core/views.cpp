@@ -1,6 +1,7 @@
 #include "core/views.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -27,10 +28,10 @@ std::shared_ptr<const void> DerivedData::get(const std::string& key,
 }
 
 // The image and window of a Coverage to be made from `part`, with the box of its nonzero
-// values (in window coordinates: bx0, by0, bx1, by1; bx1 < 0 when all are zero) and that of its
+// values (`nonzero`, in the part's coordinates; empty when all are zero) and that of its
 // inside ones (set on the Coverage).
 Coverage Coverage::frame(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h,
-                         int (&box)[4]) {
+                         Box& nonzero) {
     if (width < 0 || height < 0 || w < 0 || h < 0 || part.size() != std::size_t(w) * std::size_t(h) || x0 < 0 ||
         y0 < 0 || x0 + w > width || y0 + h > height)
         throw std::invalid_argument("Coverage: the window does not fit the image");
@@ -59,7 +60,7 @@ Coverage Coverage::frame(const std::vector<float>& part, int width, int height, 
         if (b.empty()) b = {x0 + in_first, y0 + y, x0 + in_last, y0 + y};
         b = {std::min(b.x0, x0 + in_first), b.y0, std::max(b.x1, x0 + in_last), y0 + y};
     }
-    box[0] = bx0, box[1] = by0, box[2] = bx1, box[3] = by1;
+    nonzero = {bx0, by0, bx1, by1};
     if (bx1 < 0) return c; // all zero: an empty window
     c.x0_ = x0 + bx0;
     c.y0_ = y0 + by0;
@@ -69,24 +70,26 @@ Coverage Coverage::frame(const std::vector<float>& part, int width, int height, 
 }
 
 Coverage Coverage::of_window(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h) {
-    int box[4];
+    Box box;
     Coverage c = frame(part, width, height, x0, y0, w, h, box);
-    if (box[2] < 0) return c;
+    if (box.empty()) return c;
     c.values_.resize(std::size_t(c.w_) * std::size_t(c.h_));
     for (int y = 0; y < c.h_; ++y)
-        std::copy_n(part.data() + std::size_t(box[1] + y) * std::size_t(w) + std::size_t(box[0]), c.w_,
+        std::copy_n(part.data() + std::size_t(box.y0 + y) * std::size_t(w) + std::size_t(box.x0), c.w_,
                     c.values_.data() + std::size_t(y) * std::size_t(c.w_));
     return c;
 }
 
 Coverage Coverage::of_window(std::vector<float>&& part, int width, int height, int x0, int y0, int w, int h) {
-    int box[4];
+    Box box;
     Coverage c = frame(part, width, height, x0, y0, w, h, box);
-    if (box[2] < 0) return c;
-    // The box's rows moved to the front in order: each lands at or before where it was read.
+    if (box.empty()) return c;
+    // The box's rows moved to the front in order: each lands at or before where it was read
+    // (memmove: a row may overlap where it goes).
     for (int y = 0; y < c.h_; ++y)
-        std::copy_n(part.data() + std::size_t(box[1] + y) * std::size_t(w) + std::size_t(box[0]), c.w_,
-                    part.data() + std::size_t(y) * std::size_t(c.w_));
+        std::memmove(part.data() + std::size_t(y) * std::size_t(c.w_),
+                     part.data() + std::size_t(box.y0 + y) * std::size_t(w) + std::size_t(box.x0),
+                     std::size_t(c.w_) * sizeof(float));
     part.resize(std::size_t(c.w_) * std::size_t(c.h_));
     c.values_ = std::move(part);
     return c;

@@ -98,7 +98,7 @@ public:
 
 private:
     static Coverage frame(const std::vector<float>& part, int width, int height, int x0, int y0, int w, int h,
-                          int (&box)[4]);
+                          Box& nonzero);
     int width_ = 0, height_ = 0;
     int x0_ = 0, y0_ = 0, w_ = 0, h_ = 0;
     std::vector<float> values_;

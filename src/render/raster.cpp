@@ -235,6 +235,36 @@ std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int w
     return mask;
 }
 
+PixelWindow covered_window(const Mesh& mesh, const Camera& cam, int width, int height, int rim) {
+    check_size(width, height);
+    const PixelWindow all{0, 0, width, height};
+    if (!cam.orthographic() || mesh.positions.empty()) return all;
+    struct Box {
+        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+    };
+    const Box b = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 8192), Box{},
+        [&](const tbb::blocked_range<std::size_t>& r, Box x) {
+            for (std::size_t v = r.begin(); v != r.end(); ++v) {
+                const Vec2d q = cam.project(Vec3d(mesh.positions[v]));
+                x = {std::min(x.x0, q.x), std::min(x.y0, q.y), std::max(x.x1, q.x), std::max(x.y1, q.y)};
+            }
+            return x;
+        },
+        [](const Box& a, const Box& c) {
+            return Box{std::min(a.x0, c.x0), std::min(a.y0, c.y0), std::max(a.x1, c.x1), std::max(a.y1, c.y1)};
+        });
+    if (!std::isfinite(b.x0 + b.y0 + b.x1 + b.y1)) return all;
+    // Pixel i's centre i + 0.5 lies in [lo, hi] for i in [ceil(lo - 0.5), floor(hi - 0.5)], as
+    // raster_triangle bounds its pixels.
+    const double i0 = std::max(0.0, std::ceil(b.x0 - 0.5) - rim),
+                 i1 = std::min(width - 1.0, std::floor(b.x1 - 0.5) + rim);
+    const double j0 = std::max(0.0, std::ceil(b.y0 - 0.5) - rim),
+                 j1 = std::min(height - 1.0, std::floor(b.y1 - 0.5) + rim);
+    if (i0 > i1 || j0 > j1) return all; // nothing in the image
+    return {int(i0), int(j0), int(i1 - i0) + 1, int(j1 - j0) + 1};
+}
+
 DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check) {
     return render_depth(mesh, cam, width, height, {0, 0, width, height}, check);
 }

@@ -45,6 +45,12 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int heig
 struct PixelWindow {
     int x0 = 0, y0 = 0, width = 0, height = 0;
 };
+/// @brief The pixels of a width x height image a mesh can cover through `cam` (pixel centre
+/// sampling, as render_mask), with `rim` more on each side: the box of its projected vertices
+/// (an orthographic view sees each face within it), within the image. The whole image for a
+/// perspective view (a face crossing the camera plane is clipped there), when the box is not
+/// finite, or when it misses the image.
+PixelWindow covered_window(const Mesh& mesh, const Camera& cam, int width, int height, int rim = 0);
 /// @brief The same over a window of the full_width x full_height image: the pixels, faces and
 /// depths there are those of the whole image's render (the same tests at the same pixel
 /// centres), from a window's memory and work. @throw cm::Error for a window beyond the image.

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "core/error.h"
 #include "render/raster.h"
@@ -157,7 +156,8 @@ public:
         }
         light_ = normalize(d_ * -0.55 + u * 0.65 - r * 0.45);
     }
-    void operator()(int x, int y, float out[3]) const {
+    /// The sample's colour into `out`; whether the mesh covers the sample.
+    bool operator()(int x, int y, float out[3]) const {
         const int W = s_.W, H = s_.H;
         const Mesh& mesh = s_.mesh;
         const DepthImage& D = s_.D;
@@ -169,11 +169,11 @@ public:
             const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
             const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
             for (int k = 0; k < 3; ++k) out[k] = float(opt.paper[std::size_t(k)] * v);
-            return;
+            return false;
         }
         if (opt.lines && on_line_[i]) {
             for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
-            return;
+            return true;
         }
         // Smooth normal at the pixel centre: barycentric coordinates of the ray's hit.
         const std::uint32_t t = D.face[i];
@@ -197,6 +197,7 @@ public:
         // Two tones with a soft terminator, as a painted study would have.
         const double tone = 0.60 + 0.32 * smoothstep(0.18, 0.38, diffuse) + 0.12 * diffuse;
         for (int k = 0; k < 3; ++k) out[k] = float(std::min(1.0, opt.fill[std::size_t(k)] * tone));
+        return true;
     }
 
 private:
@@ -222,10 +223,8 @@ Image average_down(const ArtScene& s, const SampleShader& shade, int width, int 
             for (int sy = 0; sy < ss; ++sy)
                 for (int sx = 0; sx < ss; ++sx) {
                     float c[3];
-                    shade(x * ss + sx, y * ss + sy, c);
+                    covered += shade(x * ss + sx, y * ss + sy, c);
                     for (int k = 0; k < 3; ++k) acc[k] += c[k];
-                    const std::ptrdiff_t at = s.at(x * ss + sx, y * ss + sy);
-                    covered += at >= 0 && !s.empty[std::size_t(at)];
                 }
             const double g =
                 opt.grain > 0 ? opt.grain * (2 * hash01(std::uint64_t(x), std::uint64_t(y), opt.seed) - 1) : 0.0;
@@ -235,39 +234,6 @@ Image average_down(const ArtScene& s, const SampleShader& shade, int width, int 
         }
     });
     return img;
-}
-
-// The samples a drawing can cover, with a rim of two empty ones: the box of the projected
-// vertices (an orthographic view sees each face within it), within the picture. The whole
-// picture for a perspective view (a face crossing the camera plane is clipped there) or when
-// the box is not finite.
-PixelWindow drawn_window(const Mesh& mesh, const Camera& hi, int W, int H) {
-    const PixelWindow all{0, 0, W, H};
-    if (!hi.orthographic() || mesh.positions.empty()) return all;
-    struct Box {
-        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-    };
-    const Box b = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 8192), Box{},
-        [&](const tbb::blocked_range<std::size_t>& r, Box x) {
-            for (std::size_t v = r.begin(); v != r.end(); ++v) {
-                const Vec2d q = hi.project(Vec3d(mesh.positions[v]));
-                x = {std::min(x.x0, q.x), std::min(x.y0, q.y), std::max(x.x1, q.x), std::max(x.y1, q.y)};
-            }
-            return x;
-        },
-        [](const Box& a, const Box& c) {
-            return Box{std::min(a.x0, c.x0), std::min(a.y0, c.y0), std::max(a.x1, c.x1), std::max(a.y1, c.y1)};
-        });
-    if (!std::isfinite(b.x0 + b.y0 + b.x1 + b.y1)) return all;
-    // Sample i's centre i + 0.5 lies in [lo, hi] for i in [ceil(lo - 0.5), floor(hi - 0.5)].
-    constexpr double kRim = 2;
-    const double i0 = std::max(0.0, std::ceil(b.x0 - 0.5) - kRim),
-                 i1 = std::min(W - 1.0, std::floor(b.x1 - 0.5) + kRim);
-    const double j0 = std::max(0.0, std::ceil(b.y0 - 0.5) - kRim),
-                 j1 = std::min(H - 1.0, std::floor(b.y1 - 0.5) + kRim);
-    if (i0 > i1 || j0 > j1) return all; // nothing in the picture
-    return {int(i0), int(j0), int(i1 - i0) + 1, int(j1 - j0) + 1};
 }
 
 } // namespace
@@ -282,7 +248,8 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     const Camera hi = resized_camera(cam, ss);
     Mesh mesh = mesh_in;
     if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
-    const DepthImage D = render_depth(mesh, hi, W, H, drawn_window(mesh, hi, W, H), opt.check);
+    // Over the samples the mesh can cover, with a rim of two empty ones; the rest is paper.
+    const DepthImage D = render_depth(mesh, hi, W, H, covered_window(mesh, hi, W, H, 2), opt.check);
     const int w = D.width, h = D.height;
     const std::size_t N = std::size_t(w) * h;
     ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
