@@ -1,7 +1,7 @@
 #!/bin/sh
 # Wall time of one batch through each engine (docs/batch.md): N copies of the spot example
 # (examples/spot, three 512 px drawings) at one resolution, through `--engine local` with
-# 1 and 2 jobs and, when a one-node Slurm cluster can start here (tests/cli/slurm_cluster.sh,
+# 1 and 2 jobs and, when a one-node Slurm cluster can start here (tests/batch/slurm_cluster.sh,
 # as root), through `--engine slurm`; each batch's peak memory estimate against the peak
 # measured; and whether the engines' meshes are byte-identical.
 #
@@ -43,12 +43,12 @@ for jobs in 1 2; do
   "$cm" batch "$work/assets.yaml" --jobs $jobs -q -o "$work/local$jobs" > /dev/null
   row local $jobs "$work/local$jobs" "$(echo "$(seconds) - $t0" | bc | xargs printf '%.1f')"
 done
-if "$root/tests/cli/slurm_cluster.sh" start "$work/cluster" > "$work/cluster.txt" 2>&1; then
+if "$root/tests/batch/slurm_cluster.sh" start "$work/cluster" > "$work/cluster.txt" 2>&1; then
   export SLURM_CONF="$work/cluster/slurm.conf"
   t0=$(seconds)
   "$cm" batch "$work/assets.yaml" --engine slurm --jobs 2 -q -o "$work/slurm" > /dev/null || true
   row slurm 2 "$work/slurm" "$(echo "$(seconds) - $t0" | bc | xargs printf '%.1f')"
-  "$root/tests/cli/slurm_cluster.sh" stop "$work/cluster"
+  "$root/tests/batch/slurm_cluster.sh" stop "$work/cluster"
   same=yes
   i=1
   while [ $i -le "$n" ]; do

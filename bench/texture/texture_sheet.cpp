@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "core/error.h"
+#include "drawing/ink.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
 #include "io/mesh_io.h"
 #include "render/colour.h"
-#include "render/ink.h"
 #include "render/raster.h"
 #include "render/textured.h"
 

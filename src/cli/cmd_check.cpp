@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/tool_common.h"
 #include "core/mesh.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 

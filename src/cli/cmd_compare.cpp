@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/tool_common.h"
+#include "metrics/colour_error.h"
 #include "pipeline/run_stage.h"
 #include "render/textured.h"
 

@@ -38,21 +38,4 @@ struct Mesh {
     void compute_normals();
 };
 
-/// Topology facts of a triangle mesh, for tests and run reports.
-struct MeshCheck {
-    std::size_t boundary_edges = 0;       ///< edges with one face
-    std::size_t nonmanifold_edges = 0;    ///< edges with more than two faces
-    std::size_t nonmanifold_vertices = 0; ///< vertices whose faces form more than one fan
-    std::size_t inconsistent_edges = 0;   ///< edges used twice in the same direction
-    std::size_t degenerate_faces = 0;     ///< repeated index or zero area
-    std::size_t components = 0;
-    double signed_volume = 0; ///< > 0 for an outward closed mesh
-    double area = 0;
-    long euler = 0; ///< V - E + F
-    bool closed_manifold() const {
-        return boundary_edges == 0 && nonmanifold_edges == 0 && nonmanifold_vertices == 0 && inconsistent_edges == 0;
-    }
-};
-MeshCheck check_mesh(const Mesh& m);
-
 } // namespace cm

@@ -6,7 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "geometry/chunked_scatter.h"
+#include "util/chunked_scatter.h"
 
 namespace cm {
 

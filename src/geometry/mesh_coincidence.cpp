@@ -11,7 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "geometry/mesh_intersect.h"
-#include "geometry/radix_sort.h"
+#include "util/radix_sort.h"
 
 namespace cm {
 

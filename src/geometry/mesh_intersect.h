@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/mesh.h"
-#include "geometry/uninit_vector.h"
+#include "util/uninit_vector.h"
 
 namespace cm {
 
@@ -105,22 +105,6 @@ std::vector<FacePair> find_self_intersections(const Mesh& mesh, const std::funct
 
 /// @brief Number of pairs find_self_intersections() reports.
 std::size_t count_self_intersections(const Mesh& mesh);
-
-/// The output rules of a mesh leaving the tool: closed, 2-manifold, consistently oriented,
-/// outward, no degenerate face, no crossing faces (mesh.write and `conceptmesh check`).
-struct OutputCheck {
-    MeshCheck mesh;
-    std::vector<FacePair> crossings;
-    /// Vertices with another vertex within kCoincidentTolerance of the bounding-box diagonal:
-    /// an importer that merges by distance (Blender, most engines) welds them, and the
-    /// welded mesh may be non-manifold where this one is not.
-    std::size_t coincident_vertices = 0;
-    bool clean() const;
-    /// One phrase per broken rule ("3 boundary edges", ...); empty when clean.
-    std::vector<std::string> broken() const;
-};
-/// `progress`, when given, is called per chunk with the fraction done and may throw to stop.
-OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& progress = {});
 
 /// Distance, as a fraction of the bounding-box diagonal, within which two vertices count
 /// as one (a millionth: far above float rounding, far below any feature a mesh means).

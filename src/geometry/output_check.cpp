@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/mesh_intersect.h"
+#include "geometry/mesh_check.h"
 
 namespace cm {
 

@@ -24,7 +24,7 @@
 
 #include "core/vec.h"
 #include "core/views.h"
-#include "geometry/uninit_vector.h"
+#include "util/uninit_vector.h"
 
 namespace cm {
 

@@ -1,17 +1,23 @@
 # cmake -DSRC=<repo>/src -P check_layers.cmake
 #
 # The layers of src/ may include only downward:
-#   core <- io, geometry, render <- stages/<family>;  core <- plugins <- pipeline <- cli
+#   core, util <- io, geometry, drawing, render <- metrics <- stages/<family>
+#   core <- plugins <- pipeline <- batch <- cli
 # and a stage family's own headers (included without a folder, "refine.h") only from
 # inside that family. Prints every include that breaks a rule and fails when there is one.
 set(allowed_core core)
-set(allowed_io core io)
-set(allowed_geometry core geometry)
-set(allowed_render core render)
+set(allowed_util util)
+set(allowed_io core util io)
+set(allowed_geometry core util geometry)
+set(allowed_drawing core util drawing)
+set(allowed_render core util render)
+set(allowed_metrics core util drawing render metrics)
 set(allowed_plugins core plugins)
-set(allowed_pipeline core io plugins pipeline)
-set(allowed_cli core io geometry render plugins pipeline cli)
-set(allowed_stages core io geometry render plugins)
+set(allowed_pipeline core util io plugins pipeline)
+set(allowed_batch core util io plugins pipeline batch)
+set(allowed_cli core util io geometry drawing render metrics plugins pipeline batch cli)
+set(allowed_stages core util io geometry drawing render metrics plugins)
+set(layers core util io geometry drawing render metrics plugins pipeline batch cli stages)
 
 file(GLOB_RECURSE files RELATIVE ${SRC} ${SRC}/*.h ${SRC}/*.cpp)
 set(bad 0)
@@ -23,7 +29,7 @@ foreach(f ${files})
   elseif(DEFINED allowed_${layer})
     set(allowed ${allowed_${layer}})
   else()
-    message(SEND_ERROR "${f}: in no known layer (core io geometry render plugins pipeline cli stages)")
+    message(SEND_ERROR "${f}: in no known layer (${layers})")
     math(EXPR bad "${bad} + 1")
     continue()
   endif()

@@ -13,11 +13,11 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "geometry/chunked_scatter.h"
 #include "geometry/mesh_intersect.h"
-#include "geometry/uninit_vector.h"
 #include "mesh_decimate_internal.h"
 #include "outline_guard.h"
+#include "util/chunked_scatter.h"
+#include "util/uninit_vector.h"
 
 namespace cm {
 

@@ -6,6 +6,7 @@
 #include "core/stage.h"
 #include "core/views.h"
 #include "io/image_io.h"
+#include "metrics/silhouette_error.h"
 #include "preview_sheet.h"
 
 namespace fs = std::filesystem;

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "io/image_io.h"
+#include "metrics/silhouette_error.h"
 #include "render/shade.h"
 #include "render/textured.h"
 

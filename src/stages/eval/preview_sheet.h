@@ -6,6 +6,7 @@
 
 #include "core/mesh.h"
 #include "core/views.h"
+#include "metrics/silhouette_error.h"
 #include "render/raster.h"
 
 namespace cm {

@@ -5,6 +5,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/views.h"
+#include "metrics/silhouette_error.h"
 #include "render/raster.h"
 
 namespace cm {

@@ -6,6 +6,7 @@
 #include "core/stage.h"
 #include "core/volume.h"
 #include "dual_mc.h"
+#include "geometry/mesh_check.h"
 #include "mesh_report.h"
 
 namespace cm {

@@ -3,6 +3,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/volume.h"
+#include "geometry/mesh_check.h"
 #include "marching_cubes.h"
 #include "mesh_report.h"
 

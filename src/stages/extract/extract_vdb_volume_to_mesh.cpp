@@ -6,6 +6,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/volume.h"
+#include "geometry/mesh_check.h"
 #include "mesh_report.h"
 #include "vdb_mesher.h"
 

@@ -23,10 +23,10 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "core/error.h"
-#include "geometry/prefault.h"
 #include "mc_blocks.h"
 #include "mc_table.h"
 #include "mc_thin.h"
+#include "util/prefault.h"
 
 namespace cm {
 namespace {

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "geometry/mesh_check.h"
+
 namespace cm {
 
 void declare_check(ParamBinder& b, MeshCheckMode& mode) {

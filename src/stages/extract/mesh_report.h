@@ -4,6 +4,7 @@
 #include "core/mesh.h"
 #include "core/params.h"
 #include "core/stage.h"
+#include "geometry/mesh_check.h"
 
 namespace cm {
 

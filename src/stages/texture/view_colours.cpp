@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "drawing/ink.h"
 #include "geometry/distance_transform.h"
-#include "render/ink.h"
 
 namespace cm {
 ViewColours clean_view_colours(const View& view, const DepthImage* depth, double depth_jump, const CleanOptions& opt) {

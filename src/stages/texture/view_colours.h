@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/views.h"
-#include "render/ink.h"
+#include "drawing/ink.h"
 #include "render/raster.h"
 
 namespace cm {

@@ -10,6 +10,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "core/views.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 

@@ -1,6 +1,6 @@
 // Local processes (fork/exec of each task script, wait4 for its peak memory) and Slurm
 // (sbatch --array, squeue) for conceptmesh batch.
-#include "cli/batch_engines.h"
+#include "batch/engines.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -20,7 +20,7 @@
 
 namespace fs = std::filesystem;
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 namespace {
 
@@ -267,4 +267,4 @@ void wait_slurm(const std::string& job_id, const std::vector<const AssetPlan*>& 
     if (tty) std::fputs("\r\033[K", stderr);
 }
 
-} // namespace cm::cli::batch
+} // namespace cm::batch

@@ -9,8 +9,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "cli/batch.h"
-#include "cli/batch_keys.h"
+#include "batch/batch.h"
+#include "batch/keys.h"
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "io/yaml_checks.h"
@@ -18,7 +18,7 @@
 
 namespace fs = std::filesystem;
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 namespace {
 
@@ -220,4 +220,4 @@ std::size_t scan_folder(const fs::path& folder, const fs::path& out, const std::
     return n;
 }
 
-} // namespace cm::cli::batch
+} // namespace cm::batch

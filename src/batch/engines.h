@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/batch.h"
+#include "batch/batch.h"
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 /// Runs each plan's task script in its own process, `jobs` at a time; prints one overall
 /// progress bar on a terminal and a line per finished asset (unless quiet). Returns the peak
@@ -36,4 +36,4 @@ void wait_slurm(const std::string& job_id, const std::vector<const AssetPlan*>& 
 /// Runs argv (no shell) and returns its exit status, stdout in `out` and stderr in `err`.
 int run_capture(const std::vector<std::string>& argv, std::string& out, std::string& err);
 
-} // namespace cm::cli::batch
+} // namespace cm::batch

@@ -1,5 +1,5 @@
-// The batch's summary: batch-report.json, the table, and the review page (index.html with
-// three.js beside it and each model embedded as a data URI, so it opens from disk).
+// The review page: index.html with three.js beside it and each model embedded as a data
+// URI, so it opens from disk.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/batch.h"
+#include "batch/batch.h"
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "io/manifest.h"
@@ -17,7 +17,7 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 namespace {
 
@@ -72,28 +72,6 @@ std::string url(const fs::path& rel) {
         }
     }
     return o;
-}
-
-std::string fixed(double v, int digits) {
-    std::ostringstream o;
-    o << std::fixed << std::setprecision(digits) << v;
-    return o.str();
-}
-
-json result_json(const AssetResult& r, const AssetPlan& p, const fs::path& out_dir) {
-    json j;
-    j["asset"] = r.name;
-    j["status"] = r.status;
-    j["folder"] = fs::relative(r.dir, out_dir).string();
-    j["seconds"] = r.seconds;
-    j["peak_mib"] = r.peak_mib;
-    j["memory_estimate_mib"] = p.memory_mib;
-    j["faces"] = r.faces >= 0 ? json(r.faces) : json(nullptr);
-    j["xor_pct"] = r.xor_pct >= 0 ? json(r.xor_pct) : json(nullptr);
-    j["inputs_hash"] = p.inputs_hash;
-    if (!p.mesh_file.empty() && r.status != "failed") j["mesh"] = (fs::relative(r.dir, out_dir) / p.mesh_file).string();
-    if (r.status == "failed") j["cause"] = r.cause;
-    return j;
 }
 
 // The input drawings of an asset, copied beside its results so the page travels with them.
@@ -238,7 +216,6 @@ const char* kPageScript = R"(
 })();
 </script>
 )";
-
 } // namespace
 
 void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<AssetResult>& results,
@@ -281,7 +258,7 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
             model_attr = " data-model=\"" + html(url(rel / "model.js")) + "\"";
         }
         h << "<div class=\"card " << r.status << "\" data-name=\"" << html(r.name) << "\" data-status=\"" << r.status
-          << "\" data-seconds=\"" << fixed(r.seconds, 2) << "\"";
+          << "\" data-seconds=\"" << fixed_digits(r.seconds, 2) << "\"";
         if (r.xor_pct >= 0) h << " data-xor=\"" << r.xor_pct << "\"";
         if (r.faces >= 0) h << " data-faces=\"" << r.faces << "\"";
         h << model_attr << ">\n<h2>" << html(r.name) << " <span class=\"badge\">"
@@ -290,12 +267,14 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
         h << "<div class=\"row\">";
         if (!model_attr.empty()) h << "<canvas class=\"view3d\" width=\"320\" height=\"240\"></canvas>";
         h << "<div><table class=\"fig\">"
-          << "<tr><td>silhouette error</td><td>" << (r.xor_pct >= 0 ? fixed(r.xor_pct, 3) + " %" : "-") << "</td></tr>";
+          << "<tr><td>silhouette error</td><td>" << (r.xor_pct >= 0 ? fixed_digits(r.xor_pct, 3) + " %" : "-")
+          << "</td></tr>";
         for (const auto& [view, x] : r.view_xor)
-            h << "<tr><td>&nbsp;&nbsp;" << html(view) << "</td><td>" << fixed(x, 3) << " %</td></tr>";
+            h << "<tr><td>&nbsp;&nbsp;" << html(view) << "</td><td>" << fixed_digits(x, 3) << " %</td></tr>";
         h << "<tr><td>faces</td><td>" << (r.faces >= 0 ? std::to_string(long(r.faces)) : "-") << "</td></tr>"
-          << "<tr><td>wall time</td><td>" << fixed(r.seconds, 2) << " s</td></tr>"
-          << "<tr><td>peak memory</td><td>" << (r.peak_mib > 0 ? fixed(r.peak_mib, 0) + " MiB" : "-") << "</td></tr>"
+          << "<tr><td>wall time</td><td>" << fixed_digits(r.seconds, 2) << " s</td></tr>"
+          << "<tr><td>peak memory</td><td>" << (r.peak_mib > 0 ? fixed_digits(r.peak_mib, 0) + " MiB" : "-")
+          << "</td></tr>"
           << "<tr><td>files</td><td>";
         if (!model_attr.empty()) h << "<a href=\"" << html(url(rel / p.mesh_file)) << "\">mesh</a> ";
         h << "<a href=\"" << html(url(rel / "log.txt")) << "\">log</a> <a href=\"" << html(url(rel / "run.json"))
@@ -322,48 +301,4 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
     write_file_atomic(dir / "index.html", h.str());
 }
 
-std::string write_summary(const AssetsFile& f, const std::vector<AssetPlan>& plans,
-                          const std::vector<AssetResult>& results, const fs::path& out_dir, const std::string& engine) {
-    const fs::path dir = fs::absolute(out_dir);
-    json j;
-    j["batch"] = f.name;
-    j["assets_file"] = fs::absolute(f.file).string();
-    j["engine"] = engine;
-    j["conceptmesh_version"] = CONCEPTMESH_VERSION_STRING;
-    j["assets"] = json::array();
-    std::size_t ok = 0, failed = 0, skipped = 0;
-    for (std::size_t i = 0; i < results.size(); ++i) {
-        j["assets"].push_back(result_json(results[i], plans[i], dir));
-        ok += results[i].status == "ok";
-        failed += results[i].status == "failed";
-        skipped += results[i].status == "skipped";
-    }
-    j["counts"] = {{"ok", ok}, {"failed", failed}, {"skipped", skipped}};
-    write_file_atomic(dir / "batch-report.json", j.dump(2) + "\n");
-    std::string page_warning;
-    try {
-        write_review_page(plans, results, dir, f.name);
-    } catch (const Error& e) {
-        page_warning = std::string("no review page: ") + e.what() + "\n";
-    }
-
-    std::size_t w = 5;
-    for (const auto& r : results) w = std::max(w, r.name.size());
-    std::ostringstream t;
-    t << std::left << std::setw(int(w)) << "asset"
-      << "  " << std::setw(7) << "status" << std::right << std::setw(8) << "wall s" << std::setw(10) << "peak MiB"
-      << std::setw(10) << "faces" << std::setw(9) << "xor_pct"
-      << "\n";
-    for (const auto& r : results) {
-        t << std::left << std::setw(int(w)) << r.name << "  " << std::setw(7) << r.status << std::right << std::setw(8)
-          << fixed(r.seconds, 2) << std::setw(10) << (r.peak_mib > 0 ? fixed(r.peak_mib, 0) : "-") << std::setw(10)
-          << (r.faces >= 0 ? std::to_string(long(r.faces)) : "-") << std::setw(9)
-          << (r.xor_pct >= 0 ? fixed(r.xor_pct, 3) : "-") << "\n";
-    }
-    t << ok << " ok, " << skipped << " up to date, " << failed << " failed\n";
-    for (const auto& r : results)
-        if (r.status == "failed") t << "FAILED " << r.name << ": " << r.cause << "\n";
-    return t.str() + page_warning;
-}
-
-} // namespace cm::cli::batch
+} // namespace cm::batch

@@ -1,7 +1,8 @@
-// conceptmesh batch: many assets, each one `conceptmesh run` in its own process, on this
-// machine or as one Slurm array job. batch_assets.cpp reads ASSETS.yaml and plans each
-// asset's run; batch_engines.cpp runs the plan (local processes, sbatch); batch_report.cpp
-// gathers the results into batch-report.json, a table and the review page.
+// Many assets at once, each one `conceptmesh run` in its own process, on this machine or as
+// one Slurm array job. assets.cpp reads ASSETS.yaml, plan.cpp plans each asset's run,
+// engines.cpp runs the plan (local processes, sbatch), report.cpp and review_page.cpp gather
+// the results into batch-report.json, a table and the review page; run.cpp is the whole
+// batch, step by step (the `conceptmesh batch` command only reads its options).
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 /// One asset of ASSETS.yaml, as written.
 struct AssetSpec {
@@ -93,8 +94,11 @@ std::string write_summary(const AssetsFile& f, const std::vector<AssetPlan>& pla
                           const std::vector<AssetResult>& results, const std::filesystem::path& out_dir,
                           const std::string& engine);
 
+/// `v` with `digits` digits after the point ("0.93"), for the table and the page.
+std::string fixed_digits(double v, int digits);
+
 /// The review page only (write_summary() calls it). Throws cm::Error when three.js is missing.
 void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<AssetResult>& results,
                        const std::filesystem::path& out_dir, const std::string& title);
 
-} // namespace cm::cli::batch
+} // namespace cm::batch

@@ -11,7 +11,7 @@
 #include <openssl/evp.h>
 #include <nlohmann/json.hpp>
 
-#include "cli/batch.h"
+#include "batch/batch.h"
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "io/image_io.h"
@@ -21,7 +21,7 @@
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 namespace {
 
@@ -58,7 +58,7 @@ std::string self_exe() {
 std::string param_text(const PipelineNode& n, const std::string& param) {
     auto it = n.raw_params.find(param);
     if (it == n.raw_params.end()) return {};
-    return it->second.from_set() ? it->second.text : it->second.node.Scalar();
+    return it->second.text; // a YAML value that is no scalar has none
 }
 
 // Pixels of every image the manifest reads (0 when it cannot be read: the run will say why).
@@ -290,4 +290,4 @@ AssetResult read_result(const AssetPlan& p, bool skipped) {
     return r;
 }
 
-} // namespace cm::cli::batch
+} // namespace cm::batch

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-namespace cm::cli::batch {
+namespace cm::batch {
 
 inline const std::vector<std::string> kTopKeys = {"batch", "pipeline", "set", "output", "assets"};
 inline const std::vector<std::string> kAssetKeys = {"name", "views", "sheet", "pipeline", "set", "memory_mib"};
 
-} // namespace cm::cli::batch
+} // namespace cm::batch
