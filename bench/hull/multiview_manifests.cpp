@@ -2,7 +2,7 @@
 // OUT_DIR/dino.yaml, the views manifests of the calibrated photo sets of
 // ../shared/data/multiview, for use from the command line. They name the images by
 // absolute path (the images are not copied) and are the manifests the tests write
-// (tests/hull/multiview.cpp).
+// (tests/stages/hull/multiview.cpp).
 #include <cstdio>
 #include <exception>
 #include <filesystem>

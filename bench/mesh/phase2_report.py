@@ -63,7 +63,7 @@ for n in names:
 if rows:
     print("| **mean** | | | **%.1f %%** | **%.3f** | **%.3f** | | | |" % (
         mean([100.0 * r[1] / r[0] for r in rows]), mean([r[3] for r in rows]), mean([r[2] for r in rows])))
-print("\nmax_angle_deg = %s. xor_pct as in ../shared/conventions/views.md (all three views pooled).\n" % angle)
+print("\nmax_angle_deg = %s. xor_pct as in docs/conventions.md (all three views pooled).\n" % angle)
 
 # 2. Smoothing.
 print("### Smoothing, 10 iterations, from the Marching Cubes mesh\n")

@@ -12,7 +12,7 @@ void expect_vec(const Vec3d& a, const Vec3d& b) {
 }
 } // namespace
 
-// The table of ../conventions/views.md, row by row.
+// The table of docs/conventions.md, row by row.
 TEST(Camera, NamedViewsMatchTheConventionsTable) {
     struct Row {
         const char* name;

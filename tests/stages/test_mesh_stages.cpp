@@ -1,0 +1,103 @@
+// The mesh stages through their Stage interface: parameters, ports and errors.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/stage.h"
+#include "geometry/mesh_check.h"
+#include "support/shapes.h"
+#include "support/stage_harness.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+TEST(MeshStages, HullConstraintWithoutViewsIsAClearError) {
+    test::StageHarness h("mesh.laplacian_smooth");
+    h.params("{constrain: hull}");
+    h.input("mesh", test::make_sphere({0, 0, 0}, 1.0f, 2));
+    const std::string e = h.error();
+    EXPECT_NE(e.find("views input"), std::string::npos) << e;
+}
+
+TEST(MeshStages, HullConstrainedSmoothingThroughTheStage) {
+    test::StageHarness h("mesh.taubin_smooth");
+    h.params("{constrain: hull}");
+    h.input("mesh", test::make_grid_box(-1.0f, 1.0f, 8));
+    h.input("views", test::make_box_views(-1.0f, 1.0f, 128));
+    auto out = h.run<Mesh>();
+    EXPECT_TRUE(check_mesh(*out).closed_manifold());
+    EXPECT_NE(h.metrics().count("max_hull_distance_px"), 0u);
+}
+
+TEST(MeshStages, TaubinRefusesAShrinkingMu) {
+    test::StageHarness h("mesh.taubin_smooth");
+    h.params("{mu: -0.5}");
+    const std::string e = h.error();
+    EXPECT_NE(e.find("mu < -lambda"), std::string::npos) << e;
+}
+
+TEST(MeshStages, ReduceRefusesTwoTargetsAndMeetsARatio) {
+    test::StageHarness two("mesh.reduce");
+    two.params("{target_faces: 100, target_ratio: 0.5}");
+    EXPECT_NE(two.error().find("not both"), std::string::npos);
+
+    test::StageHarness h("mesh.reduce");
+    h.params("{target_ratio: 0.25, max_angle_deg: 40}");
+    const Mesh sphere = test::make_sphere({0, 0, 0}, 1.0f, 4);
+    h.input("mesh", sphere);
+    auto out = h.run<Mesh>();
+    EXPECT_LE(out->face_count(), sphere.face_count() / 4);
+    EXPECT_TRUE(check_mesh(*out).closed_manifold());
+}
+
+TEST(MeshStages, ReduceSilhouetteConstraintNeedsTheViewsAndKeepsTheBoxOutline) {
+    test::StageHarness bare("mesh.reduce");
+    bare.params("{constrain: silhouette}");
+    bare.input("mesh", test::make_grid_box(-1.0f, 1.0f, 8));
+    const std::string e = bare.error();
+    EXPECT_NE(e.find("views input"), std::string::npos) << e;
+
+    // A box drawn from three sides: its outline is its faces' edges, which every collapse
+    // of the flat sides keeps, so the constraint leaves the paper's result as it is.
+    test::StageHarness free("mesh.reduce"), kept("mesh.reduce");
+    free.params("{max_angle_deg: 30}");
+    kept.params("{max_angle_deg: 30, constrain: silhouette}");
+    for (auto* h : {&free, &kept}) h->input("mesh", test::make_grid_box(-1.0f, 1.0f, 8));
+    kept.input("views", test::make_box_views(-1.0f, 1.0f, 128));
+    auto a = free.run<Mesh>(), b = kept.run<Mesh>();
+    EXPECT_TRUE(check_mesh(*b).closed_manifold());
+    EXPECT_EQ(a->face_count(), b->face_count());
+}
+
+TEST(MeshStages, QuadricNeedsATarget) {
+    test::StageHarness h("mesh.quadric_decimate");
+    h.params("{target_ratio: 0}");
+    EXPECT_NE(h.error().find("give a target"), std::string::npos);
+}
+
+TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
+    test::TempDir dir("mesh_write_check");
+    test::StageHarness h("mesh.write");
+    h.param("path", dir / "clean.ply");
+    h.input("mesh", test::make_box({0, 0, 0}, {1, 1, 1}));
+    h.run<FileOutput>();
+    EXPECT_EQ(std::stod(h.metrics().at("self_intersections")), 0.0);
+    EXPECT_EQ(std::stod(h.metrics().at("boundary_edges")), 0.0);
+    EXPECT_TRUE(h.warnings().empty());
+
+    const Mesh two = test::make_crossing_boxes();
+    h.param("path", dir / "crossing.ply");
+    h.input("mesh", two);
+    h.run<FileOutput>();
+    EXPECT_GT(std::stod(h.metrics().at("self_intersections")), 0.0);
+    ASSERT_EQ(h.warnings().size(), 1u);
+    EXPECT_NE(h.warnings()[0].find("self-intersecting face pairs"), std::string::npos) << h.warnings()[0];
+    EXPECT_NE(h.warnings()[0].find("crossing.ply"), std::string::npos) << h.warnings()[0];
+
+    h.params("{check: false}");
+    h.run<FileOutput>();
+    EXPECT_EQ(h.metrics().count("self_intersections"), 0u);
+    EXPECT_TRUE(h.warnings().empty());
+}
