@@ -27,6 +27,7 @@
 #include "core/mesh.h"
 #include "geometry/distance_transform.h"
 #include "geometry/mesh_adjacency.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 #include "mesh_decimate.h"
@@ -52,7 +53,7 @@ const Mesh& input(int which) {
         SmoothOptions o;
         o.method = SmoothOptions::Method::Taubin;
         o.iterations = 2;
-        smooth_mesh(m, o);
+        smooth_mesh_in_place(m, o);
     }
     return cache[which] = std::move(m);
 }
@@ -99,7 +100,7 @@ void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
         o.method = method;
         o.iterations = 10;
         o.guard = st.range(1) != 0;
-        const SmoothStats s = smooth_mesh(m, o);
+        const SmoothStats s = smooth_mesh_in_place(m, o);
         st.counters["bad_faces"] = double(s.bad_faces);
         st.counters["rounds"] = double(s.guard_rounds);
         benchmark::DoNotOptimize(m.positions.data());

@@ -17,11 +17,13 @@
 
 #include "core/mesh.h"
 #include "geometry/hull_distance.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_intersect.h"
 #include "io/mesh_io.h"
 #include "load.h"
 #include "mesh_decimate.h"
 #include "mesh_smooth.h"
+#include "metrics/silhouette_error.h"
 #include "render/raster.h"
 
 using namespace cm;
@@ -77,11 +79,11 @@ int main(int argc, char** argv) {
             o.iterations = 10;
             o.method = v.rfind("taubin", 0) == 0 ? SmoothOptions::Method::Taubin : SmoothOptions::Method::Laplacian;
             if (v.find("hull") != std::string::npos) {
-                o.hull = &hull;
-                o.tolerance = 0.5 * hull.finest_pixel();
+                o.constrain = SmoothOptions::Constrain::Hull;
+                o.tolerance_px = 0.5;
             }
             const auto t0 = std::chrono::steady_clock::now();
-            smooth_mesh(m, o);
+            smooth_mesh_in_place(m, o, &hull);
             const double secs = seconds_since(t0);
             const double v1 = check_mesh(m).signed_volume;
             smooth[v] = {{"volume_change_pct", 100.0 * (v1 - v0) / v0},

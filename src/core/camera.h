@@ -1,4 +1,4 @@
-// Cameras of ../shared/conventions/views.md: named orthographic views,
+// Cameras of docs/conventions.md: named orthographic views,
 // azimuth/elevation, and calibrated perspective 3x4 matrices. Pixel (i, j) covers
 // [i,i+1) x [j,j+1).
 #pragma once

@@ -339,4 +339,11 @@ void ParamBinder::assign(const ParamSet& values) const {
     }
 }
 
+void ParamBinder::assign_defaults() const {
+    for (const auto& b : bindings_) {
+        if (b.spec.default_value) b.set(&*b.spec.default_value, false);
+        else if (b.spec.is_optional) b.set(nullptr, false);
+    }
+}
+
 } // namespace cm

@@ -214,6 +214,9 @@ public:
     /// Sets every bound member from `values`: checked values (check_param()) of every
     /// declared parameter that is not optional, as configure() has them.
     void assign(const ParamSet& values) const;
+    /// Sets every bound member to its declared default (an optional one without a default:
+    /// unset); a required parameter's member is left as it is.
+    void assign_defaults() const;
 
 private:
     using Setter = std::function<void(const ParamValue* value, bool given)>;
@@ -225,5 +228,14 @@ private:
     static void require(bool ok, const ParamSpec& spec, const std::string& what);
     std::vector<Binding> bindings_;
 };
+
+/// Sets every member `options.declare(b)` binds to its declared default. An options struct's
+/// constructor calls it, so each default is written once, in its declaration (core/algorithm.h).
+template <typename Options>
+void set_declared_defaults(Options& options) {
+    ParamBinder b;
+    options.declare(b);
+    b.assign_defaults();
+}
 
 } // namespace cm

@@ -83,4 +83,32 @@ void Interrupter::check() {
     throw Cancelled(at >= 0 ? "stopped at " + std::to_string(at) + "%" : std::string("stopped"));
 }
 
+Progress::Progress(Report report)
+    : dest_(report ? std::make_shared<const Destination>(Destination{std::move(report), {}}) : nullptr) {}
+
+Progress::Progress(Check check)
+    : dest_(check ? std::make_shared<const Destination>(Destination{{}, std::move(check)}) : nullptr) {}
+
+Progress::Progress(Interrupter& interrupter, std::string what)
+    : dest_(std::make_shared<const Destination>(
+          Destination{[&interrupter, what = std::move(what)](double f) { interrupter.step(f, what); },
+                      [&interrupter] { interrupter.check(); }})) {}
+
+void Progress::operator()(double fraction) const {
+    if (!dest_) return;
+    if (dest_->report) dest_->report(lo_ + (hi_ - lo_) * std::clamp(fraction, 0.0, 1.0));
+    else dest_->check();
+}
+
+void Progress::check() const {
+    if (dest_ && dest_->check) dest_->check();
+}
+
+Progress Progress::part(double lo, double hi) const {
+    Progress p = *this;
+    p.lo_ = lo_ + (hi_ - lo_) * lo;
+    p.hi_ = lo_ + (hi_ - lo_) * hi;
+    return p;
+}
+
 } // namespace cm

@@ -1,7 +1,10 @@
 // Progress and cancellation. Each running node gets an Interrupter, an
-// openvdb::util::NullInterrupter so it can be handed to OpenVDB tools as is.
+// openvdb::util::NullInterrupter so it can be handed to OpenVDB tools as is; the algorithms
+// of the stages take a Progress, the one progress and cancel object of the contract.
 #pragma once
 #include <atomic>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -57,6 +60,47 @@ private:
     std::atomic<bool> hold_{false};
     std::atomic<bool> holding_{false}; ///< the hold has begun: every look of the node waits for the stop
     int hold_at_ = 0;
+};
+
+/// @brief The one progress and cancel object every algorithm takes (OpenVDB's interrupter is
+/// the model): it reports the fraction done of the algorithm's part of a stage, and a look at
+/// it throws cm::Cancelled once a stop was asked for.
+///
+/// A stage hands its algorithm Context::progress("what"); a test or a tool passes a function
+/// of the fraction, or nothing: a default Progress reports nowhere and never stops. Copies are
+/// cheap and report to the same place; part() narrows one to a sub-range, for the steps of an
+/// algorithm. Thread-safe as its destination is (an Interrupter is; a test's function must be
+/// when the algorithm calls it from worker threads).
+class Progress {
+public:
+    using Report = std::function<void(double fraction)>;
+    using Check = std::function<void()>;
+    Progress() = default;
+    /// Reports to `report` (not explicit: a lambda converts), which may throw to stop.
+    Progress(Report report);
+    /// Reports nowhere; each look calls `check`, which may throw to stop.
+    Progress(Check check);
+    /// Reports to a node's interrupter, with `what` for the progress line.
+    Progress(Interrupter& interrupter, std::string what);
+
+    /// Reports `fraction` (clamped to [0, 1]) of this part; throws cm::Cancelled when a stop
+    /// was asked for.
+    void operator()(double fraction) const;
+    /// Looks for a stop only, where no fraction is at hand (per chunk of a parallel loop);
+    /// throws cm::Cancelled.
+    void check() const;
+    /// The part [lo, hi] of this one: its 0 is this one's lo, its 1 this one's hi.
+    Progress part(double lo, double hi) const;
+    /// Whether it reports anywhere.
+    explicit operator bool() const { return dest_ != nullptr; }
+
+private:
+    struct Destination {
+        Report report;
+        Check check;
+    };
+    std::shared_ptr<const Destination> dest_;
+    double lo_ = 0, hi_ = 1;
 };
 
 } // namespace cm

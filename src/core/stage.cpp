@@ -62,6 +62,13 @@ void Context::metric_json(const std::string& key, const std::string& json_text) 
     metrics_[key] = json_text;
 }
 
+void Metrics::per_view(const std::string& key, const std::vector<std::string>& views,
+                       const std::vector<double>& values) {
+    nlohmann::json j = nlohmann::json::object();
+    for (std::size_t i = 0; i < views.size() && i < values.size(); ++i) j[views[i]] = values[i];
+    metric_json(key, j.dump());
+}
+
 StageInfo Stage::info() const {
     ParamBinder b;
     // declare() only records where each value goes; nothing is written through it here.

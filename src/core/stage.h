@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/algorithm.h"
 #include "core/data.h"
 #include "core/error.h"
 #include "core/params.h"
@@ -62,8 +63,8 @@ private:
     std::map<std::string, Data> data_;
 };
 
-/// What a running stage may use of the host.
-class Context {
+/// What a running stage may use of the host. It is the Metrics its algorithms' stats report to.
+class Context : public Metrics {
 public:
     struct Hooks {
         ProgressSink* sink = nullptr;
@@ -78,17 +79,22 @@ public:
     const std::string& node() const { return node_; }
     const std::string& stage() const { return stage_; }
     Interrupter& interrupter() { return interrupter_; }
+    /// The progress and cancel object of this stage's algorithms, with `what` for the
+    /// progress line.
+    Progress progress(std::string what) { return Progress(interrupter_, std::move(what)); }
     /// Progress in [0,1] of this stage; throws cm::Cancelled when cancelled.
     void progress(double fraction, const std::string& what = {}) { interrupter_.step(fraction, what); }
     void check_cancel() { interrupter_.check(); }
 
-    void warn(const std::string& text);
+    void warn(const std::string& text) override;
     void info(const std::string& text);
     /// A figure for the run report (counts, sizes, errors). Thread-safe.
-    void metric(const std::string& key, double value);
-    void metric(const std::string& key, const std::string& value);
+    void metric(const std::string& key, double value) override;
+    void metric(const std::string& key, const std::string& value) override;
     /// A JSON object merged under the node's "metrics" in the report.
-    void metric_json(const std::string& key, const std::string& json_text);
+    void metric_json(const std::string& key, const std::string& json_text) override;
+    using Metrics::count;
+    using Metrics::per_view;
     const std::map<std::string, std::string>& metrics_json() const { return metrics_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
 

@@ -6,8 +6,7 @@ namespace cm {
 namespace {
 
 class LaplacianSmooth : public Stage {
-    SmoothCommon common_;
-    double factor_ = 1.0;
+    SmoothOptions opt_;
 
 public:
     StageSignature signature() const override {
@@ -16,19 +15,13 @@ public:
                 smooth_ports(), DataKind::Mesh};
     }
     void declare(ParamBinder& b) override {
-        common_.declare(b, 10);
-        b.add(factor_, ParamSpec::Float("factor", 1.0, 0.0, 1.0, "",
-                                        "fraction of the umbrella step taken per iteration (1: the paper's operator)"));
+        opt_.declare_common(b);
+        opt_.declare_laplacian(b);
     }
     void check() override {
-        if (factor_ <= 0.0) throw Error("factor must be in (0, 1], got 0");
+        if (opt_.factor <= 0.0) throw Error("factor must be in (0, 1], got 0");
     }
-    Data run(const Inputs& in, Context& ctx) override {
-        SmoothOptions opt;
-        opt.method = SmoothOptions::Method::Laplacian;
-        opt.factor = factor_;
-        return common_.run(in, ctx, opt);
-    }
+    Data run(const Inputs& in, Context& ctx) override { return run_smooth(in, ctx, opt_); }
 };
 
 } // namespace

@@ -12,10 +12,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "core/error.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
-#include "geometry/mesh_intersect.h"
-#include "geometry/uninit_vector.h"
+#include "smooth_guard.h"
+#include "util/uninit_vector.h"
 
 namespace cm {
 
@@ -227,248 +228,51 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
     return clamped.load();
 }
 
-// Faces that turned over against their input normal or lost (almost) all their area.
-void find_bad_shapes(const Mesh& in, const std::vector<Vec3f>& p, const std::vector<std::uint32_t>* only,
-                     std::vector<std::uint32_t>& out) {
-    const std::size_t n = only ? only->size() : in.triangles.size();
-    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> found;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        auto& local = found.local();
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const std::uint32_t f = only ? (*only)[i] : std::uint32_t(i);
-            const auto& t = in.triangles[f];
-            const Vec3d a(p[t[0]]), b(p[t[1]]), c(p[t[2]]);
-            const Vec3d a0(in.positions[t[0]]), b0(in.positions[t[1]]), c0(in.positions[t[2]]);
-            const Vec3d n = cross(b - a, c - a), n0 = cross(b0 - a0, c0 - a0);
-            const double len = length(n), len0 = length(n0);
-            // Collapsed: area below 1e-6 of the face's input area (MC faces can be small).
-            if (len <= 1e-6 * len0 || dot(n, n0) <= 0) local.push_back(f);
-        }
-    });
-    for (auto& v : found) out.insert(out.end(), v.begin(), v.end());
+// The enclosed volume (the divergence theorem over the faces), for the volume_change_pct
+// metric: one parallel pass, where a full check_mesh (edges sorted, fans per vertex)
+// cost more than the smoothing itself on a million faces. Deterministic reduce: the sum is
+// added up in one order whatever the thread count, so reports are byte-identical.
+double signed_volume(const Mesh& m) {
+    return tbb::parallel_deterministic_reduce(
+               tbb::blocked_range<std::size_t>(0, m.triangles.size(), 1 << 14), 0.0,
+               [&](const tbb::blocked_range<std::size_t>& r, double acc) {
+                   for (std::size_t f = r.begin(); f != r.end(); ++f) {
+                       const auto& t = m.triangles[f];
+                       acc += dot(Vec3d(m.positions[t[0]]), cross(Vec3d(m.positions[t[1]]), Vec3d(m.positions[t[2]])));
+                   }
+                   return acc;
+               },
+               [](double a, double b) { return a + b; }) /
+           6.0;
 }
 
-// Two vertices closer than this fraction of the bounding-box diagonal count as drawn onto
-// one another: ten times the output check's kCoincidentTolerance, so what the guard leaves
-// apart stays apart in `conceptmesh check` and in an importer's merge by distance.
-constexpr double kSeparation = 10 * kCoincidentTolerance;
-
-// The guard of SmoothOptions::guard: pulls the vertices of bad faces back towards the
-// input positions until no face crosses another, turns over or collapses, and no two
-// vertices that were apart in the input coincide. The umbrella operator (factor 1) draws
-// two vertices with the same ring of neighbours (the two tips of a thin part, one cell
-// across) onto the ring's centroid: an importer welds them and the mesh is pinched there.
-//
-// The first check covers every face at the smoothed positions, with an index of the faces
-// there (one pose: smaller boxes, fewer entries than an index of everything between input and
-// smoothed). The faces around vertices pulled back are then at blends of the two, which
-// that index does not hold: they go into a second, small index covering both poses, and a
-// face checked in a later round is asked of both.
-void guard_surface(const Mesh& in, std::vector<Vec3f>& p, SmoothStats& st) {
-    const std::vector<Vec3f> smoothed = p;
-    // The fans that lie over a plane one-to-one: pairs of their faces need no crossing test
-    // (nine in ten of the pairs the index finds on a smooth surface).
-    const std::vector<char> fans = embedded_fans(in.triangles, smoothed);
-    const SelfIntersectionIndex index(in.triangles, smoothed);
-    Vec3f lo, hi;
-    in.bounds(lo, hi);
-    const double separation = kSeparation * length(Vec3d(hi) - Vec3d(lo));
-    // Vertices the input already has together are left alone (they are the input's own).
-    // Asked only about vertices together at p (few, often none), in one pass over the input
-    // per batch of new questions: an index of the asked vertices' input positions, which each
-    // input vertex looks itself up in (no index of the whole input beside the one of p).
-    // 0: not asked yet, 1: together in the input, 2: apart.
-    std::vector<char> input_answer(p.size(), 0);
-    auto ask_input = [&](const std::vector<std::uint32_t>& vs) {
-        std::vector<std::uint32_t> asked;
-        std::vector<Vec3f> where;
-        for (auto v : vs)
-            if (!input_answer[v]) {
-                asked.push_back(v);
-                where.push_back(in.positions[v]);
-            }
-        if (asked.empty()) return;
-        const CoincidenceIndex index_of_asked(where, separation);
-        // A coarse grid over the input's box marks the cells within twice the separation of an
-        // asked vertex: only the input vertices in marked cells can be near one, and only they
-        // look themselves up (the same answers, for a bit test per vertex elsewhere).
-        constexpr int kGrid = 128;
-        const Vec3d origin(lo), span = vmax(Vec3d(hi) - origin, Vec3d(1e-30, 1e-30, 1e-30));
-        const Vec3d per(kGrid / span.x, kGrid / span.y, kGrid / span.z);
-        auto cell_of = [&](double x, int a) {
-            const double t = (x - origin[a]) * per[a];
-            return t >= 0 ? int(std::min(t, double(kGrid - 1))) : 0; // NaN to 0 (near nothing anyway)
-        };
-        std::vector<char> marked_cells(std::size_t(kGrid) * kGrid * kGrid, 0);
-        for (const Vec3f& q : where) {
-            int c0[3], c1[3];
-            for (int a = 0; a < 3; ++a) {
-                c0[a] = cell_of(double(q[a]) - 2 * separation, a);
-                c1[a] = cell_of(double(q[a]) + 2 * separation, a);
-            }
-            for (int z = c0[2]; z <= c1[2]; ++z)
-                for (int y = c0[1]; y <= c1[1]; ++y)
-                    for (int x = c0[0]; x <= c1[0]; ++x)
-                        marked_cells[(std::size_t(z) * kGrid + std::size_t(y)) * kGrid + std::size_t(x)] = 1;
-        }
-        std::vector<char> hit(asked.size(), 0);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in.positions.size(), 1 << 14), [&](const auto& r) {
-            for (std::size_t w = r.begin(); w != r.end(); ++w) {
-                const Vec3f& q = in.positions[w];
-                const std::size_t cell = (std::size_t(cell_of(q.z, 2)) * kGrid + std::size_t(cell_of(q.y, 1))) * kGrid +
-                                         std::size_t(cell_of(q.x, 0));
-                if (!marked_cells[cell]) continue;
-                index_of_asked.near_point(q, [&](std::uint32_t k) {
-                    if (asked[k] != w) std::atomic_ref<char>(hit[k]).store(1, std::memory_order_relaxed);
-                });
-            }
-        });
-        for (std::size_t k = 0; k < asked.size(); ++k) input_answer[asked[k]] = hit[k] ? 1 : 2;
-    };
-    // Vertices within the separation of another at p, kept up to date as vertices move: a
-    // vertex's answer changes only when it or a vertex near it (before or after) moves.
-    CoincidenceIndex coincidence(p, separation);
-    std::vector<std::uint32_t> together = coincidence.all(), recheck;
-    std::vector<std::uint32_t> bad, badv; // faces, and vertices drawn onto another
-    auto collect = [&](const std::vector<FacePair>& pairs, const std::vector<std::uint32_t>* only) {
-        bad.clear();
-        for (const auto& pr : pairs) {
-            bad.push_back(pr[0]);
-            bad.push_back(pr[1]);
-        }
-        find_bad_shapes(in, p, only, bad);
-        std::sort(bad.begin(), bad.end());
-        bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
-        badv.clear();
-        ask_input(together);
-        for (auto v : together)
-            if (input_answer[v] == 2) badv.push_back(v);
-        ++st.guard_rounds;
-    };
-    collect(index.all(p, {}, &fans), nullptr);
-    st.bad_faces = bad.size();
-    st.coincident = badv.size();
-    if (bad.empty() && badv.empty()) return; // the common case: nothing more to build
-
-    std::vector<float> weight(p.size(), 1.0f); // position = input + weight * (smoothed - input)
-    // Faces to re-check, vertices moved this round, and the faces the index holds at a moved
-    // vertex's smoothed position (those around the vertex among them: no table of the faces
-    // around every vertex is built for the few that move).
-    std::vector<std::uint32_t> check, moved, near_faces;
-    // The faces that ever had a vertex pulled back (their triangles, and their faces in `in`).
-    std::vector<char> face_moved(in.triangles.size(), 0);
-    std::vector<std::array<std::uint32_t, 3>> moving_tris;
-    std::vector<std::uint32_t> moving_faces;
-    auto swept = [&](std::uint32_t f) { // the box of every blend of the face's two poses
-        const auto& t = in.triangles[f];
-        SelfIntersectionIndex::Box b{in.positions[t[0]], in.positions[t[0]]};
-        for (const auto* pose : {&in.positions, &smoothed})
-            for (auto v : t) b = {vmin(b.lo, (*pose)[v]), vmax(b.hi, (*pose)[v])};
-        return b;
-    };
-    auto box_now = [&](std::uint32_t f) {
-        const auto& t = in.triangles[f];
-        return SelfIntersectionIndex::Box{vmin(p[t[0]], vmin(p[t[1]], p[t[2]])), vmax(p[t[0]], vmax(p[t[1]], p[t[2]]))};
-    };
-    auto meet = [](const SelfIntersectionIndex::Box& a, const SelfIntersectionIndex::Box& b) {
-        return !(a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
-                 b.lo.z > a.hi.z);
-    };
-    // The crossing pairs at p with a face in `faces`: the other face is in `index` at its
-    // smoothed position, or among the moving faces.
-    auto crossings_of = [&](const std::vector<std::uint32_t>& faces, const SelfIntersectionIndex& moving) {
-        tbb::enumerable_thread_specific<std::vector<FacePair>> found;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 64), [&](const auto& r) {
-            auto& local = found.local();
-            std::vector<std::uint32_t> near, more;
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const std::uint32_t fa = faces[i];
-                const SelfIntersectionIndex::Box reach = swept(fa), now = box_now(fa);
-                index.candidates(reach, near);
-                moving.candidates(reach, more);
-                for (auto& k : more) k = moving_faces[k];
-                near.insert(near.end(), more.begin(), more.end());
-                std::sort(near.begin(), near.end());
-                near.erase(std::unique(near.begin(), near.end()), near.end());
-                for (std::uint32_t fb : near)
-                    if (fb != fa && meet(now, box_now(fb)) && triangles_cross(p, in.triangles[fa], in.triangles[fb]))
-                        local.push_back({std::min(fa, fb), std::max(fa, fb)});
-            }
-        });
-        std::vector<FacePair> pairs;
-        for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
-        std::sort(pairs.begin(), pairs.end());
-        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-        return pairs;
-    };
-    std::vector<char> marked(p.size(), 0);
-    while (!bad.empty() || !badv.empty()) {
-        moved.clear();
-        auto pull_back = [&](std::uint32_t v) {
-            if (marked[v] || weight[v] == 0.0f) return;
-            marked[v] = 1;
-            moved.push_back(v);
-            weight[v] = weight[v] > 0.3f ? weight[v] * 0.5f : 0.0f;
-            p[v] = in.positions[v] + (smoothed[v] - in.positions[v]) * weight[v];
-        };
-        for (auto f : bad)
-            for (auto v : in.triangles[f]) pull_back(v);
-        for (auto v : badv) pull_back(v);
-        if (moved.empty()) {
-            st.unresolved = bad.size();
-            break;
-        } // the input's own faces
-        st.pulled_back += moved.size();
-        recheck = together; // those together before, those moved and those they now meet
-        for (auto v : moved) coincidence.moved(v);
-        for (auto v : moved) {
-            recheck.push_back(v);
-            coincidence.near(v, [&](std::uint32_t w) { recheck.push_back(w); });
-        }
-        std::sort(recheck.begin(), recheck.end());
-        recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
-        together.clear();
-        for (auto v : recheck)
-            if (coincidence.has_near(v)) together.push_back(v);
-        check.clear();
-        for (auto v : moved) {
-            marked[v] = 0;
-            index.faces_near(smoothed[v], near_faces);
-            for (auto f : near_faces) {
-                const auto& t = in.triangles[f];
-                if (t[0] == v || t[1] == v || t[2] == v) check.push_back(f);
-            }
-        }
-        std::sort(check.begin(), check.end());
-        check.erase(std::unique(check.begin(), check.end()), check.end());
-        for (auto f : check)
-            if (!face_moved[f]) {
-                face_moved[f] = 1;
-                moving_tris.push_back(in.triangles[f]);
-                moving_faces.push_back(f);
-            }
-        const SelfIntersectionIndex moving(moving_tris, in.positions, &smoothed);
-        collect(crossings_of(check, moving), &check);
-    }
+// The hull `opt.constrain` asks for (null for none); throws when it needs one and has none.
+const HullDistance* constraining_hull(const SmoothOptions& opt, const HullDistance* hull) {
+    if (opt.constrain == SmoothOptions::Constrain::None) return nullptr;
+    if (!hull)
+        throw Error(std::string("constrain: ") + (opt.constrain == SmoothOptions::Constrain::Hull ? "hull" : "inside") +
+                    " needs the views input (inputs: { mesh: ..., views: <views node> })");
+    return hull;
 }
 
 // The smoothing of `in`'s positions: `a` holds them on entry and the result on return.
-SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const SmoothOptions& opt) {
+SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const SmoothOptions& opt, const HullDistance* hull,
+                             const Progress& progress) {
     SmoothStats stats;
     std::vector<char> used(a.size(), 0); // vertices with neighbours (on a face)
+    const double tol = hull ? opt.tolerance_px * hull->finest_pixel() : 0.0;
     {
         // The adjacency and the second buffer are let go before the guard, the largest user
         // of memory, builds its indices.
         const VertexAdjacency adj = build_vertex_adjacency(in);
         std::vector<Vec3f> b(a.size());
-        const double tol = opt.tolerance;
-        AskedViews asked(opt.hull, tol, a.size(), opt.skip_far_views);
+        AskedViews asked(hull, tol, a.size(), opt.skip_far_views);
         // Vertices that start inside the hull, farther than the tolerance, move freely inside it.
         std::vector<char> free_inside;
-        if (opt.hull && opt.inside_free) {
+        if (hull && opt.constrain == SmoothOptions::Constrain::Inside) {
             free_inside.resize(a.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 2048), [&](const auto& r) {
-                for (std::size_t v = r.begin(); v != r.end(); ++v) free_inside[v] = (*opt.hull)(Vec3d(a[v])) < -tol;
+                for (std::size_t v = r.begin(); v != r.end(); ++v) free_inside[v] = (*hull)(Vec3d(a[v])) < -tol;
             });
         }
         const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
@@ -480,18 +284,18 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
                 stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free);
                 stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free);
             }
-            if (opt.progress) opt.progress(double(it + 1) / opt.iterations);
+            progress(double(it + 1) / opt.iterations);
         }
         for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
         stats.skipping_steps = asked.skipping_steps.load();
     }
     if (opt.guard) guard_surface(in, a, stats);
-    if (opt.hull) {
+    if (hull) {
         stats.max_hull_distance = tbb::parallel_reduce(
             tbb::blocked_range<std::size_t>(0, a.size(), 4096), 0.0,
             [&](const tbb::blocked_range<std::size_t>& r, double m) {
                 for (std::size_t v = r.begin(); v != r.end(); ++v)
-                    if (used[v]) m = std::max(m, std::fabs((*opt.hull)(Vec3d(a[v]))));
+                    if (used[v]) m = std::max(m, std::fabs((*hull)(Vec3d(a[v]))));
                 return m;
             },
             [](double x, double y) { return std::max(x, y); });
@@ -501,30 +305,92 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
 
 } // namespace
 
-SmoothStats smooth_mesh(Mesh& mesh, const SmoothOptions& opt) {
-    if (mesh.positions.empty() || opt.iterations <= 0) return {};
-    std::vector<Vec3f> a = mesh.positions;
-    const SmoothStats stats = smooth_positions(mesh, a, opt);
-    mesh.positions = std::move(a);
-    if (!mesh.normals.empty()) mesh.compute_normals();
-    return stats;
+void SmoothOptions::declare_common(ParamBinder& b) {
+    b.add(iterations, ParamSpec::Int("iterations", 10, 0, 10000, "",
+                                     "smoothing iterations (Taubin: one lambda step and one mu step each)"));
+    b.add(constrain,
+          ParamSpec::Enum("constrain", "none", {"none", "hull", "inside"},
+                          "hull: keep every vertex within `tolerance` of the visual hull of the views "
+                          "(needs the views input), so the drawn outline is kept; inside: the vertices on "
+                          "the hull stay on it, the others move freely inside it (a surface carved inside "
+                          "the hull: hull.plausible)"),
+          {Constrain::None, Constrain::Hull, Constrain::Inside});
+    b.add(tolerance_px, ParamSpec::Float("tolerance", 0.5, 0.0, 100.0, "px",
+                                         "hull constraint: largest distance of a vertex from the hull, in pixels of "
+                                         "the finest view"));
+    b.add(guard, ParamSpec::Bool("guard", true,
+                                 "keep the surface valid: vertices of faces that would cross another face, turn "
+                                 "over or collapse, and vertices drawn onto another vertex, are moved back towards "
+                                 "their input positions"));
 }
 
-SmoothStats smooth_mesh(const Mesh& in, Mesh& out, const SmoothOptions& opt) {
+void SmoothOptions::declare_laplacian(ParamBinder& b) {
+    b.add(factor, ParamSpec::Float("factor", 1.0, 0.0, 1.0, "",
+                                   "fraction of the umbrella step taken per iteration (1: the paper's operator)"));
+}
+
+void SmoothOptions::declare_taubin(ParamBinder& b) {
+    b.add(lambda, ParamSpec::Float("lambda", 0.63, 0.0, 1.0, "", "shrinking step, in (0, 1)"));
+    b.add(mu, ParamSpec::Float("mu", -0.67, -1.0, 0.0, "", "inflating step, in (-1, 0) with |mu| > lambda"));
+}
+
+void SmoothStats::report(Metrics& m) const {
+    m.count("vertices", vertices);
+    m.count("faces", faces);
+    m.metric("volume_before", volume_before);
+    m.metric("volume_after", volume_after);
+    if (volume_before != 0) m.metric("volume_change_pct", 100.0 * (volume_after - volume_before) / volume_before);
+    if (guarded) {
+        m.count("guard_bad_faces", bad_faces);
+        m.count("guard_coincident", coincident);
+        m.count("guard_pulled_back", pulled_back);
+        m.count("guard_rounds", guard_rounds);
+        if (unresolved)
+            m.warn(std::to_string(unresolved) +
+                   " faces of the input cross another face, turn over or collapse; smoothing left them as they were");
+    }
+    if (constrained) {
+        m.count("clamped_steps", clamped_steps);
+        m.metric("max_hull_distance_px", max_hull_distance / finest_pixel);
+    }
+}
+
+Result<Mesh, SmoothStats> smooth_mesh(const Mesh& in, const SmoothOptions& opt, const HullDistance* hull,
+                                      Progress progress) {
+    hull = constraining_hull(opt, hull);
+    Result<Mesh, SmoothStats> r;
+    Mesh& out = r.value;
     if (in.positions.empty() || opt.iterations <= 0) {
         out = in;
-        return {};
+    } else {
+        std::vector<Vec3f> a = in.positions;
+        r.stats = smooth_positions(in, a, opt, hull, progress);
+        out.positions = std::move(a);
+        out.triangles = in.triangles;
+        out.uvs = in.uvs;
+        out.colors = in.colors;
+        out.corner_uvs = in.corner_uvs;
+        out.texture = in.texture;
+        out.normals.clear();
+        if (!in.normals.empty()) out.compute_normals();
     }
-    std::vector<Vec3f> a = in.positions;
-    const SmoothStats stats = smooth_positions(in, a, opt);
-    out.positions = std::move(a);
-    out.triangles = in.triangles;
-    out.uvs = in.uvs;
-    out.colors = in.colors;
-    out.corner_uvs = in.corner_uvs;
-    out.texture = in.texture;
-    out.normals.clear();
-    if (!in.normals.empty()) out.compute_normals();
+    r.stats.guarded = opt.guard;
+    r.stats.constrained = hull != nullptr;
+    r.stats.finest_pixel = hull ? hull->finest_pixel() : 0.0;
+    r.stats.vertices = out.vertex_count();
+    r.stats.faces = out.face_count();
+    r.stats.volume_before = signed_volume(in);
+    r.stats.volume_after = signed_volume(out);
+    return r;
+}
+
+SmoothStats smooth_mesh_in_place(Mesh& mesh, const SmoothOptions& opt, const HullDistance* hull, Progress progress) {
+    hull = constraining_hull(opt, hull);
+    if (mesh.positions.empty() || opt.iterations <= 0) return {};
+    std::vector<Vec3f> a = mesh.positions;
+    const SmoothStats stats = smooth_positions(mesh, a, opt, hull, progress);
+    mesh.positions = std::move(a);
+    if (!mesh.normals.empty()) mesh.compute_normals();
     return stats;
 }
 

@@ -1,8 +1,6 @@
-// What mesh.laplacian_smooth and mesh.taubin_smooth share: the hull-constraint
-// parameters and ports, and the run (copy the mesh, build the hull distance when
-// asked, smooth, report). Each stage adds its own step parameters.
+// What mesh.laplacian_smooth and mesh.taubin_smooth share: the ports and the run (the hull
+// distance of the views when a constraint asks for it, smooth_mesh, its stats into the run).
 #pragma once
-#include <cstdint>
 #include <vector>
 
 #include "core/stage.h"
@@ -10,22 +8,11 @@
 
 namespace cm {
 
-/// `iterations`, `constrain` (none|hull|inside), `tolerance` (px of the finest view) and `guard`,
-/// bound together, and the run both stages share.
-struct SmoothCommon {
-    enum class Constrain { None, Hull, Inside };
-    int iterations = 0;
-    Constrain constrain = Constrain::None;
-    double tolerance_px = 0;
-    bool guard = true;
-
-    void declare(ParamBinder& b, std::int64_t default_iterations);
-    /// Smooths a copy of the `mesh` input with `opt` (its method and step set by the stage).
-    /// Throws cm::Error when `constrain: hull` or `inside` is asked and the views input is not connected.
-    Data run(const Inputs& in, Context& ctx, SmoothOptions opt) const;
-};
-
 /// The ports: `mesh` and the optional `views` the hull constraint needs.
 std::vector<PortSpec> smooth_ports();
+
+/// Smooths the `mesh` input with `opt` (its method set by the stage). Throws cm::Error when
+/// `constrain: hull` or `inside` is asked and the views input is not connected.
+Data run_smooth(const Inputs& in, Context& ctx, const SmoothOptions& opt);
 
 } // namespace cm

@@ -1,0 +1,59 @@
+// The algorithm contract (OpenVDB's tool functions are the model). An algorithm is a function
+// of its inputs and one options struct, taking one Progress (core/progress.h), returning its
+// result with its stats:
+//
+//     struct SmoothOptions {
+//         int iterations;
+//         double factor;
+//         SmoothOptions() { set_declared_defaults(*this); }
+//         void declare(ParamBinder& b); // each parameter once: name, default, range, unit, doc
+//     };
+//     struct SmoothStats {
+//         std::size_t clamped_steps = 0;
+//         void report(Metrics& m) const; // by name, into the run's metrics
+//     };
+//     Result<Mesh, SmoothStats> smooth_mesh(const Mesh& in, const SmoothOptions& opt, Progress progress = {});
+//
+// The stage binds the options struct as its parameters (declare() calls opt_.declare(b)), so
+// each default is declared once, in the declaration that also drives YAML, --set, the
+// schema and `conceptmesh stages --describe`; the options' constructor takes the same
+// defaults, so an algorithm called from a test or a tool behaves as the stage does. The
+// stage runs the algorithm, hands the stats to the run (stats.report(ctx)), and returns the
+// result through its port: stages exchange data only through their ports.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/params.h"
+#include "core/progress.h"
+
+namespace cm {
+
+/// Where an algorithm's stats report themselves, by name: the run's metrics of one node
+/// (cm::Context), or anything else that collects figures. Thread-safe in Context.
+class Metrics {
+public:
+    virtual ~Metrics() = default;
+    /// A figure (counts, sizes, errors).
+    virtual void metric(const std::string& key, double value) = 0;
+    virtual void metric(const std::string& key, const std::string& value) = 0;
+    /// A JSON value (an object of per-view figures, ...) as its text.
+    virtual void metric_json(const std::string& key, const std::string& json_text) = 0;
+    /// A sentence the user should read (a warning of the run).
+    virtual void warn(const std::string& text) = 0;
+
+    /// A count, as a figure.
+    void count(const std::string& key, std::size_t n) { metric(key, double(n)); }
+    /// One figure per view, as a JSON object {"front": 1.5, ...} (names escaped as JSON needs).
+    void per_view(const std::string& key, const std::vector<std::string>& views, const std::vector<double>& values);
+};
+
+/// What an algorithm returns: its result and its stats (`auto [mesh, stats] = ...`).
+template <typename T, typename Stats>
+struct Result {
+    T value;
+    Stats stats;
+};
+
+} // namespace cm
