@@ -3,20 +3,17 @@
 // output files under temporary names and renames them only when all succeeded.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <fstream>
 #include <functional>
-#include <thread>
 
 #include <openvdb/Exceptions.h>
-#include <sys/resource.h>
 #include <tbb/task_group.h>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "core/progress.h"
 #include "io/file_commit.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/process_stats.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -24,35 +21,6 @@ using nlohmann::json;
 namespace cm {
 
 namespace {
-
-std::size_t current_rss() {
-    std::ifstream in("/proc/self/statm");
-    std::size_t pages = 0, resident = 0;
-    in >> pages >> resident;
-    return resident * std::size_t(::sysconf(_SC_PAGESIZE));
-}
-
-/// CPU seconds (user + system, all threads) the process has used so far.
-double process_cpu_seconds() {
-    rusage u{};
-    ::getrusage(RUSAGE_SELF, &u);
-    auto secs = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
-    return secs(u.ru_utime) + secs(u.ru_stime);
-}
-
-std::size_t peak_rss() {
-    std::ifstream in("/proc/self/status");
-    std::string key;
-    while (in >> key) {
-        if (key == "VmHWM:") {
-            std::size_t kb = 0;
-            in >> kb;
-            return kb * 1024;
-        }
-        std::getline(in, key);
-    }
-    return 0;
-}
 
 /// What a library threw, said so that a user can act on it: OpenVDB's "ArithmeticError:
 /// Tried to initialize an affine transform from a nearly singular matrix" and a bare
@@ -76,52 +44,6 @@ std::string plain_message(const std::exception& e) {
     }
     return e.what();
 }
-
-/// Samples the resident set every few milliseconds and keeps, for each running
-/// node, the highest value seen while it ran.
-class MemoryMonitor {
-public:
-    explicit MemoryMonitor(std::size_t n) : peak_(n, 0), active_(n, 0) {
-        thread_ = std::thread([this] {
-            std::unique_lock<std::mutex> lock(mutex_);
-            while (!stop_) {
-                const std::size_t rss = current_rss();
-                for (std::size_t i = 0; i < peak_.size(); ++i)
-                    if (active_[i]) peak_[i] = std::max(peak_[i], rss);
-                cv_.wait_for(lock, std::chrono::milliseconds(5));
-            }
-        });
-    }
-    ~MemoryMonitor() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
-        }
-        cv_.notify_all();
-        thread_.join();
-    }
-    std::size_t begin(std::size_t i) {
-        const std::size_t rss = current_rss();
-        std::lock_guard<std::mutex> lock(mutex_);
-        active_[i] = 1;
-        peak_[i] = rss;
-        return rss;
-    }
-    std::size_t end(std::size_t i) {
-        const std::size_t rss = current_rss();
-        std::lock_guard<std::mutex> lock(mutex_);
-        active_[i] = 0;
-        return peak_[i] = std::max(peak_[i], rss);
-    }
-
-private:
-    std::vector<std::size_t> peak_;
-    std::vector<char> active_;
-    std::mutex mutex_;
-    std::condition_variable cv_;
-    bool stop_ = false;
-    std::thread thread_;
-};
 
 /// Passes progress on to the run's sink, or, while the run is not yet validated, keeps it:
 /// what the first nodes report is told once the checks have passed (held()'s false), and
@@ -259,7 +181,7 @@ private:
     std::atomic<bool> failed_{false};
     std::string first_error_;
     bool cancelled_ = false;
-    MemoryMonitor memory_;
+    process::MemoryMonitor memory_;
     HeldSink sink_;
     std::atomic<bool> stop_{false}; ///< this run given up (abandon)
     std::mutex gate_mutex_;
@@ -323,12 +245,12 @@ void PipelineRun::execute(std::size_t i) {
     if (auto* sink = sink_.sink()) sink->started(node.id, node.stage);
     const std::size_t rss0 = memory_.begin(i);
     const auto t0 = std::chrono::steady_clock::now();
-    const double cpu0 = process_cpu_seconds();
+    const double cpu0 = process::cpu_seconds();
     const bool ok = run_node(i, in, ctx);
     const std::size_t peak = memory_.end(i);
     if (!ok) return;
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    record(i, ctx, secs, process_cpu_seconds() - cpu0, rss0, peak);
+    record(i, ctx, secs, process::cpu_seconds() - cpu0, rss0, peak);
     if (auto* sink = sink_.sink()) sink->finished(node.id, secs);
     in = Inputs();
     release(i);
@@ -379,8 +301,8 @@ void PipelineRun::release(std::size_t i) {
 RunResult PipelineRun::commit() {
     RunResult result;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    result.cpu_seconds = process_cpu_seconds();
-    result.peak_rss_bytes = peak_rss();
+    result.cpu_seconds = process::cpu_seconds();
+    result.peak_rss_bytes = process::peak_rss();
     result.labels = opt_.labels;
     for (std::size_t i : p_.order) result.nodes.push_back(records_[i]);
     if (!opt_.report.empty()) {
@@ -401,57 +323,91 @@ RunResult PipelineRun::commit() {
 
 } // namespace
 
-RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
-    // Not validated yet: the nodes without inputs (the views, as a rule) start as soon as
-    // each is checked on its own, and run while the rest is validated, which loads the
-    // later stages' plugins (OpenVDB's take about 60 ms to load). The later nodes wait
-    // until all of it passed. When it fails, the started nodes are stopped, their staged
-    // files deleted, and the validation's error is the run's, as if nothing had run. The
-    // run reads its own copy of the pipeline: validate() writes into `p` meanwhile.
-    const bool validated = p.order.size() == p.nodes.size();
-    Pipeline copy;
-    std::vector<std::unique_ptr<Stage>> stages(p.nodes.size());
-    std::vector<std::size_t> early;
-    if (!validated) {
-        copy = p;
-        for (std::size_t i = 0; i < copy.nodes.size(); ++i) {
-            if (!copy.nodes[i].inputs.empty()) continue;
+namespace {
+
+/// One run of a pipeline, in three steps: validate, configure, run. A pipeline not validated
+/// yet lets its nodes without inputs (the views, as a rule) start as soon as each is checked
+/// on its own: they run while the rest is validated, which loads the later stages' plugins
+/// (OpenVDB's take about 60 ms to load), and the later nodes wait until all of it passed. When
+/// it fails, the started nodes are stopped, their staged files deleted, and the validation's
+/// error is the run's, as if nothing had run.
+class Execution {
+public:
+    Execution(Pipeline& p, const Registry& registry, const RunOptions& opt) : p_(p), registry_(registry), opt_(opt) {}
+    ~Execution() {
+        if (run_ && !opened_) run_->abandon();
+    }
+
+    /// Step 1: the stages, parameters and graph checked against the registry (and the nodes
+    /// without inputs started meanwhile). Throws cm::Error naming the file, line, node and stage.
+    void validate() {
+        if (p_.validated) return;
+        start_roots();
+        p_.validate(registry_);
+    }
+
+    /// Step 2: every node's stage made and given its parameters (its own checks run here),
+    /// so a bad combination fails before the later nodes run.
+    void configure() {
+        std::vector<std::unique_ptr<Stage>> stages = configure_stages(p_, registry_);
+        opened_ = true;
+        if (!run_) {
+            run_ = std::make_unique<PipelineRun>(p_, std::move(stages), opt_);
+            return;
+        }
+        // The rest of the run's copy, from the validated pipeline (nodes it does not read yet).
+        for (std::size_t i = 0; i < p_.nodes.size(); ++i)
+            if (!copy_.nodes[i].inputs.empty()) {
+                copy_.nodes[i].info = p_.nodes[i].info;
+                copy_.nodes[i].params = p_.nodes[i].params;
+            }
+        copy_.order = p_.order;
+        run_->open(std::move(stages));
+    }
+
+    /// Step 3: every node in dependency order, independent branches at once; the staged files
+    /// committed when all succeeded, else discarded and the first failure thrown.
+    RunResult run() { return run_->run(); }
+
+private:
+    /// The nodes without inputs (a writer waits for the checks) checked and configured each on
+    /// its own, and started on a run of their own copy of the pipeline (validate() writes into
+    /// `p_` meanwhile). A node that fails its own checks waits: validate() reports it in order.
+    void start_roots() {
+        copy_ = p_;
+        std::vector<std::unique_ptr<Stage>> stages(p_.nodes.size());
+        std::vector<std::size_t> early;
+        for (std::size_t i = 0; i < copy_.nodes.size(); ++i) {
+            if (!copy_.nodes[i].inputs.empty()) continue;
             try {
-                copy.resolve_node(i, registry);
-                if (copy.nodes[i].info.output == DataKind::File) continue; // a writer waits for the checks
-                auto stage = registry.create(copy.nodes[i].stage);
-                stage->configure(copy.nodes[i].params);
+                copy_.resolve_node(i, registry_);
+                if (copy_.nodes[i].info.output == DataKind::File) continue;
+                auto stage = registry_.create(copy_.nodes[i].stage);
+                stage->configure(copy_.nodes[i].params);
                 stages[i] = std::move(stage);
                 early.push_back(i);
-            } catch (const std::exception&) {
-                // validate() reports it, in its own order.
-            }
+            } catch (const std::exception&) {}
         }
+        if (early.empty()) return;
+        run_ = std::make_unique<PipelineRun>(copy_, std::move(stages), opt_, true);
+        run_->start(early);
     }
-    if (early.empty()) {
-        if (!validated) p.validate(registry);
-        PipelineRun run(p, configure_stages(p, registry), opt);
-        return run.run();
-    }
-    PipelineRun run(copy, std::move(stages), opt, true);
-    run.start(early);
-    std::vector<std::unique_ptr<Stage>> rest;
-    try {
-        p.validate(registry);
-        rest = configure_stages(p, registry);
-    } catch (...) {
-        run.abandon();
-        throw;
-    }
-    // The rest of the copy, from the validated pipeline (nodes the run does not read yet).
-    for (std::size_t i = 0; i < p.nodes.size(); ++i)
-        if (!copy.nodes[i].inputs.empty()) {
-            copy.nodes[i].info = p.nodes[i].info;
-            copy.nodes[i].params = p.nodes[i].params;
-        }
-    copy.order = p.order;
-    run.open(std::move(rest));
-    return run.run();
+
+    Pipeline& p_;
+    const Registry& registry_;
+    const RunOptions& opt_;
+    Pipeline copy_; ///< what a run started before validation reads
+    std::unique_ptr<PipelineRun> run_;
+    bool opened_ = false; ///< every node's stage is given to the run
+};
+
+} // namespace
+
+RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt) {
+    Execution execution(p, registry, opt);
+    execution.validate();
+    execution.configure();
+    return execution.run();
 }
 
 std::string RunResult::to_json(const Pipeline& p) const {

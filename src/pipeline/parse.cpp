@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "io/yaml_checks.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/yaml_values.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -22,8 +23,6 @@ using nlohmann::json;
 namespace cm {
 
 namespace {
-
-int line_of(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
 std::string file_line(const fs::path& file, int line) {
     std::string s = file.string();
@@ -89,7 +88,7 @@ void validate_structure(const YAML::Node& doc, const fs::path& file) {
             node_part += ": ";
         }
     }
-    throw Error(file_line(file, line_of(at)) + ": " + node_part + "does not match the pipeline schema at " +
+    throw Error(file_line(file, yaml_line(at)) + ": " + node_part + "does not match the pipeline schema at " +
                 (path.empty() ? "the top level" : path) + ": " + best.description);
 }
 
@@ -98,55 +97,22 @@ PipelineNode parse_node(const YAML::Node& n) {
     PipelineNode node;
     node.id = n["id"].Scalar();
     node.stage = n["stage"].Scalar();
-    node.line = line_of(n);
+    node.line = yaml_line(n);
     if (n["inputs"]) {
         for (auto it = n["inputs"].begin(); it != n["inputs"].end(); ++it) {
             node.inputs[it->first.Scalar()] = it->second.Scalar();
-            node.input_lines[it->first.Scalar()] = line_of(it->second);
+            node.input_lines[it->first.Scalar()] = yaml_line(it->second);
         }
     }
     if (n["params"]) {
         for (auto it = n["params"].begin(); it != n["params"].end(); ++it) {
-            RawParam raw;
-            raw.node = it->second; // a copy: it->second lives in a temporary
-            raw.line = line_of(raw.node);
-            if (raw.node.IsScalar()) raw.text = raw.node.Scalar();
-            node.raw_params[it->first.Scalar()] = raw;
+            node.raw_params[it->first.Scalar()] = raw_param(it->second);
         }
     }
     return node;
 }
 
 } // namespace
-
-json yaml_to_json(const YAML::Node& n) {
-    switch (n.Type()) {
-    case YAML::NodeType::Map: {
-        json j = json::object();
-        for (auto it = n.begin(); it != n.end(); ++it) j[it->first.Scalar()] = yaml_to_json(it->second);
-        return j;
-    }
-    case YAML::NodeType::Sequence: {
-        json j = json::array();
-        for (const auto& x : n) j.push_back(yaml_to_json(x));
-        return j;
-    }
-    case YAML::NodeType::Scalar: {
-        if (n.Tag() == "!") return n.Scalar(); // quoted: always a string
-        const std::string& s = n.Scalar();
-        if (s == "true" || s == "false") return s == "true";
-        try {
-            std::size_t pos = 0;
-            long long i = std::stoll(s, &pos);
-            if (pos == s.size()) return i;
-            double d = std::stod(s, &pos);
-            if (pos == s.size()) return d;
-        } catch (...) {}
-        return s;
-    }
-    default: return nullptr;
-    }
-}
 
 Pipeline Pipeline::load(const fs::path& file) {
     std::error_code ec;
@@ -200,6 +166,7 @@ void Pipeline::apply_override(const std::string& assignment) {
         RawParam raw;
         raw.text = value;
         n.raw_params[param] = raw;
+        validated = false;
         return;
     }
     std::string known;

@@ -1,6 +1,7 @@
 // A pipeline file: parsed from YAML and checked against the structure schema (parse.cpp),
-// validated against the registry: parameters, ports, kinds, order (validate.cpp), then
-// executed in dependency order with TBB (executor.cpp). schema.cpp writes the schemas.
+// validated against the registry: parameters, ports, kinds, order (validate.cpp), then run:
+// validate, configure, run, each a step of the executor (executor.cpp), the nodes in
+// dependency order with TBB. schema.cpp writes the schemas.
 #pragma once
 #include <filesystem>
 #include <functional>
@@ -9,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
 #include <nlohmann/json_fwd.hpp>
 
 #include "core/params.h"
@@ -18,17 +18,20 @@
 
 namespace cm {
 
-/// One parameter value as the user gave it, before it meets its declaration: the YAML
-/// node itself (typed: plain or quoted scalar, list, mapping, null) with its source line,
-/// or the text of a --set override (no node, line 0).
+/// One parameter value as the user gave it, before it meets its declaration: as written in
+/// YAML (its kind: plain or quoted scalar, list, mapping, null; the scalar's text; its
+/// source line), or the text of a --set override (no kind, line 0).
 struct RawParam {
-    YAML::Node node{YAML::NodeType::Undefined};
+    /// How the YAML value was written: "scalar" (plain), "quoted", "list", "mapping" or
+    /// "null value" (parse_param_yaml's kinds); empty for --set.
+    std::string kind;
     std::string text; ///< --set: the value; YAML: the scalar as written, for messages
     int line = 0;     ///< 1-based line in the pipeline file; 0 for --set
-    bool from_set() const { return !node.IsDefined(); }
+    bool from_set() const { return kind.empty(); }
+    bool is_null() const { return kind == "null value"; }
 };
 
-/// Converts a raw value to the declared type: a YAML node by its own kind (a quoted
+/// Converts a raw value to the declared type: a YAML value by its own kind (a quoted
 /// scalar is never a number, a list is never a scalar), --set text by parse_param_text().
 /// Throws cm::Error "<name> must be ..., got ...".
 ParamValue param_value(const ParamSpec& spec, const RawParam& raw);
@@ -55,6 +58,8 @@ struct Pipeline {
     std::string name, description;
     std::vector<PipelineNode> nodes;
     std::vector<std::size_t> order; ///< topological order, filled by validate()
+    /// Set by validate() once every check passed; apply_override() clears it.
+    bool validated = false;
 
     /// Reads and checks the YAML structure against the pipeline schema.
     static Pipeline load(const std::filesystem::path& file);
@@ -116,8 +121,9 @@ struct RunResult {
 /// Throws cm::Error prefixed with the node.
 std::vector<std::unique_ptr<Stage>> configure_stages(const Pipeline& p, const Registry& registry);
 
-/// Runs a validated pipeline. On failure throws cm::Error (prefixed with the
-/// node) and leaves no output file behind; on success renames every staged file.
+/// Runs a pipeline in three steps: validate (unless `p` is validated: it is left validated),
+/// configure every stage, run the nodes. On failure throws cm::Error (prefixed with the file,
+/// line, node and stage) and leaves no output file behind; on success renames every staged file.
 RunResult run_pipeline(Pipeline& p, const Registry& registry, const RunOptions& opt);
 
 /// JSON Schemas generated from the declared parameters.
@@ -126,10 +132,5 @@ std::string stage_schema_json(const StageInfo& info);
 /// checks a file against; `stage_names` become the examples of `stage`.
 nlohmann::json pipeline_structure_schema(const std::vector<std::string>& stage_names);
 std::string pipeline_schema_json(const Registry& registry);
-
-/// A YAML document as JSON, for validating it against a JSON Schema (valijson's yaml-cpp
-/// adapter does not compile with every constraint): plain scalars become numbers or
-/// booleans when they read as one; quoted scalars stay strings.
-nlohmann::json yaml_to_json(const YAML::Node& n);
 
 } // namespace cm

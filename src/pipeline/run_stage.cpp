@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "io/file_commit.h"
+#include "pipeline/yaml_values.h"
 
 namespace fs = std::filesystem;
 
@@ -26,11 +27,7 @@ std::map<std::string, RawParam> yaml_params(const std::string& yaml_mapping) {
     if (doc.IsNull()) return out;
     if (!doc.IsMap()) throw Error("parameters must be a YAML mapping (name: value)");
     for (auto it = doc.begin(); it != doc.end(); ++it) {
-        RawParam raw;
-        raw.node = it->second;
-        raw.line = it->second.Mark().line + 1;
-        if (raw.node.IsScalar()) raw.text = raw.node.Scalar();
-        out[it->first.Scalar()] = raw;
+        out[it->first.Scalar()] = raw_param(it->second);
     }
     return out;
 }

@@ -2,8 +2,6 @@
 // parameters, its connections, the kinds along every edge, and the dependency order.
 #include <filesystem>
 
-#include <yaml-cpp/yaml.h>
-
 #include "core/error.h"
 #include "pipeline/pipeline.h"
 
@@ -13,12 +11,7 @@ namespace cm {
 
 ParamValue param_value(const ParamSpec& spec, const RawParam& raw) {
     if (raw.from_set()) return parse_param_text(spec, raw.text);
-    const YAML::Node& n = raw.node;
-    const std::string kind = n.IsScalar()     ? (n.Tag() == "!" ? "quoted" : "scalar")
-                             : n.IsSequence() ? "list"
-                             : n.IsMap()      ? "mapping"
-                                              : "null value";
-    return parse_param_yaml(spec, n.IsScalar() ? n.Scalar() : std::string(), kind);
+    return parse_param_yaml(spec, raw.text, raw.kind);
 }
 
 ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawParam>& raw_params,
@@ -33,7 +26,7 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
             throw Error(where(r.line) + text);
         };
         if (!spec) fail("unknown parameter \"" + key + "\"" + src + " (parameters: " + param_names(info.params) + ")");
-        if (spec->is_optional && !raw.from_set() && raw.node.IsNull()) continue; // null: left unset
+        if (spec->is_optional && !raw.from_set() && raw.is_null()) continue; // null: left unset
         ParamValue v;
         try {
             v = param_value(*spec, raw);
@@ -198,6 +191,7 @@ void Pipeline::resolve_node(std::size_t i, const Registry& registry) {
 }
 
 void Pipeline::validate(const Registry& registry) {
+    validated = false;
     const NodeIndex index = node_index();
     for (auto& n : nodes) {
         resolve_stage(*this, n, registry);
@@ -207,6 +201,7 @@ void Pipeline::validate(const Registry& registry) {
     order = dependency_order(*this, index);
     check_output_clashes(*this);
     configure_stages(*this, registry); // the stages' own checks (a missing manifest, ...)
+    validated = true;
 }
 
 } // namespace cm
