@@ -13,7 +13,7 @@
       a thousandth of a pixel.
 
 Views are orthographic with scale and origin (conceptmesh render-views manifests), cameras as
-../shared/conventions/views.md. Bench code only: never a dependency of the product.
+docs/conventions.md. Bench code only: never a dependency of the product.
 """
 import math
 import sys

@@ -1,5 +1,5 @@
 // Alignment of orthographic views through their shared axes (see
-// ../shared/conventions/views.md): front/right share Y, front/top share X, right/top share Z.
+// docs/conventions.md): front/right share Y, front/top share X, right/top share Z.
 #pragma once
 #include <array>
 #include <optional>

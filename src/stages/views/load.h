@@ -21,7 +21,7 @@ struct LoadViewsReport {
 };
 
 /// @brief Reads the manifest and its images, extracts the silhouettes, sets up the cameras
-/// and aligns hand-drawn views into the output frame (../shared/conventions/views.md).
+/// and aligns hand-drawn views into the output frame (docs/conventions.md).
 /// `progress(fraction)` is called between steps when given.
 /// @throw cm::Error naming the manifest line or the view (unreadable image, empty silhouette, ...).
 Views load_views(const std::filesystem::path& manifest, const LoadViewsOptions& opt, LoadViewsReport& report,
