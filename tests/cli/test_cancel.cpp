@@ -13,17 +13,15 @@
 #include <thread>
 
 #include "support/test_support.h"
+#include "testkit_cli.h"
 
 using namespace cm;
 namespace fs = std::filesystem;
+using test::kFixtures;
 
 using test::listing;
 
 namespace {
-
-const fs::path kFixtures = CM_FIXTURE_ROOT;
-
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
 struct Stopped {
     int exit_code = -1;

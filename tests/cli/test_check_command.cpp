@@ -12,6 +12,24 @@
 
 using namespace cm;
 
+namespace {
+
+// The vertices with another within `tol`, by comparing every pair.
+std::size_t coincident_by_brute_force(const Mesh& m, double tol) {
+    std::size_t brute = 0;
+    for (std::size_t i = 0; i < m.positions.size(); ++i)
+        for (std::size_t k = 0; k < m.positions.size(); ++k) {
+            const Vec3f d = m.positions[i] - m.positions[k];
+            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
+                ++brute;
+                break;
+            }
+        }
+    return brute;
+}
+
+} // namespace
+
 TEST(CheckCommand, CleanBoxPassesAndOverlappingBoxesFail) {
     test::TempDir dir("check_command");
     write_mesh(test::make_box({0, 0, 0}, {1, 1, 1}), dir / "box.obj");
@@ -95,15 +113,7 @@ TEST(CheckCommand, CoincidentVerticesAgreeWithTheBruteForceCount) {
         m.positions.push_back({p.x + off * next(), p.y, p.z});
     }
     const double tol = 1e-3;
-    std::size_t brute = 0;
-    for (std::size_t i = 0; i < m.positions.size(); ++i)
-        for (std::size_t k = 0; k < m.positions.size(); ++k) {
-            const Vec3f d = m.positions[i] - m.positions[k];
-            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
-                ++brute;
-                break;
-            }
-        }
+    const std::size_t brute = coincident_by_brute_force(m, tol);
     EXPECT_GT(brute, 100u);
     EXPECT_EQ(count_coincident_vertices(m, tol), brute);
 }
@@ -122,15 +132,7 @@ TEST(CheckCommand, CoincidentVerticesAcrossCellSidesAreFound) {
             const Vec3f start{0.5f * float(d), 0.5f * float(chain), 0.05f};
             for (int i = 0; i < 300; ++i) m.positions.push_back(start + dir * (step * float(i)));
         }
-    std::size_t brute = 0;
-    for (std::size_t i = 0; i < m.positions.size(); ++i)
-        for (std::size_t k = 0; k < m.positions.size(); ++k) {
-            const Vec3f d = m.positions[i] - m.positions[k];
-            if (i != k && double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z <= tol * tol) {
-                ++brute;
-                break;
-            }
-        }
+    const std::size_t brute = coincident_by_brute_force(m, tol);
     EXPECT_EQ(brute, 7u * 300u); // the close chains, every vertex of them
     EXPECT_EQ(count_coincident_vertices(m, tol), brute);
 }

@@ -11,22 +11,15 @@
 #include "io/mesh_io.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
+#include "testkit_cli.h"
 
 using namespace cm;
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::cli_with_testkit;
+using test::kFixtures;
 
 namespace {
-
-const fs::path kFixtures = CM_FIXTURE_ROOT;
-
-// Runs with the test-kit plugin on the plugin path.
-test::CommandResult cli_with_testkit(const std::string& args, const fs::path& cwd) {
-    ::setenv("CONCEPTMESH_PLUGIN_PATH", (kFixtures / "good").c_str(), 1);
-    auto r = test::run_cli(args, cwd);
-    ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
-    return r;
-}
 
 std::size_t line_count(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 

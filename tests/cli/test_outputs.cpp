@@ -12,24 +12,16 @@
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "support/test_support.h"
+#include "testkit_cli.h"
 
 using namespace cm;
 namespace fs = std::filesystem;
+using test::cli_with_testkit;
+using test::kFixtures;
 
 using test::listing;
 
 namespace {
-
-const fs::path kFixtures = CM_FIXTURE_ROOT;
-
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-test::CommandResult cli_with_testkit(const std::string& args, const fs::path& cwd) {
-    ::setenv("CONCEPTMESH_PLUGIN_PATH", (kFixtures / "good").c_str(), 1);
-    auto r = test::run_cli(args, cwd);
-    ::unsetenv("CONCEPTMESH_PLUGIN_PATH");
-    return r;
-}
 
 // A box written to `path`, and a preview-like second output at `second`.
 std::string two_outputs(const std::string& path, const std::string& second) {

@@ -39,8 +39,6 @@ std::string rejection(const std::string& yaml, const std::vector<std::string>& s
     return "";
 }
 
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
-
 } // namespace
 
 TEST(Pipeline, ValidGraphRunsAndWritesItsOutput) {

@@ -36,6 +36,9 @@ std::string read_text(const std::filesystem::path& file);
 /// Every file and folder below `dir`, as paths relative to it, sorted.
 std::vector<std::string> listing(const std::filesystem::path& dir);
 
+/// Expects `part` within `text` (a message, an output), and shows `text` when it is not.
+#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
+
 std::filesystem::path shared_dir(); ///< ../shared beside the checkout, or $CONCEPTMESH_SHARED_DIR
 
 /// Skips the calling test with a message naming what is missing when `needed` (under
