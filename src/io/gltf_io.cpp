@@ -20,6 +20,7 @@
 #include "core/error.h"
 #include "core/views.h"
 #include "io/image_io.h"
+#include "io/progress_stream.h"
 
 namespace fs = std::filesystem;
 
@@ -126,10 +127,9 @@ int add_material(tinygltf::Model& model, const Mesh& mesh, const std::string& na
 
 } // namespace
 
-void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name_in,
-               const ChunkProgress& progress) {
+void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name_in, Progress progress) {
     // Gathering the buffers is about a third of the time; the file goes out in chunks.
-    const ChunkProgress build = progress_part(progress, 0, 0.3);
+    const Progress build = progress.part(0, 0.3);
     if (build) build(0);
     const std::string name = name_in.empty() ? file.stem().string() : name_in;
     tinygltf::Model model;
@@ -207,7 +207,7 @@ void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::
     model.defaultScene = 0;
 
     tinygltf::TinyGLTF io;
-    ProgressFileStream out(file, model.buffers[0].data.size() + 4096, progress_part(progress, 0.3, 1.0));
+    ProgressFileStream out(file, model.buffers[0].data.size() + 4096, progress.part(0.3, 1.0));
     if (!out.is_open()) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
     const bool wrote = io.WriteGltfSceneToStream(&model, out, false, true);
     if (!out.finish() || !wrote) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
