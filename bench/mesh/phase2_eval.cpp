@@ -61,8 +61,7 @@ int main(int argc, char** argv) {
             std::stringstream ss(argv[3]);
             for (std::string a; std::getline(ss, a, ',');) angles.push_back(std::stod(a));
         }
-        LoadViewsReport rep;
-        const Views views = load_views(argv[2], LoadViewsOptions{}, rep);
+        const Views views = load_views(argv[2], LoadViewsOptions{}).value;
         const Mesh mc = read_mesh(argv[1]);
         const std::size_t mc_faces = mc.face_count();
         const double v0 = check_mesh(mc).signed_volume;

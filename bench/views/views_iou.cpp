@@ -13,9 +13,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        cm::LoadViewsReport ra, rb;
-        const cm::Views a = cm::load_views(argv[1], {}, ra);
-        const cm::Views b = cm::load_views(argv[2], {}, rb);
+        const cm::Views a = cm::load_views(argv[1], {}).value;
+        const cm::Views b = cm::load_views(argv[2], {}).value;
         std::map<std::string, const cm::View*> bv;
         for (const auto& v : b.views) bv[v.name] = &v;
         double worst = 1.0;

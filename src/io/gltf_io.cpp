@@ -20,12 +20,20 @@
 #include "core/error.h"
 #include "core/views.h"
 #include "io/image_io.h"
+#include "io/progress_stream.h"
 
 namespace fs = std::filesystem;
 
 namespace cm {
 
 namespace {
+
+// Adds `item` to one of the model's lists; returns its index there, by which glTF refers to it.
+template <typename T>
+int add(std::vector<T>& list, T item) {
+    list.push_back(std::move(item));
+    return int(list.size() - 1);
+}
 
 template <typename T>
 int append(tinygltf::Model& model, const std::vector<T>& data, int target) {
@@ -40,8 +48,7 @@ int append(tinygltf::Model& model, const std::vector<T>& data, int target) {
     view.byteOffset = offset;
     view.byteLength = bytes;
     view.target = target;
-    model.bufferViews.push_back(view);
-    return int(model.bufferViews.size() - 1);
+    return add(model.bufferViews, view);
 }
 
 int accessor(tinygltf::Model& model, int view, int component, int type, std::size_t count) {
@@ -50,8 +57,7 @@ int accessor(tinygltf::Model& model, int view, int component, int type, std::siz
     a.componentType = component;
     a.type = type;
     a.count = count;
-    model.accessors.push_back(a);
-    return int(model.accessors.size() - 1);
+    return add(model.accessors, a);
 }
 
 // The vertices as glTF needs them: one per distinct (vertex, corner UV) pair when the
@@ -107,29 +113,24 @@ int add_material(tinygltf::Model& model, const Mesh& mesh, const std::string& na
         img.name = name + "_basecolor";
         img.mimeType = "image/png";
         img.bufferView = append(model, png, 0);
-        model.images.push_back(img);
         tinygltf::Sampler sampler;
         sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
         sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
         sampler.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
         sampler.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
-        model.samplers.push_back(sampler);
         tinygltf::Texture tex;
-        tex.source = int(model.images.size() - 1);
-        tex.sampler = int(model.samplers.size() - 1);
-        model.textures.push_back(tex);
-        mat.pbrMetallicRoughness.baseColorTexture.index = int(model.textures.size() - 1);
+        tex.source = add(model.images, img);
+        tex.sampler = add(model.samplers, sampler);
+        mat.pbrMetallicRoughness.baseColorTexture.index = add(model.textures, tex);
     }
-    model.materials.push_back(mat);
-    return int(model.materials.size() - 1);
+    return add(model.materials, mat);
 }
 
 } // namespace
 
-void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name_in,
-               const ChunkProgress& progress) {
+void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::string& name_in, Progress progress) {
     // Gathering the buffers is about a third of the time; the file goes out in chunks.
-    const ChunkProgress build = progress_part(progress, 0, 0.3);
+    const Progress build = progress.part(0, 0.3);
     if (build) build(0);
     const std::string name = name_in.empty() ? file.stem().string() : name_in;
     tinygltf::Model model;
@@ -207,7 +208,7 @@ void write_glb(const Mesh& mesh, const fs::path& file, bool normals, const std::
     model.defaultScene = 0;
 
     tinygltf::TinyGLTF io;
-    ProgressFileStream out(file, model.buffers[0].data.size() + 4096, progress_part(progress, 0.3, 1.0));
+    ProgressFileStream out(file, model.buffers[0].data.size() + 4096, progress.part(0.3, 1.0));
     if (!out.is_open()) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
     const bool wrote = io.WriteGltfSceneToStream(&model, out, false, true);
     if (!out.finish() || !wrote) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));

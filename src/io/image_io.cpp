@@ -95,11 +95,7 @@ void expand_rgba(const RawImage& raw, T* out, Value&& value, T opaque) {
 
 // Float RGBA in [0,1] from pixels at their own depth.
 Image to_rgba(const RawImage& raw) {
-    Image img;
-    img.width = raw.width;
-    img.height = raw.height;
-    img.channels = 4;
-    img.pixels.resize(std::size_t(img.width) * img.height * 4);
+    Image img{raw.width, raw.height, 4, std::vector<float>(std::size_t(raw.width) * raw.height * 4), {}};
     float* out = img.pixels.data();
     if (raw.bits == 8) {
         expand_rgba(
@@ -128,11 +124,7 @@ Image to_rgba(const RawImage& raw) {
 
 // An 8-bit source as RGBA bytes (the samples as read, missing alpha 255).
 Image to_rgba_bytes(const RawImage& raw) {
-    Image img;
-    img.width = raw.width;
-    img.height = raw.height;
-    img.channels = 4;
-    img.bytes.resize(std::size_t(img.width) * img.height * 4);
+    Image img{raw.width, raw.height, 4, {}, std::vector<std::uint8_t>(std::size_t(raw.width) * raw.height * 4)};
     expand_rgba(
         raw, img.bytes.data(), [&](std::size_t k) { return std::uint8_t(raw.data[k]); }, std::uint8_t(255));
     return img;
@@ -140,14 +132,7 @@ Image to_rgba_bytes(const RawImage& raw) {
 
 // An 8-bit grey source as it is (one byte per pixel: a quarter of RGBA; Image::rgba and
 // Image::at read it as grey).
-Image grey_bytes(RawImage&& raw) {
-    Image img;
-    img.width = raw.width;
-    img.height = raw.height;
-    img.channels = 1;
-    img.bytes = std::move(raw.data);
-    return img;
-}
+Image grey_bytes(RawImage&& raw) { return Image{raw.width, raw.height, 1, {}, std::move(raw.data)}; }
 
 } // namespace
 

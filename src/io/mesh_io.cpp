@@ -23,6 +23,7 @@
 #include "core/views.h"
 #include "io/gltf_io.h"
 #include "io/image_io.h"
+#include "io/progress_stream.h"
 
 namespace fs = std::filesystem;
 
@@ -189,7 +190,7 @@ std::uint8_t srgb8(float linear) {
 // Every this many elements a writer reports its progress (and may be stopped).
 constexpr std::size_t kProgressEvery = 1 << 16;
 
-void write_text(const fs::path& file, const std::string& text, const ChunkProgress& progress = {}) {
+void write_text(const fs::path& file, const std::string& text, Progress progress = {}) {
     ProgressFileStream out(file, text.size(), progress);
     out.write(text.data(), std::streamsize(text.size()));
     if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
@@ -218,7 +219,7 @@ void put_index(std::string& o, std::size_t i) {
 // OBJ by hand: v, then vt (per corner or per vertex) and vn when the mesh has them, and with
 // a texture the material library and the texture beside it (OpenMesh writes neither per-corner
 // UVs nor a map_Kd).
-void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
+void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo, const Progress& progress) {
     const std::string name = wo.name.empty() ? file.stem().string() : wo.name;
     const fs::path mtl_file = wo.mtl_file.empty() ? obj_material_path(file) : wo.mtl_file;
     const fs::path tex_file = wo.texture_file.empty() ? obj_texture_path(file) : wo.texture_file;
@@ -234,7 +235,7 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
     if (with_tex) o += "mtllib " + mtl_name + "\n";
     o += "o " + name + "\n";
     // Building the text takes most of the time; the file then goes out in chunks.
-    const ChunkProgress build = progress_part(wo.progress, 0, 0.7);
+    const Progress build = progress.part(0, 0.7);
     const double total = double(mesh.positions.size() * 3 + mesh.triangles.size()) + 1;
     std::size_t done = 0;
     auto tick = [&] {
@@ -272,15 +273,20 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
         }
         o += '\n';
     }
-    write_text(file, o, progress_part(wo.progress, 0.7, with_tex ? 0.9 : 1.0));
+    write_text(file, o, progress.part(0.7, with_tex ? 0.9 : 1.0));
     if (!with_tex) return;
     write_text(mtl_file, "# conceptmesh\nnewmtl " + name +
                              "\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 0\nd 1\nillum 1\nmap_Kd " + tex_name + "\n");
     const std::vector<unsigned char> png = encode_png(*mesh.texture, 3);
-    write_text(tex_file, std::string(png.begin(), png.end()), progress_part(wo.progress, 0.9, 1.0));
+    write_text(tex_file, std::string(png.begin(), png.end()), progress.part(0.9, 1.0));
 }
 
 } // namespace
+
+void MeshWriteOptions::declare(ParamBinder& b) {
+    b.add(binary, ParamSpec::Bool("binary", true, "binary PLY/STL (smaller, faster); ASCII when false"));
+    b.add(normals, ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"));
+}
 
 bool obj_has_material(const Mesh& m) { return m.texture && !m.texture->empty() && has_uvs(m); }
 
@@ -342,18 +348,18 @@ Mesh read_mesh(const fs::path& file) {
     return m;
 }
 
-void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo) {
+void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo, Progress progress) {
     if (!mesh_format_supported(file))
         throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
     if (lower_extension(file) == ".glb") {
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
-        return write_glb(mesh, file, wo.normals, wo.name, wo.progress);
+        return write_glb(mesh, file, wo.normals, wo.name, progress);
     }
     const std::string ext = lower_extension(file);
-    if (ext == ".obj") return write_obj(mesh, file, wo);
+    if (ext == ".obj") return write_obj(mesh, file, wo, progress);
     quiet_openmesh();
     // Filling OpenMesh's structure is about a third of the time; the file goes out in chunks.
-    const ChunkProgress build = progress_part(wo.progress, 0, 0.3);
+    const Progress build = progress.part(0, 0.3);
     OMesh om;
     om.reserve(mesh.positions.size(), mesh.triangles.size() * 3 / 2, mesh.triangles.size());
     for (const auto& p : mesh.positions) om.add_vertex(OMesh::Point(p.x, p.y, p.z));
@@ -401,7 +407,7 @@ void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& 
         e == ".stl" ? (binary ? 84 + 50 * std::uint64_t(nf) : 250 * std::uint64_t(nf))
         : binary    ? 512 + nv * (12 + (with_normals ? 12 : 0) + (with_colors ? 3 : 0)) + 13 * std::uint64_t(nf)
                     : nv * (with_normals ? 80 : 40) + 24 * std::uint64_t(nf);
-    ProgressFileStream out(file, expected, progress_part(wo.progress, 0.3, 1.0));
+    ProgressFileStream out(file, expected, progress.part(0.3, 1.0));
     if (!out.is_open()) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));
     const bool wrote = OpenMesh::IO::write_mesh(om, out, e, opt, 9);
     if (!out.finish() || !wrote) throw Error("cannot write mesh \"" + file.string() + "\": " + std::strerror(errno));

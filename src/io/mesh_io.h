@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "core/mesh.h"
-#include "io/progress_stream.h"
+#include "core/params.h"
+#include "core/progress.h"
 
 namespace cm {
 
@@ -14,19 +15,19 @@ namespace cm {
 Mesh read_mesh(const std::filesystem::path& file);
 
 struct MeshWriteOptions {
-    bool binary = true;  ///< PLY and STL: binary when true
-    bool normals = true; ///< write per-vertex normals where the format can hold them
-    std::string name;    ///< object name where the format holds one (glTF, OBJ); empty: the file's stem
+    bool binary;      ///< PLY and STL: binary when true
+    bool normals;     ///< write per-vertex normals where the format can hold them
+    std::string name; ///< object name where the format holds one (glTF, OBJ); empty: the file's stem
     /// OBJ of a mesh with UVs and a texture: the material library and the texture image are
     /// written to these files and named in the OBJ and MTL by these names (the final names
     /// when the files are written under temporary ones). Empty: `<stem>.mtl` and
     /// `<stem>_basecolor.png` beside the OBJ.
     std::filesystem::path mtl_file, texture_file;
     std::string mtl_name, texture_name;
-    /// Called per chunk of elements or bytes with the fraction written (0-1); it may throw
-    /// (cm::Cancelled) to stop the write, which then leaves a partial file for the caller
-    /// (who wrote to a temporary name) to remove.
-    ChunkProgress progress;
+
+    MeshWriteOptions() { set_declared_defaults(*this); }
+    /// `binary` and `normals` (mesh.write's parameters of the format).
+    void declare(ParamBinder& b);
 };
 
 /// The names write_mesh() gives an OBJ's material library and texture: `<stem>.mtl`,
@@ -40,8 +41,11 @@ bool obj_has_material(const Mesh& mesh);
 /// Writes by extension: .obj .ply .stl .off .glb. Colours (Mesh::colors, linear) go into
 /// PLY as 8-bit sRGB vertex colours and into glTF; UVs and the texture into glTF and OBJ
 /// (+ MTL + PNG). Writes exactly to `file` (callers
-/// that need atomicity write to a temporary name and rename).
-void write_mesh(const Mesh& mesh, const std::filesystem::path& file, const MeshWriteOptions& opt = {});
+/// that need atomicity write to a temporary name and rename). `progress` reports per chunk
+/// of elements or bytes; a stop it throws (cm::Cancelled) leaves a partial file for the
+/// caller (who wrote to a temporary name) to remove.
+void write_mesh(const Mesh& mesh, const std::filesystem::path& file, const MeshWriteOptions& opt = {},
+                Progress progress = {});
 
 /// The extensions write_mesh() handles, in lower case: .obj .ply .stl .off .glb.
 const std::vector<std::string>& mesh_extensions();

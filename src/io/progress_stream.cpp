@@ -10,7 +10,7 @@ constexpr std::size_t kChunk = std::size_t(1) << 20;
 }
 
 ProgressFileStream::ProgressFileStream(const std::filesystem::path& file, std::uint64_t expected_bytes,
-                                       ChunkProgress progress)
+                                       Progress progress)
     : std::ostream(nullptr) {
     buf_.start();
     buf_.expected = std::max<std::uint64_t>(expected_bytes, 1);
@@ -72,11 +72,6 @@ bool ProgressFileStream::finish() {
     const bool closed = buf_.file.close() != nullptr;
     if (buf_.stopped) std::rethrow_exception(buf_.stopped);
     return flushed && closed && !bad() && !fail();
-}
-
-ChunkProgress progress_part(const ChunkProgress& progress, double lo, double hi) {
-    if (!progress) return {};
-    return [progress, lo, hi](double f) { progress(lo + (hi - lo) * std::clamp(f, 0.0, 1.0)); };
 }
 
 } // namespace cm

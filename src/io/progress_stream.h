@@ -6,22 +6,20 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <ostream>
 #include <vector>
 
+#include "core/progress.h"
+
 namespace cm {
 
-/// Called per chunk with the fraction done in [0, 1]; it may throw (cm::Cancelled) to stop.
-using ChunkProgress = std::function<void(double)>;
-
-/// @brief An ostream to a file, written in chunks of 1 MB; after each chunk `progress` is
-/// called with bytes written / `expected_bytes` (capped below 1). When `progress` throws,
+/// @brief An ostream to a file, written in chunks of 1 MB; after each chunk `progress`
+/// reports bytes written / `expected_bytes` (capped below 1). When it throws (cm::Cancelled),
 /// the stream fails at once (every later write is refused cheaply, so the library writing
 /// through it returns soon) and finish() rethrows the exception.
 class ProgressFileStream : public std::ostream {
 public:
-    ProgressFileStream(const std::filesystem::path& file, std::uint64_t expected_bytes, ChunkProgress progress);
+    ProgressFileStream(const std::filesystem::path& file, std::uint64_t expected_bytes, Progress progress);
     ~ProgressFileStream() override;
     bool is_open() const { return buf_.file.is_open(); }
     /// Flushes and closes; rethrows what `progress` threw; false when a write failed.
@@ -32,7 +30,7 @@ private:
         std::filebuf file;
         std::vector<char> chunk;
         std::uint64_t written = 0, expected = 1;
-        ChunkProgress progress;
+        Progress progress;
         std::exception_ptr stopped;
         void start();
         bool flush_chunk();
@@ -41,8 +39,5 @@ private:
         int sync() override;
     } buf_;
 };
-
-/// Calls `progress` with fractions of [lo, hi]: a part of a larger job.
-ChunkProgress progress_part(const ChunkProgress& progress, double lo, double hi);
 
 } // namespace cm

@@ -78,8 +78,8 @@ TEST(Tools, RenderViewsThenCompareRoundTrips) {
     j = compare_json("turned.obj mask/views.yaml --fit pivot --up +Z --front -Y", dir.path());
     EXPECT_LT(j["xor_pct"].get<double>(), 0.05);
     // Art and mask silhouettes agree once extracted.
-    LoadViewsReport ra, rm;
-    const Views a = load_views(dir / "art" / "views.yaml", {}, ra), m = load_views(dir / "mask" / "views.yaml", {}, rm);
+    const Views a = load_views(dir / "art" / "views.yaml", {}).value,
+                m = load_views(dir / "mask" / "views.yaml", {}).value;
     for (std::size_t v = 0; v < 3; ++v) {
         std::size_t inter = 0, uni = 0;
         for (std::size_t i = 0; i < a.views[v].coverage.size(); ++i) {
@@ -130,8 +130,7 @@ TEST(Tools, RenderedViewsCarryExactCamerasAndBounds) {
         EXPECT_NEAR((*mv.origin)[1] - *mv.scale * dot(mid, dir_cam.u), 128.0, 1e-9);
     }
     // views.load keeps them as they are.
-    LoadViewsReport report;
-    const Views views = load_views(dir / "v" / "views.yaml", {}, report);
+    const auto [views, report] = load_views(dir / "v" / "views.yaml", {});
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
     for (std::size_t i = 0; i < views.views.size(); ++i) {
         EXPECT_EQ(views.views[i].camera.scale, *man.views[i].scale);

@@ -118,8 +118,7 @@ TEST(ManifestWrite, RenderViewsManifestIsWhatWriteManifestWrites) {
     EXPECT_EQ(test::read_text(dir / "v" / "copy.yaml"), original);
     test::expect_same_manifest(read_manifest(dir / "v" / "copy.yaml"), m);
     // views.load gives the same cameras from both.
-    LoadViewsReport ra, rb;
-    const Views a = load_views(dir / "v" / "views.yaml", {}, ra), b = load_views(dir / "v" / "copy.yaml", {}, rb);
+    const Views a = load_views(dir / "v" / "views.yaml", {}).value, b = load_views(dir / "v" / "copy.yaml", {}).value;
     ASSERT_EQ(a.views.size(), b.views.size());
     for (std::size_t i = 0; i < a.views.size(); ++i) {
         SCOPED_TRACE(a.views[i].name);

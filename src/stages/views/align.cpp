@@ -8,68 +8,14 @@
 #include <limits>
 #include <sstream>
 
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "silhouette_extent.h"
 
 namespace cm {
 
 namespace {
-
-// Sub-pixel extent of a silhouette along image x and y.
-struct Extent {
-    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-};
-
-// The first and last columns (rows) with a pixel of coverage >= 0.5, moved by the largest
-// partial coverage of the column itself and of the one beyond: an anti-aliased extreme
-// lands to a fraction of a pixel, a binary one on the pixel edge (its expected place).
-Extent silhouette_extent(const View& v) {
-    const int w = v.width, h = v.height;
-    // The largest coverage per column and row, taken over the floats (exact, and a loop the
-    // compiler runs over several pixels at once), then widened.
-    // Blocks of rows side by side, each with its own column maxima (a maximum is the same in
-    // any order).
-    std::vector<double> row(static_cast<std::size_t>(h), 0.0);
-    tbb::enumerable_thread_specific<std::vector<float>> cols(std::vector<float>(std::size_t(w), 0.0f));
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 64), [&](const tbb::blocked_range<int>& rows) {
-        std::vector<float>& colf = cols.local();
-        // Beyond the coverage's window every value is 0, which changes no maximum.
-        const int x0 = v.coverage.x0(), ww = v.coverage.window_width();
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            const float* c = v.coverage.window_row(y);
-            if (!c) continue;
-            float r = 0.0f;
-            for (int x = 0; x < ww; ++x) {
-                colf[std::size_t(x0 + x)] = std::max(colf[std::size_t(x0 + x)], c[x]);
-                r = std::max(r, c[x]);
-            }
-            row[std::size_t(y)] = double(r);
-        }
-    });
-    std::vector<double> col(static_cast<std::size_t>(w), 0.0);
-    for (const auto& colf : cols)
-        for (std::size_t x = 0; x < colf.size(); ++x) col[x] = std::max(col[x], double(colf[x]));
-    auto range = [](const std::vector<double>& a, double& lo, double& hi) {
-        int first = -1, last = -1;
-        for (int i = 0; i < int(a.size()); ++i)
-            if (a[std::size_t(i)] >= 0.5) {
-                if (first < 0) first = i;
-                last = i;
-            }
-        if (first < 0) return false;
-        lo = first + 0.5 - (first > 0 ? a[std::size_t(first - 1)] : 0.0) - (a[std::size_t(first)] - 0.5);
-        hi = last + 0.5 + (last + 1 < int(a.size()) ? a[std::size_t(last + 1)] : 0.0) + (a[std::size_t(last)] - 0.5);
-        return true;
-    };
-    Extent e;
-    if (!range(col, e.x0, e.x1) || !range(row, e.y0, e.y1))
-        throw Error("view \"" + v.name + "\" (" + v.source.string() +
-                    ") has an empty silhouette: no object was found in it");
-    return e;
-}
 
 // Which world axis (0=X,1=Y,2=Z) a unit vector lies along, or -1.
 int axis_of(const Vec3d& a) {
@@ -312,133 +258,177 @@ Span span_of(const Camera& c, const Extent& e, bool along_u) {
 // Some cameras fixed: the world is theirs. They measure the axes they see; the other views
 // take their scale from the axes they share with what is measured, and their placement from
 // the box; an axis nobody fixed measures is centred on 0 (the height stands on Y = 0).
-void align_to_fixed_cameras(Views& views, const AlignOptions& opt, const std::vector<Extent>& ext,
-                            const std::vector<bool>& fixed, std::vector<std::string>& warnings) {
-    const std::size_t n = views.views.size();
-    std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
-    std::array<bool, 3> known{false, false, false};
-    std::array<std::string, 3> measured_by;
-    auto set_axis = [&](int k, double size, const std::string& by) {
-        lo[std::size_t(k)] = k == 1 ? 0.0 : -size / 2;
-        hi[std::size_t(k)] = k == 1 ? size : size / 2;
-        known[std::size_t(k)] = true;
-        measured_by[std::size_t(k)] = by;
-    };
+// The steps, in order: measure the fixed views' axes, scale the other axis views, size the
+// axes no view measured, place the other views, set the box.
+class FixedCameraAlignment {
+public:
+    FixedCameraAlignment(Views& views, const AlignOptions& opt, const std::vector<Extent>& ext,
+                         const std::vector<bool>& fixed, std::vector<std::string>& warnings)
+        : views_(views), opt_(opt), ext_(ext), fixed_(fixed), warnings_(warnings), n_(views.views.size()) {}
+
+    void run() {
+        measure_fixed_axes();
+        scale_axis_views();
+        size_unmeasured_axes();
+        place_other_views();
+        set_bounds();
+    }
+
+private:
+    void set_axis(int k, double size, const std::string& by) {
+        lo_[std::size_t(k)] = k == 1 ? 0.0 : -size / 2;
+        hi_[std::size_t(k)] = k == 1 ? size : size / 2;
+        known_[std::size_t(k)] = true;
+        measured_by_[std::size_t(k)] = by;
+    }
 
     // The fixed views measure their axes directly: the mean of their spans, and a warning
     // where two of them place or size an axis differently.
-    std::array<std::vector<std::pair<Span, std::size_t>>, 3> spans;
-    double first_fixed_scale = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!fixed[i]) continue;
-        const Camera& c = views.views[i].camera;
-        if (first_fixed_scale == 0) first_fixed_scale = c.scale;
-        for (bool along_u : {false, true}) {
-            const Span sp = span_of(c, ext[i], along_u);
-            if (sp.axis >= 0) spans[std::size_t(sp.axis)].push_back({sp, i});
+    void measure_fixed_axes() {
+        std::array<std::vector<std::pair<Span, std::size_t>>, 3> spans;
+        for (std::size_t i = 0; i < n_; ++i) {
+            if (!fixed_[i]) continue;
+            const Camera& c = views_.views[i].camera;
+            if (first_fixed_scale_ == 0) first_fixed_scale_ = c.scale;
+            for (bool along_u : {false, true}) {
+                const Span sp = span_of(c, ext_[i], along_u);
+                if (sp.axis >= 0) spans[std::size_t(sp.axis)].push_back({sp, i});
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            const auto& sk = spans[std::size_t(k)];
+            if (sk.empty()) continue;
+            double l = 0, h = 0;
+            for (const auto& [sp, i] : sk) l += sp.lo, h += sp.hi;
+            lo_[std::size_t(k)] = l / double(sk.size());
+            hi_[std::size_t(k)] = h / double(sk.size());
+            known_[std::size_t(k)] = true;
+            measured_by_[std::size_t(k)] = views_.views[sk.front().second].name;
+            warn_fixed_disagreements(k, sk);
         }
     }
-    for (int k = 0; k < 3; ++k) {
-        const auto& sk = spans[std::size_t(k)];
-        if (sk.empty()) continue;
-        double l = 0, h = 0;
-        for (const auto& [sp, i] : sk) l += sp.lo, h += sp.hi;
-        lo[std::size_t(k)] = l / double(sk.size());
-        hi[std::size_t(k)] = h / double(sk.size());
-        known[std::size_t(k)] = true;
-        measured_by[std::size_t(k)] = views.views[sk.front().second].name;
-        const double size = hi[std::size_t(k)] - lo[std::size_t(k)];
+
+    void warn_fixed_disagreements(int k, const std::vector<std::pair<Span, std::size_t>>& sk) {
+        const double size = hi_[std::size_t(k)] - lo_[std::size_t(k)];
         for (std::size_t a = 0; a < sk.size(); ++a)
             for (std::size_t b = a + 1; b < sk.size(); ++b) {
                 const Span &p = sk[a].first, &q = sk[b].first;
                 const double apart = std::max(std::abs(p.lo - q.lo), std::abs(p.hi - q.hi));
-                if (!(apart > opt.tolerance * size)) continue;
+                if (!(apart > opt_.tolerance * size)) continue;
                 std::ostringstream os;
                 os.precision(4);
-                os << "views \"" << views.views[sk[a].second].name << "\" and \"" << views.views[sk[b].second].name
+                os << "views \"" << views_.views[sk[a].second].name << "\" and \"" << views_.views[sk[b].second].name
                    << "\" disagree on the " << axis_name(k) << " under their fixed cameras: " << p.lo << " to " << p.hi
                    << " against " << q.lo << " to " << q.hi << " units (" << std::setprecision(3)
                    << 100.0 * apart / size << "% of the size apart)";
-                warn_once(warnings, os.str());
+                warn_once(warnings_, os.str());
             }
     }
 
     // The other axis views: scale from the measured axes they see (in the log domain, the
     // mean over both when both are measured); an axis only they see is measured by them.
-    std::vector<double> scale(n, -1.0);
-    for (std::size_t i = 0; i < n; ++i)
-        if (fixed[i]) scale[i] = views.views[i].camera.scale;
-    for (;;) {
+    void scale_axis_views() {
+        scale_.assign(n_, -1.0);
+        for (std::size_t i = 0; i < n_; ++i)
+            if (fixed_[i]) scale_[i] = views_.views[i].camera.scale;
+        for (;;) {
+            if (scale_from_measured_axes()) continue;
+            // An axis view that shares no measured axis (only oblique views are fixed): drawn
+            // at the first fixed view's scale.
+            std::size_t next = n_;
+            for (std::size_t i = 0; i < n_ && next == n_; ++i)
+                if (scale_[i] < 0 && axis_view(views_.views[i].camera)) next = i;
+            if (next == n_) break;
+            scale_[next] = first_fixed_scale_;
+            const Camera& c = views_.views[next].camera;
+            set_axis(axis_of(c.r), (ext_[next].x1 - ext_[next].x0) / scale_[next], views_.views[next].name);
+            set_axis(axis_of(c.u), (ext_[next].y1 - ext_[next].y0) / scale_[next], views_.views[next].name);
+        }
+    }
+
+    // One pass over the axis views without a scale; true when one got its scale.
+    bool scale_from_measured_axes() {
         bool changed = false;
-        for (std::size_t i = 0; i < n; ++i) {
-            const View& v = views.views[i];
-            if (scale[i] > 0 || !axis_view(v.camera)) continue;
+        for (std::size_t i = 0; i < n_; ++i) {
+            const View& v = views_.views[i];
+            if (scale_[i] > 0 || !axis_view(v.camera)) continue;
             const int ar = axis_of(v.camera.r), au = axis_of(v.camera.u);
-            const double wr = ext[i].x1 - ext[i].x0, hu = ext[i].y1 - ext[i].y0;
+            const double wr = ext_[i].x1 - ext_[i].x0, hu = ext_[i].y1 - ext_[i].y0;
             double lsum = 0, lcnt = 0;
-            if (known[std::size_t(ar)]) lsum += std::log(wr / (hi[std::size_t(ar)] - lo[std::size_t(ar)])), ++lcnt;
-            if (known[std::size_t(au)]) lsum += std::log(hu / (hi[std::size_t(au)] - lo[std::size_t(au)])), ++lcnt;
+            if (known_[std::size_t(ar)]) lsum += std::log(wr / (hi_[std::size_t(ar)] - lo_[std::size_t(ar)])), ++lcnt;
+            if (known_[std::size_t(au)]) lsum += std::log(hu / (hi_[std::size_t(au)] - lo_[std::size_t(au)])), ++lcnt;
             if (lcnt == 0) continue;
-            scale[i] = std::exp(lsum / lcnt);
+            scale_[i] = std::exp(lsum / lcnt);
             changed = true;
             for (const auto& [a, pix] : {std::pair{ar, wr}, std::pair{au, hu}}) {
-                const double world = pix / scale[i];
-                if (!known[std::size_t(a)]) {
+                const double world = pix / scale_[i];
+                if (!known_[std::size_t(a)]) {
                     set_axis(a, world, v.name);
                     continue;
                 }
-                const double size = hi[std::size_t(a)] - lo[std::size_t(a)];
-                if (std::abs(world - size) > opt.tolerance * size) {
+                const double size = hi_[std::size_t(a)] - lo_[std::size_t(a)];
+                if (std::abs(world - size) > opt_.tolerance * size) {
                     std::ostringstream os;
                     os.precision(3);
-                    os << "views \"" << measured_by[std::size_t(a)] << "\" and \"" << v.name << "\" disagree on the "
+                    os << "views \"" << measured_by_[std::size_t(a)] << "\" and \"" << v.name << "\" disagree on the "
                        << axis_name(a) << ": " << size << " against " << world << " units ("
                        << 100.0 * std::abs(world - size) / size << "% apart)";
-                    warn_once(warnings, os.str());
+                    warn_once(warnings_, os.str());
                 }
             }
         }
-        if (changed) continue;
-        // An axis view that shares no measured axis (only oblique views are fixed): drawn at
-        // the first fixed view's scale.
-        std::size_t next = n;
-        for (std::size_t i = 0; i < n && next == n; ++i)
-            if (scale[i] < 0 && axis_view(views.views[i].camera)) next = i;
-        if (next == n) break;
-        scale[next] = first_fixed_scale;
-        const Camera& c = views.views[next].camera;
-        set_axis(axis_of(c.r), (ext[next].x1 - ext[next].x0) / scale[next], views.views[next].name);
-        set_axis(axis_of(c.u), (ext[next].y1 - ext[next].y0) / scale[next], views.views[next].name);
+        return changed;
     }
+
     // An axis no view measured: as long as the longest, so the box still holds the object.
-    double longest = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-        if (known[k]) longest = std::max(longest, hi[k] - lo[k]);
-    if (!(longest > 0)) longest = 1.0 / first_fixed_scale;
-    for (int k = 0; k < 3; ++k)
-        if (!known[std::size_t(k)]) set_axis(k, longest, "");
+    void size_unmeasured_axes() {
+        double longest = 0;
+        for (std::size_t k = 0; k < 3; ++k)
+            if (known_[k]) longest = std::max(longest, hi_[k] - lo_[k]);
+        if (!(longest > 0)) longest = 1.0 / first_fixed_scale_;
+        for (int k = 0; k < 3; ++k)
+            if (!known_[std::size_t(k)]) set_axis(k, longest, "");
+    }
 
     // The other views: the box's centre onto the silhouette's centre (an oblique view's
     // placement is refined afterwards), at the first fixed view's scale when they share no axis.
-    const Vec3d mid{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    for (std::size_t i = 0; i < n; ++i) {
-        if (fixed[i]) continue;
-        Camera& c = views.views[i].camera;
-        c.scale = scale[i] > 0 ? scale[i] : first_fixed_scale;
-        c.cx = 0.5 * (ext[i].x0 + ext[i].x1) - c.scale * dot(mid, c.r);
-        c.cy = 0.5 * (ext[i].y0 + ext[i].y1) + c.scale * dot(mid, c.u);
+    void place_other_views() {
+        const Vec3d mid{0.5 * (lo_[0] + hi_[0]), 0.5 * (lo_[1] + hi_[1]), 0.5 * (lo_[2] + hi_[2])};
+        for (std::size_t i = 0; i < n_; ++i) {
+            if (fixed_[i]) continue;
+            Camera& c = views_.views[i].camera;
+            c.scale = scale_[i] > 0 ? scale_[i] : first_fixed_scale_;
+            c.cx = 0.5 * (ext_[i].x0 + ext_[i].x1) - c.scale * dot(mid, c.r);
+            c.cy = 0.5 * (ext_[i].y0 + ext_[i].y1) + c.scale * dot(mid, c.u);
+        }
     }
-    views.has_bounds = true;
-    if (opt.bounds) {
-        const auto& b = *opt.bounds;
-        views.bounds_min = {b[0], b[1], b[2]};
-        views.bounds_max = {b[3], b[4], b[5]};
-    } else {
-        views.bounds_min = {lo[0], lo[1], lo[2]};
-        views.bounds_max = {hi[0], hi[1], hi[2]};
+
+    // The box: the manifest's when it gives one, else the one the silhouettes imply.
+    void set_bounds() {
+        views_.has_bounds = true;
+        if (opt_.bounds) {
+            const auto& b = *opt_.bounds;
+            views_.bounds_min = {b[0], b[1], b[2]};
+            views_.bounds_max = {b[3], b[4], b[5]};
+        } else {
+            views_.bounds_min = {lo_[0], lo_[1], lo_[2]};
+            views_.bounds_max = {hi_[0], hi_[1], hi_[2]};
+        }
+        views_.units_per_pixel = 1.0 / views_.views.front().camera.scale;
     }
-    views.units_per_pixel = 1.0 / views.views.front().camera.scale;
-}
+
+    Views& views_;
+    const AlignOptions& opt_;
+    const std::vector<Extent>& ext_;
+    const std::vector<bool>& fixed_;
+    std::vector<std::string>& warnings_;
+    const std::size_t n_;
+    std::array<double, 3> lo_{0, 0, 0}, hi_{0, 0, 0}; ///< the box, per axis
+    std::array<bool, 3> known_{false, false, false};  ///< axes measured (or sized) so far
+    std::array<std::string, 3> measured_by_;          ///< the view that measured each axis
+    double first_fixed_scale_ = 0;
+    std::vector<double> scale_; ///< per view; < 0: not known yet
+};
 
 } // namespace
 
@@ -468,7 +458,7 @@ void align_views(Views& views, const AlignOptions& opt, std::vector<std::string>
             throw Error(
                 "a real size (height, width or depth) cannot go with fixed cameras (scale, origin): they set the "
                 "units");
-        align_to_fixed_cameras(views, opt, ext, fixed, warnings);
+        FixedCameraAlignment(views, opt, ext, fixed, warnings).run();
     }
     place_oblique_views(views, fixed);
 }

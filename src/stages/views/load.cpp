@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <atomic>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "align.h"
 #include "core/error.h"
@@ -44,29 +46,76 @@ SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image
     return res;
 }
 
-} // namespace
+// The silhouette options of a view: its manifest entry's, the stage's keep where the
+// entry says auto. A calibrated camera is a photograph's (drawings are not calibrated).
+SilhouetteOptions silhouette_options(const ManifestView& mv, const LoadViewsOptions& opt) {
+    SilhouetteOptions so;
+    so.background = mv.background;
+    so.threshold = mv.threshold.value_or(-1.0);
+    so.keep = mv.keep != "auto" ? mv.keep : opt.keep;
+    so.holes = mv.holes;
+    so.close_gaps = mv.close_gaps.value_or(-1.0);
+    so.shadow = mv.shadow;
+    so.photo = mv.photo != "auto" ? mv.photo : mv.matrix ? "on" : "auto";
+    return so;
+}
 
-Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadViewsReport& report,
-                 const std::function<void(double)>& progress) {
-    const Manifest man = read_manifest(manifest);
-    Views views;
-    views.manifest = man.file;
-    views.views.resize(man.views.size());
+// What the user should hear of a view's segmentation (marks dropped, a photograph's growth,
+// blank regions filled); empty when there is nothing to say.
+std::string segmentation_note(const SilhouetteResult& s, const SilhouetteOptions& so) {
+    std::string note;
+    if (s.components_dropped)
+        note += "dropped " + std::to_string(s.components_dropped) +
+                " separate mark(s) away from the object (keep: all keeps them)";
+    if (s.photo) {
+        if (!note.empty()) note += "; ";
+        note += "segmented as a photograph: " + std::to_string(s.grown) +
+                " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
+                " enclosed region(s) filled (photo: off segments it as a drawing)";
+    } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+        if (!note.empty()) note += "; ";
+        note += "filled " + std::to_string(s.regions_filled) +
+                " blank region(s) enclosed by the drawing (holes: keep keeps them open)";
+    }
+    return note;
+}
+
+// The camera a view's manifest entry gives; a drawn view's scale and origin, unless fixed
+// here, come from the alignment.
+Camera camera_of(const ManifestView& mv) {
+    Camera c = mv.matrix ? Camera::perspective(*mv.matrix)
+               : mv.view ? *Camera::named(*mv.view)
+                         : Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
+    if (mv.scale) {
+        c.scale = *mv.scale;
+        c.cx = (*mv.origin)[0];
+        c.cy = (*mv.origin)[1];
+    }
+    return c;
+}
+
+// One kind of camera per manifest, and a real size only for drawn views; true when the
+// views are calibrated.
+bool check_camera_kinds(const Manifest& man) {
     std::size_t perspective = 0;
     for (const auto& mv : man.views) perspective += mv.matrix.has_value();
     if (perspective != 0 && perspective != man.views.size())
         throw Error(man.file.string() + ": mixes calibrated (matrix) and drawn views; use one kind per manifest");
-    views.calibrated = perspective != 0;
-    if (views.calibrated && (man.height || man.width || man.depth))
+    if (perspective != 0 && (man.height || man.width || man.depth))
         throw Error(man.file.string() +
                     ": a real size (height, width, depth) applies to drawn views; calibrated views keep "
                     "the calibration's units");
+    return perspective != 0;
+}
 
+// Views read side by side, one view's image the chunk: its drawing (or its panel of a
+// sheet), silhouette and camera. A stop is looked for per view and per step of a view
+// (reading, extracting), from the workers; the notes go into `stats` in the views' order.
+void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, LoadViewsStats& stats,
+                const Progress& progress) {
     SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
-    report.notes.insert(report.notes.end(), sheets.notes.begin(), sheets.notes.end());
+    stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
-    // A stop is looked for per view and per step of a view (reading, extracting), from the
-    // workers: one view's image is the chunk.
     std::atomic<std::size_t> steps{0};
     auto step = [&] {
         if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
@@ -83,41 +132,13 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
             v.width = v.image.width;
             v.height = v.image.height;
             step();
-            SilhouetteOptions so;
-            so.background = mv.background;
-            so.threshold = mv.threshold.value_or(-1.0);
-            so.keep = mv.keep != "auto" ? mv.keep : opt.keep;
-            so.holes = mv.holes;
-            so.close_gaps = mv.close_gaps.value_or(-1.0);
-            so.shadow = mv.shadow;
-            // A calibrated camera is a photograph's (drawings are not calibrated).
-            so.photo = mv.photo != "auto" ? mv.photo : mv.matrix ? "on" : "auto";
+            const SilhouetteOptions so = silhouette_options(mv, opt);
             SilhouetteResult s =
                 mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
-            std::string note;
-            if (s.components_dropped)
-                note += "dropped " + std::to_string(s.components_dropped) +
-                        " separate mark(s) away from the object (keep: all keeps them)";
-            if (s.photo) {
-                if (!note.empty()) note += "; ";
-                note += "segmented as a photograph: " + std::to_string(s.grown) +
-                        " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
-                        " enclosed region(s) filled (photo: off segments it as a drawing)";
-            } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
-                if (!note.empty()) note += "; ";
-                note += "filled " + std::to_string(s.regions_filled) +
-                        " blank region(s) enclosed by the drawing (holes: keep keeps them open)";
-            }
-            if (!note.empty()) notes[i] = "view \"" + v.name + "\": " + note;
-            if (mv.matrix) v.camera = Camera::perspective(*mv.matrix);
-            else if (mv.view) v.camera = *Camera::named(*mv.view);
-            else v.camera = Camera::from_azimuth_elevation(*mv.azimuth, *mv.elevation);
-            if (mv.scale) {
-                v.camera.scale = *mv.scale;
-                v.camera.cx = (*mv.origin)[0];
-                v.camera.cy = (*mv.origin)[1];
-            }
+            if (const std::string note = segmentation_note(s, so); !note.empty())
+                notes[i] = "view \"" + v.name + "\": " + note;
+            v.camera = camera_of(mv);
         } catch (const Cancelled&) {
             throw;
         } catch (const std::exception& e) {
@@ -127,40 +148,97 @@ Views load_views(const fs::path& manifest, const LoadViewsOptions& opt, LoadView
     for (const auto& e : errors)
         if (!e.empty()) throw Error(e);
     for (const auto& n : notes)
-        if (!n.empty()) report.notes.push_back(n);
-    if (progress) progress(0.8);
+        if (!n.empty()) stats.notes.push_back(n);
+}
 
-    for (const auto& v : views.views) {
-        if (v.coverage.inside_box().empty())
-            throw Error("view \"" + v.name + "\" (" + v.source.string() +
-                        ") has an empty silhouette: no object was found in it");
-    }
+// Calibrated views keep the manifest's box; drawn views are aligned into the output frame.
+void place_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, LoadViewsStats& stats) {
     if (views.calibrated) {
         if (man.bounds) {
             views.has_bounds = true;
             views.bounds_min = {(*man.bounds)[0], (*man.bounds)[1], (*man.bounds)[2]};
             views.bounds_max = {(*man.bounds)[3], (*man.bounds)[4], (*man.bounds)[5]};
         }
-    } else {
-        AlignOptions ao;
-        ao.height = man.height;
-        ao.width = man.width;
-        ao.depth = man.depth;
-        ao.tolerance = opt.align_tolerance;
-        for (const auto& mv : man.views) ao.fixed.push_back(mv.scale.has_value());
-        ao.bounds = man.bounds;
-        align_views(views, ao, report.warnings);
+        return;
     }
-    return views;
+    AlignOptions ao;
+    ao.height = man.height;
+    ao.width = man.width;
+    ao.depth = man.depth;
+    ao.tolerance = opt.align_tolerance;
+    for (const auto& mv : man.views) ao.fixed.push_back(mv.scale.has_value());
+    ao.bounds = man.bounds;
+    align_views(views, ao, stats.warnings);
 }
 
-Image silhouette_image(const View& v) {
-    Image img;
-    img.width = v.width;
-    img.height = v.height;
-    img.channels = 1;
-    img.pixels = v.coverage.full();
-    return img;
+// A silhouette's area: its coverage summed in fixed blocks of pixels (the same figure on
+// every run and machine).
+double silhouette_area(const Coverage& c) {
+    return tbb::parallel_deterministic_reduce(
+        tbb::blocked_range<std::size_t>(0, c.size(), std::size_t(1) << 16), 0.0,
+        [&](const tbb::blocked_range<std::size_t>& r, double sum) {
+            // In pixel order, leaving out the zeros beyond the window (adding them changes no
+            // sum).
+            const std::size_t W = std::size_t(c.width());
+            for (std::size_t y = r.begin() / W; y * W < r.end(); ++y) {
+                const float* row = c.window_row(int(y));
+                if (!row) continue;
+                const std::size_t left = y * W + std::size_t(c.x0());
+                const std::size_t a = std::max(r.begin(), left);
+                const std::size_t b = std::min(r.end(), left + std::size_t(c.window_width()));
+                for (std::size_t i = a; i < b; ++i) sum += row[i - left];
+            }
+            return sum;
+        },
+        [](double x, double y) { return x + y; });
 }
+
+} // namespace
+
+void LoadViewsOptions::declare(ParamBinder& b) {
+    b.add(keep, ParamSpec::Enum("keep", "auto", {"auto", "largest", "all"},
+                                "which separate marks to keep: auto drops specks and small marks (a "
+                                "view's own keep wins)"));
+    b.add(align_tolerance, ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
+                                            "relative disagreement between views on a shared axis that raises a "
+                                            "warning"));
+}
+
+void LoadViewsStats::report(Metrics& m) const {
+    for (const auto& w : warnings) m.warn(w);
+    m.count("views", names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) m.metric("silhouette_area_px." + names[i], silhouette_area_px[i]);
+    if (bounds_size) {
+        const Vec3d& e = *bounds_size;
+        m.metric_json("bounds_size",
+                      "[" + std::to_string(e.x) + "," + std::to_string(e.y) + "," + std::to_string(e.z) + "]");
+    }
+}
+
+Result<Views, LoadViewsStats> load_views(const fs::path& manifest, const LoadViewsOptions& opt, Progress progress) {
+    const Manifest man = read_manifest(manifest);
+    Result<Views, LoadViewsStats> r;
+    Views& views = r.value;
+    LoadViewsStats& stats = r.stats;
+    views.manifest = man.file;
+    views.views.resize(man.views.size());
+    views.calibrated = check_camera_kinds(man);
+    read_views(man, opt, views, stats, progress);
+    if (progress) progress(0.8);
+    for (const auto& v : views.views) {
+        if (v.coverage.inside_box().empty())
+            throw Error("view \"" + v.name + "\" (" + v.source.string() +
+                        ") has an empty silhouette: no object was found in it");
+    }
+    place_views(man, opt, views, stats);
+    for (const auto& v : views.views) {
+        stats.names.push_back(v.name);
+        stats.silhouette_area_px.push_back(silhouette_area(v.coverage));
+    }
+    if (views.has_bounds) stats.bounds_size = views.bounds_max - views.bounds_min;
+    return r;
+}
+
+Image silhouette_image(const View& v) { return Image{v.width, v.height, 1, v.coverage.full(), {}}; }
 
 } // namespace cm

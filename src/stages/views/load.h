@@ -2,30 +2,42 @@
 // and the command-line tools (compare, preview).
 #pragma once
 #include <filesystem>
-#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/algorithm.h"
 #include "core/views.h"
 
 namespace cm {
 
+/// The parameters of views.load beside its manifest.
 struct LoadViewsOptions {
-    std::string keep = "auto";     ///< default for views whose manifest entry says keep: auto
-    double align_tolerance = 0.02; ///< relative disagreement on a shared axis that raises a warning
+    std::string keep;       ///< default for views whose manifest entry says keep: auto
+    double align_tolerance; ///< relative disagreement on a shared axis that raises a warning
+
+    LoadViewsOptions() { set_declared_defaults(*this); }
+    /// `keep` and `align_tolerance`.
+    void declare(ParamBinder& b);
 };
 
-struct LoadViewsReport {
-    std::vector<std::string> warnings; ///< views disagreeing on an axis
-    std::vector<std::string> notes;    ///< dropped marks, filled regions
+struct LoadViewsStats {
+    std::vector<std::string> warnings;      ///< views disagreeing on an axis
+    std::vector<std::string> notes;         ///< dropped marks, filled regions (the stage's info lines)
+    std::vector<std::string> names;         ///< the views, in the manifest's order
+    std::vector<double> silhouette_area_px; ///< per view: its coverage summed, in pixels
+    std::optional<Vec3d> bounds_size;       ///< the size of the views' box, when they have one
+    /// The warnings, then `views` (their number), `silhouette_area_px.<view>` and, with a
+    /// box, `bounds_size`; not the notes.
+    void report(Metrics& m) const;
 };
 
 /// @brief Reads the manifest and its images, extracts the silhouettes, sets up the cameras
-/// and aligns hand-drawn views into the output frame (docs/conventions.md).
-/// `progress(fraction)` is called between steps when given.
+/// and aligns hand-drawn views into the output frame (docs/conventions.md). `progress`
+/// reports reading the views up to 0.8, then 0.8 before aligning them.
 /// @throw cm::Error naming the manifest line or the view (unreadable image, empty silhouette, ...).
-Views load_views(const std::filesystem::path& manifest, const LoadViewsOptions& opt, LoadViewsReport& report,
-                 const std::function<void(double)>& progress = {});
+Result<Views, LoadViewsStats> load_views(const std::filesystem::path& manifest, const LoadViewsOptions& opt,
+                                         Progress progress = {});
 
 /// The silhouette as a grey image (white = object), for side outputs and previews.
 Image silhouette_image(const View& v);

@@ -14,6 +14,7 @@
 
 #include "background_model.h"
 #include "border_clusters.h"
+#include "components.h"
 #include "core/error.h"
 #include "gaps.h"
 #include "io/manifest.h"
@@ -26,28 +27,6 @@
 namespace cm {
 
 namespace {
-
-// Connected components of `mask` (4- or 8-connected); labels -1 outside the mask. A
-// component's label is the order of its first pixel in row order. Filled a run of a row at a
-// time: a run leaves one seed per run of unlabelled mask pixels beside it in the rows above
-// and below (diagonal neighbours too when 8-connected).
-int label(const std::vector<char>& mask, int w, int h, bool eight, std::vector<int>& lab,
-          std::vector<std::size_t>& sizes) {
-    lab.assign(mask.size(), -1);
-    sizes.clear();
-    auto open = [&](int p) { return mask[std::size_t(p)] && lab[std::size_t(p)] < 0; };
-    std::vector<int> stack;
-    for (int start = 0; start < w * h; ++start) {
-        if (!open(start)) continue;
-        const int id = int(sizes.size());
-        sizes.push_back(0);
-        scanline_fill(w, h, start, eight, stack, open, [&](int row, int l, int r) {
-            std::fill(lab.begin() + row + l, lab.begin() + row + r + 1, id);
-            sizes[std::size_t(id)] += std::size_t(r - l + 1);
-        });
-    }
-    return int(sizes.size());
-}
 
 // The object in a drawing as what is not its background: per pixel the colour distance to
 // the background field, the background itself (what the border reaches, and the holes),
@@ -150,7 +129,7 @@ public:
         }
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
-        const int nreg = label(enclosed, w_, h_, false, lab, sizes);
+        const int nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
         // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
         // `keep` keeps every enclosed region.
         const std::size_t min_hole = mode == "keep" ? 1 : 9;
@@ -178,7 +157,7 @@ public:
         }
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
-        const int nreg = label(blank, w_, h_, false, lab, sizes);
+        const int nreg = mask_components(blank, w_, h_, false, lab, sizes);
         std::vector<char> is_hole = nested_holes(lab, nreg, closed_, bg_, w_, h_);
         for (int r = 0; r < nreg; ++r) {
             is_hole[std::size_t(r)] = is_hole[std::size_t(r)] && sizes[std::size_t(r)] >= 9;
@@ -427,61 +406,6 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     analyse(cut, whole);
     res.analysed_pixels = std::size_t(img.width) * img.height;
     return std::nullopt;
-}
-
-// Fractional coverage goes with the component it borders: clears it where no 8-neighbour
-// belongs to a kept component.
-void clear_stray_fringe(int w, int h, const std::vector<int>& lab, const std::vector<char>& keep,
-                        std::vector<float>& cov) {
-    tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            if (cov[i] >= 0.5f || cov[i] == 0.0f) continue;
-            bool near_kept = false;
-            for (int dy = -1; dy <= 1 && !near_kept; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const int l = lab[std::size_t(yy) * w + xx];
-                    if (l >= 0 && keep[std::size_t(l)]) {
-                        near_kept = true;
-                        break;
-                    }
-                }
-            if (!near_kept) cov[i] = 0.0f;
-        }
-    });
-}
-
-// Components of the w x h `coverage`: drop specks and separate marks a user would not keep
-// (by `mode`, see SilhouetteOptions::keep).
-void keep_components(int w, int h, const std::string& mode, std::vector<float>& coverage, SilhouetteResult& res) {
-    const std::size_t n = std::size_t(w) * h;
-    std::vector<char> mask(n);
-    for (std::size_t i = 0; i < n; ++i) mask[i] = coverage[i] >= 0.5f;
-    std::vector<int> lab;
-    std::vector<std::size_t> sizes;
-    const int nc = label(mask, w, h, true, lab, sizes);
-    if (nc == 0 || mode == "all") {
-        res.components_kept = nc;
-        return;
-    }
-    const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
-    std::vector<char> keep(std::size_t(nc), 0);
-    bool largest_taken = false;
-    for (int c = 0; c < nc; ++c) {
-        if (mode == "largest") {
-            keep[std::size_t(c)] = sizes[std::size_t(c)] == largest && !largest_taken;
-            largest_taken |= keep[std::size_t(c)] != 0;
-        } else {
-            keep[std::size_t(c)] = double(sizes[std::size_t(c)]) >= 0.05 * double(largest);
-        }
-        (keep[std::size_t(c)] ? res.components_kept : res.components_dropped)++;
-    }
-    if (res.components_dropped == 0) return;
-    for (std::size_t i = 0; i < n; ++i)
-        if (lab[i] >= 0 && !keep[std::size_t(lab[i])]) coverage[i] = 0.0f;
-    clear_stray_fringe(w, h, lab, keep, coverage);
 }
 
 } // namespace

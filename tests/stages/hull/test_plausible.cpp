@@ -245,9 +245,8 @@ TEST(HullPlausible, SmoothedMeshIsCleanWithThreeAndFourViews) {
 // kept volume (between the legs and the body): they are put back, so Marching Cubes makes
 // one surface, not the body and a closed shell for each pocket.
 TEST(HullPlausible, NoCavitySealedInsideOnTheBundledCow) {
-    LoadViewsReport report;
     auto views = std::make_shared<Views>(
-        load_views(std::filesystem::path(CM_SOURCE_DIR) / "examples/spot/views.yaml", {}, report));
+        load_views(std::filesystem::path(CM_SOURCE_DIR) / "examples/spot/views.yaml", {}).value);
     auto hull = carve_and_refine(views, 256);
     PlausibleStats st;
     auto out = make_plausible(*hull, nullptr, {}, {}, &st);

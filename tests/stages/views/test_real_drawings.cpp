@@ -267,8 +267,7 @@ TEST(RealDrawings, MaskFileIsTheCoverage) {
     });
     write_image(mask, dir / "mask.png");
     test::write_text(dir / "views.yaml", "views:\n  front: {image: photo.png, mask: mask.png}\n");
-    LoadViewsReport report;
-    const Views v = load_views(dir / "views.yaml", {}, report);
+    const Views v = load_views(dir / "views.yaml", {}).value;
     ASSERT_EQ(v.views.size(), 1u);
     EXPECT_GE(iou(v.views[0].coverage, kSize, kSize, object), 0.99);
     EXPECT_EQ(v.views[0].image.width, kSize); // the image is still read
@@ -279,14 +278,14 @@ TEST(RealDrawings, MaskFileIsTheCoverage) {
     test::write_text(dir / "seg.yaml", "views:\n  front: photo.png\n");
     double seg_iou = 0;
     try {
-        seg_iou = iou(load_views(dir / "seg.yaml", {}, report).views[0].coverage, kSize, kSize, object);
+        seg_iou = iou(load_views(dir / "seg.yaml", {}).value.views[0].coverage, kSize, kSize, object);
     } catch (const Error&) {}
     EXPECT_LT(seg_iou, 0.9);
 
     // A mask of another size: one line naming both files and both sizes.
     write_image(render(200, 100, [](double, double) { return std::array<float, 3>{1, 1, 1}; }), dir / "small.png");
     test::write_text(dir / "bad.yaml", "views:\n  front: {image: photo.png, mask: small.png}\n");
-    const std::string e = error_of([&] { load_views(dir / "bad.yaml", {}, report); });
+    const std::string e = error_of([&] { load_views(dir / "bad.yaml", {}); });
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
     for (const char* part : {"small.png", "photo.png", "200x100", "400x400", "\"front\""})
         EXPECT_NE(e.find(part), std::string::npos) << part << " in " << e;

@@ -111,8 +111,7 @@ TEST(Sheet, FourPanelsWithLabelsAtDifferentScales) {
     test::write_text(dir / "views.yaml", "sheet: {image: sheet.png, views: [front, right, back, top]}\n");
     const Manifest man = read_manifest(dir / "views.yaml");
     const SheetViews sv = split_sheets(man);
-    LoadViewsReport report;
-    const Views views = load_views(dir / "views.yaml", {}, report);
+    const auto [views, report] = load_views(dir / "views.yaml", {});
     ASSERT_EQ(views.views.size(), 4u);
     const char* names[] = {"front", "right", "back", "top"};
     for (int k = 0; k < 4; ++k) {
@@ -150,8 +149,7 @@ TEST(Sheet, TwoRowsAreReadLeftToRightThenTopToBottom) {
     test::write_text(dir / "views.yaml",
                      "sheet:\n  image: sheet.png\n  views: [front, right, top, {name: rear, view: back}]\n");
     const SheetViews sv = split_sheets(read_manifest(dir / "views.yaml"));
-    LoadViewsReport report;
-    const Views views = load_views(dir / "views.yaml", {}, report);
+    const Views views = load_views(dir / "views.yaml", {}).value;
     ASSERT_EQ(views.views.size(), 4u);
     EXPECT_EQ(views.views[3].name, "rear");
     for (int k = 0; k < 4; ++k) {
@@ -169,14 +167,13 @@ TEST(Sheet, PanelCountThatDiffersFromTheViewsIsOneLineNamingBoth) {
                             {{std::array<int, 2>{10, 10}}, {145, 10}, {280, 10}});
     write_image(s.image, dir / "sheet.png");
     test::write_text(dir / "views.yaml", "height: 2\nsheet: {image: sheet.png, views: [front, right, back, top]}\n");
-    LoadViewsReport report;
-    const std::string e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    const std::string e = error_of([&] { load_views(dir / "views.yaml", {}); });
     EXPECT_NE(e.find("views.yaml:2: sheet \"sheet.png\" holds 3 panels but names 4 views (front, right, back, top)"),
               std::string::npos)
         << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
     test::write_text(dir / "views.yaml", "sheet: {image: sheet.png, views: [front, right, top]}\n");
-    EXPECT_EQ(load_views(dir / "views.yaml", {}, report).views.size(), 3u);
+    EXPECT_EQ(load_views(dir / "views.yaml", {}).value.views.size(), 3u);
 }
 
 TEST(Sheet, MixesWithViewsDrawnOnTheirOwnAndSavesEachSilhouette) {
@@ -227,8 +224,7 @@ TEST(Sheet, OptionsOfTheSheetApplyToEveryPanel) {
         test::write_text(dir / "views.yaml",
                          std::string("sheet: {image: sheet.png, views: [front, right], keep: ") + keep + "}\n");
         const SheetViews sv = split_sheets(read_manifest(dir / "views.yaml"));
-        LoadViewsReport report;
-        const Views views = load_views(dir / "views.yaml", {}, report);
+        const Views views = load_views(dir / "views.yaml", {}).value;
         ASSERT_EQ(views.views.size(), 2u);
         for (std::size_t k = 0; k < 2; ++k) {
             const SheetPanel& p = sv.panels[k];
@@ -239,7 +235,6 @@ TEST(Sheet, OptionsOfTheSheetApplyToEveryPanel) {
     }
     // An unreadable sheet names the manifest line and the sheet.
     test::write_text(dir / "views.yaml", "height: 1\nsheet: {image: missing.png, views: [front, right]}\n");
-    LoadViewsReport report;
-    const std::string e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    const std::string e = error_of([&] { load_views(dir / "views.yaml", {}); });
     EXPECT_NE(e.find("views.yaml:2: sheet \"missing.png\": "), std::string::npos) << e;
 }

@@ -149,8 +149,7 @@ TEST(ViewsLoad, ManifestShortAndLongFormsAndCameras) {
         "  front: f.png\n"
         "  side: {image: r.png, view: right, background: white, threshold: 0.3, keep: largest, holes: keep}\n"
         "  three_quarter: {image: q.png, azimuth: 45, elevation: 30}\n");
-    LoadViewsReport report;
-    const Views v = load_views(dir / "views.yaml", {}, report);
+    const Views v = load_views(dir / "views.yaml", {}).value;
     ASSERT_EQ(v.views.size(), 3u);
     EXPECT_EQ(v.views[1].name, "side");
     EXPECT_NEAR(v.views[1].camera.d.x, -1, 1e-12);
@@ -167,7 +166,7 @@ TEST(ViewsLoad, ManifestShortAndLongFormsAndCameras) {
                      "  b: {image: f.png, matrix_file: calib.txt}\n"
                      "  c: {image: f.png, K: [[2, 0, 40], [0, 2, 40], [0, 0, 1]], R: [[1, 0, 0], [0, -1, 0], [0, 0, "
                      "-1]], t: [0, 0, 10]}\n");
-    const Views c = load_views(dir / "calib.yaml", {}, report);
+    const Views c = load_views(dir / "calib.yaml", {}).value;
     EXPECT_TRUE(c.calibrated);
     EXPECT_TRUE(c.has_bounds);
     EXPECT_EQ(c.views[0].camera.P, c.views[1].camera.P);
@@ -204,12 +203,11 @@ TEST(ViewsLoad, EmptySilhouetteAndUnreadableImageNameTheView) {
     write_rect(dir / "f.png", 40, 40, 10, 10, 30, 30);
     write_rect(dir / "blank.png", 40, 40, 0, 0, 0, 0);
     test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  right: blank.png\n");
-    LoadViewsReport report;
-    std::string e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    std::string e = error_of([&] { load_views(dir / "views.yaml", {}); });
     EXPECT_NE(e.find("view \"right\""), std::string::npos) << e;
     EXPECT_NE(e.find("empty silhouette"), std::string::npos) << e;
     test::write_text(dir / "views.yaml", "views:\n  front: f.png\n  top: missing.png\n");
-    e = error_of([&] { load_views(dir / "views.yaml", {}, report); });
+    e = error_of([&] { load_views(dir / "views.yaml", {}); });
     EXPECT_NE(e.find("view \"top\""), std::string::npos) << e;
     EXPECT_NE(e.find("missing.png"), std::string::npos) << e;
 }
@@ -224,8 +222,7 @@ TEST(ViewsLoad, TumBunnyCalibratedSilhouettes) {
         yaml += std::string("  v") + id + ": {image: " + (data / "silhouettes" / (std::string(id) + ".pgm")).string() +
                 ", matrix_file: " + (data / "calib" / (std::string(id) + ".txt")).string() + "}\n";
     test::write_text(dir / "views.yaml", yaml);
-    LoadViewsReport report;
-    const Views v = load_views(dir / "views.yaml", {}, report);
+    const Views v = load_views(dir / "views.yaml", {}).value;
     ASSERT_EQ(v.views.size(), 3u);
     EXPECT_TRUE(v.calibrated);
     for (const auto& view : v.views) {
@@ -488,8 +485,7 @@ TEST(ViewsLoad, ManifestFixesCamerasAndBounds) {
     EXPECT_EQ((*m.views[1].origin)[0], 50.0);
     EXPECT_EQ((*m.views[1].origin)[1], 130.0);
     EXPECT_FALSE(m.views[2].scale.has_value());
-    LoadViewsReport report;
-    const Views v = load_views(dir / "views.yaml", {}, report);
+    const auto [v, report] = load_views(dir / "views.yaml", {});
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
     EXPECT_FALSE(v.calibrated);
     expect_camera(v.views[0].camera, kFront, 0.0);

@@ -1,0 +1,79 @@
+#include "mesh_file.h"
+
+#include <vector>
+
+#include "core/error.h"
+#include "core/params.h"
+
+namespace cm {
+
+void MeshFileOptions::declare(ParamBinder& b) {
+    format.declare(b);
+    b.add(check, ParamSpec::Bool("check", true,
+                                 "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
+                                 "self-intersections): figures in the run report, a warning when a rule is "
+                                 "broken"));
+    b.add(height, ParamSpec::Float("height", 0, 0, 1e9, "m",
+                                   "scale the model to this height (Y extent) in the file; 0: keep its size "
+                                   "(the views' real size when the manifest gives one, else one unit per "
+                                   "pixel of the first view)"));
+    b.add(unit_scale, ParamSpec::Float("unit_scale", 1, 1e-9, 1e9, "",
+                                       "multiply every coordinate by this (e.g. 0.01: centimetre units to "
+                                       "metres); not with height"));
+}
+
+void MeshFileStats::report(Metrics& m) const {
+    if (scale != 1) m.metric("scale", scale);
+    m.metric("height", height);
+    m.count("faces", faces);
+    m.count("vertices", vertices);
+    m.metric("path", path);
+    m.metric("bytes", double(bytes));
+    if (!check) return;
+    // The output rules, measured on what is written; broken rules become one warning.
+    const MeshCheck& c = check->mesh;
+    m.count("boundary_edges", c.boundary_edges);
+    m.count("nonmanifold_edges", c.nonmanifold_edges + c.nonmanifold_vertices);
+    m.count("degenerate_faces", c.degenerate_faces);
+    m.count("self_intersections", check->crossings.size());
+    m.metric("volume", c.signed_volume);
+    const std::vector<std::string> broken = check->broken();
+    if (broken.empty()) return;
+    std::string text = "\"" + path + "\" is not a clean closed mesh: ";
+    for (std::size_t i = 0; i < broken.size(); ++i) text += (i ? ", " : "") + broken[i];
+    m.warn(text);
+}
+
+MeshFile::MeshFile(const Mesh& mesh, const MeshFileOptions& opt) : input_(mesh) {
+    double scale = opt.unit_scale;
+    if (opt.height > 0) {
+        Vec3f lo, hi;
+        mesh.bounds(lo, hi);
+        if (!(hi.y > lo.y)) throw Error("the mesh has no height to scale to " + std::to_string(opt.height) + " m");
+        scale = opt.height / double(hi.y - lo.y);
+    }
+    stats_.scale = scale;
+    const bool normals = opt.format.normals;
+    if (scale != 1 || (normals && mesh.normals.size() != mesh.positions.size())) {
+        Mesh& changed = changed_.emplace(mesh);
+        for (auto& p : changed.positions) p = Vec3f(Vec3d(p) * scale);
+        if (normals && changed.normals.size() != changed.positions.size()) changed.compute_normals();
+    }
+}
+
+void MeshFile::write(const std::filesystem::path& file, const std::filesystem::path& path,
+                     const MeshWriteOptions& format, Progress progress) {
+    const Mesh& m = mesh();
+    write_mesh(m, file, format, progress);
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    stats_.height = double(hi.y - lo.y);
+    stats_.faces = m.face_count();
+    stats_.vertices = m.vertex_count();
+    stats_.path = path.string();
+    stats_.bytes = std::filesystem::file_size(file);
+}
+
+void MeshFile::check(Progress progress) { stats_.check = check_output(mesh(), progress); }
+
+} // namespace cm
