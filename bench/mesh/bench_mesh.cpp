@@ -162,7 +162,9 @@ void BM_Reduce(benchmark::State& st) {
         o.max_angle_deg = 40;
         o.target_faces = target;
         o.no_crossings = guard;
-        return reduce_mesh(in, out, o);
+        auto [mesh, stats] = reduce_mesh(in, o);
+        out = std::move(mesh);
+        return stats;
     });
 }
 
@@ -171,7 +173,9 @@ void BM_QuadricOwn(benchmark::State& st) {
         QuadricOptions o;
         o.target_faces = target;
         o.no_crossings = guard;
-        return quadric_decimate(in, out, o);
+        auto [mesh, stats] = quadric_decimate(in, o);
+        out = std::move(mesh);
+        return DecimateStats(stats);
     });
 }
 

@@ -98,13 +98,13 @@ int main(int argc, char** argv) {
             ReduceOptions ro;
             ro.max_angle_deg = a;
             auto t0 = std::chrono::steady_clock::now();
-            reduce_mesh(r, ro);
+            reduce_mesh_in_place(r, ro);
             const json jr = describe(r, views, mc_faces, seconds_since(t0));
             Mesh q = paper_smooth;
             QuadricOptions qo;
             qo.target_faces = r.face_count();
             t0 = std::chrono::steady_clock::now();
-            quadric_decimate(q, qo);
+            quadric_decimate_in_place(q, qo);
             const json jq = describe(q, views, mc_faces, seconds_since(t0));
             sweep.push_back({{"max_angle_deg", a}, {"reduce", jr}, {"quadric", jq}});
             std::cerr << "  angle " << a << ": " << jr["faces"] << " faces, xor " << jr["xor_pct"] << " % (quadric "

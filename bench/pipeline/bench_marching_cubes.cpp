@@ -66,7 +66,7 @@ void BM_MarchingCubesSphere(benchmark::State& state) {
     };
     const double cpu0 = cpu();
     for (auto _ : state) {
-        cm::Mesh m = cm::marching_cubes(*vol, opt);
+        cm::Mesh m = cm::marching_cubes(*vol, opt).value;
         faces = m.face_count();
         benchmark::DoNotOptimize(m.positions.data());
     }

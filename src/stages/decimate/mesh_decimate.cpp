@@ -1,76 +1,24 @@
 #include "mesh_decimate.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <memory>
-#include <mutex>
 #include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "geometry/mesh_intersect.h"
 #include "mesh_decimate_internal.h"
 #include "outline_guard.h"
-#include "util/chunked_scatter.h"
-#include "util/uninit_vector.h"
 
 namespace cm {
 
-namespace {
+namespace decimate {
 
-using decimate::Collapser;
-using decimate::kPi;
-using decimate::run_queue;
-
-// The paper's candidate test and importance of vertex v: theta = the largest angle between
-// two face normals around v, under `limit`; I = theta * sum_j |V_j - V|. A small multiple of
-// the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first.
-bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
-    constexpr int kMax = 64;
-    // Raw storage: an array of Vec3f would be zeroed (768 bytes) on every call.
-    float normals[kMax][3];
-    int n = 0;
-    double L = 0;
-    const Vec3f p = c.point(v);
-    bool many = false;
-    c.for_faces(v, [&](std::uint32_t f) {
-        if (n == kMax) {
-            many = true;
-            return;
-        }
-        const Vec3f fn = c.normal(f);
-        normals[n][0] = fn.x;
-        normals[n][1] = fn.y;
-        normals[n][2] = fn.z;
-        ++n;
-        const auto& t = c.tri(f);
-        const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
-        L += length(c.point(next) - p);
-    });
-    if (many || n < 3) return false;
-    float min_dot = 1.0f;
-    for (int i = 0; i < n; ++i)
-        for (int j = i + 1; j < n; ++j)
-            min_dot = std::min(
-                min_dot, normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2]);
-    const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
-    if (!(theta < limit)) return false;
-    key = float(theta * L + 1e-4 * L);
-    return true;
-}
-
-// The queue of one reduction run over the collapser's mesh (see reduce_mesh), down to
-// `target_faces` (0: until no vertex can go) or to the first vertex more important than
-// `stop_key`; returns the collapses made. With `sweep` (and `start`), a block's pass
-// instead: decimate::run_sweep up to `stop_key` (no face target).
 std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
-                         float stop_key, const std::function<void(double)>& progress,
-                         decimate::StartScores* start = nullptr, bool sweep = false) {
+                         float stop_key, const Progress& progress, StartScores* start, bool sweep) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
     auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
@@ -99,16 +47,16 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
         // The best target first, on its own: a target whose faces turn more than the best
         // found so far is given up at the first face that shows it. Most of the time the
         // best passes the topology and the outline guard, and it is the one taken.
-        Option best{-2.0, 0.0, decimate::kNone};
+        Option best{-2.0, 0.0, kNone};
         for (auto x : rv) {
             double mc;
             if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old,
-                                               best.w == decimate::kNone ? -2.0 : best.cos - kTie))
+                                               best.w == kNone ? -2.0 : best.cos - kTie))
                 continue;
             const Option o{mc, length(Vec3d(c.point(x)) - p), x};
-            if (best.w == decimate::kNone || before(o, best)) best = o;
+            if (best.w == kNone || before(o, best)) best = o;
         }
-        if (best.w == decimate::kNone) return false;
+        if (best.w == kNone) return false;
         if (passes(v, best.w, rv)) {
             w = best.w;
             return true;
@@ -128,308 +76,26 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
             }
         return false;
     };
-    if (sweep && start) return decimate::run_sweep(c, *start, stop_key, score, choose);
+    if (sweep && start) return run_sweep(c, *start, stop_key, score, choose);
     return run_queue(
         c, nv, target_faces, stop_key, progress, score, choose, [](std::uint32_t, std::uint32_t, float) {}, start);
 }
 
-// One reduction run over the whole mesh (see reduce_mesh).
-DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
+DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen,
+                          const Progress& progress) {
     DecimateStats st;
     st.faces_before = mesh.face_count();
     Collapser c(mesh, frozen);
     st.locked_vertices = c.locked();
-    st.collapses = reduce_queue(c, mesh.positions.size(), opt, opt.target_faces, HUGE_VALF, opt.progress);
+    st.collapses = reduce_queue(c, mesh.positions.size(), opt, opt.target_faces, HUGE_VALF, progress);
     c.finish();
     st.faces_after = mesh.face_count();
     return st;
 }
 
-// Faces per block of reduce_blocked (a block's lists and samples stay in the caches: 16 k
-// faces measured faster than 64 k, docs/results/speed.md), the size from which a mesh is
-// cut in blocks, and the size down to which the rounds go on (the last queue is one
-// thread's: the less it is left, the sooner the run ends; 64 k rather than 128 k measured
-// 8 % faster on man at 512, where a round more takes 91 k faces to 62 k, with faces within
-// 0.3 % and the silhouette error within 0.01 points, docs/results/speed.md).
-constexpr std::size_t kBlockFaces = std::size_t(1) << 14;
-constexpr std::size_t kBlockedFrom = std::size_t(1) << 18;
-constexpr std::size_t kRoundsDownTo = std::size_t(1) << 16;
-// The share of the starting candidates (by importance) a round's blocks may remove.
-// 0.9 measured against one queue over the whole mesh (docs/results/speed.md): the same
-// face count within 0.2 % and the same silhouette error (blocks run as queues then; swept,
-// against those: faces within 0.5 %, silhouette error within 0.01 points). 0.5 leaves too
-// much to the last queue; 0.95 measured 0.7 % more faces.
-constexpr double kBlockQuantile = 0.9;
+} // namespace decimate
 
-// The blocks of reduce_blocked: the cells of a k x k x k grid over the mesh's bounding box
-// holding at least one vertex, with k the smallest giving about one occupied cell per
-// kBlockFaces faces. Returns k; `cell` is each vertex's cell.
-int block_cells(const Mesh& mesh, float shift, std::vector<std::uint32_t>& cell) {
-    Vec3f lo, hi;
-    mesh.bounds(lo, hi);
-    const Vec3f ext = vmax(hi - lo, Vec3f(1e-30f, 1e-30f, 1e-30f));
-    const std::size_t want = mesh.face_count() / kBlockFaces;
-    auto cell_of = [&](const Vec3f& p, int k) {
-        auto axis = [&](float x, float l, float e) {
-            return std::uint32_t(std::clamp(int((x - l) / e * float(k) + shift), 0, k));
-        };
-        const std::uint32_t n = std::uint32_t(k) + 1; // a shifted grid has one more cell per axis
-        return (axis(p.z, lo.z, ext.z) * n + axis(p.y, lo.y, ext.y)) * n + axis(p.x, lo.x, ext.x);
-    };
-    int k = 2;
-    for (; k < 64; ++k) { // occupancy from every 64th vertex: the surface, not the box, decides
-        std::vector<char> used(std::size_t(k + 1) * (k + 1) * (k + 1), 0);
-        std::size_t occupied = 0;
-        for (std::size_t v = 0; v < mesh.positions.size(); v += 64) {
-            char& u = used[cell_of(mesh.positions[v], k)];
-            occupied += !u;
-            u = 1;
-        }
-        if (occupied >= want) break;
-    }
-    cell.resize(mesh.positions.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cell.size(), 1 << 14), [&](const auto& r) {
-        for (std::size_t v = r.begin(); v != r.end(); ++v) cell[v] = cell_of(mesh.positions[v], k);
-    });
-    return k;
-}
-
-// One round of reduce_blocked: the mesh is cut into spatial blocks (each face goes with
-// its first vertex's cell) and every block is reduced on its own, in parallel, in one sweep
-// (decimate::run_sweep) removing only the vertices less important than the q-quantile of
-// the starting importances (in that range the order hardly matters). A vertex with faces
-// in two blocks is on the open border of both, so it stays. The blocks' faces then make `out` (which may be `mesh`), over
-// the vertices they still use (in input order, attributes kept: surviving vertices do not
-// move); `frozen` follows. Returns the collapses made.
-// `local_ids`: per thread, an array of at least the mesh's vertex count, all kNone (and left
-// so), kept by the caller from round to round (filling one anew each round cost as much as
-// the blocks' starting scores).
-using LocalIds = tbb::enumerable_thread_specific<std::vector<std::uint32_t>>;
-std::size_t reduce_round(const Mesh& mesh, Mesh& out, const ReduceOptions& opt, std::vector<char>* frozen, float shift,
-                         double q, LocalIds& local_ids) {
-    const std::size_t nf = mesh.face_count(), nv = mesh.positions.size();
-    std::vector<std::uint32_t> cell;
-    const int k = block_cells(mesh, shift, cell);
-    const std::size_t ncells = std::size_t(k + 1) * (k + 1) * (k + 1);
-    // Faces by block (counting sort, faces in input order within a block).
-    std::vector<std::uint32_t> start, faces;
-    chunked_scatter(
-        nf, ncells, [&](std::size_t f, auto&& emit) { emit(cell[mesh.triangles[f][0]], std::uint32_t(f)); }, start,
-        faces);
-    std::vector<std::uint32_t> blocks;
-    for (std::size_t b = 0; b < ncells; ++b)
-        if (start[b + 1] > start[b]) blocks.push_back(std::uint32_t(b));
-
-    // Each block: its faces and vertices as a mesh of their own (positions only: the
-    // surviving vertices keep their input positions and attributes). A block's mesh and
-    // collapser are built twice, once for its starting scores and once to reduce it, so
-    // that no more of them are held at a time than there are threads (all of them at once
-    // were the reduction's peak: on 16 M faces about as much memory as the mesh again).
-    struct Block {
-        Mesh mesh;
-        std::vector<std::uint32_t> input; ///< input vertex of each block vertex
-        std::vector<char> frozen;
-        std::vector<char> locks; ///< the collapser's locks, found on the first build
-        std::unique_ptr<Collapser> collapser;
-        decimate::StartScores start; ///< the candidates and their importance
-        std::vector<float> keys;     ///< starting importance of a sample of the candidates
-    };
-    std::vector<std::unique_ptr<Block>> parts(blocks.size());
-    const double limit = opt.max_angle_deg * kPi / 180.0;
-    auto build = [&](std::size_t i, Block& blk) {
-        auto& local = local_ids.local();
-        if (local.size() < nv) local.assign(nv, decimate::kNone);
-        const std::uint32_t b = blocks[i];
-        Mesh& sub = blk.mesh;
-        auto& global = blk.input;
-        sub.triangles.reserve(start[b + 1] - start[b]);
-        for (std::uint32_t j = start[b]; j < start[b + 1]; ++j) {
-            std::array<std::uint32_t, 3> t = mesh.triangles[faces[j]];
-            for (auto& x : t) {
-                if (local[x] == decimate::kNone) {
-                    local[x] = std::uint32_t(global.size());
-                    global.push_back(x);
-                }
-                x = local[x];
-            }
-            sub.triangles.push_back(t);
-        }
-        sub.positions.reserve(global.size());
-        for (auto g : global) sub.positions.push_back(mesh.positions[g]);
-        if (frozen)
-            for (auto g : global) blk.frozen.push_back((*frozen)[g]);
-        for (auto g : global) local[g] = decimate::kNone;
-        blk.collapser =
-            std::make_unique<Collapser>(sub, frozen ? &blk.frozen : nullptr, blk.locks.empty() ? nullptr : &blk.locks);
-    };
-    auto let_go = [](Block& blk) {
-        blk.collapser.reset();
-        blk.mesh = Mesh();
-        std::vector<std::uint32_t>().swap(blk.input);
-        std::vector<char>().swap(blk.frozen);
-    };
-    // The blocks whose starting scores set where the blocks stop: every eighth of many (spread
-    // over the mesh in cell order: 64 blocks or more, enough for a quantile; fewer measured
-    // a worse silhouette error), every one of fewer. The others are built once, in the pass
-    // that reduces them.
-    const std::size_t sample_every = blocks.size() >= 512 ? 8 : 1;
-    auto score_block = [&](Block& blk) {
-        const Collapser& c = *blk.collapser;
-        blk.start = decimate::start_scores(
-            c, blk.input.size(), [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit, key); });
-    };
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            auto blk = std::make_unique<Block>();
-            if (i % sample_every == 0) {
-                build(i, *blk);
-                // The queue's starting scores, computed here once: a sample of them (every
-                // fourth vertex) sets where the blocks stop.
-                score_block(*blk);
-                for (std::uint32_t v = 0; v < blk->input.size(); v += 4)
-                    if (blk->start.cand[v]) blk->keys.push_back(blk->start.keys[v]);
-                blk->locks = blk->collapser->locks();
-                let_go(*blk);
-            }
-            parts[i] = std::move(blk);
-        }
-    });
-    // The blocks remove only the least important vertices (below a quantile of the
-    // starting importances): in that range the order hardly matters, and the rest goes
-    // in one queue, in the order of the paper, seams included.
-    std::vector<float> all_keys;
-    for (const auto& blk : parts) all_keys.insert(all_keys.end(), blk->keys.begin(), blk->keys.end());
-    float stop_key = HUGE_VALF;
-    if (!all_keys.empty()) {
-        const std::size_t at = std::min(all_keys.size() - 1, std::size_t(q * double(all_keys.size())));
-        std::nth_element(all_keys.begin(), all_keys.begin() + std::ptrdiff_t(at), all_keys.end());
-        stop_key = all_keys[at];
-    }
-    std::vector<std::vector<std::array<std::uint32_t, 3>>> kept(blocks.size());
-    std::vector<std::size_t> collapses(blocks.size(), 0);
-    std::mutex progress_mutex;
-    std::size_t done = 0;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            Block& blk = *parts[i];
-            const bool scored = !blk.start.keys.empty();
-            build(i, blk);
-            if (!scored) score_block(blk);
-            collapses[i] =
-                reduce_queue(*blk.collapser, blk.mesh.positions.size(), opt, 0, stop_key, nullptr, &blk.start, true);
-            auto& out = kept[i];
-            for (const auto& t : blk.mesh.triangles)
-                if (t[0] != decimate::kNone) out.push_back({blk.input[t[0]], blk.input[t[1]], blk.input[t[2]]});
-            parts[i].reset();
-            if (opt.progress) { // from one thread at a time; may throw to cancel
-                std::lock_guard<std::mutex> lock(progress_mutex);
-                opt.progress(double(++done) / double(blocks.size()));
-            }
-        }
-    });
-
-    // The blocks' faces as one mesh over the input vertices they still use (in input
-    // order), then the second pass over it.
-    // (the large arrays written first side by side: a fill on one thread would map their pages there)
-    UninitVector<char> used(nv);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 16), [&](const auto& r) {
-        std::fill(used.begin() + std::ptrdiff_t(r.begin()), used.begin() + std::ptrdiff_t(r.end()), char(0));
-    });
-    tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
-        for (const auto& t : kept[i])
-            for (auto x : t) std::atomic_ref<char>(used[x]).store(1, std::memory_order_relaxed);
-    });
-    // The used vertices numbered in input order: counted per chunk, then numbered from each
-    // chunk's start.
-    constexpr std::size_t kChunk = std::size_t(1) << 16;
-    const std::size_t nchunks = (nv + kChunk - 1) / kChunk;
-    std::vector<std::size_t> chunk_start(nchunks + 1, 0);
-    tbb::parallel_for(std::size_t(0), nchunks, [&](std::size_t c) {
-        chunk_start[c + 1] =
-            std::size_t(std::count(used.begin() + std::ptrdiff_t(c * kChunk),
-                                   used.begin() + std::ptrdiff_t(std::min(nv, (c + 1) * kChunk)), char(1)));
-    });
-    for (std::size_t c = 0; c < nchunks; ++c) chunk_start[c + 1] += chunk_start[c];
-    UninitVector<std::uint32_t> order(nv);
-    std::vector<std::uint32_t> input_of(chunk_start[nchunks]);
-    tbb::parallel_for(std::size_t(0), nchunks, [&](std::size_t c) {
-        std::size_t at = chunk_start[c];
-        for (std::size_t v = c * kChunk, e = std::min(nv, (c + 1) * kChunk); v < e; ++v)
-            if (used[v]) {
-                order[v] = std::uint32_t(at);
-                input_of[at++] = std::uint32_t(v);
-            } else {
-                order[v] = decimate::kNone;
-            }
-    });
-    UninitVector<char>().swap(used);
-    Mesh merged;
-    auto pick = [&](const auto& from, auto& to) {
-        if (from.size() != nv) return;
-        to.resize(input_of.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, input_of.size(), 1 << 14), [&](const auto& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) to[i] = from[input_of[i]];
-        });
-    };
-    pick(mesh.positions, merged.positions);
-    pick(mesh.uvs, merged.uvs);
-    pick(mesh.colors, merged.colors);
-    pick(mesh.normals, merged.normals);
-    std::vector<std::size_t> first(kept.size() + 1, 0); // where each block's faces go
-    for (std::size_t i = 0; i < kept.size(); ++i) first[i + 1] = first[i] + kept[i].size();
-    merged.triangles.resize(first.back());
-    tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
-        auto* to = merged.triangles.data() + first[i];
-        for (const auto& t : kept[i]) *to++ = {order[t[0]], order[t[1]], order[t[2]]};
-        std::vector<std::array<std::uint32_t, 3>>().swap(kept[i]);
-    });
-    if (frozen) {
-        std::vector<char> f;
-        f.reserve(input_of.size());
-        for (auto v : input_of) f.push_back((*frozen)[v]);
-        *frozen = std::move(f);
-    }
-    out = std::move(merged); // `out` may be `mesh`: nothing reads it from here
-    std::size_t n = 0;
-    for (auto c : collapses) n += c;
-    return n;
-}
-
-// reduce_once for large meshes, from `input` into `mesh`: rounds of reduce_round (the first
-// reading the input, not a copy of it), the grid shifted by half a block each time so that
-// a round's block borders lie inside the next round's blocks, while the mesh is large and a
-// round removes a good share of it; then one queue over the whole, now much lighter mesh, in
-// the order of the paper, which takes whatever the rounds left (borders included) and runs
-// until no vertex can go. So the rounds apply only without a face target.
-DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen) {
-    const std::size_t nf = input.face_count();
-    if (opt.target_faces > 0 || nf < kBlockedFrom) {
-        mesh = input;
-        return reduce_once(mesh, opt, frozen);
-    }
-    std::vector<char> fz;
-    if (frozen) fz = *frozen;
-    std::size_t collapses = 0;
-    ReduceOptions round_opt = opt;
-    LocalIds local_ids;
-    // The first round reads the input itself (its blocks are copies already), the next ones
-    // the mesh the round before made.
-    for (int round = 0; (round == 0 ? input : mesh).face_count() >= kRoundsDownTo; ++round) {
-        const Mesh& from = round == 0 ? input : mesh;
-        const std::size_t before = from.face_count();
-        if (opt.progress)
-            round_opt.progress = [&opt, round](double f) { opt.progress(std::min(0.8, 0.4 * (round + f))); };
-        collapses += reduce_round(from, mesh, round_opt, frozen ? &fz : nullptr, round % 2 ? 0.5f : 0.0f,
-                                  kBlockQuantile, local_ids);
-        if (mesh.face_count() > before - before / 8) break; // under an eighth: the rest in one queue
-    }
-    ReduceOptions last = opt;
-    if (opt.progress) last.progress = [&opt](double f) { opt.progress(0.8 + 0.2 * f); };
-    DecimateStats st = reduce_once(mesh, last, frozen ? &fz : nullptr);
-    st.faces_before = nf;
-    st.collapses += collapses;
-    return st;
-}
+namespace {
 
 // Runs `once` (from the input into `mesh`) and, while the result has faces crossing each
 // other, runs it again from the input with the input vertices frozen where those faces
@@ -438,14 +104,14 @@ DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions&
 // reach beyond the frozen region) doubles the growth of the next. At most kMaxRestarts
 // restarts.
 template <typename Once>
-DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Once&& once) {
+auto without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Once&& once) {
     if (!enabled) return once(input, mesh, nullptr);
     constexpr std::size_t kMaxRestarts = 6;
     std::vector<char> frozen;
     std::size_t last = SIZE_MAX;
     float reach = 0.25f;
     for (std::size_t restart = 0;; ++restart) {
-        DecimateStats st = once(input, mesh, restart ? &frozen : nullptr);
+        auto st = once(input, mesh, restart ? &frozen : nullptr);
         const std::vector<FacePair> pairs = find_self_intersections(mesh);
         st.restarts = restart;
         st.crossings_left = pairs.size();
@@ -483,30 +149,108 @@ DecimateStats without_crossings(const Mesh& input, Mesh& mesh, bool enabled, Onc
     }
 }
 
+// `guard`: keep the result free of crossing faces (DecimateStats::restarts).
+ParamSpec crossing_guard_param() {
+    return ParamSpec::Bool("guard", true,
+                           "keep the result free of self-intersections: where faces of nearby parts end up "
+                           "crossing, reduce again from the input with the vertices there kept");
+}
+
 } // namespace
 
-DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt) {
-    return without_crossings(
-        input, out, opt.no_crossings,
-        [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) { return reduce_blocked(in, m, opt, frozen); });
+Result<Mesh, DecimateStats> reduce_mesh(const Mesh& input, const ReduceOptions& opt, Progress progress) {
+    Result<Mesh, DecimateStats> r;
+    r.stats = without_crossings(input, r.value, opt.no_crossings,
+                                [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) {
+                                    return decimate::reduce_blocked(in, m, opt, frozen, progress);
+                                });
+    r.stats.vertices = r.value.vertex_count();
+    return r;
 }
 
-DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt) {
+DecimateStats reduce_mesh_in_place(Mesh& mesh, const ReduceOptions& opt, Progress progress) {
     const Mesh input = std::move(mesh);
-    return reduce_mesh(input, mesh, opt);
+    auto r = reduce_mesh(input, opt, std::move(progress));
+    mesh = std::move(r.value);
+    return r.stats;
 }
 
-DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt) {
-    return without_crossings(input, out, opt.no_crossings,
-                             [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) {
-                                 m = in;
-                                 return decimate::quadric_once(m, opt, frozen);
-                             });
+Result<Mesh, QuadricStats> quadric_decimate(const Mesh& input, const QuadricOptions& opt, Progress progress) {
+    Result<Mesh, QuadricStats> r;
+    r.stats = without_crossings(input, r.value, opt.no_crossings,
+                                [&](const Mesh& in, Mesh& m, const std::vector<char>* frozen) {
+                                    m = in;
+                                    return decimate::quadric_once(m, opt, frozen, progress);
+                                });
+    r.stats.vertices = r.value.vertex_count();
+    r.stats.target_faces = opt.target_faces;
+    return r;
 }
 
-DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt) {
+QuadricStats quadric_decimate_in_place(Mesh& mesh, const QuadricOptions& opt, Progress progress) {
     const Mesh input = std::move(mesh);
-    return quadric_decimate(input, mesh, opt);
+    auto r = quadric_decimate(input, opt, std::move(progress));
+    mesh = std::move(r.value);
+    return r.stats;
+}
+
+void ReduceOptions::declare_angle(ParamBinder& b) {
+    b.add(max_angle_deg, ParamSpec::Float("max_angle_deg", 15.0, 0.1, 89.0, "deg",
+                                          "largest angle between the face normals around a removable vertex (the "
+                                          "paper: 5 to 40; larger reduces more)"));
+}
+
+void ReduceOptions::declare_limits(ParamBinder& b) {
+    b.add(max_aspect_ratio, ParamSpec::Float("max_aspect_ratio", 0.0, 0.0, 1e6, "",
+                                             "refuse collapses that make a face thinner than this (1 = equilateral); "
+                                             "0: off, as in the paper"));
+    b.add(no_crossings, crossing_guard_param());
+    b.add(constrain,
+          ParamSpec::Enum("constrain", "none", {"none", "silhouette"},
+                          "silhouette: refuse collapses that would move the mesh's outline in a view more than "
+                          "`tolerance` away from the drawn silhouette (needs the views input)"),
+          {Constrain::None, Constrain::Silhouette});
+    b.add(tolerance_px, ParamSpec::Float("tolerance", 1.0, 0.0, 100.0, "px",
+                                         "silhouette constraint: how far the outline may move inside or outside the "
+                                         "drawn silhouette, in pixels of each view"));
+}
+
+void QuadricOptions::declare(ParamBinder& b) {
+    b.add(max_error, ParamSpec::Float("max_error", 0.0, 0.0, 1e30, "world units",
+                                      "stop before a collapse would move the surface further than this (root mean "
+                                      "square distance to the original planes); 0: no limit"));
+    b.add(max_normal_deviation_deg, ParamSpec::Float("max_normal_deviation_deg", 45.0, 1.0, 180.0, "deg",
+                                                     "refuse collapses that turn a face by more than this"));
+    b.add(max_aspect_ratio, ParamSpec::Float("max_aspect_ratio", 20.0, 0.0, 1e6, "",
+                                             "refuse collapses that make a face thinner than this (1 = equilateral); "
+                                             "0: off"));
+    b.add(no_crossings, crossing_guard_param());
+}
+
+void DecimateStats::report(Metrics& m) const {
+    m.count("faces_before", faces_before);
+    m.count("faces", faces_after);
+    m.count("vertices", vertices);
+    m.metric("face_ratio", faces_before ? double(faces_after) / double(faces_before) : 1.0);
+    m.count("collapses", collapses);
+    m.count("guard_restarts", restarts);
+    if (frozen_vertices) m.count("guard_frozen_vertices", frozen_vertices);
+    if (crossings_left)
+        m.warn(std::to_string(crossings_left) + " pairs of faces cross each other in the result" +
+               (restarts ? " (the input's own, or more than the restarts could remove)" : ""));
+    if (locked_vertices) {
+        m.count("locked_vertices", locked_vertices);
+        m.warn(std::to_string(locked_vertices) +
+               " vertices lie on a boundary or a non-manifold edge and were kept as they are");
+    }
+}
+
+void QuadricStats::report(Metrics& m) const {
+    DecimateStats::report(m);
+    m.metric("max_error", max_error);
+    if (target_faces && faces_after > target_faces)
+        m.warn("stopped at " + std::to_string(faces_after) + " faces, above the target of " +
+               std::to_string(target_faces) + ": no further collapse passes the guards");
 }
 
 } // namespace cm

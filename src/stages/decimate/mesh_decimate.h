@@ -9,61 +9,95 @@
 // that end up crossing are caught after the run (a restart keeps that region).
 #pragma once
 #include <cstddef>
-#include <functional>
 
+#include "core/algorithm.h"
 #include "core/mesh.h"
 
 namespace cm {
 
 class OutlineGuard;
 
+/// The parameters of mesh.reduce (all but the face target, which the stage turns into
+/// `target_faces` for its input), and what the stage sets for a run.
 struct ReduceOptions {
+    enum class Constrain { None, Silhouette };
     /// A vertex is a candidate while the largest angle between the normals of its
     /// faces is under this (the paper: 5 to 40 degrees); a collapse may not turn a
     /// face by more than this either.
-    double max_angle_deg = 15.0;
-    std::size_t target_faces = 0;  ///< stop at or below this many faces; 0: until no vertex can go
-    double max_aspect_ratio = 0.0; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
-    bool no_crossings = true;      ///< see DecimateStats::restarts
+    double max_angle_deg;
+    double max_aspect_ratio; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
+    bool no_crossings;       ///< see DecimateStats::restarts
+    /// Silhouette: the stage guards the outline in each of its views (`outline`), within
+    /// `tolerance_px` pixels of the drawn silhouette.
+    Constrain constrain;
+    double tolerance_px;
+    std::size_t target_faces = 0; ///< stop at or below this many faces; 0: until no vertex can go. Not a parameter.
     /// Optional: collapses that would move an outline away from the drawn silhouettes are
-    /// refused (outline_guard.h); it must outlive the call.
+    /// refused (outline_guard.h); it must outlive the call. Not a parameter.
     const OutlineGuard* outline = nullptr;
-    std::function<void(double)> progress; ///< fraction done; may throw to cancel
+
+    ReduceOptions() { set_declared_defaults(*this); }
+    /// Every parameter (the defaults); the stage declares its face target between the two parts.
+    void declare(ParamBinder& b) {
+        declare_angle(b);
+        declare_limits(b);
+    }
+    /// `max_angle_deg`.
+    void declare_angle(ParamBinder& b);
+    /// `max_aspect_ratio`, `guard`, `constrain` and `tolerance`.
+    void declare_limits(ParamBinder& b);
 };
 
+/// The parameters of mesh.quadric_decimate (all but the face target, which the stage turns
+/// into `target_faces` for its input).
 struct QuadricOptions {
-    std::size_t target_faces = 0; ///< stop at or below this many faces; 0: no face target
-    double max_error = 0.0;       ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
-    double max_normal_deviation_deg = 45.0; ///< refuse collapses turning a face more than this
-    double max_aspect_ratio = 20.0;         ///< refuse collapses making a face thinner than this; 0: off
-    bool no_crossings = true;               ///< see DecimateStats::restarts
-    std::function<void(double)> progress;
+    std::size_t target_faces = 0; ///< stop at or below this many faces; 0: no face target. Not a parameter.
+    double max_error;             ///< stop when the cheapest collapse moves the surface more (world units); 0: no limit
+    double max_normal_deviation_deg; ///< refuse collapses turning a face more than this
+    double max_aspect_ratio;         ///< refuse collapses making a face thinner than this; 0: off
+    bool no_crossings;               ///< see DecimateStats::restarts
+
+    QuadricOptions() { set_declared_defaults(*this); }
+    /// `max_error`, `max_normal_deviation_deg`, `max_aspect_ratio` and `guard`.
+    void declare(ParamBinder& b);
 };
 
 struct DecimateStats {
     std::size_t faces_before = 0, faces_after = 0;
+    std::size_t vertices = 0; ///< of the result
     std::size_t collapses = 0;
     std::size_t locked_vertices = 0; ///< on a boundary or non-manifold edge, kept as they are
-    double max_error = 0;            ///< quadric: largest sqrt(quadric error) of a collapse made
     /// With `no_crossings`: the result is checked for faces crossing each other; where
     /// some do, the reduction runs again from the input with the input vertices in those
     /// faces' boxes kept (frozen), until none is left. Restarts made, vertices frozen,
     /// and the crossing pairs left (only when the input had its own, or after 6 restarts).
     std::size_t restarts = 0, frozen_vertices = 0, crossings_left = 0;
+
+    /// Face counts, ratio, collapses and the crossing guard's figures; a warning for crossings
+    /// left and for locked vertices.
+    void report(Metrics& m) const;
+};
+
+struct QuadricStats : DecimateStats {
+    double max_error = 0;         ///< largest sqrt(quadric error) of a collapse made
+    std::size_t target_faces = 0; ///< the face target of the run (0: none)
+
+    /// DecimateStats' figures and max_error; a warning when the run stopped above its target.
+    void report(Metrics& m) const;
 };
 
 /// @brief The paper's reduction: least important vertex first, importance
 /// I(V) = arccos(<N_a, N_b>) * sum_j ||V_j - V||, each removed by a collapse into the
 /// neighbour that keeps the face normals best. Per-vertex attributes of surviving
 /// vertices are kept; normals are recomputed when present.
-DecimateStats reduce_mesh(Mesh& mesh, const ReduceOptions& opt);
-/// The same into `out`, leaving `input` as it is (one copy fewer for a caller that keeps it).
-DecimateStats reduce_mesh(const Mesh& input, Mesh& out, const ReduceOptions& opt);
+Result<Mesh, DecimateStats> reduce_mesh(const Mesh& input, const ReduceOptions& opt, Progress progress = {});
+/// The same in place.
+DecimateStats reduce_mesh_in_place(Mesh& mesh, const ReduceOptions& opt, Progress progress = {});
 
 /// @brief Garland-Heckbert quadric decimation (half-edge collapses, so surviving
 /// vertices keep their positions and attributes).
-DecimateStats quadric_decimate(Mesh& mesh, const QuadricOptions& opt);
-/// The same into `out`, leaving `input` as it is.
-DecimateStats quadric_decimate(const Mesh& input, Mesh& out, const QuadricOptions& opt);
+Result<Mesh, QuadricStats> quadric_decimate(const Mesh& input, const QuadricOptions& opt, Progress progress = {});
+/// The same in place.
+QuadricStats quadric_decimate_in_place(Mesh& mesh, const QuadricOptions& opt, Progress progress = {});
 
 } // namespace cm

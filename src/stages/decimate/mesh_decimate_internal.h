@@ -1,13 +1,14 @@
 // Internals of the polygon reduction (mesh_decimate.h), shared by its files: the
 // collapse engine (Collapser, mesh_decimate_collapse.cpp), the vertex queue (VertexHeap,
-// run_queue) and the quadric ordering (mesh_decimate_quadric.cpp).
+// run_queue), the paper's ordering (mesh_decimate.cpp) and its rounds in blocks
+// (mesh_decimate_blocks.cpp), and the quadric ordering (mesh_decimate_quadric.cpp).
 #pragma once
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -164,9 +165,8 @@ StartScores start_scores(const Collapser& c, std::size_t nv, Score&& score) {
 }
 
 template <typename Score, typename Choose, typename After>
-std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key,
-                      const std::function<void(double)>& progress, Score&& score, Choose&& choose, After&& after,
-                      StartScores* start = nullptr) {
+std::size_t run_queue(Collapser& c, std::size_t nv, std::size_t target_faces, float stop_key, const Progress& progress,
+                      Score&& score, Choose&& choose, After&& after, StartScores* start = nullptr) {
     StartScores own;
     if (!start) {
         own = start_scores(c, nv, score);
@@ -264,7 +264,61 @@ std::size_t run_sweep(Collapser& c, const StartScores& start, float stop_key, Sc
     return collapses;
 }
 
+// The paper's candidate test and importance of vertex v: theta = the largest angle between
+// two face normals around v, under `limit`; I = theta * sum_j |V_j - V|. A small multiple of
+// the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first.
+inline bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
+    constexpr int kMax = 64;
+    // Raw storage: an array of Vec3f would be zeroed (768 bytes) on every call.
+    float normals[kMax][3];
+    int n = 0;
+    double L = 0;
+    const Vec3f p = c.point(v);
+    bool many = false;
+    c.for_faces(v, [&](std::uint32_t f) {
+        if (n == kMax) {
+            many = true;
+            return;
+        }
+        const Vec3f fn = c.normal(f);
+        normals[n][0] = fn.x;
+        normals[n][1] = fn.y;
+        normals[n][2] = fn.z;
+        ++n;
+        const auto& t = c.tri(f);
+        const std::uint32_t next = t[0] == v ? t[1] : (t[1] == v ? t[2] : t[0]);
+        L += length(c.point(next) - p);
+    });
+    if (many || n < 3) return false;
+    float min_dot = 1.0f;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            min_dot = std::min(
+                min_dot, normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2]);
+    const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
+    if (!(theta < limit)) return false;
+    key = float(theta * L + 1e-4 * L);
+    return true;
+}
+
+/// The queue of one reduction run over the collapser's mesh (see reduce_mesh), down to
+/// `target_faces` (0: until no vertex can go) or to the first vertex more important than
+/// `stop_key`; returns the collapses made. With `sweep` (and `start`), a block's pass
+/// instead: run_sweep up to `stop_key` (no face target).
+std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
+                         float stop_key, const Progress& progress, StartScores* start = nullptr, bool sweep = false);
+
+/// One reduction run over the whole mesh (see reduce_mesh); `frozen` as for Collapser.
+DecimateStats reduce_once(Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen,
+                          const Progress& progress);
+
+/// reduce_once for large meshes, from `input` into `mesh`, in rounds over spatial blocks
+/// (mesh_decimate_blocks.cpp); reduce_once itself for small ones and with a face target.
+DecimateStats reduce_blocked(const Mesh& input, Mesh& mesh, const ReduceOptions& opt, const std::vector<char>* frozen,
+                             const Progress& progress);
+
 /// One quadric decimation run (see quadric_decimate); `frozen` as for Collapser.
-DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen);
+QuadricStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen,
+                          const Progress& progress);
 
 } // namespace cm::decimate

@@ -33,8 +33,9 @@ struct Quadric {
 
 } // namespace
 
-DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen) {
-    DecimateStats st;
+QuadricStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vector<char>* frozen,
+                          const Progress& progress) {
+    QuadricStats st;
     st.faces_before = mesh.face_count();
     const std::size_t nv = mesh.positions.size();
     // Plane quadrics, area weighted, summed per vertex.
@@ -90,7 +91,7 @@ DecimateStats quadric_once(Mesh& mesh, const QuadricOptions& opt, const std::vec
         return false;
     };
     double max_err = 0;
-    st.collapses = run_queue(c, nv, opt.target_faces, float(max_err2), opt.progress, score, choose,
+    st.collapses = run_queue(c, nv, opt.target_faces, float(max_err2), progress, score, choose,
                              [&](std::uint32_t v, std::uint32_t w, float key) {
                                  Q[w] += Q[v];
                                  max_err = std::max(max_err, double(key));

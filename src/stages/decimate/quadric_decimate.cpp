@@ -24,15 +24,7 @@ public:
     }
     void declare(ParamBinder& b) override {
         target_.declare(b, 0.1);
-        b.add(opt_.max_error, ParamSpec::Float("max_error", 0.0, 0.0, 1e30, "world units",
-                                               "stop before a collapse would move the surface further than this "
-                                               "(root mean square distance to the original planes); 0: no limit"));
-        b.add(opt_.max_normal_deviation_deg, ParamSpec::Float("max_normal_deviation_deg", 45.0, 1.0, 180.0, "deg",
-                                                              "refuse collapses that turn a face by more than this"));
-        b.add(opt_.max_aspect_ratio, ParamSpec::Float("max_aspect_ratio", 20.0, 0.0, 1e6, "",
-                                                      "refuse collapses that make a face thinner than this (1 = "
-                                                      "equilateral); 0: off"));
-        b.add(opt_.no_crossings, crossing_guard_param());
+        opt_.declare(b);
     }
     void check() override {
         target_.check();
@@ -41,17 +33,11 @@ public:
     }
     Data run(const Inputs& in, Context& ctx) override {
         auto src = in.get<Mesh>("mesh");
-        auto out = std::make_shared<Mesh>();
-        QuadricOptions opt = opt_;
+        QuadricOptions opt = opt_; // with this input's face target
         opt.target_faces = target_.count(src->face_count());
-        opt.progress = [&ctx](double f) { ctx.progress(f, "decimating"); };
-        const DecimateStats st = quadric_decimate(*src, *out, opt);
-        report_decimation(ctx, st, *out);
-        ctx.metric("max_error", st.max_error);
-        if (opt.target_faces && st.faces_after > opt.target_faces)
-            ctx.warn("stopped at " + std::to_string(st.faces_after) + " faces, above the target of " +
-                     std::to_string(opt.target_faces) + ": no further collapse passes the guards");
-        return std::shared_ptr<const Mesh>(std::move(out));
+        auto [mesh, stats] = quadric_decimate(*src, opt, ctx.progress("decimating"));
+        stats.report(ctx);
+        return std::make_shared<const Mesh>(std::move(mesh));
     }
 };
 

@@ -2,14 +2,15 @@
 // placed by a QEF over the cell's crossings and their normals, one quad per crossed edge.
 #pragma once
 #include <cstddef>
-#include <functional>
 
+#include "core/algorithm.h"
 #include "core/mesh.h"
 #include "core/volume.h"
 #include "marching_cubes.h"
 
 namespace cm {
 
+/// The parameters of extract.dual_marching_cubes (the Marching Cubes ones it offers among them).
 struct DualMcOptions {
     /// The topology: the Marching Cubes loops (ambiguity, thin parts, crossings).
     MarchingCubesOptions mc;
@@ -17,22 +18,25 @@ struct DualMcOptions {
     /// them (refine's "normal_x/y/z"), else the views' outlines, else the Marching Cubes
     /// mesh's own vertex normals (an approximation, for volumes without views).
     enum class Normals { Auto, Views, Mesh };
-    Normals normals = Normals::Auto;
+    Normals normals;
     /// From the views: the outlines' directions averaged over a disc of this radius in
     /// pixels (hull_normal.h); 0 takes the outline's normal at the point.
-    double normal_px = 3.0;
+    double normal_px;
     /// Eigenvalues of the QEF under this fraction of its largest are dropped
     /// (pseudo-inverse): a flat or ruled patch keeps its vertex near the crossings' mean.
-    double singular_ratio = 0.1;
+    double singular_ratio;
     /// Adaptivity (in cells): the cells of an octree node are merged into one vertex when it
     /// lies within this distance of every crossing's tangent plane and the merge keeps the
     /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
-    double max_error = 0.2;
+    double max_error;
     /// Undo merges whose polygons cross another part of the surface (dual_mc.cpp): on by
-    /// default; off only to see what the merge alone makes.
+    /// default; off only to see what the merge alone makes. Not a parameter.
     bool guard = true;
-    /// Called on the calling thread with the fraction done; may throw to cancel.
-    std::function<void(double)> progress;
+
+    DualMcOptions() { set_declared_defaults(*this); }
+    /// `normals`, `normal_px`, `max_error`, `singular_ratio`, and Marching Cubes' `ambiguity`
+    /// and `thin_parts`.
+    void declare(ParamBinder& b);
 };
 
 struct DualMcStats {
@@ -48,6 +52,10 @@ struct DualMcStats {
     int guard_rounds = 0;               ///< merges undone and redone because the merged mesh crossed itself
     const char* normals = "";           ///< "stored", "views" or "mesh"
     MarchingCubesStats mc;
+
+    /// The figures of extract.dual_marching_cubes, and a warning for crossed edges without a
+    /// crossing.
+    void report(Metrics& m) const;
 };
 
 /// @brief Extracts the boundary of `vol` as a closed, 2-manifold, outward triangle mesh by
@@ -57,6 +65,6 @@ struct DualMcStats {
 /// the discs of its four cells, split along the diagonal that bends it least.
 /// @throw cm::Error when the occupancy is missing, the grids do not match, or normals are
 /// asked from the views of a volume that has none.
-Mesh dual_marching_cubes(const Volume& vol, const DualMcOptions& opt = {}, DualMcStats* stats = nullptr);
+Result<Mesh, DualMcStats> dual_marching_cubes(const Volume& vol, const DualMcOptions& opt = {}, Progress progress = {});
 
 } // namespace cm

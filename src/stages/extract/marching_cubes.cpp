@@ -352,28 +352,27 @@ private:
     std::atomic<std::size_t> amb_faces_{0}, joined_faces_{0};
 };
 
-} // namespace
-
-Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, MarchingCubesStats* stats_out,
-                    MarchingCubesPatches* patches) {
+// The extraction (see the top of the file) into `mesh` and `stats`; `patches` (may be null)
+// gets the loops behind the triangles.
+void extract(const Volume& vol, const MarchingCubesOptions& opt, const Progress& progress, Mesh& mesh,
+             MarchingCubesStats& stats, MarchingCubesPatches* patches) {
     if (!vol.occupancy) throw Error("the volume has no occupancy grid");
     const openvdb::BoolGrid& occ = *vol.occupancy;
-    MarchingCubesStats stats;
     const Sources src = find_sources(vol, opt, stats);
+    stats.refined = src.crossings != nullptr;
 
     // 1. The blocks with surface: corner rows, crossed edges, neighbours.
-    std::vector<Block> blocks = mc::find_blocks(occ, src.flips.get(), opt, stats);
+    std::vector<Block> blocks = mc::find_blocks(occ, src.flips.get(), progress, stats);
     const std::size_t nverts = number_vertices(blocks);
 
     // 2. Vertices at the crossings.
-    Mesh mesh;
     reserve_prefaulted(mesh.positions, nverts);
     mesh.positions.resize(nverts);
     if (patches) patches->vertex_edge.resize(nverts);
     const VertexPlacer placer(src, occ.transform(), opt);
     std::atomic<std::size_t> missing{0};
     tbb::enumerable_thread_specific<std::vector<ShiftedVertex>> shifted;
-    for_blocks(blocks.size(), 0.35, 0.6, opt, [&](std::size_t i) {
+    for_blocks(blocks.size(), 0.35, 0.6, progress, [&](std::size_t i) {
         if (const std::size_t miss =
                 placer.place(blocks[i], mesh.positions, shifted.local(), patches ? &patches->vertex_edge : nullptr))
             missing += miss;
@@ -382,7 +381,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
 
     // 3. Triangles: count, then write.
     Triangulator triangulator(blocks, mesh, opt, patches);
-    for_blocks(blocks.size(), 0.6, 0.75, opt, [&](std::size_t i) { triangulator.process(i, false); });
+    for_blocks(blocks.size(), 0.6, 0.75, progress, [&](std::size_t i) { triangulator.process(i, false); });
     std::size_t ntris = 0, nextra = 0, nloops = 0;
     for (Block& b : blocks) {
         b.tbase = std::uint32_t(ntris);
@@ -402,7 +401,7 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
         patches->triangle_loop.resize(ntris);
         patches->loop_cell.resize(nloops);
     }
-    for_blocks(blocks.size(), 0.75, 1.0, opt, [&](std::size_t i) { triangulator.process(i, true); });
+    for_blocks(blocks.size(), 0.75, 1.0, progress, [&](std::size_t i) { triangulator.process(i, true); });
     stats.ambiguous_faces = triangulator.ambiguous_faces();
     stats.joined_faces = triangulator.joined_faces();
     stats.centroid_vertices = nextra;
@@ -411,8 +410,60 @@ Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Marching
     for (auto& l : shifted) all_shifted.insert(all_shifted.end(), l.begin(), l.end());
     stats.thin_shifted = all_shifted.size();
     stats.thin_put_back = mc::untangle_thin(mesh, all_shifted, nverts, occ.transform());
-    if (stats_out) *stats_out = stats;
-    return mesh;
+}
+
+} // namespace
+
+Result<Mesh, MarchingCubesStats> marching_cubes(const Volume& vol, const MarchingCubesOptions& opt, Progress progress) {
+    Result<Mesh, MarchingCubesStats> r;
+    extract(vol, opt, progress, r.value, r.stats, nullptr);
+    return r;
+}
+
+MarchingCubesLoops marching_cubes_loops(const Volume& vol, const MarchingCubesOptions& opt, Progress progress) {
+    MarchingCubesLoops r;
+    extract(vol, opt, progress, r.mesh, r.stats, &r.patches);
+    return r;
+}
+
+void MarchingCubesOptions::declare(ParamBinder& b) {
+    declare_ambiguity(b, "ambiguous faces");
+    b.add(use_crossings, ParamSpec::Bool("crossings", true,
+                                         "place vertices at the volume's exact crossings (false: edge midpoints, "
+                                         "plain binary Marching Cubes)"));
+    declare_thin_parts(b);
+    b.add(min_edge_fraction, ParamSpec::Float("min_edge_fraction", 0.01, 0.0001, 0.25, "cell",
+                                              "crossings nearer than this to a grid point are moved out to it, so "
+                                              "no two vertices coincide"));
+}
+
+void MarchingCubesOptions::declare_ambiguity(ParamBinder& b, const std::string& what) {
+    b.add(ambiguity,
+          ParamSpec::Enum("ambiguity", "geometric", {"geometric", "separate", "join"},
+                          what + ": geometric pairs the crossings by the shorter cut; separate keeps diagonal "
+                                 "inside corners apart; join connects them"),
+          {Ambiguity::Geometric, Ambiguity::Separate, Ambiguity::Join});
+}
+
+void MarchingCubesOptions::declare_thin_parts(ParamBinder& b) {
+    b.add(use_thin, ParamSpec::Bool("thin_parts", true,
+                                    "keep parts thinner than a cell that the refinement found between grid points"));
+}
+
+void MarchingCubesStats::report(Metrics& m) const {
+    m.count("surface_cells", surface_cells);
+    m.count("blocks", blocks);
+    m.count("ambiguous_faces", ambiguous_faces / 2); // each face is seen from both its cells
+    m.count("joined_faces", joined_faces / 2);
+    m.count("centroid_vertices", centroid_vertices);
+    m.count("thin_points", thin_points);
+    m.count("thin_put_back", thin_put_back);
+    m.metric("refined", refined ? "yes" : "no");
+    if (missing_crossings) {
+        m.count("missing_crossings", missing_crossings);
+        m.warn(std::to_string(missing_crossings) +
+               " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
+    }
 }
 
 } // namespace cm

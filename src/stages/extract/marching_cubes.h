@@ -3,30 +3,39 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
+#include <string>
 #include <vector>
 
+#include "core/algorithm.h"
 #include "core/mesh.h"
 #include "core/volume.h"
 
 namespace cm {
 
+/// The parameters of extract.marching_cubes (the dual extractors offer some of them).
 struct MarchingCubesOptions {
     /// How an ambiguous face (inside corners on one diagonal) is resolved:
     /// Geometric pairs its four crossings so the two surface segments are shortest
     /// (the inside joins across the face when its crossings lie near the outside corners);
     /// Separate always cuts the inside corners apart; Join always connects them.
     enum class Ambiguity { Geometric, Separate, Join };
-    Ambiguity ambiguity = Ambiguity::Geometric;
+    Ambiguity ambiguity;
     /// Use the volume's exact crossings (else edge midpoints, plain binary Marching Cubes).
-    bool use_crossings = true;
+    bool use_crossings;
     /// Use the thin-part grids ("thin_enter"/"thin_leave") so parts thinner than a cell stay.
-    bool use_thin = true;
+    bool use_thin;
     /// Crossings closer than this fraction of an edge to a grid point are moved out to it,
     /// so vertices never coincide and no triangle collapses.
-    double min_edge_fraction = 0.01;
-    /// Called on the calling thread with the fraction done; may throw to cancel.
-    std::function<void(double)> progress;
+    double min_edge_fraction;
+
+    MarchingCubesOptions() { set_declared_defaults(*this); }
+    /// The parameters of extract.marching_cubes: `ambiguity`, `crossings`, `thin_parts` and
+    /// `min_edge_fraction`.
+    void declare(ParamBinder& b);
+    /// `ambiguity`, its doc starting with `what` (the faces it is about, for the stage).
+    void declare_ambiguity(ParamBinder& b, const std::string& what);
+    /// `thin_parts`.
+    void declare_thin_parts(ParamBinder& b);
 };
 
 struct MarchingCubesStats {
@@ -39,6 +48,10 @@ struct MarchingCubesStats {
     std::size_t thin_points = 0;       ///< grid points made inside to keep thin parts
     std::size_t thin_shifted = 0;      ///< vertices moved onto the near face of a thin part
     std::size_t thin_put_back = 0;     ///< of those, put back on their edges (their faces crossed another)
+    bool refined = false;              ///< the vertices sit at the volume's crossings (use_crossings, and it has them)
+
+    /// The figures of extract.marching_cubes, and a warning for crossed edges without a crossing.
+    void report(Metrics& m) const;
 };
 
 /// The cell structure behind a Marching Cubes mesh, for the dual extractors: every loop is
@@ -55,9 +68,19 @@ struct MarchingCubesPatches {
 /// triangle mesh in world space (the volume's transform). One vertex per crossed
 /// lattice edge, placed at the exact crossing when the volume is refined.
 /// TBB-parallel over 8^3 blocks of cells.
-/// @param patches when given, filled with the loops behind the triangles.
 /// @throw cm::Error when the occupancy is missing or its grids do not match.
-Mesh marching_cubes(const Volume& vol, const MarchingCubesOptions& opt = {}, MarchingCubesStats* stats = nullptr,
-                    MarchingCubesPatches* patches = nullptr);
+Result<Mesh, MarchingCubesStats> marching_cubes(const Volume& vol, const MarchingCubesOptions& opt = {},
+                                                Progress progress = {});
+
+/// What marching_cubes_loops() returns: the mesh, the loops behind its triangles, its stats.
+struct MarchingCubesLoops {
+    Mesh mesh;
+    MarchingCubesPatches patches;
+    MarchingCubesStats stats;
+};
+
+/// @brief marching_cubes(), with the loops behind the triangles (for the dual extractors).
+MarchingCubesLoops marching_cubes_loops(const Volume& vol, const MarchingCubesOptions& opt = {},
+                                        Progress progress = {});
 
 } // namespace cm

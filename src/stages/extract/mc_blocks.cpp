@@ -159,9 +159,9 @@ std::vector<std::uint64_t> candidate_keys(const openvdb::BoolGrid& occ, const Fl
 }
 
 /// Keeps the candidate blocks that have a cell with mixed corners, in their order.
-void keep_mixed(std::vector<std::uint64_t>& keys, const States& states, const MarchingCubesOptions& opt) {
+void keep_mixed(std::vector<std::uint64_t>& keys, const States& states, const Progress& progress) {
     std::vector<std::uint8_t> keep(keys.size(), 0);
-    for_blocks(keys.size(), 0.05, 0.25, opt, [&](std::size_t i) {
+    for_blocks(keys.size(), 0.05, 0.25, progress, [&](std::size_t i) {
         std::uint16_t rows[9][9];
         keep[i] = states.fill(key_origin(keys[i]), rows) ? 1 : 0;
     });
@@ -208,18 +208,19 @@ std::size_t fill_block(Block& b, std::size_t i, const std::vector<std::uint64_t>
 
 } // namespace
 
-std::vector<Block> find_blocks(const openvdb::BoolGrid& occ, const FlipGrid* flips, const MarchingCubesOptions& opt,
+std::vector<Block> find_blocks(const openvdb::BoolGrid& occ, const FlipGrid* flips, const Progress& progress,
                                MarchingCubesStats& stats) {
     check_extent(occ);
     std::vector<std::uint64_t> keys = candidate_keys(occ, flips);
-    if (opt.progress) opt.progress(0.05);
+    progress(0.05);
     const States states(occ, flips);
-    keep_mixed(keys, states, opt);
+    keep_mixed(keys, states, progress);
     std::vector<Block> blocks(keys.size());
     stats.blocks = blocks.size();
     // Corner rows, crossed edges, neighbours.
     std::atomic<std::size_t> cells{0};
-    for_blocks(blocks.size(), 0.25, 0.35, opt, [&](std::size_t i) { cells += fill_block(blocks[i], i, keys, states); });
+    for_blocks(blocks.size(), 0.25, 0.35, progress,
+               [&](std::size_t i) { cells += fill_block(blocks[i], i, keys, states); });
     stats.surface_cells = cells;
     return blocks;
 }

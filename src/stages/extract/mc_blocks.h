@@ -49,7 +49,7 @@ inline unsigned popcount64(std::uint64_t x) {
 
 /// Runs fn(i) for i in [0, n) in parallel chunks, reporting progress between chunks.
 template <typename Fn>
-void for_blocks(std::size_t n, double p0, double p1, const MarchingCubesOptions& opt, Fn&& fn) {
+void for_blocks(std::size_t n, double p0, double p1, const Progress& progress, Fn&& fn) {
     const std::size_t chunk = 4096;
     for (std::size_t start = 0; start < n; start += chunk) {
         const std::size_t end = std::min(n, start + chunk);
@@ -57,7 +57,7 @@ void for_blocks(std::size_t n, double p0, double p1, const MarchingCubesOptions&
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
                           });
-        if (opt.progress) opt.progress(p0 + (p1 - p0) * double(end) / double(n));
+        progress(p0 + (p1 - p0) * double(end) / double(n));
     }
 }
 
@@ -65,7 +65,7 @@ void for_blocks(std::size_t n, double p0, double p1, const MarchingCubesOptions&
 /// edges, vertex counts and neighbours (vbase, tbase and xbase are left at 0). Fills
 /// stats.blocks and stats.surface_cells; progress runs to 0.35.
 /// @throw cm::Error when the occupancy reaches beyond the range of block keys.
-std::vector<Block> find_blocks(const openvdb::BoolGrid& occ, const FlipGrid* flips, const MarchingCubesOptions& opt,
+std::vector<Block> find_blocks(const openvdb::BoolGrid& occ, const FlipGrid* flips, const Progress& progress,
                                MarchingCubesStats& stats);
 
 } // namespace cm::mc

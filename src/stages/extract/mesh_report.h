@@ -1,10 +1,14 @@
-// The mesh check every extractor runs on its output and reports (run-report figures and a
-// warning when the mesh fails).
+// What the extractors share: the figures of the mesh every one makes (its size, and the check
+// it runs on it, with a warning when the mesh fails), and handing the mesh and its figures to
+// the run.
 #pragma once
+#include <memory>
+
+#include "core/algorithm.h"
+#include "core/error.h"
 #include "core/mesh.h"
 #include "core/params.h"
 #include "core/stage.h"
-#include "geometry/mesh_check.h"
 
 namespace cm {
 
@@ -12,11 +16,30 @@ namespace cm {
 enum class MeshCheckMode { Auto, On, Off };
 constexpr std::size_t kAutoCheckFaces = 5'000'000;
 
-/// Declares the `check` parameter bound to `mode`.
-void declare_check(ParamBinder& b, MeshCheckMode& mode);
+/// The `check` parameter of the extractors.
+struct MeshCheckOptions {
+    MeshCheckMode mode;
 
-/// Runs check_mesh() when `mode` asks for it and reports its counts as metrics of `ctx`;
-/// a mesh that is not closed, manifold and outward is a warning naming the counts.
-void report_mesh_check(const Mesh& mesh, MeshCheckMode mode, Context& ctx);
+    MeshCheckOptions() { set_declared_defaults(*this); }
+    /// `check`.
+    void declare(ParamBinder& b);
+};
+
+/// Reports the mesh's faces and vertices, and runs check_mesh() when `opt` asks for it and
+/// reports its counts; a mesh that is not closed, manifold and outward is a warning naming the
+/// counts.
+void report_mesh(const Mesh& mesh, const MeshCheckOptions& opt, Metrics& m);
+
+/// The stage's output from an extractor's result: its stats and the mesh's figures into the
+/// run (in that order), then the mesh.
+/// @throw cm::Error when the mesh is empty (the volume holds no inside point).
+template <typename Stats>
+Data extracted_mesh(Result<Mesh, Stats>&& r, const MeshCheckOptions& check, Context& ctx) {
+    if (r.value.triangles.empty())
+        throw Error("the volume has no surface: its occupancy holds no inside point (is the hull empty?)");
+    r.stats.report(ctx);
+    report_mesh(r.value, check, ctx);
+    return std::make_shared<const Mesh>(std::move(r.value));
+}
 
 } // namespace cm

@@ -55,7 +55,8 @@ openvdb::FloatGrid::Ptr hull_level_set(const Volume& vol, bool use_crossings) {
     return grid;
 }
 
-Mesh vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt, VdbMesherStats* stats) {
+Result<Mesh, VdbMesherStats> vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt, Progress progress) {
+    progress(0.05);
     openvdb::initialize();
     auto ls = hull_level_set(vol, opt.use_crossings);
     std::vector<openvdb::Vec3s> points;
@@ -64,7 +65,8 @@ Mesh vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt, VdbMeshe
     openvdb::tools::volumeToMesh(*ls, points, tris, quads, opt.isovalue, opt.adaptivity, opt.relax);
     if (points.empty() || (tris.empty() && quads.empty()))
         throw Error("the volume has no surface at isovalue " + std::to_string(opt.isovalue));
-    Mesh m;
+    Result<Mesh, VdbMesherStats> r;
+    Mesh& m = r.value;
     m.positions.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) m.positions[i] = Vec3f(points[i].x(), points[i].y(), points[i].z());
     m.triangles.reserve(tris.size() + 2 * quads.size());
@@ -88,13 +90,35 @@ Mesh vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt, VdbMeshe
     }
     if (vol6 < 0)
         for (auto& t : m.triangles) std::swap(t[1], t[2]);
-    if (stats) {
-        stats->quads = quads.size();
-        stats->triangles = tris.size();
-        stats->band_voxels = ls->tree().activeLeafVoxelCount();
-        stats->level_set_bytes = ls->tree().memUsage();
-    }
-    return m;
+    VdbMesherStats& st = r.stats;
+    st.quads = quads.size();
+    st.triangles = tris.size();
+    st.band_voxels = ls->tree().activeLeafVoxelCount();
+    st.level_set_bytes = ls->tree().memUsage();
+    st.refined = vol.crossings && opt.use_crossings;
+    return r;
+}
+
+void VdbMesherOptions::declare(ParamBinder& b) {
+    b.add(adaptivity, ParamSpec::Float("adaptivity", 0.0, 0.0, 1.0, "",
+                                       "volumeToMesh adaptivity: 0 one quad per crossed edge, towards 1 flat regions "
+                                       "merge into larger polygons"));
+    b.add(isovalue, ParamSpec::Float("isovalue", 0.0, -1e9, 1e9, "world units",
+                                     "surface level: 0 the hull, positive grows it, negative shrinks it (beyond one "
+                                     "cell the level set has no more detail)"));
+    b.add(use_crossings, ParamSpec::Bool("crossings", true,
+                                         "build the level set from the exact crossings (false: every crossing at its "
+                                         "edge midpoint)"));
+    b.add(relax, ParamSpec::Bool("relax", true,
+                                 "volumeToMesh relaxDisorientedTriangles: smooth triangles whose normals disagree "
+                                 "with the level set's gradient (adaptive meshes)"));
+}
+
+void VdbMesherStats::report(Metrics& m) const {
+    m.count("quads", quads);
+    m.count("triangles", triangles);
+    m.count("level_set_bytes", level_set_bytes);
+    m.metric("refined", refined ? "yes" : "no");
 }
 
 } // namespace cm

@@ -2,24 +2,29 @@
 // reference extractor that TDs who use OpenVDB already know.
 #pragma once
 #include <cstddef>
-#include <functional>
 
+#include "core/algorithm.h"
 #include "core/mesh.h"
 #include "core/volume.h"
 
 namespace cm {
 
+/// The parameters of extract.vdb_volume_to_mesh.
 struct VdbMesherOptions {
     /// volumeToMesh's adaptivity in [0, 1]: 0 keeps one quad per crossed edge, larger
     /// merges flat regions into larger polygons.
-    double adaptivity = 0.0;
+    double adaptivity;
     /// Level of the surface in world units: 0 is the hull, > 0 grows it, < 0 shrinks it.
-    double isovalue = 0.0;
+    double isovalue;
     /// Use the volume's exact crossings for the level set (else each crossing sits at the
     /// middle of its edge).
-    bool use_crossings = true;
+    bool use_crossings;
     /// volumeToMesh's relaxDisorientedTriangles.
-    bool relax = true;
+    bool relax;
+
+    VdbMesherOptions() { set_declared_defaults(*this); }
+    /// `adaptivity`, `isovalue`, `crossings` and `relax`.
+    void declare(ParamBinder& b);
 };
 
 struct VdbMesherStats {
@@ -27,6 +32,10 @@ struct VdbMesherStats {
     std::size_t triangles = 0;       ///< polygons it gave as triangles
     std::size_t band_voxels = 0;     ///< voxels of the level set near the surface
     std::size_t level_set_bytes = 0; ///< memory of the level set
+    bool refined = false;            ///< the level set was made from the volume's crossings
+
+    /// The figures of extract.vdb_volume_to_mesh.
+    void report(Metrics& m) const;
 };
 
 /// @brief The level set of the hull: a float grid on the occupancy's transform, negative
@@ -37,8 +46,10 @@ struct VdbMesherStats {
 openvdb::FloatGrid::Ptr hull_level_set(const Volume& vol, bool use_crossings);
 
 /// @brief volumeToMesh on hull_level_set(): triangles (quads split along the shorter
-/// diagonal), oriented outward, in world space.
+/// diagonal), oriented outward, in world space. Reports 0.05 as it starts (OpenVDB's mesher
+/// reports nothing).
 /// @throw cm::Error when the occupancy is missing or the surface is empty.
-Mesh vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt, VdbMesherStats* stats = nullptr);
+Result<Mesh, VdbMesherStats> vdb_volume_to_mesh(const Volume& vol, const VdbMesherOptions& opt = {},
+                                                Progress progress = {});
 
 } // namespace cm

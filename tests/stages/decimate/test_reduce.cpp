@@ -72,7 +72,7 @@ TEST(Reduce, CubeKeepsCornersAndSharpEdgesAt30Degrees) {
     ASSERT_EQ(m.face_count(), 12u * 16 * 16);
     ReduceOptions o;
     o.max_angle_deg = 30;
-    const DecimateStats st = reduce_mesh(m, o);
+    const DecimateStats st = reduce_mesh_in_place(m, o);
     expect_closed_manifold(m, "reduced cube");
     EXPECT_EQ(st.faces_after, m.face_count());
     EXPECT_LT(m.face_count(), st.faces_before / 6) << "flat faces should lose most triangles";
@@ -96,7 +96,7 @@ TEST(Reduce, MeetsTargetFaces) {
     ReduceOptions o;
     o.max_angle_deg = 40;
     o.target_faces = 2000;
-    const DecimateStats st = reduce_mesh(m, o);
+    const DecimateStats st = reduce_mesh_in_place(m, o);
     expect_closed_manifold(m, "reduced sphere");
     EXPECT_LE(m.face_count(), 2000u);
     EXPECT_GE(m.face_count(), 1990u);
@@ -112,7 +112,7 @@ TEST(Reduce, SmallAngleStopsEarlierThanLargeAngle) {
         Mesh m = m0;
         ReduceOptions o;
         o.max_angle_deg = angle;
-        reduce_mesh(m, o);
+        reduce_mesh_in_place(m, o);
         expect_closed_manifold(m, "sphere");
         EXPECT_LT(m.face_count(), prev) << angle;
         prev = m.face_count();
@@ -130,7 +130,7 @@ TEST(Reduce, BoundaryVerticesStay) {
     ASSERT_EQ(boundary, 32u);
     ReduceOptions o;
     o.max_angle_deg = 30;
-    const DecimateStats st = reduce_mesh(m, o);
+    const DecimateStats st = reduce_mesh_in_place(m, o);
     EXPECT_EQ(st.locked_vertices, 32u);
     const MeshCheck c = check_mesh(m);
     EXPECT_EQ(c.boundary_edges, boundary);
@@ -149,7 +149,7 @@ TEST(Reduce, LargeMeshInBlocksIsCleanKeepsEdgesAndAttributesAndRepeats) {
     ReduceOptions o;
     o.max_angle_deg = 30;
     Mesh m = m0;
-    const DecimateStats st = reduce_mesh(m, o);
+    const DecimateStats st = reduce_mesh_in_place(m, o);
     expect_closed_manifold(m, "blocks");
     EXPECT_EQ(check_mesh(m).euler, 2);
     EXPECT_EQ(st.faces_before, m0.face_count());
@@ -161,7 +161,7 @@ TEST(Reduce, LargeMeshInBlocksIsCleanKeepsEdgesAndAttributesAndRepeats) {
     Mesh one = m0;
     ReduceOptions single = o;
     single.target_faces = 1;
-    reduce_mesh(one, single);
+    reduce_mesh_in_place(one, single);
     EXPECT_NEAR(double(m.face_count()), double(one.face_count()), 0.01 * double(one.face_count()));
     EXPECT_LT(m.face_count(), 12u * 150 * 2 + 400) << "the sides go down to the faces their sharp edges need";
     EXPECT_EQ(count_self_intersections(m), 0u);
@@ -180,7 +180,7 @@ TEST(Reduce, LargeMeshInBlocksIsCleanKeepsEdgesAndAttributesAndRepeats) {
         ASSERT_FLOAT_EQ(m.uvs[v][1], 0.25f * p.y + 0.5f * p.z) << v;
     }
     Mesh again = m0;
-    reduce_mesh(again, o);
+    reduce_mesh_in_place(again, o);
     EXPECT_EQ(again.triangles, m.triangles) << "the blocks run in parallel; the result must not depend on it";
     EXPECT_EQ(again.positions, m.positions);
 }
@@ -190,7 +190,7 @@ TEST(Reduce, LargeSphereInBlocksStaysRound) {
     ASSERT_GT(m.face_count(), 262144u);
     ReduceOptions o;
     o.max_angle_deg = 10;
-    const DecimateStats st = reduce_mesh(m, o);
+    const DecimateStats st = reduce_mesh_in_place(m, o);
     expect_closed_manifold(m, "sphere");
     EXPECT_EQ(check_mesh(m).euler, 2);
     EXPECT_EQ(count_self_intersections(m), 0u);
@@ -198,7 +198,7 @@ TEST(Reduce, LargeSphereInBlocksStaysRound) {
     Mesh one = test::make_sphere({0, 0, 0}, 1.0f, 7);
     ReduceOptions single = o;
     single.target_faces = 1; // never reached: one queue until no vertex can go
-    reduce_mesh(one, single);
+    reduce_mesh_in_place(one, single);
     // (1438 against 1470 faces when written: a few percent of a result 200 times smaller than the input)
     EXPECT_NEAR(double(m.face_count()), double(one.face_count()), 0.03 * double(one.face_count()));
     EXPECT_LT(m.face_count(), 40000u);
@@ -217,7 +217,7 @@ TEST(Reduce, RealModelsStayClosedAndManifold) {
         ReduceOptions o;
         o.max_angle_deg = 25;
         o.target_faces = before / 10;
-        reduce_mesh(m, o);
+        reduce_mesh_in_place(m, o);
         const MeshCheck c = check_mesh(m);
         EXPECT_TRUE(c.closed_manifold());
         EXPECT_EQ(c.euler, c0.euler) << "genus must not change";
@@ -230,7 +230,7 @@ TEST(QuadricDecimate, SphereToATenthStaysRoundAndManifold) {
     Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 5);
     QuadricOptions o;
     o.target_faces = 2048;
-    const DecimateStats st = quadric_decimate(m, o);
+    const QuadricStats st = quadric_decimate_in_place(m, o);
     expect_closed_manifold(m, "quadric sphere");
     EXPECT_LE(m.face_count(), 2048u);
     EXPECT_GE(m.face_count(), 2040u);
@@ -243,7 +243,7 @@ TEST(QuadricDecimate, CubeCollapsesToFlatFacesExactly) {
     Mesh m = test::make_grid_box(-1.0f, 1.0f, 16);
     QuadricOptions o;
     o.max_error = 1e-6;
-    quadric_decimate(m, o);
+    quadric_decimate_in_place(m, o);
     expect_closed_manifold(m, "quadric cube");
     EXPECT_NEAR(check_mesh(m).signed_volume, 8.0, 1e-4);
     EXPECT_LT(m.face_count(), 200u);
@@ -259,7 +259,7 @@ TEST(QuadricDecimate, RealModelsStayClosedAndManifold) {
         const MeshCheck c0 = check_mesh(m);
         QuadricOptions o;
         o.target_faces = m.face_count() / 10;
-        quadric_decimate(m, o);
+        quadric_decimate_in_place(m, o);
         const MeshCheck c = check_mesh(m);
         EXPECT_TRUE(c.closed_manifold());
         EXPECT_EQ(c.euler, c0.euler);
@@ -298,12 +298,12 @@ TEST(CrossingGuard, ReductionsLeaveNearPartsUncrossed) {
                 QuadricOptions o;
                 o.target_faces = input.face_count() / 100;
                 o.no_crossings = guard;
-                st = quadric_decimate(m, o);
+                st = quadric_decimate_in_place(m, o);
             } else {
                 ReduceOptions o;
                 o.max_angle_deg = 30;
                 o.no_crossings = guard;
-                st = reduce_mesh(m, o);
+                st = reduce_mesh_in_place(m, o);
             }
             return m;
         };
@@ -341,7 +341,7 @@ TEST(Reduce, OutlineGuardKeepsTheDrawnSilhouette) {
         ReduceOptions o;
         o.max_angle_deg = 20;
         o.outline = guard;
-        reduce_mesh(m, o);
+        reduce_mesh_in_place(m, o);
         expect_closed_manifold(m, guard ? "guarded" : "unguarded");
         missed = extra = 0;
         for (const View& v : views->views) {
@@ -378,7 +378,7 @@ TEST(Reduce, OutlineGuardWorksThroughPerspectiveViews) {
         ReduceOptions o;
         o.max_angle_deg = 20;
         o.outline = guard;
-        reduce_mesh(m, o);
+        reduce_mesh_in_place(m, o);
         expect_closed_manifold(m, guard ? "guarded" : "unguarded");
         EXPECT_LT(m.face_count(), m0.face_count() / 4);
         return silhouette_error(m, views).xor_pct;

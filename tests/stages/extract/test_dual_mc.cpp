@@ -127,8 +127,7 @@ TEST(DualMarchingCubes, CubeCornersAndFlatFaces) {
     std::size_t faces0 = 0;
     for (double e : {0.0, 0.25}) {
         SCOPED_TRACE(e);
-        DualMcStats st;
-        const Mesh m = dual_marching_cubes(*vol, options(e), &st);
+        const auto [m, st] = dual_marching_cubes(*vol, options(e));
         expect_closed(m, 2, "cube");
         EXPECT_STREQ(st.normals, "views");
         EXPECT_LT(surface_error(m, sdf, h), 0.05);
@@ -163,7 +162,7 @@ TEST(DualMarchingCubes, LPrismCornersAndFlatFaces) {
     }
     for (double e : {0.0, 0.25}) {
         SCOPED_TRACE(e);
-        const Mesh m = dual_marching_cubes(*vol, options(e));
+        const Mesh m = dual_marching_cubes(*vol, options(e)).value;
         expect_closed(m, 2, "L prism");
         EXPECT_LT(surface_error(m, sdf, h), 0.05);
         EXPECT_LT(off_axis_area_share(m, 1.0), 1e-3);
@@ -179,12 +178,11 @@ TEST(DualMarchingCubes, SphereVerticesOnTheSphere) {
     const Sdf sdf = [&](const Vec3d& p) { return length(p - c) - r; };
     Volume v = volume_from_sdf(sdf, openvdb::CoordBBox(openvdb::Coord(-16), openvdb::Coord(16)), h, {0, 0, 0});
     add_sdf_normals(v, sdf);
-    const Mesh mc = marching_cubes(v);
+    const Mesh mc = marching_cubes(v).value;
     const double vmc = check_mesh(mc).signed_volume;
     for (double e : {0.0, 0.03}) {
         SCOPED_TRACE(e);
-        DualMcStats st;
-        const Mesh m = dual_marching_cubes(v, options(e), &st);
+        const auto [m, st] = dual_marching_cubes(v, options(e));
         expect_closed(m, 2, "sphere");
         EXPECT_STREQ(st.normals, "stored");
         double worst = 0;
@@ -206,8 +204,7 @@ TEST(DualMarchingCubes, ThinFinAndGenusTwoStayClosedAndManifold) {
                            box_outline(lo, hi, {0, -1, 0}), lo, hi, 22);
         for (double e : {0.0, 0.25}) {
             SCOPED_TRACE(e);
-            DualMcStats st;
-            const Mesh m = dual_marching_cubes(*vol, options(e), &st);
+            const auto [m, st] = dual_marching_cubes(*vol, options(e));
             EXPECT_GT(st.mc.thin_points, 0u);
             expect_closed(m, 2, "fin");
         }
@@ -221,7 +218,7 @@ TEST(DualMarchingCubes, ThinFinAndGenusTwoStayClosedAndManifold) {
         auto vol = hull_of(front, box_outline(lo, hi, {-1, 0, 0}), box_outline(lo, hi, {0, -1, 0}), lo, hi, 40);
         for (double e : {0.0, 0.25, 1.0}) {
             SCOPED_TRACE(e);
-            expect_closed(dual_marching_cubes(*vol, options(e)), -2, "genus 2");
+            expect_closed(dual_marching_cubes(*vol, options(e)).value, -2, "genus 2");
         }
     }
 }
@@ -260,15 +257,12 @@ TEST(DualMarchingCubes, NeighboursSharingBothSegmentsOfAFaceStayManifold) {
             c[a] = t;
             cacc.setValueOn(*it, c);
         }
-    MarchingCubesStats mst;
-    const Mesh mc = marching_cubes(v, {}, &mst);
+    const auto [mc, mst] = marching_cubes(v);
     EXPECT_EQ(mst.joined_faces, 2u); // face z = 1, seen from both cells
     const long euler = check_mesh(mc).euler;
     for (double e : {0.0, 0.25, 1.0}) {
         SCOPED_TRACE(e);
-        DualMcStats st;
-        DualMcOptions o = options(e);
-        const Mesh m = dual_marching_cubes(v, o, &st);
+        const auto [m, st] = dual_marching_cubes(v, options(e));
         EXPECT_EQ(st.split_loops, 1u);
         expect_closed(m, euler, "joined face");
         EXPECT_EQ(count_self_intersections(m), 0u);
@@ -340,9 +334,9 @@ TEST(DualMarchingCubes, VolumeAgreesWithMarchingCubes) {
     CarveOptions co;
     co.resolution = 48;
     auto vol = refine(*carve(views, co), views, {});
-    const double vmc = check_mesh(marching_cubes(*vol)).signed_volume;
+    const double vmc = check_mesh(marching_cubes(*vol).value).signed_volume;
     for (double e : {0.0, 0.25}) {
-        const Mesh m = dual_marching_cubes(*vol, options(e));
+        const Mesh m = dual_marching_cubes(*vol, options(e)).value;
         expect_closed(m, 2, "tricylinder");
         EXPECT_NEAR(check_mesh(m).signed_volume / vmc, 1.0, 0.01) << e;
     }
@@ -353,8 +347,8 @@ TEST(DualMarchingCubes, VolumeAgreesWithMarchingCubes) {
 TEST(DualMarchingCubes, NormalsSourcesAndBadVolumes) {
     const Sdf sdf = [](const Vec3d& p) { return length(p) - 6.2; };
     const Volume v = volume_from_sdf(sdf, openvdb::CoordBBox(openvdb::Coord(-9), openvdb::Coord(9)), 1.0, {0, 0, 0});
-    DualMcStats st;
-    expect_closed(dual_marching_cubes(v, options(0), &st), 2, "mesh normals");
+    const auto [m, st] = dual_marching_cubes(v, options(0));
+    expect_closed(m, 2, "mesh normals");
     EXPECT_STREQ(st.normals, "mesh");
     DualMcOptions o;
     o.normals = DualMcOptions::Normals::Views;
@@ -369,17 +363,16 @@ TEST(VdbVolumeToMesh, SphereIsClosedOutwardAndAdaptive) {
     const double r = 10.4;
     const Sdf sdf = [&](const Vec3d& p) { return length(p - Vec3d{0.3, 0.1, -0.2}) - r; };
     const Volume v = volume_from_sdf(sdf, openvdb::CoordBBox(openvdb::Coord(-14), openvdb::Coord(14)), 1.0, {0, 0, 0});
-    const double vmc = check_mesh(marching_cubes(v)).signed_volume;
+    const double vmc = check_mesh(marching_cubes(v).value).signed_volume;
     VdbMesherOptions o;
-    VdbMesherStats st;
-    const Mesh m = vdb_volume_to_mesh(v, o, &st);
+    const auto [m, st] = vdb_volume_to_mesh(v, o);
     expect_closed(m, 2, "vdb");
     EXPECT_NEAR(check_mesh(m).signed_volume / vmc, 1.0, 0.01);
     double worst = 0;
     for (const auto& p : m.positions) worst = std::max(worst, std::abs(sdf(Vec3d(p))));
     EXPECT_LT(worst, 0.2); // the level set holds one distance per grid point, not per edge
     o.adaptivity = 0.5;
-    const Mesh ma = vdb_volume_to_mesh(v, o);
+    const Mesh ma = vdb_volume_to_mesh(v, o).value;
     EXPECT_LT(ma.face_count(), m.face_count());
     EXPECT_GT(check_mesh(ma).signed_volume, 0.0);
     Volume empty;
@@ -448,10 +441,9 @@ TEST(DualMarchingCubes, MergesThatWouldCrossANearbySurfaceAreUndone) {
         DualMcOptions o;
         o.max_error = e;
         o.guard = false;
-        worst_without = std::max(worst_without, count_self_intersections(dual_marching_cubes(*vol, o)));
+        worst_without = std::max(worst_without, count_self_intersections(dual_marching_cubes(*vol, o).value));
         o.guard = true;
-        DualMcStats st;
-        const Mesh m = dual_marching_cubes(*vol, o, &st);
+        const auto [m, st] = dual_marching_cubes(*vol, o);
         rounds += st.guard_rounds;
         EXPECT_EQ(count_self_intersections(m), 0u);
         const MeshCheck c = check_mesh(m);

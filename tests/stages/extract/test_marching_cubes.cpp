@@ -99,8 +99,7 @@ TEST(MarchingCubes, SphereVerticesLieOnTheSphere) {
                                      openvdb::CoordBBox(Coord(-24), Coord(24)), h, {0, 0, 0});
     // Pruning made the interior tiles; the surface is in leaves.
     EXPECT_GT(v.occupancy->tree().activeTileCount(), 0u);
-    MarchingCubesStats st;
-    const Mesh m = marching_cubes(v, {}, &st);
+    const auto [m, st] = marching_cubes(v);
     expect_good(m, "sphere");
     const MeshCheck k = check_mesh(m);
     EXPECT_EQ(k.components, 1u);
@@ -126,7 +125,7 @@ TEST(MarchingCubes, MidpointsWithoutCrossings) {
         },
         openvdb::CoordBBox(Coord(-10), Coord(10)), 1.0, {0, 0, 0}, false);
     ASSERT_FALSE(v.crossings);
-    const Mesh m = marching_cubes(v);
+    const Mesh m = marching_cubes(v).value;
     expect_good(m, "binary sphere");
     for (const auto& p : m.positions) {
         int halves = 0;
@@ -149,11 +148,11 @@ TEST(MarchingCubes, MidpointsWithoutCrossings) {
         return e / double(mesh.positions.size());
     };
     EXPECT_GT(mean_error(m), 0.05);
-    EXPECT_LT(mean_error(marching_cubes(vr)), 0.002);
+    EXPECT_LT(mean_error(marching_cubes(vr).value), 0.002);
     // crossings = false ignores the refinement.
     MarchingCubesOptions plain;
     plain.use_crossings = false;
-    EXPECT_EQ(marching_cubes(vr, plain).positions.size(), m.positions.size());
+    EXPECT_EQ(marching_cubes(vr, plain).value.positions.size(), m.positions.size());
 }
 
 TEST(MarchingCubes, BoxOnTileBoundariesIsExact) {
@@ -164,8 +163,7 @@ TEST(MarchingCubes, BoxOnTileBoundariesIsExact) {
     v.occupancy->tree().fill(openvdb::CoordBBox(Coord(0), Coord(127)), true, true);
     ASSERT_EQ(v.occupancy->tree().leafCount(), 0u);
     ASSERT_EQ(v.occupancy->tree().activeTileCount(), 1u);
-    MarchingCubesStats st;
-    const Mesh m = marching_cubes(v, {}, &st);
+    const auto [m, st] = marching_cubes(v);
     expect_good(m, "tile box");
     EXPECT_EQ(st.surface_cells, std::size_t(6 * 127 * 127 + 12 * 127 + 8));
     Vec3f lo, hi;
@@ -190,7 +188,7 @@ TEST(MarchingCubes, BoxWithExactCrossingsAndTransform) {
     };
     const Vec3d origin{-5, -1, -2};
     const Volume v = volume_from_sdf(box_sdf, openvdb::CoordBBox(Coord(0), Coord(40)), 0.4, origin);
-    const Mesh m = marching_cubes(v);
+    const Mesh m = marching_cubes(v).value;
     expect_good(m, "box");
     Vec3f mlo, mhi;
     m.bounds(mlo, mhi);
@@ -214,7 +212,7 @@ TEST(MarchingCubes, TwoTouchingSpheres) {
                          MarchingCubesOptions::Ambiguity::Join}) {
             MarchingCubesOptions o;
             o.ambiguity = amb;
-            const Mesh m = marching_cubes(v, o);
+            const Mesh m = marching_cubes(v, o).value;
             expect_good(m, "touching spheres");
             const MeshCheck k = check_mesh(m);
             if (gap > 0 && amb == MarchingCubesOptions::Ambiguity::Separate) {
@@ -261,8 +259,7 @@ TEST(MarchingCubes, RandomOccupancyStaysManifold) {
                          MarchingCubesOptions::Ambiguity::Join}) {
             MarchingCubesOptions o;
             o.ambiguity = amb;
-            MarchingCubesStats st;
-            const Mesh m = marching_cubes(v, o, &st);
+            const auto [m, st] = marching_cubes(v, o);
             expect_good(m, ("random trial " + std::to_string(trial)).c_str());
             EXPECT_EQ(st.missing_crossings, 0u);
             if (trial == 0) {
@@ -284,8 +281,7 @@ TEST(MarchingCubes, ThinSheetBetweenGridPointsSurvives) {
             leave->tree().setValueOn(Coord(10, y, z), openvdb::Vec3f(0.5f, -1.0f, -1.0f));
         }
     v.extra = {enter, leave};
-    MarchingCubesStats st;
-    const Mesh m = marching_cubes(v, {}, &st);
+    const auto [m, st] = marching_cubes(v);
     expect_good(m, "thin sheet");
     EXPECT_EQ(st.thin_points, 121u);
     EXPECT_EQ(check_mesh(m).components, 1u);
@@ -298,7 +294,7 @@ TEST(MarchingCubes, ThinSheetBetweenGridPointsSurvives) {
     // Without the thin grids nothing is inside.
     MarchingCubesOptions off;
     off.use_thin = false;
-    EXPECT_TRUE(marching_cubes(v, off).triangles.empty());
+    EXPECT_TRUE(marching_cubes(v, off).value.triangles.empty());
 }
 
 TEST(MarchingCubes, SurfaceBulgeBetweenGridPointsRaisesNoSpike) {
@@ -314,8 +310,7 @@ TEST(MarchingCubes, SurfaceBulgeBetweenGridPointsRaisesNoSpike) {
     enter->tree().setValueOn(Coord(0, 5, 0), openvdb::Vec3f(0.4f, -1.0f, -1.0f));
     leave->tree().setValueOn(Coord(0, 5, 0), openvdb::Vec3f(0.6f, -1.0f, -1.0f));
     v.extra = {enter, leave};
-    MarchingCubesStats st;
-    const Mesh m = marching_cubes(v, {}, &st);
+    const auto [m, st] = marching_cubes(v);
     expect_good(m, "box with bulge");
     EXPECT_EQ(st.thin_points, 0u);
     Vec3f lo, hi;
@@ -338,7 +333,7 @@ TEST(MarchingCubes, ThinRodNextToABody) {
         leave->tree().setValueOn(Coord(x, 0, 0), openvdb::Vec3f(-1.0f, 0.6f, -1.0f));
     }
     v.extra = {enter, leave};
-    const Mesh m = marching_cubes(v);
+    const Mesh m = marching_cubes(v).value;
     expect_good(m, "body with rod");
     EXPECT_EQ(check_mesh(m).components, 1u);
     Vec3f lo, hi;
@@ -351,10 +346,10 @@ TEST(MarchingCubes, EmptyAndBadVolumes) {
     Volume v;
     EXPECT_THROW(marching_cubes(v), Error);
     v.occupancy = openvdb::BoolGrid::create(false);
-    EXPECT_TRUE(marching_cubes(v).triangles.empty());
+    EXPECT_TRUE(marching_cubes(v).value.triangles.empty());
     // A single inside point: an octahedron.
     v.occupancy->tree().setValueOn(Coord(3, -4, 5), true);
-    const Mesh m = marching_cubes(v);
+    const Mesh m = marching_cubes(v).value;
     expect_good(m, "single point");
     EXPECT_EQ(m.face_count(), 8u);
     EXPECT_EQ(m.vertex_count(), 6u);

@@ -48,7 +48,7 @@ TEST(HullMultiview, TumBunnyReprojectsOntoEverySilhouette) {
     ASSERT_EQ(views->views.size(), 18u);
     ASSERT_TRUE(views->calibrated);
     const int resolution = 160;
-    const Mesh mesh = marching_cubes(*carve_and_refine(views, resolution));
+    const Mesh mesh = marching_cubes(*carve_and_refine(views, resolution)).value;
     const MeshCheck mc = check_mesh(mesh);
     EXPECT_TRUE(mc.closed_manifold());
     EXPECT_GT(mc.signed_volume, 0);
@@ -76,7 +76,7 @@ TEST(HullMultiview, DinoManifestLoadsAndCarves) {
     opt.resolution = 96;
     auto vol = carve(views, opt);
     auto ref = refine(*vol, nullptr, {}, {});
-    const Mesh mesh = marching_cubes(*ref);
+    const Mesh mesh = marching_cubes(*ref).value;
     EXPECT_TRUE(check_mesh(mesh).closed_manifold());
     const SilhouetteError err = silhouette_error(mesh, *views);
     std::printf("dinoSparseRing, resolution %d: xor_pct %.3f %%, mean IoU %.4f\n", opt.resolution, err.xor_pct,
@@ -95,8 +95,7 @@ TEST(HullMultiview, DinoThinPartsLeaveNoCrossingFaces) {
         CarveOptions opt;
         opt.resolution = resolution;
         auto ref = refine(*carve(views, opt), nullptr, {}, {});
-        MarchingCubesStats st;
-        const Mesh mesh = marching_cubes(*ref, {}, &st);
+        const auto [mesh, st] = marching_cubes(*ref);
         std::printf("dinoSparseRing, resolution %d: %zu thin points, %zu vertices shifted, %zu put back\n", resolution,
                     st.thin_points, st.thin_shifted, st.thin_put_back);
         EXPECT_GT(st.thin_put_back, 0u) << "resolution " << resolution << ": no shifted face crossed another";

@@ -154,7 +154,7 @@ TEST(HullPlausible, SphereFromThreeViewsComesOutRound) {
     auto out = make_plausible(*hull, nullptr, {}, {}, &st);
     EXPECT_GT(st.removed, 0u);
     EXPECT_LT(occupied(*out), occupied(*hull));
-    const Mesh mh = marching_cubes(*hull), mp = marching_cubes(*out);
+    const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
     const double dh = sphere_deviation(mh, r), dp = sphere_deviation(mp, r);
     EXPECT_LT(dp, dh / 3.0) << "hull " << dh << ", plausible " << dp << " (signed " << sphere_deviation(mp, r, true)
                             << ")";
@@ -171,7 +171,7 @@ TEST(HullPlausible, TheNewSurfaceOfASphereIsSmooth) {
     auto views = sphere_views(r);
     auto hull = carve_and_refine(views, 128);
     auto out = make_plausible(*hull, nullptr, {});
-    const Mesh mh = marching_cubes(*hull), mp = marching_cubes(*out);
+    const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
     const auto dh = normal_deviation(mh), dp = normal_deviation(mp);
     auto at = [](const std::vector<double>& d, double q) { return d[std::size_t(q * double(d.size() - 1))]; };
     std::cout << "normal deviation, hull / plausible: median " << at(dh, 0.5) << " / " << at(dp, 0.5) << ", 95% "
@@ -216,7 +216,7 @@ TEST(HullPlausible, NoPlateOneCellThinWhereTheRemovalCut) {
             if (!now.isValueOn(lo) && !now.isValueOn(hi) && (was.isValueOn(lo) || was.isValueOn(hi))) ++plates;
         }
     EXPECT_EQ(plates, 0u);
-    EXPECT_TRUE(check_mesh(marching_cubes(*out)).closed_manifold());
+    EXPECT_TRUE(check_mesh(marching_cubes(*out).value).closed_manifold());
     expect_columns_kept(*hull, *out);
 }
 
@@ -229,7 +229,7 @@ TEST(HullPlausible, SmoothedMeshIsCleanWithThreeAndFourViews) {
         auto views = oblique ? sphere_views_with_oblique(1.0) : sphere_views(1.0);
         auto hull = carve_and_refine(views, 128);
         auto out = make_plausible(*hull, nullptr, {});
-        Mesh m = marching_cubes(*out);
+        Mesh m = marching_cubes(*out).value;
         const HullDistance hd(*views);
         SmoothOptions so;
         so.constrain = SmoothOptions::Constrain::Inside;
@@ -251,7 +251,7 @@ TEST(HullPlausible, NoCavitySealedInsideOnTheBundledCow) {
     PlausibleStats st;
     auto out = make_plausible(*hull, nullptr, {}, {}, &st);
     EXPECT_GT(st.cavities_filled, 0u); // the case is met
-    EXPECT_EQ(pieces(marching_cubes(*out)), 1u);
+    EXPECT_EQ(pieces(marching_cubes(*out).value), 1u);
     expect_columns_kept(*hull, *out);
 }
 
@@ -330,9 +330,9 @@ TEST(HullPlausible, CubeStaysACubeAtRoundnessZero) {
         opt.roundness = roundness;
         auto o = make_plausible(*hull, nullptr, opt);
         expect_columns_kept(*hull, *o);
-        const Mesh m = marching_cubes(*o);
+        const Mesh m = marching_cubes(*o).value;
         EXPECT_TRUE(check_mesh(m).closed_manifold()) << roundness;
-        EXPECT_LT(uncovered_pct(marching_cubes(*hull), m, *views), 0.5) << roundness;
+        EXPECT_LT(uncovered_pct(marching_cubes(*hull).value, m, *views), 0.5) << roundness;
     }
 }
 
@@ -372,7 +372,7 @@ TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
     PlausibleStats st;
     auto out = make_plausible(*hull, nullptr, {}, {}, &st);
     EXPECT_GT(st.removed, 0u);
-    const Mesh mh = marching_cubes(*hull), mp = marching_cubes(*out);
+    const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
     EXPECT_LT(uncovered_pct(mh, mp, *all), 0.5);
     EXPECT_LT(sphere_deviation(mp, r), sphere_deviation(mh, r));
 
@@ -381,7 +381,7 @@ TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
     auto ph = carve_and_refine(persp, 48);
     auto po = make_plausible(*ph, nullptr, {}, {}, &st);
     EXPECT_GT(st.removed, 0u);
-    const Mesh pmh = marching_cubes(*ph), pmp = marching_cubes(*po);
+    const Mesh pmh = marching_cubes(*ph).value, pmp = marching_cubes(*po).value;
     EXPECT_TRUE(check_mesh(pmp).closed_manifold());
     EXPECT_LT(uncovered_pct(pmh, pmp, *persp), 0.5);
 }

@@ -35,7 +35,7 @@ Mesh random_voxel_surface(std::uint32_t seed, int n, double density) {
                 if (u(rng) < density) acc.setValueOn(Coord(x, y, z), true);
     MarchingCubesOptions o;
     o.use_crossings = false;
-    return marching_cubes(v, o);
+    return marching_cubes(v, o).value;
 }
 
 std::vector<FacePair> brute_force(const Mesh& m) {
