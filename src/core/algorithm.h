@@ -21,6 +21,7 @@
 // stage runs the algorithm, hands the stats to the run (stats.report(ctx)), and returns the
 // result through its port: stages exchange data only through their ports.
 #pragma once
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,6 +48,9 @@ public:
     void count(const std::string& key, std::size_t n) { metric(key, double(n)); }
     /// One figure per view, as a JSON object {"front": 1.5, ...} (names escaped as JSON needs).
     void per_view(const std::string& key, const std::vector<std::string>& views, const std::vector<double>& values);
+    /// One count per view, as a JSON object of whole numbers {"front": 12, ...}.
+    void per_view(const std::string& key, const std::vector<std::string>& views,
+                  const std::vector<std::size_t>& counts);
 };
 
 /// What an algorithm returns: its result and its stats (`auto [mesh, stats] = ...`).

@@ -62,11 +62,26 @@ void Context::metric_json(const std::string& key, const std::string& json_text) 
     metrics_[key] = json_text;
 }
 
-void Metrics::per_view(const std::string& key, const std::vector<std::string>& views,
-                       const std::vector<double>& values) {
+namespace {
+
+// {"front": 1.5, ...}: figures as doubles, counts as whole numbers.
+template <typename T>
+std::string per_view_json(const std::vector<std::string>& views, const std::vector<T>& values) {
     nlohmann::json j = nlohmann::json::object();
     for (std::size_t i = 0; i < views.size() && i < values.size(); ++i) j[views[i]] = values[i];
-    metric_json(key, j.dump());
+    return j.dump();
+}
+
+} // namespace
+
+void Metrics::per_view(const std::string& key, const std::vector<std::string>& views,
+                       const std::vector<double>& values) {
+    metric_json(key, per_view_json(views, values));
+}
+
+void Metrics::per_view(const std::string& key, const std::vector<std::string>& views,
+                       const std::vector<std::size_t>& counts) {
+    metric_json(key, per_view_json(views, counts));
 }
 
 StageInfo Stage::info() const {

@@ -3,13 +3,12 @@
 // as xor_pct (the seed paper's error) and IoU per view.
 #pragma once
 #include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/algorithm.h"
 #include "core/mesh.h"
 #include "core/views.h"
-#include "render/raster.h"
 
 namespace cm {
 
@@ -25,27 +24,33 @@ struct SilhouetteError {
     std::vector<ViewError> views;
     double xor_pct = 0;  ///< 100 * sum_v |S xor R| / sum_v |S| (the seed paper's error)
     double mean_iou = 0; ///< mean of the per-view IoU
+    /// xor_pct.<view> and iou.<view> of every view, xor_pct, mean_iou, and `views`
+    /// (views_json()): the figures of eval.silhouette_error.
+    void report(Metrics& m) const;
+    /// The views' figures as a JSON array: {"view", "xor_pct", "iou", "input_px", "render_px",
+    /// "xor_px"} per view.
+    std::string views_json() const;
+    /// {"xor_pct", "mean_iou", "views"} as JSON text.
+    std::string json() const;
 };
+
+/// A render of a mesh through a view's camera (render_mask): width * height bytes, 1 where
+/// the mesh covers the pixel centre.
+using SilhouetteMask = std::vector<std::uint8_t>;
 
 /// @brief Re-renders the mesh through every view's camera and compares with the view's
-/// silhouette (coverage >= 0.5). With `masks`, the renders (render_mask, one per view) are
-/// kept there for a caller that shows them; `check` is called per chunk of each render (it
-/// may throw to stop).
-SilhouetteError silhouette_error(const Mesh& mesh, const Views& views,
-                                 std::vector<std::vector<std::uint8_t>>* masks = nullptr,
-                                 const RenderCheck& check = {});
+/// silhouette (coverage >= 0.5). `progress` is looked at per chunk of each render
+/// (progress.check()). @throw cm::Error for a view without a silhouette.
+SilhouetteError silhouette_error(const Mesh& mesh, const Views& views, Progress progress = {});
 
-/// The silhouette error of a mesh with its renders (render_mask, one per view).
-struct SilhouetteRenders {
-    SilhouetteError error;
-    std::vector<std::vector<std::uint8_t>> masks;
-    std::weak_ptr<const Mesh> mesh; ///< the mesh they are of
-};
+// The steps of silhouette_error(), for a caller that shows the renders (one at a time).
 
-/// @brief silhouette_error() of `mesh` with its renders, made once per mesh and set of views:
-/// the views keep it (Views::derived) for the next stage asking about the same mesh (a run's
-/// preview and error stages render the same masks), and one asking while it is made waits.
-std::shared_ptr<const SilhouetteRenders> shared_silhouette_error(const std::shared_ptr<const Mesh>& mesh,
-                                                                 const Views& views, const RenderCheck& check = {});
+/// @brief The render of the mesh through `view`'s camera that its error is measured on.
+/// @throw cm::Error for a view without a silhouette.
+SilhouetteMask silhouette_mask(const Mesh& mesh, const View& view, Progress progress = {});
+/// The figures of `view` against `mask`, its silhouette_mask().
+ViewError view_error(const View& view, const SilhouetteMask& mask);
+/// The error of all views from each one's (`views` in the order of the views).
+SilhouetteError combine_view_errors(std::vector<ViewError> views);
 
 } // namespace cm

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -213,15 +214,14 @@ void check_size(int width, int height) {
 
 } // namespace
 
-std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height,
-                                      const RenderCheck& check) {
+std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height, Progress progress) {
     check_size(width, height);
     std::vector<std::uint8_t> mask(std::size_t(width) * height, 0);
     const Projected p = project_vertices(mesh, cam);
     std::uint8_t* out = mask.data();
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-            if (check) check();
+            progress.check();
             for (std::size_t t = r.begin(); t != r.end(); ++t)
                 screen_triangles(mesh, p, t, [&](const SV& a, const SV& b, const SV& c) {
                     raster_triangle<true>(a, b, c, Frame{width}, 0, height, [&](std::size_t row, int first, int last) {
@@ -265,12 +265,12 @@ PixelWindow covered_window(const Mesh& mesh, const Camera& cam, int width, int h
     return {int(i0), int(j0), int(i1 - i0) + 1, int(j1 - j0) + 1};
 }
 
-DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check) {
-    return render_depth(mesh, cam, width, height, {0, 0, width, height}, check);
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, Progress progress) {
+    return render_depth(mesh, cam, width, height, {0, 0, width, height}, std::move(progress));
 }
 
 DepthImage render_depth(const Mesh& mesh, const Camera& cam, int full_width, int full_height, const PixelWindow& window,
-                        const RenderCheck& check) {
+                        Progress progress) {
     check_size(full_width, full_height);
     if (window.x0 < 0 || window.y0 < 0 || window.width <= 0 || window.height <= 0 ||
         window.x0 + window.width > full_width || window.y0 + window.height > full_height)
@@ -319,10 +319,10 @@ DepthImage render_depth(const Mesh& mesh, const Camera& cam, int full_width, int
             for (int b = band_lo[t]; b <= band_hi[t]; ++b) faces[fill[std::size_t(b)]++] = std::uint32_t(t);
     }
 
-    if (check) check();
+    progress.check();
     std::vector<double> nearness(npx, -std::numeric_limits<double>::infinity());
     tbb::parallel_for(0, nbands, [&](int b) {
-        if (check && b % 16 == 0) check();
+        if (b % 16 == 0) progress.check();
         const int row0 = y0 + b * kBand, row1 = std::min(y0 + height, row0 + kBand);
         for (std::size_t k = start[std::size_t(b)]; k < start[std::size_t(b) + 1]; ++k) {
             const std::uint32_t t = faces[k];

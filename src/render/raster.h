@@ -3,29 +3,26 @@
 // shaded pictures, and the cameras that frame a mesh.
 #pragma once
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/camera.h"
 #include "core/mesh.h"
+#include "core/progress.h"
 #include "core/views.h"
 
 namespace cm {
-
-/// Called per chunk of triangles or rows (from worker threads, at once); it may throw
-/// (cm::Cancelled) to stop the render. Empty: no checks.
-using RenderCheck = std::function<void()>;
 
 /// @brief Binary silhouette of a mesh seen through `cam`.
 /// @return width*height bytes, row-major, row 0 at the top: 1 where a pixel centre
 ///         (i+0.5, j+0.5) lies inside a projected triangle (orthographic or perspective;
 ///         perspective triangles are clipped at the camera plane), else 0. A centre exactly
 ///         on an edge counts as inside, so triangles sharing an edge leave no gap.
-/// TBB-parallel over triangles; millions of triangles in about a second.
+/// TBB-parallel over triangles; millions of triangles in about a second. `progress` is
+/// looked at per chunk of triangles (progress.check(), from worker threads at once).
 std::vector<std::uint8_t> render_mask(const Mesh& mesh, const Camera& cam, int width, int height,
-                                      const RenderCheck& check = {});
+                                      Progress progress = {});
 
 /// Nearest surface per pixel (pixel centre sampling, as render_mask).
 struct DepthImage {
@@ -38,8 +35,8 @@ struct DepthImage {
 };
 
 /// @brief Z-buffer render (TBB-parallel over image bands). The covered pixels are exactly
-/// those render_mask() sets.
-DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, const RenderCheck& check = {});
+/// those render_mask() sets. `progress` is looked at per chunk of bands (progress.check()).
+DepthImage render_depth(const Mesh& mesh, const Camera& cam, int width, int height, Progress progress = {});
 
 /// A rectangle of pixels: columns [x0, x0 + width), rows [y0, y0 + height).
 struct PixelWindow {
@@ -55,7 +52,7 @@ PixelWindow covered_window(const Mesh& mesh, const Camera& cam, int width, int h
 /// depths there are those of the whole image's render (the same tests at the same pixel
 /// centres), from a window's memory and work. @throw cm::Error for a window beyond the image.
 DepthImage render_depth(const Mesh& mesh, const Camera& cam, int full_width, int full_height, const PixelWindow& window,
-                        const RenderCheck& check = {});
+                        Progress progress = {});
 
 /// @brief Orthographic camera framed as docs/conventions.md "Rendering views of a mesh":
 /// the box centre maps to (W/2, H/2) and s = 0.9 * min(W, H) / largest extent of the box.

@@ -238,7 +238,8 @@ Image average_down(const ArtScene& s, const SampleShader& shade, int width, int 
 
 } // namespace
 
-Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt) {
+Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, const ArtOptions& opt,
+                 Progress progress) {
     if (width <= 0 || height <= 0)
         throw Error("cannot draw an image of size " + std::to_string(width) + "x" + std::to_string(height));
     // Samples per pixel, kept to about 12 M samples so large images stay within memory.
@@ -249,7 +250,7 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     Mesh mesh = mesh_in;
     if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
     // Over the samples the mesh can cover, with a rim of two empty ones; the rest is paper.
-    const DepthImage D = render_depth(mesh, hi, W, H, covered_window(mesh, hi, W, H, 2), opt.check);
+    const DepthImage D = render_depth(mesh, hi, W, H, covered_window(mesh, hi, W, H, 2), progress);
     const int w = D.width, h = D.height;
     const std::size_t N = std::size_t(w) * h;
     ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
@@ -257,7 +258,7 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
 
     // Lines: silhouette outline inside the silhouette, and creases / inner contours.
     const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
-    if (opt.check) opt.check();
+    progress.check();
     // A sample is on a line within the outline's width of the outside or half a crease's width
     // of a crease. Over the window: its rim is empty (or the picture's edge, outside as there),
     // and nearer to any sample in it than an empty sample beyond it.
@@ -267,7 +268,7 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
         const std::vector<char> near_crease = within_chamfer(crease, w, h, false, 0.5f * opt.crease_px * float(ss));
         for (std::size_t i = 0; i < N; ++i) on_line[i] |= near_crease[i];
     }
-    if (opt.check) opt.check();
+    progress.check();
     return average_down(scene, SampleShader(scene, on_line, opt), width, height, opt);
 }
 

@@ -3,10 +3,10 @@
 // test views, and the same shading on a plain background for preview sheets.
 #pragma once
 #include <array>
-#include <functional>
 
 #include "core/camera.h"
 #include "core/mesh.h"
+#include "core/progress.h"
 #include "core/views.h"
 
 namespace cm {
@@ -23,14 +23,14 @@ struct ArtOptions {
     bool lines = true;                                  ///< false: shaded fill only
     int supersample = 3;                                ///< samples per pixel along x and y (anti-aliasing)
     unsigned seed = 1;                                  ///< grain pattern
-    /// Called between the steps and per chunk of the render; may throw to stop (RenderCheck).
-    std::function<void()> check;
 };
 
 /// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the
 /// pixel-centre silhouette of render_mask() (outlines lie inside the silhouette), so a
 /// silhouette extracted from the drawing matches the mask.
+/// `progress` is looked at between the steps and per chunk of the render (progress.check()).
 /// @return RGBA, alpha 1 everywhere (the drawing has no transparency).
-Image render_art(const Mesh& mesh, const Camera& cam, int width, int height, const ArtOptions& opt = {});
+Image render_art(const Mesh& mesh, const Camera& cam, int width, int height, const ArtOptions& opt = {},
+                 Progress progress = {});
 
 } // namespace cm

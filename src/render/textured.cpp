@@ -35,8 +35,8 @@ bool has_colour(const Mesh& m) {
 }
 
 Image render_colour(const Mesh& mesh, const Camera& cam, int width, int height, const std::array<float, 3>& background,
-                    const RenderCheck& check) {
-    const DepthImage d = render_depth(mesh, cam, width, height, check);
+                    Progress progress) {
+    const DepthImage d = render_depth(mesh, cam, width, height, progress);
     Image img;
     img.width = width;
     img.height = height;
@@ -47,7 +47,7 @@ Image render_colour(const Mesh& mesh, const Camera& cam, int width, int height, 
                           (corner || (!mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size()));
     const bool coloured = mesh.colors.size() == mesh.positions.size() && !mesh.colors.empty();
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-        if (check) check();
+        progress.check();
         for (int y = rows.begin(); y < rows.end(); ++y)
             for (int x = 0; x < width; ++x) {
                 float* px = &img.pixels[(std::size_t(y) * width + x) * 4];

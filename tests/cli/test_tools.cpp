@@ -209,8 +209,8 @@ TEST(Tools, PreviewOverlayShowsWhereTheMeshDiffers) {
     views.views.push_back(v);
     PreviewOptions opt;
     opt.panel = 120;
-    SilhouetteError err;
-    const Image sheet = make_preview_sheet(moved, views, opt, err);
+    const auto [sheet, stats] = make_preview_sheet(moved, views, opt);
+    const SilhouetteError& err = stats.error;
     EXPECT_NEAR(err.xor_pct, 100.0 * 10 / 108, 0.01); // 5 columns each side of 108
     std::size_t input_only = 0, mesh_only = 0;
     for (std::size_t i = 0; i < sheet.samples(); i += 3) {

@@ -1,9 +1,6 @@
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <numeric>
 #include <random>
-#include <thread>
 
 #include <tbb/global_control.h>
 
@@ -17,8 +14,6 @@
 using namespace cm;
 
 namespace {
-
-std::size_t count(const std::vector<std::uint8_t>& m) { return std::size_t(std::accumulate(m.begin(), m.end(), 0.0)); }
 
 View view_from_mask(const std::string& name, const Camera& cam, const std::vector<std::uint8_t>& mask, int w, int h) {
     View v;
@@ -81,53 +76,6 @@ TEST(Raster, KnownOffsetGivesTheKnownError) {
     EXPECT_EQ(e.views[0].xor_px, 2 * 3 * 20);
     EXPECT_DOUBLE_EQ(e.xor_pct, 100.0 * 120 / 800);
     EXPECT_DOUBLE_EQ(e.views[0].iou, 37.0 / 43.0);
-}
-
-// The preview and the error stage of a run ask about one mesh at once: the renders are made
-// once, the second asker gets the first's, and another mesh (or the same one let go and
-// another made) gets its own.
-TEST(Raster, SharedErrorIsMadeOncePerMeshAndViews) {
-    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});
-    Views views;
-    views.views.push_back(view_from_mask("front", unit_front(), render_mask(box, unit_front(), 64, 64), 64, 64));
-    auto moved = std::make_shared<const Mesh>(test::make_box({13, -40, -5}, {53, -20, 5}));
-    std::atomic<int> renders{0};
-    std::shared_ptr<const SilhouetteRenders> got[4];
-    {
-        std::vector<std::thread> askers;
-        for (auto& g : got) askers.emplace_back([&] { g = shared_silhouette_error(moved, views, [&] { ++renders; }); });
-        for (auto& t : askers) t.join();
-    }
-    const int once = renders.load();
-    EXPECT_GT(once, 0);
-    for (auto& g : got) {
-        ASSERT_TRUE(g);
-        EXPECT_EQ(g.get(), got[0].get());
-    }
-    EXPECT_EQ(got[0]->error.views[0].xor_px, 2 * 3 * 20);
-    ASSERT_EQ(got[0]->masks.size(), 1u);
-    EXPECT_EQ(count(got[0]->masks[0]), 800u);
-    // The same mesh again: nothing rendered.
-    EXPECT_EQ(shared_silhouette_error(moved, views, [&] { ++renders; }).get(), got[0].get());
-    EXPECT_EQ(renders.load(), once);
-    // Another mesh: its own error.
-    auto same = std::make_shared<const Mesh>(box);
-    EXPECT_EQ(shared_silhouette_error(same, views)->error.views[0].xor_px, 0);
-    // A copy of the views starts afresh.
-    const Views copy = views;
-    EXPECT_NE(shared_silhouette_error(moved, copy).get(), got[0].get());
-}
-
-// A stage stopped while it made the renders leaves nothing behind: the next asker makes them.
-TEST(Raster, SharedErrorStoppedIsMadeAgain) {
-    const Mesh box = test::make_box({10, -40, -5}, {50, -20, 5});
-    Views views;
-    views.views.push_back(view_from_mask("front", unit_front(), render_mask(box, unit_front(), 64, 64), 64, 64));
-    auto mesh = std::make_shared<const Mesh>(box);
-    EXPECT_THROW(shared_silhouette_error(mesh, views, [] { throw Cancelled(); }), Cancelled);
-    const auto r = shared_silhouette_error(mesh, views);
-    ASSERT_TRUE(r);
-    EXPECT_EQ(r->error.views[0].xor_px, 0);
 }
 
 TEST(Raster, ErrorSumsOverViewsBeforeDividing) {

@@ -5,6 +5,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -82,7 +85,7 @@ struct Canvas {
         }
     }
     /// Pastes `src` (RGB or RGBA over white), resized by area averaging to fit box w x h, centred.
-    void paste(const Image& src, int x0, int y0, int w, int h, const RenderCheck& check = {}) {
+    void paste(const Image& src, int x0, int y0, int w, int h, const Progress& progress = {}) {
         const int ch = src.channels;
         if (src.eight_bit()) {
             // Each byte's value as Image::value gives it, looked up. An opaque pixel adds its
@@ -103,7 +106,7 @@ struct Canvas {
                         for (int k = 0; k < 3; ++k) acc[k] += float(lut[p[k]]) * a + (1.0f - a);
                     }
                 },
-                check);
+                progress);
             return;
         }
         paste_pixels(
@@ -113,12 +116,12 @@ struct Canvas {
                 a = ch == 4 ? std::clamp(src.value(s + 3), 0.0f, 1.0f) : 1.0f;
                 for (int k = 0; k < 3; ++k) rgb[k] = src.value(ch == 1 ? s : s + std::size_t(k));
             },
-            check);
+            progress);
     }
     /// The same for a sw x sh picture given by pixel(i, rgb, alpha) (i = row-major index),
     /// which need not be stored as an image.
     template <typename Pixel>
-    void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel, const RenderCheck& check = {}) {
+    void paste_pixels(int sw, int sh, int x0, int y0, int w, int h, Pixel pixel, const Progress& progress = {}) {
         paste_runs(
             sw, sh, x0, y0, w, h,
             [&](std::size_t first, int n, double acc[3]) {
@@ -128,17 +131,17 @@ struct Canvas {
                     for (int k = 0; k < 3; ++k) acc[k] += std::clamp(v[k], 0.0f, 1.0f) * a + (1.0f - a);
                 }
             },
-            check);
+            progress);
     }
     /// The resizing itself: `run(first, n, acc)` adds to acc the colours over white of the n
     /// source pixels from row-major index `first` on (a run of one row), in that order.
     template <typename Run>
-    void paste_runs(int sw, int sh, int x0, int y0, int w, int h, Run run, const RenderCheck& check) {
+    void paste_runs(int sw, int sh, int x0, int y0, int w, int h, Run run, const Progress& progress) {
         const double f = std::min(double(w) / sw, double(h) / sh);
         const int dw = std::max(1, int(std::lround(sw * f))), dh = std::max(1, int(std::lround(sh * f)));
         const int ox = x0 + (w - dw) / 2, oy = y0 + (h - dh) / 2;
         tbb::parallel_for(0, dh, [&](int y) {
-            if (check && y % 64 == 0) check();
+            if (y % 64 == 0) progress.check();
             for (int x = 0; x < dw; ++x) {
                 // Source pixels whose centres fall in the destination pixel; the nearest when none.
                 const double sx0 = x / f, sx1 = (x + 1) / f, sy0 = y / f, sy1 = (y + 1) / f;
@@ -167,87 +170,112 @@ std::string fixed(double v, int digits) {
     return buf;
 }
 
-} // namespace
+// Where the parts of a sheet go.
+struct Layout {
+    int P, gap, scale;
+    int line; ///< a row of text
+    int nviews, width, height;
+    Layout(int panel, int views)
+        : P(panel),
+          gap(std::max(8, P / 32)),
+          scale(std::max(1, P / 160)),
+          line(7 * scale + 2 * gap),
+          nviews(views),
+          width(3 * P + 4 * gap),
+          height(2 * line + nviews * (line + P + gap) + line + gap) {}
+};
 
-Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, SilhouetteError& error) {
-    if (views.views.empty()) throw Error("there are no views to preview");
-    if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
-    if (opt.progress) opt.progress(0);
-    // The error's renders are the overlays' too.
-    SilhouetteRenders renders;
-    renders.error = silhouette_error(mesh, views, &renders.masks, opt.check);
-    error = renders.error;
-    return make_preview_sheet(mesh, views, opt, renders);
-}
+// The sheet of one mesh: the layout, then its steps (the mesh drawn from each view, a row per
+// view, the header, the legend), each drawing into its own part of the canvas.
+class Sheet {
+public:
+    Sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt, const Progress& progress)
+        : mesh_(mesh),
+          views_(views),
+          opt_(opt),
+          progress_(progress),
+          lay_(opt.panel, int(views.views.size())),
+          canvas_(lay_.width, lay_.height, 0.93f) {}
 
-Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt,
-                         const SilhouetteRenders& renders) {
-    if (views.views.empty()) throw Error("there are no views to preview");
-    if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
-    if (renders.masks.size() != views.views.size() || renders.error.views.size() != views.views.size())
-        throw Error("the silhouette renders are not of these views");
-    auto step = [&](double f) {
-        if (opt.progress) opt.progress(f);
-    };
-    const SilhouetteError& error = renders.error;
-    const auto& masks = renders.masks;
-    step(0.3);
-    const int P = opt.panel, gap = std::max(8, P / 32), scale = std::max(1, P / 160);
-    const int line = 7 * scale + 2 * gap; // a row of text
-    const int nviews = int(views.views.size());
-    const int width = 3 * P + 4 * gap;
-    const int height = 2 * line + nviews * (line + P + gap) + line + gap;
-    Canvas sheet(width, height, 0.93f);
-    const float ink[3] = {0.12f, 0.12f, 0.14f}, grey[3] = {0.45f, 0.45f, 0.48f};
+    /// Step 3: the title and the error of all views, above the rows (once they are measured).
+    void header(const SilhouetteError& error) {
+        std::string title = opt_.title.empty() ? std::string("preview") : opt_.title;
+        const int max_chars = (lay_.width - 2 * lay_.gap) / (6 * lay_.scale);
+        if (int(title.size()) > max_chars) title = "..." + title.substr(title.size() - std::size_t(max_chars - 3));
+        canvas_.text(lay_.gap, lay_.gap, title, lay_.scale, kInk);
+        canvas_.text(lay_.gap, lay_.line,
+                     "all views: xor " + fixed(error.xor_pct, 3) + "%  mean iou " + fixed(error.mean_iou, 4),
+                     lay_.scale, kInk);
+    }
 
-    std::string title = opt.title.empty() ? std::string("preview") : opt.title;
-    const int max_chars = (width - 2 * gap) / (6 * scale);
-    if (int(title.size()) > max_chars) title = "..." + title.substr(title.size() - std::size_t(max_chars - 3));
-    sheet.text(gap, gap, title, scale, ink);
-    sheet.text(gap, line, "all views: xor " + fixed(error.xor_pct, 3) + "%  mean iou " + fixed(error.mean_iou, 4),
-               scale, ink);
+    /// Step 1: the mesh drawn from each view's camera, at the panel's size (its samples give
+    /// the anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk):
+    /// the views side by side, each drawing's serial passes (its distances to the outline)
+    /// beside the others' instead of one after another.
+    std::vector<Image> draw_meshes() const {
+        ArtOptions art;
+        art.paper = {1.0f, 1.0f, 1.0f};
+        art.grain = 0;
+        art.vignette = 0;
+        art.outline_px = 1.0f;
+        art.crease_px = 0.6f;
+        std::vector<Image> drawn(static_cast<std::size_t>(lay_.nviews));
+        tbb::parallel_for(0, lay_.nviews, [&](int v) {
+            const View& view = views_.views[std::size_t(v)];
+            const double f = std::min(1.0, double(lay_.P) / std::max(view.width, view.height));
+            const int sw = std::max(1, int(std::lround(view.width * f))),
+                      sh = std::max(1, int(std::lround(view.height * f)));
+            // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
+            const Camera small = resized_camera(view.camera, double(sw) / view.width);
+            drawn[std::size_t(v)] = has_colour(mesh_) ? render_colour(mesh_, small, sw, sh, {1, 1, 1}, progress_)
+                                                      : render_art(mesh_, small, sw, sh, art, progress_);
+        });
+        return drawn;
+    }
 
-    ArtOptions art;
-    art.paper = {1.0f, 1.0f, 1.0f};
-    art.grain = 0;
-    art.vignette = 0;
-    art.outline_px = 1.0f;
-    art.crease_px = 0.6f;
-    art.check = opt.check;
-    // 2. the mesh drawn from each view's camera, at the panel's size (its samples give the
-    // anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk): the
-    // views side by side, each drawing's serial passes (its distances to the outline) beside
-    // the others' instead of one after another.
-    std::vector<Image> drawn(static_cast<std::size_t>(nviews));
-    tbb::parallel_for(0, nviews, [&](int v) {
-        const View& view = views.views[std::size_t(v)];
-        const double f = std::min(1.0, double(P) / std::max(view.width, view.height));
-        const int sw = std::max(1, int(std::lround(view.width * f))),
-                  sh = std::max(1, int(std::lround(view.height * f)));
-        // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
-        const Camera small = resized_camera(view.camera, double(sw) / view.width);
-        drawn[std::size_t(v)] = has_colour(mesh) ? render_colour(mesh, small, sw, sh, {1, 1, 1}, opt.check)
-                                                 : render_art(mesh, small, sw, sh, art);
-    });
-    for (int v = 0; v < nviews; ++v) {
-        step(0.3 + 0.7 * v / nviews);
-        const View& view = views.views[std::size_t(v)];
-        const ViewError& e = error.views[std::size_t(v)];
-        const int y0 = 2 * line + v * (line + P + gap);
-        sheet.text(gap, y0 + gap, view.name + ":  xor " + fixed(e.xor_pct, 3) + "%  iou " + fixed(e.iou, 4), scale,
-                   ink);
-        const int py = y0 + line;
-        // 1. the input drawing
-        if (!view.image.empty()) sheet.paste(view.image, gap, py, P, P, opt.check);
-        // 2. the mesh, drawn above
-        sheet.paste(drawn[std::size_t(v)], 2 * gap + P, py, P, P, opt.check);
-        // 3. overlay: both grey, input only and mesh only in their colours. Each pixel adds
-        // one of four colours; a destination pixel's sum is counted per colour, which is the
-        // same double as adding them one by one (every partial sum of these floats is exact).
-        const std::vector<std::uint8_t>& r = masks[std::size_t(v)];
+    /// Step 2, per view: the mesh's render through its camera and its error, and a row of
+    /// the sheet: the view's name and error, then its three panels: the input drawing, the
+    /// mesh drawn above, and the overlay of the silhouettes. One render at a time: each
+    /// takes the memory of the one before.
+    ViewError view_row(int v, const Image& drawn) {
+        const View& view = views_.views[std::size_t(v)];
+        const SilhouetteMask mask = silhouette_mask(mesh_, view, progress_);
+        const ViewError e = view_error(view, mask);
+        const int y0 = 2 * lay_.line + v * (lay_.line + lay_.P + lay_.gap);
+        canvas_.text(lay_.gap, y0 + lay_.gap, view.name + ":  xor " + fixed(e.xor_pct, 3) + "%  iou " + fixed(e.iou, 4),
+                     lay_.scale, kInk);
+        const int py = y0 + lay_.line;
+        if (!view.image.empty()) canvas_.paste(view.image, lay_.gap, py, lay_.P, lay_.P, progress_);
+        canvas_.paste(drawn, 2 * lay_.gap + lay_.P, py, lay_.P, lay_.P, progress_);
+        overlay(view, mask, 3 * lay_.gap + 2 * lay_.P, py);
+        return e;
+    }
+
+    /// Step 4: what the overlay's colours mean; the sheet is done.
+    Image legend() {
+        const int ly = 2 * lay_.line + lay_.nviews * (lay_.line + lay_.P + lay_.gap) + lay_.gap / 2;
+        const int box = 7 * lay_.scale;
+        int x = lay_.gap;
+        canvas_.text(x, ly, "input | mesh | overlay:", lay_.scale, kGrey);
+        x += 24 * 6 * lay_.scale;
+        canvas_.rect(x, ly, box, box, kInputOnly);
+        x += box + 2 * lay_.scale;
+        canvas_.text(x, ly, "input only", lay_.scale, kGrey);
+        x += 11 * 6 * lay_.scale;
+        canvas_.rect(x, ly, box, box, kMeshOnly);
+        x += box + 2 * lay_.scale;
+        canvas_.text(x, ly, "mesh only", lay_.scale, kGrey);
+        return std::move(canvas_.img);
+    }
+
+private:
+    // The overlay: both grey, input only and mesh only in their colours. Each pixel adds one
+    // of four colours; a destination pixel's sum is counted per colour, which is the same
+    // double as adding them one by one (every partial sum of these floats is exact).
+    void overlay(const View& view, const SilhouetteMask& r, int left, int top) {
         const Coverage& cover = view.coverage;
-        sheet.paste_runs(
-            view.width, view.height, 3 * gap + 2 * P, py, P, P,
+        canvas_.paste_runs(
+            view.width, view.height, left, top, lay_.P, lay_.P,
             [&](std::size_t first, int n, double acc[3]) {
                 int count[4] = {0, 0, 0, 0}; // none, mesh only, input only, both
                 const int y = int(first / std::size_t(view.width)), x0 = int(first % std::size_t(view.width));
@@ -276,23 +304,49 @@ Image make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOpti
                 for (int c = 0; c < 4; ++c)
                     for (int k = 0; k < 3; ++k) acc[k] += double(count[c]) * double(kColours[c][k]);
             },
-            opt.check);
+            progress_);
     }
-    step(1);
-    // Legend.
-    const int ly = 2 * line + nviews * (line + P + gap) + gap / 2;
-    const int box = 7 * scale;
-    int x = gap;
-    sheet.text(x, ly, "input | mesh | overlay:", scale, grey);
-    x += 24 * 6 * scale;
-    sheet.rect(x, ly, box, box, kInputOnly);
-    x += box + 2 * scale;
-    sheet.text(x, ly, "input only", scale, grey);
-    x += 11 * 6 * scale;
-    sheet.rect(x, ly, box, box, kMeshOnly);
-    x += box + 2 * scale;
-    sheet.text(x, ly, "mesh only", scale, grey);
-    return sheet.img;
+
+    static constexpr float kInk[3] = {0.12f, 0.12f, 0.14f}, kGrey[3] = {0.45f, 0.45f, 0.48f};
+    const Mesh& mesh_;
+    const Views& views_;
+    const PreviewOptions& opt_;
+    const Progress& progress_;
+    const Layout lay_;
+    Canvas canvas_;
+};
+
+} // namespace
+
+void PreviewOptions::declare(ParamBinder& b) {
+    b.add(panel,
+          ParamSpec::Int("panel", 320, 32, 4096, "px", "size of each panel (the sheet has three panels per view)"));
+    b.add(title, ParamSpec::String("title", std::string(), "printed at the top of the sheet; empty: the file's name"));
+}
+
+void PreviewStats::report(Metrics& m) const {
+    m.metric("xor_pct", error.xor_pct);
+    m.metric("mean_iou", error.mean_iou);
+}
+
+Result<Image, PreviewStats> make_preview_sheet(const Mesh& mesh, const Views& views, const PreviewOptions& opt,
+                                               Progress progress) {
+    if (views.views.empty()) throw Error("there are no views to preview");
+    if (opt.panel < 32) throw Error("the panel size must be at least 32 pixels");
+    progress(0);
+    Sheet sheet(mesh, views, opt, progress);
+    const std::vector<Image> drawn = sheet.draw_meshes();
+    progress(0.3);
+    const int nviews = int(views.views.size());
+    std::vector<ViewError> errors;
+    for (int v = 0; v < nviews; ++v) {
+        progress(0.3 + 0.7 * v / nviews);
+        errors.push_back(sheet.view_row(v, drawn[std::size_t(v)]));
+    }
+    SilhouetteError error = combine_view_errors(std::move(errors));
+    sheet.header(error);
+    progress(1);
+    return {sheet.legend(), {std::move(error)}};
 }
 
 } // namespace cm

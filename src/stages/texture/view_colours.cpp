@@ -8,6 +8,22 @@
 #include "geometry/distance_transform.h"
 
 namespace cm {
+
+void CleanOptions::declare(ParamBinder& b) {
+    b.add(strip_lines, ParamSpec::Bool("strip_lines", true,
+                                       "leave out ink strokes (outlines, hatching: thin, dark, high-contrast) and fill "
+                                       "them from the neighbouring fill colour"));
+    b.add(line_width, ParamSpec::Float("line_width", 4, 1, 64, "px", "the widest stroke taken for ink (strip_lines)"));
+    b.add(line_contrast, ParamSpec::Float("line_contrast", 0.12, 0.01, 1, "",
+                                          "how much darker (luminance, 0-1) than the fill around it a stroke is"));
+    b.add(erode_px,
+          ParamSpec::Float("erode", 2, 0, 64, "px", "silhouette border not sampled (the background bleeds in there)"));
+    b.add(blend_px, ParamSpec::Float("blend", 3, 0.5, 64, "px",
+                                     "width over which a view's say fades out towards the eroded border and the "
+                                     "mesh's occlusion edges in it, so views blend across seams (under ink a view has "
+                                     "no say; beside it, full say)"));
+}
+
 ViewColours clean_view_colours(const View& view, const DepthImage* depth, double depth_jump, const CleanOptions& opt) {
     const Image& img = view.image;
     const int w = img.width, h = img.height;

@@ -8,18 +8,24 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/params.h"
 #include "core/views.h"
 #include "drawing/ink.h"
 #include "render/raster.h"
 
 namespace cm {
 
+/// The parameters of a drawing's cleaning (texture.project's strip_lines, line_width,
+/// line_contrast, erode and blend).
 struct CleanOptions {
-    bool strip_lines = true;     ///< find ink strokes and fill them from the neighbouring fill
-    float line_width = 4.0f;     ///< widest stroke taken for ink, px
-    float line_contrast = 0.12f; ///< a stroke is this much darker (luminance) than the fill around it
-    float erode_px = 2.0f;       ///< silhouette border not sampled, px
-    float blend_px = 3.0f;       ///< confidence ramp from removed pixels and occlusion edges, px
+    bool strip_lines;    ///< find ink strokes and fill them from the neighbouring fill
+    float line_width;    ///< widest stroke taken for ink, px
+    float line_contrast; ///< a stroke is this much darker (luminance) than the fill around it
+    float erode_px;      ///< silhouette border not sampled, px
+    float blend_px;      ///< confidence ramp from removed pixels and occlusion edges, px
+
+    CleanOptions() { set_declared_defaults(*this); }
+    void declare(ParamBinder& b);
 };
 
 struct ViewColours {
