@@ -186,17 +186,25 @@ void hull_box(const VisualHull& hull, const Vec3d& lo, const Vec3d& hi, int dept
 
 } // namespace
 
-int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio) {
+int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio,
+                          const std::shared_ptr<const SilhouetteTables>& tables) {
     if (!(voxel_ratio > 0)) throw Error("voxel_ratio must be positive");
     const Vec3d centre = (lo + hi) * 0.5;
+    // The pixel size needs no table: the tables at hand are lent, rather than one made per view.
+    const bool lend = tables && tables->fit(views);
     double finest = std::numeric_limits<double>::infinity();
-    for (const auto& v : views.views) finest = std::min(finest, SilhouetteField(v).pixel_size_at(centre));
+    for (std::size_t i = 0; i < views.views.size(); ++i) {
+        const SilhouetteField field =
+            lend ? SilhouetteField(views.views[i], SilhouetteTables::of(tables, i)) : SilhouetteField(views.views[i]);
+        finest = std::min(finest, field.pixel_size_at(centre));
+    }
     const double r = longest_side(lo, hi) / (voxel_ratio * finest);
     if (!std::isfinite(r) || r > 1e9) throw Error("voxel_ratio gives no usable resolution");
     return std::max(1, int(std::lround(r)));
 }
 
-void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
+void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats,
+                  const std::shared_ptr<const SilhouetteTables>& tables) {
     if (views.views.empty()) throw Error("no views to carve: the input holds no view");
     if (views.has_bounds) {
         lo = views.bounds_min, hi = views.bounds_max;
@@ -242,7 +250,7 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
     }
     Vec3d blo = c0 - Vec3d{radius, radius, radius}, bhi = c0 + Vec3d{radius, radius, radius};
     for (int pass = 0; pass < 2; ++pass) {
-        VisualHull hull(views, blo, bhi);
+        VisualHull hull(views, blo, bhi, tables);
         Vec3d a, b;
         bool any = false;
         hull_box(hull, blo, bhi, 6, VisualHull::kAllViews, a, b, any);
@@ -259,21 +267,22 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
 }
 
 std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
-                              const std::function<void(double)>& progress, CarveStats* stats) {
+                              const std::function<void(double)>& progress, CarveStats* stats,
+                              std::shared_ptr<const SilhouetteTables> tables) {
     if (!views || views->views.empty()) throw Error("no views to carve: the input holds no view");
     for (const auto& v : views->views)
         if (v.coverage.empty() || v.width <= 0 || v.height <= 0)
             throw Error("view \"" + v.name + "\" has no silhouette");
-    // The silhouettes' summed-area tables, held from here: the box estimate's hulls and the
-    // carving's read the same ones, and the volume keeps them for the crossings.
-    std::shared_ptr<const void> tables = silhouette_tables(*views);
+    // The silhouettes' summed-area tables: the box estimate's hulls and the carving's read the
+    // same ones, and the volume carries them for the crossings.
+    if (!tables) tables = silhouette_tables(*views);
     CarveStats local;
     CarveStats& st = stats ? *stats : local;
     Vec3d lo, hi;
-    carve_region(*views, lo, hi, &st);
+    carve_region(*views, lo, hi, &st, tables);
     int res = opt.resolution;
     if (opt.voxel_ratio > 0) {
-        res = resolution_from_ratio(*views, lo, hi, opt.voxel_ratio);
+        res = resolution_from_ratio(*views, lo, hi, opt.voxel_ratio, tables);
         if (res < 8 || res > 16384)
             throw Error("voxel_ratio " + std::to_string(opt.voxel_ratio) + " gives resolution " + std::to_string(res) +
                         ", outside [8, 16384]");
@@ -292,7 +301,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
 
     // The hull is clipped half a cell beyond the box, so it never reaches the padding.
     const Vec3d half{0.5 * h, 0.5 * h, 0.5 * h};
-    const VisualHull hull(*views, lo - half, hi + half);
+    const VisualHull hull(*views, lo - half, hi + half, tables);
 
     std::vector<Coord> blocks;
     for (int x = 0; x <= n[0]; x += kBlock)
@@ -351,7 +360,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     auto vol = std::make_shared<Volume>();
     vol->occupancy = grid;
     vol->views = std::move(views);
-    vol->view_data = std::move(tables);
+    vol->silhouette_tables = std::move(tables);
     return vol;
 }
 
@@ -359,15 +368,15 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
 
 namespace cm {
 
-double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution,
-                              int coarse) {
+double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution, int coarse,
+                              std::shared_ptr<const SilhouetteTables> tables) {
     CarveOptions c = opt;
     c.resolution = coarse;
     c.voxel_ratio = 0;
     CarveStats st;
-    const auto vol = carve(views, c, {}, &st);
+    const auto vol = carve(views, c, {}, &st, tables);
     int res = opt.resolution;
-    if (opt.voxel_ratio > 0) res = resolution_from_ratio(*views, st.box_min, st.box_max, opt.voxel_ratio);
+    if (opt.voxel_ratio > 0) res = resolution_from_ratio(*views, st.box_min, st.box_max, opt.voxel_ratio, tables);
     if (resolution) *resolution = res;
     // Inside grid points with an outside face neighbour.
     auto acc = vol->occupancy->getConstAccessor();

@@ -23,28 +23,35 @@ struct CarveStats {
 
 /// Resolution (cells along the longest side of [lo, hi]) that `voxel_ratio` pixels of
 /// the finest view per voxel give; the finest view is measured at the box centre.
-int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio);
+/// `tables`: the views' silhouette tables when at hand (none are made for this).
+int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio,
+                          const std::shared_ptr<const SilhouetteTables>& tables = nullptr);
 
 /// The box to carve: the views' bounds, or for views without bounds an estimate from a
-/// coarse carve of a region every camera sees. Throws cm::Error when none can be found.
-void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats = nullptr);
+/// coarse carve of a region every camera sees (its hulls read `tables`, the views' silhouette
+/// tables; null: made for them). Throws cm::Error when none can be found.
+void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats = nullptr,
+                  const std::shared_ptr<const SilhouetteTables>& tables = nullptr);
 
 /// @brief Carves the visual hull of `views` in a sparse grid.
 /// Boxes of grid points are decided at once where every view sees their projection all
 /// inside or one view sees it all outside; leaf voxels are made only near the surface,
-/// interior becomes active tiles (see volume.h for the guarantees).
+/// interior becomes active tiles (see volume.h for the guarantees). `tables` are the views'
+/// silhouette tables (silhouette_tables()), made here when null; the volume carries them
+/// (Volume::silhouette_tables) for the stages that ask the hull again.
 /// @param progress called between chunks with a fraction in [0, 1]; may throw to cancel.
 /// @throw cm::Error for no views, a bad resolution, or an empty hull.
 std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
-                              const std::function<void(double)>& progress = {}, CarveStats* stats = nullptr);
+                              const std::function<void(double)>& progress = {}, CarveStats* stats = nullptr,
+                              std::shared_ptr<const SilhouetteTables> tables = nullptr);
 
 /// The number of surface cells (cells with inside and outside corners) a carve at
 /// `resolution` will have, from a coarse carve of the same box at `coarse` cells scaled
 /// by the square of the ratio (the surface is two-dimensional). Used to estimate the
 /// memory of what follows before anything large is allocated.
-/// `resolution`, when given, receives the resolution the carve will use.
+/// `resolution`, when given, receives the resolution the carve will use; `tables` as for carve().
 double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution = nullptr,
-                              int coarse = 64);
+                              int coarse = 64, std::shared_ptr<const SilhouetteTables> tables = nullptr);
 
 /// Bytes the stages after the carve keep per surface cell at their peak (refinement,
 /// extraction and smoothing of the paper pipeline), measured on the bundled example

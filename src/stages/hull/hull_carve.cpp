@@ -1,6 +1,7 @@
 // hull.carve: the coarse visual hull (paper step 1) in a sparse OpenVDB grid.
 #include "carve.h"
 #include "core/stage.h"
+#include "geometry/visual_hull.h"
 #include "io/limits.h"
 
 #include <cstdint>
@@ -38,8 +39,11 @@ public:
         // Refuse before anything large is allocated: a one-line change of the resolution
         // can ask for more memory than the machine has (the stages after the carve hold
         // about kPipelineBytesPerSurfaceCell per surface cell).
+        // The silhouettes' summed-area tables, made once for every hull of this stage (the
+        // estimate's, the box estimate's and the carving's) and carried on in the volume.
+        const auto tables = silhouette_tables(*views);
         int res = 0;
-        const double cells = estimate_surface_cells(views, opt, &res);
+        const double cells = estimate_surface_cells(views, opt, &res, 64, tables);
         const double bytes = cells * kPipelineBytesPerSurfaceCell;
         ctx.metric("estimated_surface_cells", cells);
         ctx.metric("estimated_peak_bytes", bytes);
@@ -50,7 +54,7 @@ public:
         check_memory_estimate(std::uint64_t(bytes), what, "lower the resolution");
         CarveStats st;
         auto vol = carve(
-            views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st);
+            views, opt, [&](double f) { ctx.progress(f, "carving"); }, &st, tables);
         // voxel_ratio decides when given, so `--set hull.voxel_ratio=4` works on a pipeline
         // file that names a resolution; say so when the two differ.
         if (opt.voxel_ratio > 0 && resolution_.given && st.resolution != opt.resolution)

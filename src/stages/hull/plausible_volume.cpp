@@ -191,6 +191,7 @@ std::shared_ptr<Volume> plausible_volume(const Volume& in, const openvdb::BoolGr
     // outside the hull; the smoothed field's zero crossing on edges into the removed region.
     std::shared_ptr<Volume> out = std::make_shared<Volume>();
     out->views = in.views;
+    out->silhouette_tables = in.silhouette_tables;
     out->occupancy = occ;
     // Thin parts between grid points hang on the hull's surface next to them: where the
     // removal took any grid point around one, it would float free, so it goes.

@@ -246,7 +246,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         lat.origin = {o.x(), o.y(), o.z()};
         lat.h = xform.voxelSize()[0];
     }
-    const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views);
+    // The input's silhouette tables when these are its views (the carving's), else new ones.
+    const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views, carried_tables(in, views));
     const VisualHull& hull = *hull_ptr;
     const openvdb::BoolTree& occ = in.occupancy->tree();
 
@@ -263,7 +264,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     auto out = std::make_shared<Volume>();
     out->occupancy = in.occupancy;
     out->views = views;
-    out->view_data = hull.tables(); // for a stage that reads the views' hull again (dual_mc's normals)
+    out->silhouette_tables = hull.tables(); // for a stage that asks the views' hull again (dual_mc's normals)
     out->extra = in.extra;
     auto cgrid = openvdb::Vec3fGrid::create(ctree);
     cgrid->setTransform(in.occupancy->transform().copy());

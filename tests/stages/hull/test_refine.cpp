@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "carve.h"
+#include "core/error.h"
 #include "geometry/silhouette_field.h"
 #include "geometry/visual_hull.h"
 #include "hull_steps.h"
@@ -306,33 +307,44 @@ TEST(SilhouetteField, SummedAreaTablesLiveAsLongAsAVolumeOrAHullHoldsThem) {
     CarveOptions opt;
     opt.resolution = 32;
     auto vol = carve(views, opt);
-    ASSERT_TRUE(vol->view_data);
-    const std::weak_ptr<const void> tables = vol->view_data;
+    ASSERT_TRUE(vol->silhouette_tables);
+    const std::weak_ptr<const SilhouetteTables> tables = vol->silhouette_tables;
     auto ref = refine(*vol, nullptr, {}, {});
-    EXPECT_EQ(ref->view_data, vol->view_data); // the crossings read the carving's tables
+    EXPECT_EQ(ref->silhouette_tables, vol->silhouette_tables); // the crossings read the carving's tables
     vol.reset();
     EXPECT_FALSE(tables.expired()); // the refined volume still holds them
     {
-        const VisualHull hull(*views, {-2, -2, -2}, {2, 2, 2});
+        const VisualHull hull(*views, {-2, -2, -2}, {2, 2, 2}, ref->silhouette_tables);
         EXPECT_EQ(hull.tables(), tables.lock());
     }
     ref.reset();
     EXPECT_TRUE(tables.expired()); // nothing reads them any more: freed, though the views live on
     // Made again for the next hull, and shared by the hulls alive together.
-    std::weak_ptr<const void> again;
+    std::weak_ptr<const SilhouetteTables> again;
     {
         const VisualHull a(*views, {-2, -2, -2}, {2, 2, 2});
         ASSERT_TRUE(a.tables());
-        const VisualHull b(*views, {-1, -1, -1}, {1, 1, 1});
+        const VisualHull b(*views, {-1, -1, -1}, {1, 1, 1}, a.tables());
         EXPECT_EQ(a.tables(), b.tables());
         EXPECT_TRUE(a.inside({0, 0, 0}));
         EXPECT_FALSE(a.inside({0.9, 0.9, 0.9}));
         again = a.tables();
     }
     EXPECT_TRUE(again.expired());
-    // A copy of the views starts without them (Views::derived) and makes its own.
+    // Tables are data of one set of views: a copy of the views gets its own, and a hull refuses
+    // the tables of other views.
     const Views copy = *views;
     const auto held = silhouette_tables(*views);
     EXPECT_NE(silhouette_tables(copy), held);
-    EXPECT_EQ(silhouette_tables(*views), held);
+    EXPECT_TRUE(held->fit(copy));
+    Views fewer = copy;
+    fewer.views.pop_back();
+    EXPECT_FALSE(held->fit(fewer));
+    EXPECT_THROW(VisualHull(fewer, {-2, -2, -2}, {2, 2, 2}, held), Error);
+    // A volume made elsewhere, without tables, gets them where they are needed, and hands them on.
+    auto bare = std::make_shared<Volume>(*carve(views, opt));
+    bare->silhouette_tables = nullptr;
+    const auto made = refine(*bare, nullptr, {}, {});
+    ASSERT_TRUE(made->silhouette_tables);
+    EXPECT_TRUE(made->silhouette_tables->fit(*views));
 }
