@@ -186,6 +186,35 @@ void hull_box(const VisualHull& hull, const Vec3d& lo, const Vec3d& hi, int dept
 
 } // namespace
 
+void CarveOptions::declare(ParamBinder& b) {
+    b.add(resolution, ParamSpec::Int("resolution", 256, 8, 16384, "cells",
+                                     "grid cells along the longest side of the object's bounding box"));
+    b.add(voxel_ratio, ParamSpec::Float("voxel_ratio", 4.0, 0.01, 1024.0, "px",
+                                        "image pixels per grid cell in the finest view (the paper's 4x/8x coarser "
+                                        "grid); when set it decides the resolution")
+                           .optional());
+}
+
+void CarveStats::report(Metrics& m) const {
+    if (box_estimated && box_touched)
+        m.warn(
+            "the hull reaches the edge of the region the cameras were searched in; give bounds in the manifest to be "
+            "sure nothing is cut");
+    m.metric("resolution", double(resolution));
+    m.metric("voxel_size", voxel_size);
+    m.count("active_voxels", active_voxels);
+    m.count("active_tiles", active_tiles);
+    m.count("leaf_count", leaf_count);
+    m.count("grid_bytes", grid_bytes);
+}
+
+double SurfaceEstimate::peak_bytes() const { return surface_cells * kPipelineBytesPerSurfaceCell; }
+
+void SurfaceEstimate::report(Metrics& m) const {
+    m.metric("estimated_surface_cells", surface_cells);
+    m.metric("estimated_peak_bytes", peak_bytes());
+}
+
 int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio,
                           const std::shared_ptr<const SilhouetteTables>& tables) {
     if (!(voxel_ratio > 0)) throw Error("voxel_ratio must be positive");
@@ -266,9 +295,8 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats,
     if (stats) stats->box_estimated = true;
 }
 
-std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
-                              const std::function<void(double)>& progress, CarveStats* stats,
-                              std::shared_ptr<const SilhouetteTables> tables) {
+Result<std::shared_ptr<Volume>, CarveStats> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
+                                                  std::shared_ptr<const SilhouetteTables> tables, Progress progress) {
     if (!views || views->views.empty()) throw Error("no views to carve: the input holds no view");
     for (const auto& v : views->views)
         if (v.coverage.empty() || v.width <= 0 || v.height <= 0)
@@ -276,15 +304,14 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     // The silhouettes' summed-area tables: the box estimate's hulls and the carving's read the
     // same ones, and the volume carries them for the crossings.
     if (!tables) tables = silhouette_tables(*views);
-    CarveStats local;
-    CarveStats& st = stats ? *stats : local;
+    CarveStats st;
     Vec3d lo, hi;
     carve_region(*views, lo, hi, &st, tables);
     int res = opt.resolution;
     if (opt.voxel_ratio > 0) {
-        res = resolution_from_ratio(*views, lo, hi, opt.voxel_ratio, tables);
+        res = resolution_from_ratio(*views, lo, hi, *opt.voxel_ratio, tables);
         if (res < 8 || res > 16384)
-            throw Error("voxel_ratio " + std::to_string(opt.voxel_ratio) + " gives resolution " + std::to_string(res) +
+            throw Error("voxel_ratio " + std::to_string(*opt.voxel_ratio) + " gives resolution " + std::to_string(res) +
                         ", outside [8, 16384]");
     }
     if (res < 8 || res > 16384) throw Error("resolution must be in [8, 16384], got " + std::to_string(res));
@@ -316,7 +343,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
             BlockCarver bc(hull, lat);
             for (std::size_t i = r.begin(); i < r.end(); ++i) bc.carve(blocks[i], results[i]);
         });
-        if (progress) progress(double(c1) / double(blocks.size()));
+        progress(double(c1) / double(blocks.size()));
     }
 
     auto tree = std::make_shared<BoolTree>(false);
@@ -334,7 +361,8 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
             r.node.release();
         }
     }
-    if (tree->activeVoxelCount() == 0)
+    st.active_voxels = tree->activeVoxelCount();
+    if (st.active_voxels == 0)
         throw Error("the visual hull is empty at resolution " + std::to_string(res) +
                     ": no grid point is inside every view's silhouette (check the views' cameras and alignment)");
 
@@ -346,6 +374,9 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
                     " is outside what a grid can hold ([1e-12, 1e12]): the object's box is too small or too large "
                     "for its units; check the views' cameras and bounds");
     }
+    st.active_tiles = tree->activeTileCount();
+    st.leaf_count = tree->leafCount();
+    st.grid_bytes = tree->memUsage();
     auto grid = openvdb::BoolGrid::create(tree);
     auto xform = openvdb::math::Transform::createLinearTransform(h);
     xform->postTranslate(openvdb::Vec3d(lat.origin.x, lat.origin.y, lat.origin.z));
@@ -361,23 +392,23 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     vol->occupancy = grid;
     vol->views = std::move(views);
     vol->silhouette_tables = std::move(tables);
-    return vol;
+    return {std::move(vol), st};
 }
 
 } // namespace cm
 
 namespace cm {
 
-double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution, int coarse,
-                              std::shared_ptr<const SilhouetteTables> tables) {
+SurfaceEstimate estimate_surface(std::shared_ptr<const Views> views, const CarveOptions& opt,
+                                 std::shared_ptr<const SilhouetteTables> tables, int coarse) {
     CarveOptions c = opt;
     c.resolution = coarse;
-    c.voxel_ratio = 0;
-    CarveStats st;
-    const auto vol = carve(views, c, {}, &st, tables);
-    int res = opt.resolution;
-    if (opt.voxel_ratio > 0) res = resolution_from_ratio(*views, st.box_min, st.box_max, opt.voxel_ratio, tables);
-    if (resolution) *resolution = res;
+    c.voxel_ratio.reset();
+    const auto [vol, st] = carve(views, c, tables);
+    SurfaceEstimate e;
+    e.resolution = opt.resolution;
+    if (opt.voxel_ratio > 0)
+        e.resolution = resolution_from_ratio(*views, st.box_min, st.box_max, *opt.voxel_ratio, tables);
     // Inside grid points with an outside face neighbour.
     auto acc = vol->occupancy->getConstAccessor();
     double boundary = 0;
@@ -396,8 +427,9 @@ double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOpt
         }
     // A surface cell count is 1.45 times this count of boundary points, measured on the
     // bundled example at resolutions 256 and 1024 (1.44 and 1.45).
-    const double scale = double(res) / double(st.resolution);
-    return 1.45 * boundary * scale * scale;
+    const double scale = double(e.resolution) / double(st.resolution);
+    e.surface_cells = 1.45 * boundary * scale * scale;
+    return e;
 }
 
 } // namespace cm
