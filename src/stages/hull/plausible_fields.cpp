@@ -41,55 +41,115 @@ void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int
     }
 }
 
-void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                  const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach) {
-    if (!(sigma > 0) || leaves.leafCount() == 0) return;
-    int f = 1;
-    while (f < 8 && 2 * f <= sigma) f *= 2;
-    // The lattice starts on a leaf corner, so no coarse cell straddles two leaves (f divides 8)
-    // and leaves fill their own cells in parallel.
-    const Coord lo(box.min().x() & ~7, box.min().y() & ~7, box.min().z() & ~7);
-    const int nx = (box.max().x() - lo.x()) / f + 1, ny = (box.max().y() - lo.y()) / f + 1,
-              nz = (box.max().z() - lo.z()) / f + 1;
-    const std::size_t total = std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
-    std::vector<float> sum(total, 0.0f), weight(total, 0.0f);
-    auto at = [&](int i, int j, int k) {
-        return (std::size_t(i) * std::size_t(ny) + std::size_t(j)) * std::size_t(nz) + std::size_t(k);
+namespace {
+
+using BoolLeaves = openvdb::tree::LeafManager<openvdb::BoolTree>;
+
+// The steps of smooth_field(): the voxels' sums and counts on a coarse lattice (`f` cells a
+// lattice cell, starting on a leaf corner, so no lattice cell straddles two leaves (f divides
+// 8) and leaves fill their own cells in parallel), binomial passes there, then back to the
+// voxels trilinearly.
+class FieldSmoother {
+public:
+    FieldSmoother(std::vector<float>& value, const BoolLeaves& leaves, const std::vector<std::size_t>& base,
+                  const openvdb::CoordBBox& box, double sigma, float reach)
+        : value_(value),
+          leaves_(leaves),
+          base_(base),
+          reach_(reach),
+          f_(lattice_step(sigma)),
+          lo_(box.min().x() & ~7, box.min().y() & ~7, box.min().z() & ~7),
+          nx_((box.max().x() - lo_.x()) / f_ + 1),
+          ny_((box.max().y() - lo_.y()) / f_ + 1),
+          nz_((box.max().z() - lo_.z()) / f_ + 1) {}
+
+    /// The voxels' sums and counts on the lattice.
+    void bin();
+    /// Binomial passes: each adds 1/2 coarse cell^2 of variance; the cell means f^2 - 1 over
+    /// 12 and the trilinear way back about f^2 / 6 fine cells^2.
+    void blur(double sigma);
+    /// Back to the voxels: the normalised trilinear value about the cell centres. Voxels whose
+    /// value lies farther than `reach` from 0 keep theirs.
+    void sample();
+
+private:
+    // Per axis and local coordinate of a leaf: the lower padded lattice index and the weight
+    // of the upper.
+    struct Weights {
+        int c0[3][8];
+        double t[3][8];
     };
+    static int lattice_step(double sigma) {
+        int f = 1;
+        while (f < 8 && 2 * f <= sigma) f *= 2;
+        return f;
+    }
+    std::size_t at(int i, int j, int k) const {
+        return (std::size_t(i) * std::size_t(ny_) + std::size_t(j)) * std::size_t(nz_) + std::size_t(k);
+    }
+    std::size_t pat(int i, int j, int k) const {
+        return (std::size_t(i) * py_ + std::size_t(j)) * pz_ + std::size_t(k);
+    }
     // body(voxel index, local x, y, z) for the on voxels of leaf l, from its mask's words.
-    auto for_leaf = [&](std::size_t l, auto&& body) {
-        const auto& mask = leaves.leaf(l).getValueMask();
-        std::size_t i = base[l];
+    template <typename Body>
+    void for_leaf(std::size_t l, Body&& body) const {
+        const auto& mask = leaves_.leaf(l).getValueMask();
+        std::size_t i = base_[l];
         for (openvdb::Index w = 0; w < 8; ++w)
             for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i) {
                 const int b = __builtin_ctzll(word);
                 body(i, int(w), b >> 3, b & 7);
             }
-    };
-    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
-        const Coord o = leaves.leaf(l).origin() - lo;
+    }
+    void pad();
+    Weights weights(std::size_t l) const;
+    void sample_few(std::size_t l, const Weights& wt);
+    void sample_block(std::size_t l, const Weights& wt);
+
+    std::vector<float>& value_;
+    const BoolLeaves& leaves_;
+    const std::vector<std::size_t>& base_;
+    const float reach_;
+    const int f_;
+    const Coord lo_;
+    const int nx_, ny_, nz_;
+    std::vector<float> sum_, weight_;
+    // The lattice with a cell of zeros on every side (so no neighbour needs a bounds test),
+    // sum and weight side by side.
+    int px_ = 0, py_ = 0, pz_ = 0;
+    std::vector<std::array<float, 2>> padded_;
+};
+
+void FieldSmoother::bin() {
+    const std::size_t total = std::size_t(nx_) * std::size_t(ny_) * std::size_t(nz_);
+    sum_.assign(total, 0.0f);
+    weight_.assign(total, 0.0f);
+    tbb::parallel_for(std::size_t(0), leaves_.leafCount(), [&](std::size_t l) {
+        const Coord o = leaves_.leaf(l).origin() - lo_;
         for_leaf(l, [&](std::size_t i, int x, int y, int z) {
-            const std::size_t q = at((o.x() + x) / f, (o.y() + y) / f, (o.z() + z) / f);
-            sum[q] += value[i];
-            weight[q] += 1.0f;
+            const std::size_t q = at((o.x() + x) / f_, (o.y() + y) / f_, (o.z() + z) / f_);
+            sum_[q] += value_[i];
+            weight_[q] += 1.0f;
         });
     });
-    // Binomial passes: each adds 1/2 coarse cell^2 of variance; the cell means f^2 - 1 over
-    // 12 and the trilinear way back about f^2 / 6 fine cells^2.
-    const double left = sigma * sigma - (double(f) * f - 1) / 12.0 - double(f) * f / 6.0;
-    const int passes = std::max(0, int(std::lround(left / (0.5 * double(f) * f))));
-    std::vector<float> tmp(total);
+}
+
+void FieldSmoother::blur(double sigma) {
+    const double f = f_;
+    const double left = sigma * sigma - (f * f - 1) / 12.0 - f * f / 6.0;
+    const int passes = std::max(0, int(std::lround(left / (0.5 * f * f))));
+    std::vector<float> tmp(sum_.size());
     for (int pass = 0; pass < passes; ++pass)
-        for (std::vector<float>* a : {&sum, &weight})
+        for (std::vector<float>* a : {&sum_, &weight_})
             for (int axis = 0; axis < 3; ++axis) {
                 std::vector<float>& src = *a;
                 const std::size_t st =
-                    axis == 0 ? std::size_t(ny) * std::size_t(nz) : (axis == 1 ? std::size_t(nz) : 1);
-                const int len = axis == 0 ? nx : (axis == 1 ? ny : nz);
-                tbb::parallel_for(tbb::blocked_range<int>(0, nx), [&](const tbb::blocked_range<int>& xs) {
+                    axis == 0 ? std::size_t(ny_) * std::size_t(nz_) : (axis == 1 ? std::size_t(nz_) : 1);
+                const int len = axis == 0 ? nx_ : (axis == 1 ? ny_ : nz_);
+                tbb::parallel_for(tbb::blocked_range<int>(0, nx_), [&](const tbb::blocked_range<int>& xs) {
                     for (int x = xs.begin(); x != xs.end(); ++x)
-                        for (int y = 0; y < ny; ++y)
-                            for (int z = 0; z < nz; ++z) {
+                        for (int y = 0; y < ny_; ++y)
+                            for (int z = 0; z < nz_; ++z) {
                                 const std::size_t c = at(x, y, z);
                                 const int pos = axis == 0 ? x : (axis == 1 ? y : z);
                                 const float lo_v = pos > 0 ? src[c - st] : 0.0f;
@@ -99,85 +159,107 @@ void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<op
                 });
                 src.swap(tmp);
             }
-    // Back to the voxels: the normalised trilinear value about the cell centres, from a copy
-    // of the lattice with a cell of zeros on every side (so no neighbour needs a bounds test)
-    // and sum and weight side by side.
-    const int px_ = nx + 2, py_ = ny + 2, pz_ = nz + 2;
-    std::vector<std::array<float, 2>> padded(std::size_t(px_) * py_ * pz_, {0.0f, 0.0f});
-    auto pat = [&](int i, int j, int k) { return (std::size_t(i) * py_ + std::size_t(j)) * pz_ + std::size_t(k); };
-    tbb::parallel_for(0, nx, [&](int x) {
-        for (int y = 0; y < ny; ++y)
-            for (int z = 0; z < nz; ++z) padded[pat(x + 1, y + 1, z + 1)] = {sum[at(x, y, z)], weight[at(x, y, z)]};
+}
+
+void FieldSmoother::pad() {
+    px_ = nx_ + 2, py_ = ny_ + 2, pz_ = nz_ + 2;
+    padded_.assign(std::size_t(px_) * py_ * pz_, {0.0f, 0.0f});
+    tbb::parallel_for(0, nx_, [&](int x) {
+        for (int y = 0; y < ny_; ++y)
+            for (int z = 0; z < nz_; ++z) padded_[pat(x + 1, y + 1, z + 1)] = {sum_[at(x, y, z)], weight_[at(x, y, z)]};
     });
-    sum = {};
-    weight = {};
-    tmp = {};
-    const double half = 0.5 * (f - 1);
-    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
-        // Per axis and local coordinate: the lower padded lattice index and the weight of the upper.
-        const Coord o = leaves.leaf(l).origin() - lo;
-        int c0[3][8];
-        double t[3][8];
-        for (int a = 0; a < 3; ++a)
-            for (int k = 0; k < 8; ++k) {
-                const double p = (o[a] + k - half) / f;
-                const int q = int(std::floor(p));
-                // Grid points of the leaf beyond the box (never on voxels) read the last cells.
-                c0[a][k] = std::min(q + 1, (a == 0 ? px_ : a == 1 ? py_ : pz_) - 2);
-                t[a][k] = p - q;
-            }
-        const std::size_t sx = std::size_t(py_) * pz_, sy = std::size_t(pz_);
-        if (leaves.leaf(l).onVoxelCount() < 64) { // a few voxels: each from its 8 corners
-            for_leaf(l, [&](std::size_t i, int x, int y, int z) {
-                if (!(std::abs(value[i]) <= reach)) return;
-                const std::size_t q = pat(c0[0][x], c0[1][y], c0[2][z]);
-                const double tx = t[0][x], ty = t[1][y], tz = t[2][z];
-                double s = 0, w = 0;
-                for (int k = 0; k < 8; ++k) {
-                    const double wt =
-                        ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
-                    const auto& cell =
-                        padded[q + ((k & 1) ? sx : 0) + (((k >> 1) & 1) ? sy : 0) + (((k >> 2) & 1) ? 1 : 0)];
-                    s += wt * cell[0];
-                    w += wt * cell[1];
-                }
-                if (w > 1e-6) value[i] = float(s / w);
-            });
-            return;
+    sum_ = {};
+    weight_ = {};
+}
+
+void FieldSmoother::sample() {
+    pad();
+    tbb::parallel_for(std::size_t(0), leaves_.leafCount(), [&](std::size_t l) {
+        const Weights wt = weights(l);
+        if (leaves_.leaf(l).onVoxelCount() < 64) sample_few(l, wt);
+        else sample_block(l, wt);
+    });
+}
+
+FieldSmoother::Weights FieldSmoother::weights(std::size_t l) const {
+    const double half = 0.5 * (f_ - 1);
+    const Coord o = leaves_.leaf(l).origin() - lo_;
+    Weights wt;
+    for (int a = 0; a < 3; ++a)
+        for (int k = 0; k < 8; ++k) {
+            const double p = (o[a] + k - half) / f_;
+            const int q = int(std::floor(p));
+            // Grid points of the leaf beyond the box (never on voxels) read the last cells.
+            wt.c0[a][k] = std::min(q + 1, (a == 0 ? px_ : a == 1 ? py_ : pz_) - 2);
+            wt.t[a][k] = p - q;
         }
-        // Many: the whole block, one axis at a time (z, then y, then x) over the lattice cells
-        // the leaf reaches (at most 10 along an axis).
-        constexpr int kSpan = 10;
-        int base_c[3], span[3];
-        for (int a = 0; a < 3; ++a) base_c[a] = c0[a][0], span[a] = c0[a][7] + 2 - c0[a][0];
-        double zs[kSpan][kSpan][8][2], ys[kSpan][8][8][2];
-        for (int i = 0; i < span[0]; ++i)
-            for (int j = 0; j < span[1]; ++j) {
-                const std::size_t row = pat(base_c[0] + i, base_c[1] + j, 0);
-                for (int z = 0; z < 8; ++z) {
-                    const auto& a = padded[row + std::size_t(c0[2][z])];
-                    const auto& b = padded[row + std::size_t(c0[2][z]) + 1];
-                    const double tz = t[2][z];
-                    zs[i][j][z][0] = (1 - tz) * a[0] + tz * b[0];
-                    zs[i][j][z][1] = (1 - tz) * a[1] + tz * b[1];
-                }
-            }
-        for (int i = 0; i < span[0]; ++i)
-            for (int y = 0; y < 8; ++y) {
-                const int j = c0[1][y] - base_c[1];
-                const double ty = t[1][y];
-                for (int z = 0; z < 8; ++z)
-                    for (int c = 0; c < 2; ++c) ys[i][y][z][c] = (1 - ty) * zs[i][j][z][c] + ty * zs[i][j + 1][z][c];
-            }
-        for_leaf(l, [&](std::size_t i, int x, int y, int z) {
-            if (!(std::abs(value[i]) <= reach)) return;
-            const int k = c0[0][x] - base_c[0];
-            const double tx = t[0][x];
-            const double s = (1 - tx) * ys[k][y][z][0] + tx * ys[k + 1][y][z][0];
-            const double w = (1 - tx) * ys[k][y][z][1] + tx * ys[k + 1][y][z][1];
-            if (w > 1e-6) value[i] = float(s / w);
-        });
+    return wt;
+}
+
+// A few voxels: each from its 8 corners.
+void FieldSmoother::sample_few(std::size_t l, const Weights& wt) {
+    const std::size_t sx = std::size_t(py_) * pz_, sy = std::size_t(pz_);
+    for_leaf(l, [&](std::size_t i, int x, int y, int z) {
+        if (!(std::abs(value_[i]) <= reach_)) return;
+        const std::size_t q = pat(wt.c0[0][x], wt.c0[1][y], wt.c0[2][z]);
+        const double tx = wt.t[0][x], ty = wt.t[1][y], tz = wt.t[2][z];
+        double s = 0, w = 0;
+        for (int k = 0; k < 8; ++k) {
+            const double wk = ((k & 1) ? tx : 1 - tx) * (((k >> 1) & 1) ? ty : 1 - ty) * (((k >> 2) & 1) ? tz : 1 - tz);
+            const auto& cell = padded_[q + ((k & 1) ? sx : 0) + (((k >> 1) & 1) ? sy : 0) + (((k >> 2) & 1) ? 1 : 0)];
+            s += wk * cell[0];
+            w += wk * cell[1];
+        }
+        if (w > 1e-6) value_[i] = float(s / w);
     });
+}
+
+// Many: the whole block, one axis at a time (z, then y, then x) over the lattice cells the
+// leaf reaches (at most 10 along an axis).
+void FieldSmoother::sample_block(std::size_t l, const Weights& wt) {
+    constexpr int kSpan = 10;
+    const auto& c0 = wt.c0;
+    const auto& t = wt.t;
+    int base_c[3], span[3];
+    for (int a = 0; a < 3; ++a) base_c[a] = c0[a][0], span[a] = c0[a][7] + 2 - c0[a][0];
+    double zs[kSpan][kSpan][8][2], ys[kSpan][8][8][2];
+    for (int i = 0; i < span[0]; ++i)
+        for (int j = 0; j < span[1]; ++j) {
+            const std::size_t row = pat(base_c[0] + i, base_c[1] + j, 0);
+            for (int z = 0; z < 8; ++z) {
+                const auto& a = padded_[row + std::size_t(c0[2][z])];
+                const auto& b = padded_[row + std::size_t(c0[2][z]) + 1];
+                const double tz = t[2][z];
+                zs[i][j][z][0] = (1 - tz) * a[0] + tz * b[0];
+                zs[i][j][z][1] = (1 - tz) * a[1] + tz * b[1];
+            }
+        }
+    for (int i = 0; i < span[0]; ++i)
+        for (int y = 0; y < 8; ++y) {
+            const int j = c0[1][y] - base_c[1];
+            const double ty = t[1][y];
+            for (int z = 0; z < 8; ++z)
+                for (int c = 0; c < 2; ++c) ys[i][y][z][c] = (1 - ty) * zs[i][j][z][c] + ty * zs[i][j + 1][z][c];
+        }
+    for_leaf(l, [&](std::size_t i, int x, int y, int z) {
+        if (!(std::abs(value_[i]) <= reach_)) return;
+        const int k = c0[0][x] - base_c[0];
+        const double tx = t[0][x];
+        const double s = (1 - tx) * ys[k][y][z][0] + tx * ys[k + 1][y][z][0];
+        const double w = (1 - tx) * ys[k][y][z][1] + tx * ys[k + 1][y][z][1];
+        if (w > 1e-6) value_[i] = float(s / w);
+    });
+}
+
+} // namespace
+
+void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                  const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach) {
+    if (!(sigma > 0) || leaves.leafCount() == 0) return;
+    FieldSmoother smoother(value, leaves, base, box, sigma, reach);
+    smoother.bin();
+    smoother.blur(sigma);
+    smoother.sample();
 }
 
 SwellField::SwellField(const openvdb::CoordBBox& box, int f) : lo_(box.min()), f_(std::max(1, f)) {
