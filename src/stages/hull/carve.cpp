@@ -232,14 +232,15 @@ int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_r
     return std::max(1, int(std::lround(r)));
 }
 
-void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats,
-                  const std::shared_ptr<const SilhouetteTables>& tables) {
+CarveRegion carve_region(const Views& views, const std::shared_ptr<const SilhouetteTables>& tables) {
     if (views.views.empty()) throw Error("no views to carve: the input holds no view");
+    CarveRegion region;
     if (views.has_bounds) {
-        lo = views.bounds_min, hi = views.bounds_max;
+        region.lo = views.bounds_min, region.hi = views.bounds_max;
+        const Vec3d &lo = region.lo, &hi = region.hi;
         if (!(longest_side(lo, hi) > 0) || hi.x < lo.x || hi.y < lo.y || hi.z < lo.z)
             throw Error("the views' bounding box is empty");
-        return;
+        return region;
     }
     // A first region that holds the object: around the cameras, or around the origin of
     // orthographic views, wide enough for every silhouette.
@@ -286,13 +287,14 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats,
         if (!any)
             throw Error("the views' silhouettes have no common inside: the visual hull is empty (check the cameras)");
         const Vec3d cell = (bhi - blo) / 64.0;
-        if (pass == 0 && stats)
-            stats->box_touched =
+        if (pass == 0)
+            region.touched =
                 a.x <= blo.x || a.y <= blo.y || a.z <= blo.z || b.x >= bhi.x || b.y >= bhi.y || b.z >= bhi.z;
         blo = vmax(blo, a - cell), bhi = vmin(bhi, b + cell);
     }
-    lo = blo, hi = bhi;
-    if (stats) stats->box_estimated = true;
+    region.lo = blo, region.hi = bhi;
+    region.estimated = true;
+    return region;
 }
 
 Result<std::shared_ptr<Volume>, CarveStats> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
@@ -305,8 +307,10 @@ Result<std::shared_ptr<Volume>, CarveStats> carve(std::shared_ptr<const Views> v
     // same ones, and the volume carries them for the crossings.
     if (!tables) tables = silhouette_tables(*views);
     CarveStats st;
-    Vec3d lo, hi;
-    carve_region(*views, lo, hi, &st, tables);
+    const CarveRegion region = carve_region(*views, tables);
+    const Vec3d lo = region.lo, hi = region.hi;
+    st.box_estimated = region.estimated;
+    st.box_touched = region.touched;
     int res = opt.resolution;
     if (opt.voxel_ratio > 0) {
         res = resolution_from_ratio(*views, lo, hi, *opt.voxel_ratio, tables);

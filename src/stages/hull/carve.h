@@ -48,11 +48,17 @@ struct SurfaceEstimate {
 int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio,
                           const std::shared_ptr<const SilhouetteTables>& tables = nullptr);
 
+/// The box to carve (carve_region()).
+struct CarveRegion {
+    Vec3d lo, hi;
+    bool estimated = false; ///< the views have no bounds: found by a coarse carve
+    bool touched = false;   ///< the estimated hull reaches the edge of the region searched
+};
+
 /// The box to carve: the views' bounds, or for views without bounds an estimate from a
 /// coarse carve of a region every camera sees (its hulls read `tables`, the views' silhouette
 /// tables; null: made for them). Throws cm::Error when none can be found.
-void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats = nullptr,
-                  const std::shared_ptr<const SilhouetteTables>& tables = nullptr);
+CarveRegion carve_region(const Views& views, const std::shared_ptr<const SilhouetteTables>& tables = nullptr);
 
 /// @brief Carves the visual hull of `views` in a sparse grid.
 /// Boxes of grid points are decided at once where every view sees their projection all
