@@ -78,12 +78,14 @@ void BM_Chain(benchmark::State& state, std::string model) {
         vol.reset(), ref.reset();
         auto t0 = std::chrono::steady_clock::now();
         double c0 = cpu_seconds();
-        vol = carve(views, opt);
+        vol = carve(views, opt).value;
         carve_s += seconds_since(t0);
         carve_cpu += cpu_seconds() - c0;
         t0 = std::chrono::steady_clock::now();
         c0 = cpu_seconds();
-        ref = refine(*vol, nullptr, {}, {}, &rs);
+        auto refined = refine(*vol, nullptr, {});
+        ref = std::move(refined.value);
+        rs = refined.stats;
         refine_s += seconds_since(t0);
         refine_cpu += cpu_seconds() - c0;
     }

@@ -14,6 +14,8 @@
 
 namespace cm {
 
+struct SilhouetteTables; // geometry/visual_hull.h
+
 struct Volume {
     /// Inside of the hull: a grid point is inside when its value is active (and true).
     /// Solid interior is stored as active tiles; leaf voxels only near the surface;
@@ -45,11 +47,12 @@ struct Volume {
     openvdb::GridPtrVec extra;
     /// The views the volume was carved from (same world frame).
     std::shared_ptr<const Views> views;
-    /// Data derived from `views` that the stages reading this volume reuse, kept alive with
-    /// it: hull.carve and hull.marching_intersections put the silhouettes' summed-area tables
-    /// here (silhouette_tables(), which the views hold only while something else does). Null
-    /// when there is none.
-    std::shared_ptr<const void> view_data;
+    /// The summed-area tables of the silhouettes of `views` (geometry/visual_hull.h), for the
+    /// stages that ask the visual hull of these views again. hull.carve fills them (it made
+    /// them for its own hulls); hull.marching_intersections and hull.plausible pass their
+    /// input's on; hull.marching_intersections and extract.dual_marching_cubes (its normals)
+    /// read them. Null when the volume was made elsewhere: a stage that needs them makes them.
+    std::shared_ptr<const SilhouetteTables> silhouette_tables;
 
     const openvdb::math::Transform& transform() const { return occupancy->transform(); }
     double voxel_size() const { return occupancy->voxelSize()[0]; }

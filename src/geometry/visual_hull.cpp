@@ -1,79 +1,43 @@
 #include "geometry/visual_hull.h"
 
 #include <algorithm>
-
 #include <memory>
-#include <mutex>
 
-#include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
 
 namespace cm {
 
-namespace {
-
-using Tables = std::vector<std::shared_ptr<const SilhouetteField::Table>>;
-
-// The views' summed-area tables are made side by side by the first hull that asks and shared
-// by every hull of the same views while something holds them (a run builds several: carving's
-// box estimate, the carving, the crossings, and each table is a pass over a whole image).
-// The views hold them only weakly (Views::derived): once the last holder goes, their 4 bytes
-// per pixel of each silhouette's box are freed (up to 50 MB for three 2048 px views, kept
-// through smoothing and reduction before). A generation is one making of them; a new one
-// starts when the last has been let go.
-struct TableGeneration {
-    tbb::collaborative_once_flag once;
-    std::weak_ptr<const Tables> tables;
-};
-struct TableCache { // shared as const by Views::derived; used only under its mutex
-    mutable std::mutex mutex;
-    mutable std::shared_ptr<TableGeneration> current;
-};
-
-std::shared_ptr<const Tables> summed_areas(const Views& views) {
-    const auto cache = std::static_pointer_cast<const TableCache>(views.derived.get(
-        "silhouette_sat", [] { return std::shared_ptr<const void>(std::make_shared<TableCache>()); }));
-    const TableCache& c = *cache;
-    for (;;) {
-        std::shared_ptr<TableGeneration> gen;
-        {
-            std::lock_guard<std::mutex> lock(c.mutex);
-            if (!c.current) c.current = std::make_shared<TableGeneration>();
-            gen = c.current;
-        }
-        std::shared_ptr<const Tables> made;
-        tbb::collaborative_call_once(gen->once, [&] {
-            auto tables = std::make_shared<Tables>(views.views.size());
-            tbb::parallel_for(std::size_t(0), views.views.size(), [&](std::size_t i) {
-                (*tables)[i] =
-                    std::make_shared<const SilhouetteField::Table>(SilhouetteField::summed_area(views.views[i]));
-            });
-            made = std::move(tables);
-            gen->tables = made;
-        });
-        if (made) return made;
-        if (auto held = gen->tables.lock()) return held;
-        // Let go since: the next asker of this generation starts the next.
-        std::lock_guard<std::mutex> lock(c.mutex);
-        if (c.current == gen) c.current.reset();
+bool SilhouetteTables::fit(const Views& views) const {
+    if (tables.size() != views.views.size()) return false;
+    // An empty table (no size) is what summed_area() gives a view without a usable silhouette,
+    // which the view's field then refuses with the reason.
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+        const SilhouetteField::Table& t = tables[i];
+        if (t.width != 0 && !(t.width == views.views[i].width && t.height == views.views[i].height)) return false;
     }
+    return true;
 }
 
-} // namespace
-
-std::shared_ptr<const void> silhouette_tables(const Views& views) {
+std::shared_ptr<const SilhouetteTables> silhouette_tables(const Views& views) {
     if (views.views.empty()) return nullptr;
-    return summed_areas(views);
+    auto made = std::make_shared<SilhouetteTables>();
+    made->tables.resize(views.views.size());
+    tbb::parallel_for(std::size_t(0), views.views.size(),
+                      [&](std::size_t i) { made->tables[i] = SilhouetteField::summed_area(views.views[i]); });
+    return made;
 }
 
-VisualHull::VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi) : clip_lo_(clip_lo), clip_hi_(clip_hi) {
+VisualHull::VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi, std::shared_ptr<const SilhouetteTables> tables)
+    : clip_lo_(clip_lo), clip_hi_(clip_hi), tables_(std::move(tables)) {
     if (views.views.empty()) throw Error("no views: the visual hull needs at least one view");
-    const auto tables = summed_areas(views);
-    tables_ = tables;
+    if (!tables_) tables_ = silhouette_tables(views);
+    else if (!tables_->fit(views))
+        throw Error("the silhouette tables given to the visual hull are not those of its views");
     fields_.reserve(views.views.size());
-    for (std::size_t i = 0; i < views.views.size(); ++i) fields_.emplace_back(views.views[i], (*tables)[i]);
+    for (std::size_t i = 0; i < views.views.size(); ++i)
+        fields_.emplace_back(views.views[i], SilhouetteTables::of(tables_, i));
 }
 
 VisualHull::Class VisualHull::classify(const Vec3d& lo, const Vec3d& hi, ViewMask& mask) const {

@@ -13,10 +13,34 @@
 
 namespace cm {
 
+/// The summed-area tables of the silhouettes of one set of views (SilhouetteField::Table, one
+/// per view), which every VisualHull of those views reads. Each is a pass over a whole image
+/// and 4 bytes per pixel of its silhouette's box, so a run makes them once and hands them on
+/// as data: hull.carve makes them for its hulls (the box estimate and the carving) and puts
+/// them in its volume (Volume::silhouette_tables); the stages after it read them from there
+/// and pass them on. They are freed with the last volume or hull that holds them.
+struct SilhouetteTables {
+    std::vector<SilhouetteField::Table> tables; ///< one per view, in the views' order
+    /// Whether these are the tables of `views`: one per view, each of its view's image size
+    /// (or empty, for a view without a usable silhouette).
+    bool fit(const Views& views) const;
+    /// The table of view i, sharing the ownership of these tables.
+    static std::shared_ptr<const SilhouetteField::Table> of(const std::shared_ptr<const SilhouetteTables>& all,
+                                                            std::size_t i) {
+        return {all, &all->tables[i]};
+    }
+};
+
+/// Makes the summed-area tables of `views` (the views side by side). Null for no views.
+std::shared_ptr<const SilhouetteTables> silhouette_tables(const Views& views);
+
 class VisualHull {
 public:
     /// Builds the silhouette fields of every view; the hull is clipped to [clip_lo, clip_hi].
-    VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi);
+    /// `tables`: the views' silhouette tables (silhouette_tables(views)); null: made here.
+    /// @throw cm::Error for no views, or tables that are not those of `views`.
+    VisualHull(const Views& views, Vec3d clip_lo, Vec3d clip_hi,
+               std::shared_ptr<const SilhouetteTables> tables = nullptr);
 
     using Class = SilhouetteField::Class;
     /// Bit i set: view i still needs testing. Views beyond 64 are always tested.
@@ -27,8 +51,8 @@ public:
     const SilhouetteField& field(std::size_t i) const { return fields_[i]; }
     const Vec3d& clip_lo() const { return clip_lo_; }
     const Vec3d& clip_hi() const { return clip_hi_; }
-    /// The views' summed-area tables this hull reads (see silhouette_tables()).
-    const std::shared_ptr<const void>& tables() const { return tables_; }
+    /// The views' summed-area tables this hull reads.
+    const std::shared_ptr<const SilhouetteTables>& tables() const { return tables_; }
 
     bool in_clip(const Vec3d& p) const {
         return p.x >= clip_lo_.x && p.y >= clip_lo_.y && p.z >= clip_lo_.z && p.x <= clip_hi_.x && p.y <= clip_hi_.y &&
@@ -63,15 +87,8 @@ public:
 private:
     std::vector<SilhouetteField> fields_;
     Vec3d clip_lo_, clip_hi_;
-    std::shared_ptr<const void> tables_;
+    std::shared_ptr<const SilhouetteTables> tables_;
 };
-
-/// The views' summed-area tables (one SilhouetteField::Table per view), which every VisualHull
-/// of these views reads: made once and shared for as long as something holds them, a hull or
-/// the pointer returned here (hull.carve and hull.marching_intersections keep it in the
-/// volume they make, Volume::view_data). When nothing does they are freed, and the next hull
-/// makes them again. Null for no views.
-std::shared_ptr<const void> silhouette_tables(const Views& views);
 
 namespace hull_detail {
 

@@ -48,7 +48,8 @@ std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const Mar
     const bool have_stored = stored[0] && stored[1] && stored[2];
     std::unique_ptr<VisualHull> hull;
     if (mode == DualMcOptions::Normals::Views || (mode == DualMcOptions::Normals::Auto && !have_stored)) {
-        if (vol.views && !vol.views->views.empty()) hull = carved_hull(*vol.occupancy, *vol.views);
+        if (vol.views && !vol.views->views.empty())
+            hull = carved_hull(*vol.occupancy, *vol.views, vol.silhouette_tables);
         else if (mode == DualMcOptions::Normals::Views)
             throw Error("normals: views asks for the views' outlines, but the volume has no views");
     }

@@ -186,23 +186,61 @@ void hull_box(const VisualHull& hull, const Vec3d& lo, const Vec3d& hi, int dept
 
 } // namespace
 
-int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio) {
+void CarveOptions::declare(ParamBinder& b) {
+    b.add(resolution, ParamSpec::Int("resolution", 256, 8, 16384, "cells",
+                                     "grid cells along the longest side of the object's bounding box"));
+    b.add(voxel_ratio, ParamSpec::Float("voxel_ratio", 4.0, 0.01, 1024.0, "px",
+                                        "image pixels per grid cell in the finest view (the paper's 4x/8x coarser "
+                                        "grid); when set it decides the resolution")
+                           .optional());
+}
+
+void CarveStats::report(Metrics& m) const {
+    if (box_estimated && box_touched)
+        m.warn(
+            "the hull reaches the edge of the region the cameras were searched in; give bounds in the manifest to be "
+            "sure nothing is cut");
+    m.metric("resolution", double(resolution));
+    m.metric("voxel_size", voxel_size);
+    m.count("active_voxels", active_voxels);
+    m.count("active_tiles", active_tiles);
+    m.count("leaf_count", leaf_count);
+    m.count("grid_bytes", grid_bytes);
+}
+
+double SurfaceEstimate::peak_bytes() const { return surface_cells * kPipelineBytesPerSurfaceCell; }
+
+void SurfaceEstimate::report(Metrics& m) const {
+    m.metric("estimated_surface_cells", surface_cells);
+    m.metric("estimated_peak_bytes", peak_bytes());
+}
+
+int resolution_from_ratio(const Views& views, Vec3d lo, Vec3d hi, double voxel_ratio,
+                          const std::shared_ptr<const SilhouetteTables>& tables) {
     if (!(voxel_ratio > 0)) throw Error("voxel_ratio must be positive");
     const Vec3d centre = (lo + hi) * 0.5;
+    // The pixel size needs no table: the tables at hand are lent, rather than one made per view.
+    const bool lend = tables && tables->fit(views);
     double finest = std::numeric_limits<double>::infinity();
-    for (const auto& v : views.views) finest = std::min(finest, SilhouetteField(v).pixel_size_at(centre));
+    for (std::size_t i = 0; i < views.views.size(); ++i) {
+        const SilhouetteField field =
+            lend ? SilhouetteField(views.views[i], SilhouetteTables::of(tables, i)) : SilhouetteField(views.views[i]);
+        finest = std::min(finest, field.pixel_size_at(centre));
+    }
     const double r = longest_side(lo, hi) / (voxel_ratio * finest);
     if (!std::isfinite(r) || r > 1e9) throw Error("voxel_ratio gives no usable resolution");
     return std::max(1, int(std::lround(r)));
 }
 
-void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
+CarveRegion carve_region(const Views& views, const std::shared_ptr<const SilhouetteTables>& tables) {
     if (views.views.empty()) throw Error("no views to carve: the input holds no view");
+    CarveRegion region;
     if (views.has_bounds) {
-        lo = views.bounds_min, hi = views.bounds_max;
+        region.lo = views.bounds_min, region.hi = views.bounds_max;
+        const Vec3d &lo = region.lo, &hi = region.hi;
         if (!(longest_side(lo, hi) > 0) || hi.x < lo.x || hi.y < lo.y || hi.z < lo.z)
             throw Error("the views' bounding box is empty");
-        return;
+        return region;
     }
     // A first region that holds the object: around the cameras, or around the origin of
     // orthographic views, wide enough for every silhouette.
@@ -242,40 +280,42 @@ void carve_region(const Views& views, Vec3d& lo, Vec3d& hi, CarveStats* stats) {
     }
     Vec3d blo = c0 - Vec3d{radius, radius, radius}, bhi = c0 + Vec3d{radius, radius, radius};
     for (int pass = 0; pass < 2; ++pass) {
-        VisualHull hull(views, blo, bhi);
+        VisualHull hull(views, blo, bhi, tables);
         Vec3d a, b;
         bool any = false;
         hull_box(hull, blo, bhi, 6, VisualHull::kAllViews, a, b, any);
         if (!any)
             throw Error("the views' silhouettes have no common inside: the visual hull is empty (check the cameras)");
         const Vec3d cell = (bhi - blo) / 64.0;
-        if (pass == 0 && stats)
-            stats->box_touched =
+        if (pass == 0)
+            region.touched =
                 a.x <= blo.x || a.y <= blo.y || a.z <= blo.z || b.x >= bhi.x || b.y >= bhi.y || b.z >= bhi.z;
         blo = vmax(blo, a - cell), bhi = vmin(bhi, b + cell);
     }
-    lo = blo, hi = bhi;
-    if (stats) stats->box_estimated = true;
+    region.lo = blo, region.hi = bhi;
+    region.estimated = true;
+    return region;
 }
 
-std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
-                              const std::function<void(double)>& progress, CarveStats* stats) {
+Result<std::shared_ptr<Volume>, CarveStats> carve(std::shared_ptr<const Views> views, const CarveOptions& opt,
+                                                  std::shared_ptr<const SilhouetteTables> tables, Progress progress) {
     if (!views || views->views.empty()) throw Error("no views to carve: the input holds no view");
     for (const auto& v : views->views)
         if (v.coverage.empty() || v.width <= 0 || v.height <= 0)
             throw Error("view \"" + v.name + "\" has no silhouette");
-    // The silhouettes' summed-area tables, held from here: the box estimate's hulls and the
-    // carving's read the same ones, and the volume keeps them for the crossings.
-    std::shared_ptr<const void> tables = silhouette_tables(*views);
-    CarveStats local;
-    CarveStats& st = stats ? *stats : local;
-    Vec3d lo, hi;
-    carve_region(*views, lo, hi, &st);
+    // The silhouettes' summed-area tables: the box estimate's hulls and the carving's read the
+    // same ones, and the volume carries them for the crossings.
+    if (!tables) tables = silhouette_tables(*views);
+    CarveStats st;
+    const CarveRegion region = carve_region(*views, tables);
+    const Vec3d lo = region.lo, hi = region.hi;
+    st.box_estimated = region.estimated;
+    st.box_touched = region.touched;
     int res = opt.resolution;
     if (opt.voxel_ratio > 0) {
-        res = resolution_from_ratio(*views, lo, hi, opt.voxel_ratio);
+        res = resolution_from_ratio(*views, lo, hi, *opt.voxel_ratio, tables);
         if (res < 8 || res > 16384)
-            throw Error("voxel_ratio " + std::to_string(opt.voxel_ratio) + " gives resolution " + std::to_string(res) +
+            throw Error("voxel_ratio " + std::to_string(*opt.voxel_ratio) + " gives resolution " + std::to_string(res) +
                         ", outside [8, 16384]");
     }
     if (res < 8 || res > 16384) throw Error("resolution must be in [8, 16384], got " + std::to_string(res));
@@ -292,7 +332,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
 
     // The hull is clipped half a cell beyond the box, so it never reaches the padding.
     const Vec3d half{0.5 * h, 0.5 * h, 0.5 * h};
-    const VisualHull hull(*views, lo - half, hi + half);
+    const VisualHull hull(*views, lo - half, hi + half, tables);
 
     std::vector<Coord> blocks;
     for (int x = 0; x <= n[0]; x += kBlock)
@@ -307,7 +347,7 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
             BlockCarver bc(hull, lat);
             for (std::size_t i = r.begin(); i < r.end(); ++i) bc.carve(blocks[i], results[i]);
         });
-        if (progress) progress(double(c1) / double(blocks.size()));
+        progress(double(c1) / double(blocks.size()));
     }
 
     auto tree = std::make_shared<BoolTree>(false);
@@ -325,7 +365,8 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
             r.node.release();
         }
     }
-    if (tree->activeVoxelCount() == 0)
+    st.active_voxels = tree->activeVoxelCount();
+    if (st.active_voxels == 0)
         throw Error("the visual hull is empty at resolution " + std::to_string(res) +
                     ": no grid point is inside every view's silhouette (check the views' cameras and alignment)");
 
@@ -337,6 +378,9 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
                     " is outside what a grid can hold ([1e-12, 1e12]): the object's box is too small or too large "
                     "for its units; check the views' cameras and bounds");
     }
+    st.active_tiles = tree->activeTileCount();
+    st.leaf_count = tree->leafCount();
+    st.grid_bytes = tree->memUsage();
     auto grid = openvdb::BoolGrid::create(tree);
     auto xform = openvdb::math::Transform::createLinearTransform(h);
     xform->postTranslate(openvdb::Vec3d(lat.origin.x, lat.origin.y, lat.origin.z));
@@ -351,24 +395,24 @@ std::shared_ptr<Volume> carve(std::shared_ptr<const Views> views, const CarveOpt
     auto vol = std::make_shared<Volume>();
     vol->occupancy = grid;
     vol->views = std::move(views);
-    vol->view_data = std::move(tables);
-    return vol;
+    vol->silhouette_tables = std::move(tables);
+    return {std::move(vol), st};
 }
 
 } // namespace cm
 
 namespace cm {
 
-double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOptions& opt, int* resolution,
-                              int coarse) {
+SurfaceEstimate estimate_surface(std::shared_ptr<const Views> views, const CarveOptions& opt,
+                                 std::shared_ptr<const SilhouetteTables> tables, int coarse) {
     CarveOptions c = opt;
     c.resolution = coarse;
-    c.voxel_ratio = 0;
-    CarveStats st;
-    const auto vol = carve(views, c, {}, &st);
-    int res = opt.resolution;
-    if (opt.voxel_ratio > 0) res = resolution_from_ratio(*views, st.box_min, st.box_max, opt.voxel_ratio);
-    if (resolution) *resolution = res;
+    c.voxel_ratio.reset();
+    const auto [vol, st] = carve(views, c, tables);
+    SurfaceEstimate e;
+    e.resolution = opt.resolution;
+    if (opt.voxel_ratio > 0)
+        e.resolution = resolution_from_ratio(*views, st.box_min, st.box_max, *opt.voxel_ratio, tables);
     // Inside grid points with an outside face neighbour.
     auto acc = vol->occupancy->getConstAccessor();
     double boundary = 0;
@@ -387,8 +431,9 @@ double estimate_surface_cells(std::shared_ptr<const Views> views, const CarveOpt
         }
     // A surface cell count is 1.45 times this count of boundary points, measured on the
     // bundled example at resolutions 256 and 1024 (1.44 and 1.45).
-    const double scale = double(res) / double(st.resolution);
-    return 1.45 * boundary * scale * scale;
+    const double scale = double(e.resolution) / double(st.resolution);
+    e.surface_cells = 1.45 * boundary * scale * scale;
+    return e;
 }
 
 } // namespace cm

@@ -151,131 +151,202 @@ std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>&
     return reached;
 }
 
+namespace {
+
+std::size_t count(const Mask& m) {
+    std::size_t c = 0;
+    for (const std::uint64_t w : m) c += std::size_t(__builtin_popcountll(w));
+    return c;
+}
+
+bool bit(const Mask& m, int off) { return (m[std::size_t(off >> 6)] >> (off & 63) & 1) != 0; }
+
+// The steps of bridges(): the main body, the pieces apart from it, and breadth-first layers
+// through the removed voxels out of the main body; a piece next to a layer is joined by a
+// bridge down the layers.
+class Bridges {
+public:
+    Bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+            const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<Mask>& hull,
+            const std::vector<Mask>& kept, int max_steps)
+        : leaves_(leaves), nbr_(nbr), hull_(hull), kept_(kept), max_steps_(max_steps), nleaf_(leaves.leafCount()) {}
+
+    /// The main body: what is kept connected to the fullest leaf. False when nothing is kept.
+    bool find_main();
+    /// The kept voxels apart from the main body. False when there are none.
+    bool find_pieces();
+    /// Layer by layer out of the main body until every piece is joined; returns the bridges'
+    /// voxels and counts the pieces joined.
+    std::vector<Coord> join(std::size_t* pieces);
+
+private:
+    // next = the voxels of `into`, not visited, next to `front` (given on the leaves `from`).
+    void grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& front, const std::vector<Mask>& into,
+              std::vector<Mask>& next, std::vector<std::uint32_t>& touched) const;
+    // The leaf and offset of the neighbour of (l, off) in direction d, if the tree has it.
+    bool step(std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff) const;
+    Coord voxel_at(std::uint32_t l, int off) const { return leaves_.leaf(l).offsetToGlobalCoord(openvdb::Index(off)); }
+    // Joins the pieces next to the voxels of layer `layer` (`next`, on the leaves `touched`).
+    void join_next_to(int layer, const std::vector<std::uint32_t>& touched, std::vector<Coord>& out,
+                      std::size_t* pieces);
+    // The bridge from voxel (l, off) of layer `layer` down the layers to the main body.
+    void bridge_down(std::uint32_t l, int off, int layer, std::vector<Coord>& out) const;
+    // The piece holding voxel (pl, poff) joins the main body: it is no piece any more.
+    void joined(std::uint32_t pl, int poff);
+
+    const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves_;
+    const std::vector<std::array<std::uint32_t, 6>>& nbr_;
+    const std::vector<Mask>& hull_;
+    const std::vector<Mask>& kept_;
+    const int max_steps_;
+    const std::size_t nleaf_;
+    std::vector<Mask> main_, piece_, removed_, visited_, front_, next_;
+    std::size_t remaining_ = 0;                                   // voxels of pieces not joined yet
+    std::vector<std::unordered_map<std::uint32_t, Mask>> layers_; // per layer: leaf -> its voxels there
+};
+
+bool Bridges::find_main() {
+    std::size_t best = 0, most = 0;
+    for (std::size_t l = 0; l < nleaf_; ++l)
+        if (const std::size_t c = count(kept_[l]); c > most) most = c, best = l;
+    if (most == 0) return false;
+    std::vector<Mask> seed(nleaf_, Mask{});
+    seed[best] = kept_[best];
+    main_ = flood(leaves_, seed, kept_, false);
+    return true;
+}
+
+bool Bridges::find_pieces() {
+    piece_.resize(nleaf_);
+    bool any_piece = false;
+    for (std::size_t l = 0; l < nleaf_; ++l)
+        for (int w = 0; w < 8; ++w) {
+            piece_[l][std::size_t(w)] = kept_[l][std::size_t(w)] & ~main_[l][std::size_t(w)];
+            any_piece = any_piece || piece_[l][std::size_t(w)];
+        }
+    if (!any_piece) return false;
+    for (const Mask& m : piece_) remaining_ += count(m);
+    return true;
+}
+
+void Bridges::grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& front,
+                   const std::vector<Mask>& into, std::vector<Mask>& next, std::vector<std::uint32_t>& touched) const {
+    std::vector<char> seen(nleaf_, 0);
+    auto add = [&](std::uint32_t l, const Mask& m) {
+        Mask a;
+        bool any = false;
+        for (int w = 0; w < 8; ++w) {
+            a[std::size_t(w)] = m[std::size_t(w)] & into[l][std::size_t(w)] & ~visited_[l][std::size_t(w)];
+            any = any || a[std::size_t(w)];
+        }
+        if (!any) return;
+        if (!seen[l]) seen[l] = 1, touched.push_back(l), next[l] = Mask{};
+        for (int w = 0; w < 8; ++w) next[l][std::size_t(w)] |= a[std::size_t(w)];
+    };
+    for (const std::uint32_t l : from) {
+        add(l, dilate_in_leaf(front[l]));
+        for (int d = 0; d < 6; ++d)
+            if (const std::uint32_t nb = nbr_[l][std::size_t(d)]; nb != kNoLeaf) add(nb, across_face(front[l], d ^ 1));
+    }
+}
+
+bool Bridges::step(std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff) const {
+    static constexpr int kStride[3] = {64, 8, 1};
+    const int a = d / 2, dir = (d & 1) ? 1 : -1, loc = (a == 0 ? off >> 6 : a == 1 ? (off >> 3) & 7 : off & 7);
+    if (loc + dir >= 0 && loc + dir <= 7) {
+        *nl = l, *noff = off + dir * kStride[a];
+        return true;
+    }
+    *nl = nbr_[l][std::size_t(d)], *noff = off - dir * 7 * kStride[a];
+    return *nl != kNoLeaf;
+}
+
+std::vector<Coord> Bridges::join(std::size_t* pieces) {
+    std::vector<Coord> out;
+    // Breadth-first layers through the removed voxels (hull, not kept) out of the main body;
+    // each voxel's layer kept by leaf and offset.
+    removed_.resize(nleaf_);
+    for (std::size_t l = 0; l < nleaf_; ++l)
+        for (int w = 0; w < 8; ++w) removed_[l][std::size_t(w)] = hull_[l][std::size_t(w)] & ~kept_[l][std::size_t(w)];
+    visited_ = main_;
+    layers_.resize(std::size_t(max_steps_) + 1);
+    std::vector<std::uint32_t> from;
+    for (std::size_t l = 0; l < nleaf_; ++l)
+        if (count(main_[l])) from.push_back(std::uint32_t(l));
+    front_ = main_;
+    next_.resize(nleaf_);
+    for (int layer = 1; layer <= max_steps_ && !from.empty() && remaining_ > 0; ++layer) {
+        std::vector<std::uint32_t> touched;
+        grow(from, front_, removed_, next_, touched);
+        for (const std::uint32_t l : touched) {
+            for (int w = 0; w < 8; ++w) visited_[l][std::size_t(w)] |= next_[l][std::size_t(w)];
+            layers_[std::size_t(layer)].emplace(l, next_[l]);
+        }
+        join_next_to(layer, touched, out, pieces);
+        from = std::move(touched);
+        std::swap(front_, next_);
+    }
+    return out;
+}
+
+// A bridge down the layers from the first voxel found next to a piece, then the whole piece
+// joins the main body (its other voxels need no bridge of their own).
+void Bridges::join_next_to(int layer, const std::vector<std::uint32_t>& touched, std::vector<Coord>& out,
+                           std::size_t* pieces) {
+    for (const std::uint32_t l : touched)
+        for (int w = 0; w < 8; ++w)
+            for (std::uint64_t b = next_[l][std::size_t(w)]; b; b &= b - 1) {
+                const int off = w * 64 + __builtin_ctzll(b);
+                for (int d = 0; d < 6; ++d) {
+                    std::uint32_t pl;
+                    int poff;
+                    if (!step(l, off, d, &pl, &poff) || !bit(piece_[pl], poff)) continue;
+                    bridge_down(l, off, layer, out);
+                    joined(pl, poff);
+                    if (pieces) ++*pieces;
+                }
+            }
+}
+
+void Bridges::bridge_down(std::uint32_t l, int off, int layer, std::vector<Coord>& out) const {
+    std::uint32_t cl = l;
+    int coff = off, cur = layer;
+    out.push_back(voxel_at(cl, coff));
+    while (cur > 1) {
+        bool moved = false;
+        for (int e = 0; e < 6 && !moved; ++e) {
+            std::uint32_t ql;
+            int qoff;
+            if (!step(cl, coff, e, &ql, &qoff)) continue;
+            const auto& below = layers_[std::size_t(cur - 1)];
+            const auto it = below.find(ql);
+            if (it == below.end() || !bit(it->second, qoff)) continue;
+            cl = ql, coff = qoff, --cur, moved = true;
+            out.push_back(voxel_at(cl, coff));
+        }
+        if (!moved) break; // (cannot happen: a layer-k voxel has a layer k-1 neighbour)
+    }
+}
+
+void Bridges::joined(std::uint32_t pl, int poff) {
+    std::vector<Mask> s1(nleaf_, Mask{});
+    s1[pl][std::size_t(poff >> 6)] = std::uint64_t(1) << (poff & 63);
+    const std::vector<Mask> reached = flood(leaves_, s1, piece_, false);
+    for (std::size_t k = 0; k < nleaf_; ++k) {
+        remaining_ -= count(reached[k]);
+        for (int x = 0; x < 8; ++x) piece_[k][std::size_t(x)] &= ~reached[k][std::size_t(x)];
+    }
+}
+
+} // namespace
+
 std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                            const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<Mask>& hull,
                            const std::vector<Mask>& kept, int max_steps, std::size_t* pieces) {
-    const std::size_t nleaf = leaves.leafCount();
-    std::vector<Coord> out;
     if (pieces) *pieces = 0;
-    auto count = [](const Mask& m) {
-        std::size_t c = 0;
-        for (const std::uint64_t w : m) c += std::size_t(__builtin_popcountll(w));
-        return c;
-    };
-    // The main body: what is kept connected to the fullest leaf.
-    std::size_t best = 0, most = 0;
-    for (std::size_t l = 0; l < nleaf; ++l)
-        if (const std::size_t c = count(kept[l]); c > most) most = c, best = l;
-    if (most == 0) return out;
-    std::vector<Mask> seed(nleaf, Mask{});
-    seed[best] = kept[best];
-    std::vector<Mask> main = flood(leaves, seed, kept, false);
-    seed = {};
-    std::vector<Mask> piece(nleaf);
-    bool any_piece = false;
-    for (std::size_t l = 0; l < nleaf; ++l)
-        for (int w = 0; w < 8; ++w) {
-            piece[l][std::size_t(w)] = kept[l][std::size_t(w)] & ~main[l][std::size_t(w)];
-            any_piece = any_piece || piece[l][std::size_t(w)];
-        }
-    if (!any_piece) return out;
-    std::size_t remaining = 0;
-    for (const Mask& m : piece) remaining += count(m);
-    // Breadth-first layers through the removed voxels (hull, not kept) out of the main body;
-    // each voxel's layer kept by leaf and offset.
-    std::vector<Mask> removed(nleaf), visited = main;
-    for (std::size_t l = 0; l < nleaf; ++l)
-        for (int w = 0; w < 8; ++w) removed[l][std::size_t(w)] = hull[l][std::size_t(w)] & ~kept[l][std::size_t(w)];
-    std::vector<std::unordered_map<std::uint32_t, Mask>> layers(std::size_t(max_steps) + 1); // leaf -> its voxels there
-    auto grow = [&](const std::vector<std::uint32_t>& from, const std::vector<Mask>& front,
-                    const std::vector<Mask>& into, std::vector<Mask>& next, std::vector<std::uint32_t>& touched) {
-        // next = the voxels of `into`, not visited, next to `front` (given on the leaves `from`).
-        std::vector<char> seen(nleaf, 0);
-        auto add = [&](std::uint32_t l, const Mask& m) {
-            Mask a;
-            bool any = false;
-            for (int w = 0; w < 8; ++w) {
-                a[std::size_t(w)] = m[std::size_t(w)] & into[l][std::size_t(w)] & ~visited[l][std::size_t(w)];
-                any = any || a[std::size_t(w)];
-            }
-            if (!any) return;
-            if (!seen[l]) seen[l] = 1, touched.push_back(l), next[l] = Mask{};
-            for (int w = 0; w < 8; ++w) next[l][std::size_t(w)] |= a[std::size_t(w)];
-        };
-        for (const std::uint32_t l : from) {
-            add(l, dilate_in_leaf(front[l]));
-            for (int d = 0; d < 6; ++d)
-                if (const std::uint32_t nb = nbr[l][std::size_t(d)]; nb != kNoLeaf)
-                    add(nb, across_face(front[l], d ^ 1));
-        }
-    };
-    std::vector<std::uint32_t> from;
-    for (std::size_t l = 0; l < nleaf; ++l)
-        if (count(main[l])) from.push_back(std::uint32_t(l));
-    std::vector<Mask> front = main, next(nleaf);
-    auto voxel_at = [&](std::uint32_t l, int off) { return leaves.leaf(l).offsetToGlobalCoord(openvdb::Index(off)); };
-    // The leaf and offset of the neighbour of (l, off) in direction d, if the tree has it.
-    auto step = [&](std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff) {
-        static constexpr int kStride[3] = {64, 8, 1};
-        const int a = d / 2, dir = (d & 1) ? 1 : -1, loc = (a == 0 ? off >> 6 : a == 1 ? (off >> 3) & 7 : off & 7);
-        if (loc + dir >= 0 && loc + dir <= 7) {
-            *nl = l, *noff = off + dir * kStride[a];
-            return true;
-        }
-        *nl = nbr[l][std::size_t(d)], *noff = off - dir * 7 * kStride[a];
-        return *nl != kNoLeaf;
-    };
-    auto bit = [](const Mask& m, int off) { return (m[std::size_t(off >> 6)] >> (off & 63) & 1) != 0; };
-    for (int layer = 1; layer <= max_steps && !from.empty() && remaining > 0; ++layer) {
-        std::vector<std::uint32_t> touched;
-        grow(from, front, removed, next, touched);
-        for (const std::uint32_t l : touched) {
-            for (int w = 0; w < 8; ++w) visited[l][std::size_t(w)] |= next[l][std::size_t(w)];
-            layers[std::size_t(layer)].emplace(l, next[l]);
-        }
-        // Pieces next to this layer: a bridge down the layers from the first voxel found, then
-        // the whole piece joins the main body (its other voxels need no bridge of their own).
-        for (const std::uint32_t l : touched)
-            for (int w = 0; w < 8; ++w)
-                for (std::uint64_t b = next[l][std::size_t(w)]; b; b &= b - 1) {
-                    const int off = w * 64 + __builtin_ctzll(b);
-                    for (int d = 0; d < 6; ++d) {
-                        std::uint32_t pl;
-                        int poff;
-                        if (!step(l, off, d, &pl, &poff) || !bit(piece[pl], poff)) continue;
-                        // Down the layers to the main body.
-                        std::uint32_t cl = l;
-                        int coff = off, cur = layer;
-                        out.push_back(voxel_at(cl, coff));
-                        while (cur > 1) {
-                            bool moved = false;
-                            for (int e = 0; e < 6 && !moved; ++e) {
-                                std::uint32_t ql;
-                                int qoff;
-                                if (!step(cl, coff, e, &ql, &qoff)) continue;
-                                const auto& below = layers[std::size_t(cur - 1)];
-                                const auto it = below.find(ql);
-                                if (it == below.end() || !bit(it->second, qoff)) continue;
-                                cl = ql, coff = qoff, --cur, moved = true;
-                                out.push_back(voxel_at(cl, coff));
-                            }
-                            if (!moved) break; // (cannot happen: a layer-k voxel has a layer k-1 neighbour)
-                        }
-                        // The piece joins the main body: it is no piece any more.
-                        std::vector<Mask> s1(nleaf, Mask{});
-                        s1[pl][std::size_t(poff >> 6)] = std::uint64_t(1) << (poff & 63);
-                        const std::vector<Mask> joined = flood(leaves, s1, piece, false);
-                        for (std::size_t k = 0; k < nleaf; ++k) {
-                            remaining -= count(joined[k]);
-                            for (int x = 0; x < 8; ++x) piece[k][std::size_t(x)] &= ~joined[k][std::size_t(x)];
-                        }
-                        if (pieces) ++*pieces;
-                    }
-                }
-        from = std::move(touched);
-        std::swap(front, next);
-    }
-    return out;
+    Bridges b(leaves, nbr, hull, kept, max_steps);
+    if (!b.find_main() || !b.find_pieces()) return {};
+    return b.join(pieces);
 }
 
 std::vector<LeafMask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,

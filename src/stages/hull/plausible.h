@@ -12,33 +12,39 @@
 // on a silhouette cone is kept as hull.marching_intersections found it.
 #pragma once
 #include <cstddef>
-#include <functional>
 #include <memory>
+#include <vector>
 
+#include "core/algorithm.h"
 #include "core/volume.h"
 
 namespace cm {
 
+/// The parameters of hull.plausible.
 struct PlausibleOptions {
     /// 0: the visual hull as it is; 1: the full depth profile of the drawings.
-    double roundness = 1.0;
+    double roundness;
     /// Exponent n of the profile (1 - (1 - d/R)^n)^(1/n): 2 is a round (circular)
     /// cross-section, 1 a ridge, larger values flatter and boxier.
-    double profile_exponent = 2.0;
+    double profile_exponent;
     /// Occupied cells every line of sight keeps (1: the silhouettes only need one).
-    int ray_keep = 1;
+    int ray_keep;
     /// A voxel in a run of at most this many cells along a view's line of sight, where that
     /// view's drawing is thin (inscribed radius at most twice this) and the cell lies at
     /// least 1.5 cells inside it, is kept: thin parts (fins, blades, ears) seen face-on have
     /// no volume to spare. (Short runs at a drawing's outline are any body's rim.)
-    int thin_cells = 3;
+    int thin_cells;
     /// How the views' fields are joined: a smooth maximum over this many cells (log-sum-exp
     /// less the log of the number of views), 0 for the plain maximum (any view removes).
-    double view_blend = 2.0;
+    double view_blend;
     /// Standard deviation of the Gaussian smoothing of the field, in cells of a grid of 256
     /// along the object's longest side (scaled with the resolution, so the new surface is
-    /// as smooth at any resolution), 0 for none.
-    double smooth_cells = 2.5;
+    /// as smooth at any resolution), 0 for none (the parameter `smooth`).
+    double smooth_cells;
+
+    PlausibleOptions() { set_declared_defaults(*this); }
+    /// Every parameter.
+    void declare(ParamBinder& b);
 };
 
 struct PlausibleStats {
@@ -56,6 +62,9 @@ struct PlausibleStats {
     std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
+    bool refined = false;            ///< the input had crossings (hull.marching_intersections)
+    /// The counts, the share removed and the pitch; a warning when the input was not refined.
+    void report(Metrics& m) const;
 };
 
 /// @brief The plausible volume of the (carved, optionally refined) hull `in` and `views`.
@@ -64,13 +73,13 @@ struct PlausibleStats {
 /// the cell its centre projects into) that holds an input voxel still holds one. The
 /// input's exact crossings are kept wherever an edge still runs from an inside point to
 /// a point outside the hull; edges into the removed region get the field's zero crossing.
-/// Orthographic and perspective views; TBB-parallel over leaves, columns and cells.
-/// @param progress called between steps with a fraction in [0, 1]; may throw to cancel.
+/// Orthographic and perspective views; TBB-parallel over leaves, columns and cells. `views`
+/// null: the volume's own. The result carries the input's views and silhouette tables.
+/// @param progress reported between steps; cm::Cancelled from it stops the work.
 /// @throw cm::Error when the volume has no occupancy, no views are given, or a view's
 ///        line-of-sight raster would be unreasonably large (a camera inside the object).
-std::shared_ptr<Volume> make_plausible(const Volume& in, std::shared_ptr<const Views> views,
-                                       const PlausibleOptions& opt, const std::function<void(double)>& progress = {},
-                                       PlausibleStats* stats = nullptr);
+Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in, std::shared_ptr<const Views> views,
+                                                               const PlausibleOptions& opt, Progress progress = {});
 
 /// The depth-profile fraction (1 - (1 - u)^n)^(1/n) at u = d / R in [0, 1], blended with
 /// 1 by `roundness` (0 gives 1 everywhere: the hull).

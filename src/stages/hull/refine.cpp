@@ -161,9 +161,8 @@ private:
 
 // The crossings of every block, in parallel; progress runs to blocks.size() / total_work.
 std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const CrossingFinder& finder,
-                                       const std::vector<Coord>& blocks, double total_work,
-                                       const std::function<void(double)>& progress, std::size_t& n_cross_out,
-                                       std::size_t& n_unresolved_out) {
+                                       const std::vector<Coord>& blocks, double total_work, const Progress& progress,
+                                       std::size_t& n_cross_out, std::size_t& n_unresolved_out) {
     // Leaves are made (in parallel) only for blocks that get a crossing, then linked in.
     std::vector<VecLeaf*> made(blocks.size(), nullptr);
     struct LeafGuard {
@@ -186,7 +185,7 @@ std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const Cross
             n_cross += cross;
             n_unresolved += unresolved;
         });
-        if (progress) progress(double(c1) / total_work);
+        progress(double(c1) / total_work);
     }
     auto ctree = std::make_shared<VecTree>(kUnset);
     for (VecLeaf*& l : made)
@@ -197,6 +196,26 @@ std::shared_ptr<VecTree> crossing_tree(const openvdb::BoolTree& occ, const Cross
 }
 
 } // namespace
+
+void RefineOptions::declare(ParamBinder& b) {
+    b.add_auto_on_off(thin, "thin",
+                      "keep parts thinner than a cell (edges whose two outside ends pass through the hull); "
+                      "auto: when a cell spans more than a pixel of the finest view");
+}
+
+void RefineStats::report(Metrics& m) const {
+    m.count("crossings", crossings);
+    m.count("thin_crossings", thin_crossings);
+    m.metric("cell_px", cell_px);
+    m.metric("thin_searched", thin_searched ? "yes" : "no");
+    if (unresolved) {
+        m.count("unresolved_crossings", unresolved);
+        m.warn(std::to_string(unresolved) +
+               " crossing(s) could not be placed from the silhouettes (the views differ from the ones carved?); "
+               "they sit at the grid point");
+    }
+    m.count("grid_bytes", grid_bytes);
+}
 
 void add_normal_grids(Volume& vol, const VisualHull& hull, double normal_px) {
     if (!vol.crossings) throw Error("the volume has no crossings to give normals to");
@@ -232,8 +251,8 @@ void add_normal_grids(Volume& vol, const VisualHull& hull, double normal_px) {
     }
 }
 
-std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> views, const RefineOptions& opt,
-                               const std::function<void(double)>& progress, RefineStats* stats) {
+Result<std::shared_ptr<Volume>, RefineStats> refine(const Volume& in, std::shared_ptr<const Views> views,
+                                                    const RefineOptions& opt, Progress progress) {
     if (!in.occupancy) throw Error("the volume has no occupancy grid");
     if (!views) views = in.views;
     if (!views || views->views.empty()) throw Error("no views: the crossings are found from the views' silhouettes");
@@ -246,7 +265,8 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
         lat.origin = {o.x(), o.y(), o.z()};
         lat.h = xform.voxelSize()[0];
     }
-    const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views);
+    // The input's silhouette tables when these are its views (the carving's), else new ones.
+    const std::unique_ptr<VisualHull> hull_ptr = carved_hull(*in.occupancy, *views, carried_tables(in, views));
     const VisualHull& hull = *hull_ptr;
     const openvdb::BoolTree& occ = in.occupancy->tree();
 
@@ -263,7 +283,7 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     auto out = std::make_shared<Volume>();
     out->occupancy = in.occupancy;
     out->views = views;
-    out->view_data = hull.tables(); // for a stage that reads the views' hull again (dual_mc's normals)
+    out->silhouette_tables = hull.tables(); // for a stage that asks the views' hull again (dual_mc's normals)
     out->extra = in.extra;
     auto cgrid = openvdb::Vec3fGrid::create(ctree);
     cgrid->setTransform(in.occupancy->transform().copy());
@@ -273,15 +293,15 @@ std::shared_ptr<Volume> refine(const Volume& in, std::shared_ptr<const Views> vi
     const std::size_t n_thin =
         do_thin ? add_thin_parts(*out, *in.occupancy, hull, lat, blocks.size(), total_work, progress) : 0;
     if (opt.normals) add_normal_grids(*out, hull, opt.normal_px);
-    if (progress) progress(1.0);
-    if (stats) {
-        stats->crossings = n_cross;
-        stats->thin_crossings = n_thin;
-        stats->unresolved = n_unresolved;
-        stats->cell_px = cell_px;
-        stats->thin_searched = do_thin;
-    }
-    return out;
+    progress(1.0);
+    RefineStats st;
+    st.crossings = n_cross;
+    st.thin_crossings = n_thin;
+    st.unresolved = n_unresolved;
+    st.cell_px = cell_px;
+    st.thin_searched = do_thin;
+    st.grid_bytes = out->crossings->tree().memUsage();
+    return {std::move(out), st};
 }
 
 } // namespace cm

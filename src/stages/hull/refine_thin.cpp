@@ -167,7 +167,7 @@ private:
 // nblocks / total_work to 2 nblocks / total_work.
 std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const VisualHull& hull, const Lattice& lat,
                                const openvdb::CoordBBox& region, std::size_t nblocks, double total_work,
-                               const std::function<void(double)>& progress) {
+                               const Progress& progress) {
     constexpr int kTop = 64;
     std::vector<Coord> tops;
     auto align = [](int v) { return int(std::floor(double(v) / kTop)) * kTop; };
@@ -191,7 +191,7 @@ std::vector<ThinHit> find_thin(const openvdb::BoolTree& occ, const VisualHull& h
             for (std::size_t i = r.begin(); i < r.end(); ++i)
                 search.search(acc, tops[i], kTop, VisualHull::kAllViews, flips, mine, *lines);
         });
-        if (progress) progress((double(nblocks) + double(nblocks) * double(c1) / tops.size()) / total_work);
+        progress((double(nblocks) + double(nblocks) * double(c1) / tops.size()) / total_work);
     }
     std::vector<ThinHit> all;
     for (auto& v : hits) all.insert(all.end(), v.begin(), v.end());
@@ -226,7 +226,7 @@ void add_thin_grids(Volume& out, const std::vector<ThinHit>& all, const openvdb:
 } // namespace
 
 std::size_t add_thin_parts(Volume& out, const openvdb::BoolGrid& occupancy, const VisualHull& hull, const Lattice& lat,
-                           std::size_t nblocks, double total_work, const std::function<void(double)>& progress) {
+                           std::size_t nblocks, double total_work, const Progress& progress) {
     const openvdb::CoordBBox region = thin_region(occupancy, lat, hull.clip_lo(), hull.clip_hi());
     const std::vector<ThinHit> all = find_thin(occupancy.tree(), hull, lat, region, nblocks, total_work, progress);
     if (!all.empty()) add_thin_grids(out, all, occupancy.transform());

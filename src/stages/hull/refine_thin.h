@@ -2,8 +2,8 @@
 // outside the hull but which pass through it (a part thinner than a grid cell).
 #pragma once
 #include <cstddef>
-#include <functional>
 
+#include "core/progress.h"
 #include "core/volume.h"
 #include "geometry/visual_hull.h"
 #include "refine_lattice.h"
@@ -16,6 +16,6 @@ namespace cm::refining {
 /// where its edge's inside interval starts and ends. Returns the number of thin edges.
 /// `progress` runs from nblocks / total_work to 2 nblocks / total_work.
 std::size_t add_thin_parts(Volume& out, const openvdb::BoolGrid& occupancy, const VisualHull& hull, const Lattice& lat,
-                           std::size_t nblocks, double total_work, const std::function<void(double)>& progress);
+                           std::size_t nblocks, double total_work, const Progress& progress);
 
 } // namespace cm::refining

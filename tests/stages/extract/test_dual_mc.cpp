@@ -50,8 +50,8 @@ std::shared_ptr<Volume> hull_of(const Outline& front, const Outline& right, cons
     auto views = make_views(std::move(vs), lo, hi);
     CarveOptions co;
     co.resolution = resolution;
-    auto carved = carve(views, co);
-    return refine(*carved, views, {});
+    auto carved = carve(views, co).value;
+    return refine(*carved, views, {}).value;
 }
 
 void expect_closed(const Mesh& m, long euler, const char* what) {
@@ -285,7 +285,7 @@ TEST(CrossingNormals, CylinderNormalsAreAnalytic) {
     co.resolution = 40;
     RefineOptions ro;
     ro.normals = true;
-    auto vol = refine(*carve(views, co), views, ro);
+    auto vol = refine(*carve(views, co).value, views, ro).value;
     const auto hull = carved_hull(*vol->occupancy, *views);
     std::size_t side = 0, caps = 0;
     double worst_side = 0, worst_cap = 0, worst_demand = 0;
@@ -333,7 +333,7 @@ TEST(DualMarchingCubes, VolumeAgreesWithMarchingCubes) {
     auto views = make_views(std::move(vs), {-1, -1, -1}, {1, 1, 1});
     CarveOptions co;
     co.resolution = 48;
-    auto vol = refine(*carve(views, co), views, {});
+    auto vol = refine(*carve(views, co).value, views, {}).value;
     const double vmc = check_mesh(marching_cubes(*vol).value).signed_volume;
     for (double e : {0.0, 0.25}) {
         const Mesh m = dual_marching_cubes(*vol, options(e)).value;
@@ -431,7 +431,7 @@ TEST(DualMarchingCubes, MergesThatWouldCrossANearbySurfaceAreUndone) {
     const auto views = load.run<Views>();
     CarveOptions co;
     co.resolution = 256;
-    const auto vol = refine(*carve(views, co), views, {});
+    const auto vol = refine(*carve(views, co).value, views, {}).value;
     // Without the guard man crosses itself at max_error 0.25 (the old default); with it,
     // at no tolerance.
     std::size_t worst_without = 0;

@@ -12,9 +12,10 @@ namespace cm::test {
 inline std::shared_ptr<const Volume> carve_and_refine(const std::shared_ptr<const Views>& views, int resolution) {
     CarveOptions opt;
     opt.resolution = resolution;
-    const auto vol = carve(views, opt);
-    RefineStats st;
-    auto ref = refine(*vol, nullptr, {}, {}, &st);
+    const auto vol = carve(views, opt).value;
+    const auto refined = refine(*vol, nullptr, {});
+    const auto& ref = refined.value;
+    const RefineStats& st = refined.stats;
     EXPECT_EQ(st.unresolved, 0u);
     return ref;
 }

@@ -61,7 +61,7 @@ TEST(HullCarve, SphereFromThreeAxisViewsIsTheTricylinder) {
     for (int res : {32, 64, 128}) {
         CarveOptions opt;
         opt.resolution = res;
-        auto vol = carve(views, opt);
+        auto vol = carve(views, opt).value;
         const double h = vol->voxel_size();
         EXPECT_NEAR(h, 2.0 * r / res, 1e-12);
         // Counting grid points: the error is a layer of about half a cell over the surface.
@@ -84,7 +84,7 @@ TEST(HullCarve, BoxIsExact) {
     auto views = box_views(lo, hi, 300, 120.0);
     CarveOptions opt;
     opt.resolution = 40; // h = 0.05: the faces fall between grid points
-    auto vol = carve(views, opt);
+    auto vol = carve(views, opt).value;
     std::size_t checked = 0;
     expect_points_match(
         *vol,
@@ -111,7 +111,7 @@ TEST(HullCarve, VisibleConcavityOfAnLShapeIsCarved) {
     auto views = make_views(std::move(vs), {-1, -1, -0.5}, {1, 1, 0.5});
     CarveOptions opt;
     opt.resolution = 64;
-    auto vol = carve(views, opt);
+    auto vol = carve(views, opt).value;
     const double h = vol->voxel_size();
     EXPECT_NEAR(counted_volume(*vol), 3.0, 0.5 * 14.0 * h); // area of the L prism: 14
     auto acc = vol->occupancy->getConstAccessor();
@@ -131,7 +131,7 @@ TEST(HullCarve, HiddenConcavityIsFilled) {
     auto views = box_views(lo, hi, 300, 120.0); // the notched cube's three silhouettes are squares
     CarveOptions opt;
     opt.resolution = 32;
-    auto vol = carve(views, opt);
+    auto vol = carve(views, opt).value;
     auto acc = vol->occupancy->getConstAccessor();
     const auto ijk = vol->transform().worldToIndexNodeCentered(openvdb::Vec3d(0.5, 0.5, 0.5));
     EXPECT_TRUE(acc.isValueOn(ijk)); // inside the removed octant
@@ -146,7 +146,7 @@ TEST(HullCarve, LeavesGrowWithTheSurface) {
     for (int res : {64, 128, 256}) {
         CarveOptions opt;
         opt.resolution = res;
-        auto vol = carve(views, opt);
+        auto vol = carve(views, opt).value;
         const auto& tree = vol->occupancy->tree();
         EXPECT_GT(tree.activeTileCount(), 0u) << res;
         const double leaf_voxels = double(tree.leafCount()) * 512.0;
@@ -192,8 +192,9 @@ TEST(HullCarve, PerspectiveViewsOfASphere) {
     views->calibrated = true; // no bounds: the box is estimated from the cameras
     CarveOptions opt;
     opt.resolution = 64;
-    CarveStats st;
-    auto vol = carve(views, opt, {}, &st);
+    const auto carved_vol = carve(views, opt);
+    const auto& vol = carved_vol.value;
+    const CarveStats& st = carved_vol.stats;
     EXPECT_TRUE(st.box_estimated);
     for (int a = 0; a < 3; ++a) {
         EXPECT_LT(st.box_min[a], c[a] - r);
@@ -225,12 +226,13 @@ TEST(HullCarve, ResolutionParametersAgree) {
     for (double ratio : {4.0, 8.0, 2.5}) {
         CarveOptions a;
         a.voxel_ratio = ratio;
-        CarveStats sa;
-        auto va = carve(views, a, {}, &sa);
+        const auto carved_va = carve(views, a);
+        const auto& va = carved_va.value;
+        const CarveStats& sa = carved_va.stats;
         EXPECT_EQ(sa.resolution, int(std::lround(2.0 * scale / ratio)));
         CarveOptions b;
         b.resolution = sa.resolution;
-        auto vb = carve(views, b);
+        auto vb = carve(views, b).value;
         EXPECT_DOUBLE_EQ(va->voxel_size(), vb->voxel_size());
         EXPECT_EQ(va->occupancy->activeVoxelCount(), vb->occupancy->activeVoxelCount());
     }
@@ -286,9 +288,8 @@ TEST(HullCarve, CancelStopsTheCarve) {
     CarveOptions opt;
     opt.resolution = 128;
     int calls = 0;
-    EXPECT_THROW(carve(views, opt,
-                       [&](double) {
+    EXPECT_THROW(carve(views, opt, nullptr, Progress([&](double) {
                            if (++calls == 2) throw Cancelled();
-                       }),
+                       })),
                  Cancelled);
 }

@@ -74,8 +74,8 @@ TEST(HullMultiview, DinoManifestLoadsAndCarves) {
     ASSERT_EQ(views->views.size(), 15u);
     CarveOptions opt;
     opt.resolution = 96;
-    auto vol = carve(views, opt);
-    auto ref = refine(*vol, nullptr, {}, {});
+    auto vol = carve(views, opt).value;
+    auto ref = refine(*vol, nullptr, {}).value;
     const Mesh mesh = marching_cubes(*ref).value;
     EXPECT_TRUE(check_mesh(mesh).closed_manifold());
     const SilhouetteError err = silhouette_error(mesh, *views);
@@ -94,7 +94,7 @@ TEST(HullMultiview, DinoThinPartsLeaveNoCrossingFaces) {
     for (int resolution : {160, 192}) {
         CarveOptions opt;
         opt.resolution = resolution;
-        auto ref = refine(*carve(views, opt), nullptr, {}, {});
+        auto ref = refine(*carve(views, opt).value, nullptr, {}).value;
         const auto [mesh, st] = marching_cubes(*ref);
         std::printf("dinoSparseRing, resolution %d: %zu thin points, %zu vertices shifted, %zu put back\n", resolution,
                     st.thin_points, st.thin_shifted, st.thin_put_back);

@@ -17,7 +17,7 @@
 #include "marching_cubes.h"
 #include "mesh_smooth.h"
 #include "plausible.h"
-#include "plausible_steps.h"
+#include "plausible_rays.h"
 #include "render/raster.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
@@ -150,8 +150,7 @@ TEST(HullPlausible, SphereFromThreeViewsComesOutRound) {
     const double r = 1.0;
     auto views = sphere_views(r);
     auto hull = carve_and_refine(views, 128);
-    PlausibleStats st;
-    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    auto [out, st] = make_plausible(*hull, nullptr, {});
     EXPECT_GT(st.removed, 0u);
     EXPECT_LT(occupied(*out), occupied(*hull));
     const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
@@ -170,7 +169,7 @@ TEST(HullPlausible, TheNewSurfaceOfASphereIsSmooth) {
     const double r = 1.0;
     auto views = sphere_views(r);
     auto hull = carve_and_refine(views, 128);
-    auto out = make_plausible(*hull, nullptr, {});
+    auto out = make_plausible(*hull, nullptr, {}).value;
     const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
     const auto dh = normal_deviation(mh), dp = normal_deviation(mp);
     auto at = [](const std::vector<double>& d, double q) { return d[std::size_t(q * double(d.size() - 1))]; };
@@ -202,7 +201,7 @@ std::shared_ptr<Views> sphere_views_with_oblique(double r) {
 TEST(HullPlausible, NoPlateOneCellThinWhereTheRemovalCut) {
     auto views = sphere_views(1.0);
     auto hull = carve_and_refine(views, 128);
-    auto out = make_plausible(*hull, nullptr, {});
+    auto out = make_plausible(*hull, nullptr, {}).value;
     auto grid = out->occupancy->deepCopy();
     grid->tree().voxelizeActiveTiles();
     auto now = out->occupancy->getConstAccessor();
@@ -228,7 +227,7 @@ TEST(HullPlausible, SmoothedMeshIsCleanWithThreeAndFourViews) {
     for (bool oblique : {false, true}) {
         auto views = oblique ? sphere_views_with_oblique(1.0) : sphere_views(1.0);
         auto hull = carve_and_refine(views, 128);
-        auto out = make_plausible(*hull, nullptr, {});
+        auto out = make_plausible(*hull, nullptr, {}).value;
         Mesh m = marching_cubes(*out).value;
         const HullDistance hd(*views);
         SmoothOptions so;
@@ -248,8 +247,7 @@ TEST(HullPlausible, NoCavitySealedInsideOnTheBundledCow) {
     auto views = std::make_shared<Views>(
         load_views(std::filesystem::path(CM_SOURCE_DIR) / "examples/spot/views.yaml", {}).value);
     auto hull = carve_and_refine(views, 256);
-    PlausibleStats st;
-    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    auto [out, st] = make_plausible(*hull, nullptr, {});
     EXPECT_GT(st.cavities_filled, 0u); // the case is met
     EXPECT_EQ(pieces(marching_cubes(*out).value), 1u);
     expect_columns_kept(*hull, *out);
@@ -318,8 +316,7 @@ TEST(HullPlausible, CubeStaysACubeAtRoundnessZero) {
     auto hull = carve_and_refine(views, 48);
     PlausibleOptions opt;
     opt.roundness = 0;
-    PlausibleStats st;
-    auto out = make_plausible(*hull, nullptr, opt, {}, &st);
+    auto [out, st] = make_plausible(*hull, nullptr, opt);
     EXPECT_EQ(st.removed, 0u);
     EXPECT_EQ(occupied(*out), occupied(*hull));
     std::size_t same = 0, total = 0;
@@ -328,7 +325,7 @@ TEST(HullPlausible, CubeStaysACubeAtRoundnessZero) {
     EXPECT_EQ(same, total);
     for (double roundness : {0.5, 1.0}) {
         opt.roundness = roundness;
-        auto o = make_plausible(*hull, nullptr, opt);
+        auto o = make_plausible(*hull, nullptr, opt).value;
         expect_columns_kept(*hull, *o);
         const Mesh m = marching_cubes(*o).value;
         EXPECT_TRUE(check_mesh(m).closed_manifold()) << roundness;
@@ -344,8 +341,7 @@ TEST(HullPlausible, ThinFinSurvives) {
                           [&](const Camera& c) { return union_outline(sphere_outline(r), box_outline(flo, fhi, c.d)); },
                           {-1.0, -r, -r}, {1.0, r, r});
     auto hull = carve_and_refine(views, 64);
-    PlausibleStats st;
-    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    auto [out, st] = make_plausible(*hull, nullptr, {});
     EXPECT_GT(st.removed, 0u);
     // Grid points of the fin (outside the ball) in the hull, and how many stay.
     std::size_t fin = 0, kept = 0;
@@ -369,8 +365,7 @@ TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
     const double r = 1.0;
     auto all = sphere_views_with_oblique(r);
     auto hull = carve_and_refine(all, 64);
-    PlausibleStats st;
-    auto out = make_plausible(*hull, nullptr, {}, {}, &st);
+    auto [out, st] = make_plausible(*hull, nullptr, {});
     EXPECT_GT(st.removed, 0u);
     const Mesh mh = marching_cubes(*hull).value, mp = marching_cubes(*out).value;
     EXPECT_LT(uncovered_pct(mh, mp, *all), 0.5);
@@ -379,7 +374,9 @@ TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
     auto persp = make_views(perspective_sphere_ring({0.1, 0.2, -0.1}, 1.0, 500.0), {-1.2, -1.0, -1.4}, {1.4, 1.4, 1.2});
     persp->calibrated = true;
     auto ph = carve_and_refine(persp, 48);
-    auto po = make_plausible(*ph, nullptr, {}, {}, &st);
+    const auto persp_plausible = make_plausible(*ph, nullptr, {});
+    const auto& po = persp_plausible.value;
+    st = persp_plausible.stats;
     EXPECT_GT(st.removed, 0u);
     const Mesh pmh = marching_cubes(*ph).value, pmp = marching_cubes(*po).value;
     EXPECT_TRUE(check_mesh(pmp).closed_manifold());

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "carve.h"
+#include "core/error.h"
 #include "geometry/silhouette_field.h"
 #include "geometry/visual_hull.h"
 #include "hull_steps.h"
@@ -48,9 +49,10 @@ TEST(HullRefine, SphereCrossingsAreSubPixelExact) {
     auto views = sphere_views(r, 320, scale);
     CarveOptions opt;
     opt.resolution = 48;
-    auto vol = carve(views, opt);
-    RefineStats st;
-    auto ref = refine(*vol, nullptr, {}, {}, &st);
+    auto vol = carve(views, opt).value;
+    const auto refined = refine(*vol, nullptr, {});
+    const auto& ref = refined.value;
+    const RefineStats& st = refined.stats;
     ASSERT_TRUE(ref->crossings);
     EXPECT_GT(st.crossings, 1000u);
     EXPECT_EQ(st.unresolved, 0u);
@@ -89,8 +91,8 @@ TEST(HullRefine, CrossingsOnExactlyTheChangingEdges) {
     auto views = sphere_views(1.0, 200, 90.0);
     CarveOptions opt;
     opt.resolution = 24;
-    auto vol = carve(views, opt);
-    auto ref = refine(*vol, nullptr, {}, {});
+    auto vol = carve(views, opt).value;
+    auto ref = refine(*vol, nullptr, {}).value;
     auto occ = vol->occupancy->getConstAccessor();
     auto cr = ref->crossings->getConstAccessor();
     openvdb::CoordBBox box;
@@ -122,8 +124,8 @@ TEST(HullRefine, BoxCrossingsAndVolumeAreExact) {
     auto views = make_views(std::move(vs), lo, hi);
     CarveOptions opt;
     opt.resolution = 30;
-    auto vol = carve(views, opt);
-    auto ref = refine(*vol, nullptr, {}, {});
+    auto vol = carve(views, opt).value;
+    auto ref = refine(*vol, nullptr, {}).value;
     double worst = 0;
     for_each_crossing(*ref, [&](const Vec3d& p, bool, bool) {
         // On a face: the smallest distance to one of the six planes.
@@ -176,9 +178,10 @@ TEST(HullRefine, ThinPartsBetweenGridPointsAreKept) {
     auto views = make_views(std::move(vs), {-1, -1, -1}, {1, 0.8, 1});
     CarveOptions opt;
     opt.resolution = 20; // h = 0.1 = 20 px; the fin is 0.03 = 6 px thick
-    auto vol = carve(views, opt);
-    RefineStats st;
-    auto ref = refine(*vol, nullptr, {}, {}, &st);
+    auto vol = carve(views, opt).value;
+    const auto refined = refine(*vol, nullptr, {});
+    const auto& ref = refined.value;
+    const RefineStats& st = refined.stats;
     auto enter = ref->find_extra("thin_enter");
     auto leave = ref->find_extra("thin_leave");
     ASSERT_TRUE(enter && leave);
@@ -209,7 +212,7 @@ TEST(HullRefine, ThinPartsBetweenGridPointsAreKept) {
     // And without the search, none.
     RefineOptions off;
     off.thin = RefineOptions::Thin::Off;
-    auto plain = refine(*vol, nullptr, off, {});
+    auto plain = refine(*vol, nullptr, off).value;
     EXPECT_FALSE(plain->find_extra("thin_enter"));
 }
 
@@ -305,34 +308,45 @@ TEST(SilhouetteField, SummedAreaTablesLiveAsLongAsAVolumeOrAHullHoldsThem) {
     auto views = sphere_views(1.0, 320, 150.0);
     CarveOptions opt;
     opt.resolution = 32;
-    auto vol = carve(views, opt);
-    ASSERT_TRUE(vol->view_data);
-    const std::weak_ptr<const void> tables = vol->view_data;
-    auto ref = refine(*vol, nullptr, {}, {});
-    EXPECT_EQ(ref->view_data, vol->view_data); // the crossings read the carving's tables
+    auto vol = carve(views, opt).value;
+    ASSERT_TRUE(vol->silhouette_tables);
+    const std::weak_ptr<const SilhouetteTables> tables = vol->silhouette_tables;
+    auto ref = refine(*vol, nullptr, {}).value;
+    EXPECT_EQ(ref->silhouette_tables, vol->silhouette_tables); // the crossings read the carving's tables
     vol.reset();
     EXPECT_FALSE(tables.expired()); // the refined volume still holds them
     {
-        const VisualHull hull(*views, {-2, -2, -2}, {2, 2, 2});
+        const VisualHull hull(*views, {-2, -2, -2}, {2, 2, 2}, ref->silhouette_tables);
         EXPECT_EQ(hull.tables(), tables.lock());
     }
     ref.reset();
     EXPECT_TRUE(tables.expired()); // nothing reads them any more: freed, though the views live on
     // Made again for the next hull, and shared by the hulls alive together.
-    std::weak_ptr<const void> again;
+    std::weak_ptr<const SilhouetteTables> again;
     {
         const VisualHull a(*views, {-2, -2, -2}, {2, 2, 2});
         ASSERT_TRUE(a.tables());
-        const VisualHull b(*views, {-1, -1, -1}, {1, 1, 1});
+        const VisualHull b(*views, {-1, -1, -1}, {1, 1, 1}, a.tables());
         EXPECT_EQ(a.tables(), b.tables());
         EXPECT_TRUE(a.inside({0, 0, 0}));
         EXPECT_FALSE(a.inside({0.9, 0.9, 0.9}));
         again = a.tables();
     }
     EXPECT_TRUE(again.expired());
-    // A copy of the views starts without them (Views::derived) and makes its own.
+    // Tables are data of one set of views: a copy of the views gets its own, and a hull refuses
+    // the tables of other views.
     const Views copy = *views;
     const auto held = silhouette_tables(*views);
     EXPECT_NE(silhouette_tables(copy), held);
-    EXPECT_EQ(silhouette_tables(*views), held);
+    EXPECT_TRUE(held->fit(copy));
+    Views fewer = copy;
+    fewer.views.pop_back();
+    EXPECT_FALSE(held->fit(fewer));
+    EXPECT_THROW(VisualHull(fewer, {-2, -2, -2}, {2, 2, 2}, held), Error);
+    // A volume made elsewhere, without tables, gets them where they are needed, and hands them on.
+    auto bare = std::make_shared<Volume>(*carve(views, opt).value);
+    bare->silhouette_tables = nullptr;
+    const auto made = refine(*bare, nullptr, {}).value;
+    ASSERT_TRUE(made->silhouette_tables);
+    EXPECT_TRUE(made->silhouette_tables->fit(*views));
 }

@@ -1,8 +1,6 @@
-// The steps of hull.plausible (plausible.cpp) that are not its algorithm: the drawing's
-// profile and local inscribed radius, the grid's lattice,
-// each view's lines of sight laid out as a raster at the grid's pitch, a parallel stable
-// counting sort, the filters over rasters and grids that smooth the profiles and the field,
-// and the union of balls by which the volume swells to the lines of sight it must cover.
+// The lines of sight of hull.plausible: the grid's lattice, each view's lines of sight
+// laid out as a raster at the grid's pitch, a parallel stable counting sort that orders the
+// voxels along them, and the grid columns that are the lines of sight of a view along an axis.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -14,7 +12,6 @@
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <unordered_map>
 
 #include "core/views.h"
 #include "leaf_masks.h"
@@ -84,54 +81,6 @@ RayRaster make_raster(const View& view, const Lattice& lat, const openvdb::Coord
 void stable_bucket_order(const std::vector<std::uint32_t>& keys, std::uint32_t nkeys,
                          const std::vector<std::uint32_t>& in, std::vector<std::uint32_t>& out,
                          std::vector<std::uint32_t>* starts = nullptr);
-
-/// 3x3 box passes over a w x h raster, normalised over the cells not `masked`; masked cells
-/// keep their value.
-void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int h, int passes);
-
-/// Smooths `value` (one per voxel of `leaves`, numbered leaf base + rank) by a Gaussian of
-/// standard deviation `sigma` grid cells, normalised over the voxels (the outside does not
-/// pull it): the voxels' means on a dense lattice of `f` cells a cell (f a power of 2 up to
-/// sigma), binomial passes there, and back trilinearly. Voxels whose value lies farther than
-/// `reach` from 0 keep theirs.
-void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
-                  const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach);
-
-// A smooth, non-negative field on a coarse dense lattice (`f` grid cells a coarse cell) over a
-// box of the grid: how far the field is lowered about the lines of sight it must still cover.
-// Seeds raise it to their value in a ball of their value's radius (plus two coarse cells),
-// then it is smoothed; sampled trilinearly at grid points.
-class SwellField {
-public:
-    SwellField(const openvdb::CoordBBox& box, int f);
-    /// Raises the field to at least `value` (grid cells) about grid point c.
-    void seed(const Coord& c, float value);
-    /// Adds the seeds since the last call to the field, smoothed (two binomial passes).
-    void settle();
-    /// Trilinear value at grid point c (0 outside the box).
-    float at(const Coord& c) const;
-    /// The same values for the grid points of the 8^3 block at `origin`, with the per-axis
-    /// lattice positions worked out once: at(x, y, z) for local coordinates 0..7.
-    class Block {
-    public:
-        Block(const SwellField& f, const Coord& origin);
-        float at(int x, int y, int z) const;
-
-    private:
-        const SwellField& f_;
-        int c0_[3][8];   ///< lower lattice index per axis and local coordinate (-1: outside)
-        double t_[3][8]; ///< the upper one's weight
-    };
-    /// Whether the last settle() raised the field anywhere about the grid points of `b`.
-    bool raised_in(const openvdb::CoordBBox& b) const;
-
-private:
-    Coord lo_;
-    int f_, nx_, ny_, nz_;
-    std::vector<float> g_, last_;
-    std::vector<std::pair<std::uint32_t, float>> seeds_; // coarse cell, value
-    bool any_ = false;
-};
 
 // The grid columns of a voxelized bool tree along each axis, walked leaf stack by leaf stack:
 // the lines of sight of an orthographic view along that axis, each column's voxels in
@@ -249,34 +198,5 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
             if (cnt[col]) body(first[col], idx + col * cap, along + col * cap, cnt[col]);
     });
 }
-
-// The signed distance (grid cells, negative inside) to a union of balls, kept on a coarse
-// dense lattice (`f` grid cells a coarse cell) over a box of the grid and sampled
-// trilinearly: the swellings by which the volume reaches the lines of sight it must cover.
-class BallField {
-public:
-    BallField(const openvdb::CoordBBox& box, int f);
-    /// A ball of `radius` grid cells about `centre` (index space).
-    void add(const openvdb::Vec3d& centre, double radius) { balls_.push_back({centre, radius}); }
-    /// Writes the balls added since the last call into the lattice, within `reach` cells of
-    /// their surface (farther, the field is left at +infinity).
-    void settle(double reach);
-    bool empty() const { return !any_; }
-    /// Trilinear value at grid point c (+infinity where any corner is beyond reach).
-    float at(const Coord& c) const;
-    /// Whether the field is finite anywhere about the grid points of `b`.
-    bool any_in(const openvdb::CoordBBox& b) const;
-
-private:
-    struct Ball {
-        openvdb::Vec3d centre;
-        double radius;
-    };
-    Coord lo_;
-    int f_, nx_, ny_, nz_;
-    std::vector<float> g_;
-    std::vector<Ball> balls_;
-    bool any_ = false;
-};
 
 } // namespace cm::plausible
