@@ -55,6 +55,7 @@ public:
     void candidates(const Box& b, std::vector<std::uint32_t>& out) const;
 
 private:
+    class Builder; // the constructor's steps
     struct Range {
         std::array<std::uint64_t, 3> lo{}, hi{};
     };
