@@ -8,7 +8,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <utility>
 #include <vector>
 
@@ -260,8 +259,7 @@ SelfIntersectionIndex::Range SelfIntersectionIndex::cells(const Box& b) const {
     return r;
 }
 
-std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p,
-                                                 const std::function<void(double)>& progress,
+std::vector<FacePair> SelfIntersectionIndex::all(const std::vector<Vec3f>& p, Progress progress,
                                                  const std::vector<char>* fans) const {
     if (fans && fans->size() != p.size()) fans = nullptr;
     tbb::enumerable_thread_specific<std::vector<FacePair>> found;

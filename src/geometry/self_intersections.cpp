@@ -4,7 +4,6 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
-#include <functional>
 #include <mutex>
 #include <utility>
 #include <vector>
@@ -95,12 +94,12 @@ CrossingMemo& crossing_memo() {
 
 } // namespace
 
-std::vector<FacePair> find_self_intersections(const Mesh& m, const std::function<void(double)>& progress) {
+std::vector<FacePair> find_self_intersections(const Mesh& m, Progress progress) {
     if (m.triangles.empty()) return {};
     const Fingerprint f = fingerprint_of(m);
     std::vector<FacePair> pairs;
     if (crossing_memo().find(f, pairs)) {
-        if (progress) progress(1.0);
+        progress(1.0);
         return pairs;
     }
     const std::vector<char> fans = embedded_fans(m.triangles, m.positions);
