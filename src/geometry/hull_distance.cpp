@@ -17,7 +17,7 @@ namespace cm {
 // The field beyond a silhouette's window: every pixel there is outside, farther than the
 // margin from the silhouette, so its value is its distance to the nearest inside pixel less
 // half a pixel. Built on first use from the window's inside pixels (all the inside pixels
-// there are), once, as the views' derived data are: threads that ask meanwhile help build it.
+// there are), once: threads that ask meanwhile help build it.
 class SdfBeyondWindow {
 public:
     SdfBeyondWindow(std::vector<char> inside, int ox, int oy, int stride, int rows, int w, int h)
@@ -123,9 +123,7 @@ double SilhouetteSdf::sample_edge(double x, double y) const {
     return beyond_image > 0 ? std::max(v, 0.0) + beyond_image : v;
 }
 
-namespace {
-
-std::vector<ViewSdf> build_view_sdfs(const Views& views) {
+std::vector<ViewSdf> view_sdfs(const Views& views) {
     // The views' fields are independent: built side by side. The first failing view in
     // order is reported, whichever thread found it first.
     std::vector<ViewSdf> out(views.views.size());
@@ -141,13 +139,6 @@ std::vector<ViewSdf> build_view_sdfs(const Views& views) {
     for (const auto& e : errors)
         if (!e.empty()) throw Error(e);
     return out;
-}
-
-} // namespace
-
-std::shared_ptr<const std::vector<ViewSdf>> view_sdfs(const Views& views) {
-    return std::static_pointer_cast<const std::vector<ViewSdf>>(views.derived.get(
-        "silhouette_sdf", [&] { return std::make_shared<const std::vector<ViewSdf>>(build_view_sdfs(views)); }));
 }
 
 HullDistance::HullDistance(const Views& views) {

@@ -73,13 +73,13 @@ struct ViewSdf {
     SilhouetteSdf sdf;
 };
 
-/// The fields of every view, built side by side (each is parallel inside too) by the first
-/// caller and kept with the views (Views::derived) for the next.
+/// The fields of every view, built side by side (each is parallel inside too).
 /// @throw cm::Error naming the first view in order whose silhouette is empty.
-std::shared_ptr<const std::vector<ViewSdf>> view_sdfs(const Views& views);
+std::vector<ViewSdf> view_sdfs(const Views& views);
 
 class HullDistance {
 public:
+    /// Builds the views' fields (view_sdfs()).
     /// @throw cm::Error naming the view when a view has an empty silhouette.
     explicit HullDistance(const Views& views);
     /// Approximate signed distance from p to the visual hull in world units (positive outside).
@@ -129,8 +129,8 @@ private:
         return e.sdf.sample(q.x, q.y) * (1.0 / e.camera.scale);
     }
     double perspective_distance(const Entry& e, const Vec3d& p) const;
-    const std::vector<Entry>& fields() const { return *fields_; }
-    std::shared_ptr<const std::vector<Entry>> fields_;
+    const std::vector<Entry>& fields() const { return fields_; }
+    std::vector<Entry> fields_;
     double finest_pixel_ = 1.0;
 };
 
