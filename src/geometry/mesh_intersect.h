@@ -2,6 +2,7 @@
 // reports ("no self-intersections" is one of the output quality rules), and for the
 // stages that must not create any (smoothing repairs the faces it finds here).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -19,6 +20,17 @@
 namespace cm {
 
 using FacePair = std::array<std::uint32_t, 2>; ///< (a, b) with a < b
+
+/// The pairs each thread found (a tbb::enumerable_thread_specific of vectors of pairs, or any
+/// range of them), as one sorted list without repeats.
+template <typename PerThread>
+std::vector<FacePair> merged_pairs(PerThread& found) {
+    std::vector<FacePair> pairs;
+    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    return pairs;
+}
 
 /// @brief Do triangles ta and tb (vertex indices into p) cross at a point inside both?
 /// Triangles sharing an edge never cross; with one shared vertex only the edges away

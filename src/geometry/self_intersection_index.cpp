@@ -398,11 +398,7 @@ std::vector<FacePair> SelfIntersectionIndex::involving(const std::vector<std::ui
                                       local.push_back({std::min(fa, fb), std::max(fa, fb)});
                           }
                       });
-    std::vector<FacePair> pairs;
-    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    return pairs;
+    return merged_pairs(found);
 }
 
 } // namespace cm
