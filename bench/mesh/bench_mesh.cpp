@@ -10,6 +10,7 @@
 // DecimaterT + ModQuadricT (+ ModNormalFlippingT), both to 10 % of the faces.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -75,8 +76,9 @@ void BM_CheckMesh(benchmark::State& st) {
 }
 
 // The exact distance transform of a 2048 x 2048 silhouette-like mask (an ellipse with
-// stripes): seeds inside (range 0) or outside (range 1), as views.load and the hull
-// distance of smoothing run it.
+// stripes): seeds inside (range 0) or outside (range 1), as views.load runs it, or both
+// transforms of the signed field near the border (range 2), as a silhouette's distance field
+// for the smoothing and the reduction takes them.
 void BM_DistanceTransform(benchmark::State& st) {
     const int w = 2048, h = 2048;
     std::vector<char> seed(std::size_t(w) * h);
@@ -84,10 +86,17 @@ void BM_DistanceTransform(benchmark::State& st) {
         for (int x = 0; x < w; ++x) {
             const double u = (x - 1024) / 700.0, v = (y - 1100) / 500.0;
             const bool in = u * u + v * v < 1 || ((x / 37 + y / 53) % 7 == 0 && u * u + v * v < 1.6);
-            seed[std::size_t(y) * w + x] = st.range(0) == 0 ? in : !in;
+            seed[std::size_t(y) * w + x] = st.range(0) == 1 ? !in : in;
         }
-    for (auto _ : st) benchmark::DoNotOptimize(squared_edt(seed, w, h));
-    st.SetLabel(st.range(0) == 0 ? "to_inside" : "to_outside");
+    std::vector<float> out(seed.size());
+    for (auto _ : st) {
+        if (st.range(0) < 2) benchmark::DoNotOptimize(squared_edt(seed, w, h));
+        else
+            squared_edt_signed(seed.data(), w, h, 8, [&](int y, const float* row) {
+                std::copy(row, row + w, out.begin() + std::ptrdiff_t(y) * w);
+            });
+    }
+    st.SetLabel(st.range(0) == 0 ? "to_inside" : st.range(0) == 1 ? "to_outside" : "signed");
 }
 
 void BM_Smooth(benchmark::State& st, SmoothOptions::Method method) {
@@ -235,7 +244,7 @@ void BM_QuadricOpenMesh(benchmark::State& st) {
 
 BENCHMARK(BM_Adjacency)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CheckMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_DistanceTransform)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DistanceTransform)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LaplacianSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TaubinSmooth10)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SelfIntersections)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

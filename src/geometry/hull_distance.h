@@ -10,12 +10,14 @@
 // distance; on the hull's surface it is zero; inside it is the distance to the
 // nearest silhouette border seen by any view (the shallowest one).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "core/vec.h"
 #include "core/views.h"
+#include "util/uninit_vector.h"
 
 namespace cm {
 
@@ -24,17 +26,23 @@ class SdfBeyondWindow;
 /// Signed distance field of one silhouette, in pixels, positive outside.
 ///
 /// Stored for a window of the image: the box of the inside pixels grown by kSdfMargin
-/// (clipped to the image), where every caller's points project (a point near the visual
-/// hull projects near each silhouette). The window's values are the whole image's, to the
-/// bit: the nearest inside pixel of a window pixel lies in the box, and the nearest outside
-/// pixel of an inside one is at most as far as the window's border, which is outside. A
-/// sample that reads beyond the window builds the rest of the field on first use.
+/// (clipped to the image), where every caller's points project (a point near the visual hull
+/// projects near each silhouette). The window holds the values of the inside pixels and of
+/// the outside ones within kSdfReach of an inside one, which is where the smoothing and the
+/// reduction read (at most a few pixels out); its other pixels hold NaN. The values are the
+/// whole image's, to the bit: the nearest inside pixel of an outside pixel lies in the box, and
+/// the nearest outside pixel of an inside one is at most as far as the window's border, which
+/// is outside. A sample that reads a NaN pixel or one beyond the window builds the rest of the
+/// field (of the window, of the image) on first use.
 struct SilhouetteSdf {
-    static constexpr int kSdfMargin = 32;
+    static constexpr int kSdfMargin = 32;     ///< pixels around the inside pixels' box
+    static constexpr int kSdfReach = 8;       ///< how far out the window holds the outside pixels' values
     int width = 0, height = 0;                ///< the image
     int ox = 0, oy = 0, stride = 0, rows = 0; ///< the window: its first column and row, its size
-    std::vector<float> sdf;                   ///< the window's values at pixel centres, row-major, row 0 at the top
-    std::shared_ptr<const SdfBeyondWindow> beyond; ///< the field beyond the window (null: the window is the image)
+    UninitVector<float> sdf;                  ///< the window's values at pixel centres, row-major, row 0 at the top
+    /// The field at the window's NaN pixels and beyond the window (null: the window is the
+    /// image and holds every value).
+    std::shared_ptr<const SdfBeyondWindow> beyond;
     /// Bilinear sample at continuous pixel coordinates (x, y) (pixel centres at i + 0.5);
     /// beyond the image the distance grows with the distance to the image border.
     /// Inline for the common case (the four samples inside the window): the smoothing and the
@@ -46,22 +54,23 @@ struct SilhouetteSdf {
             const double tx = fx - x0, ty = fy - y0;
             const float* r0 = sdf.data() + std::size_t(y0) * std::size_t(stride) + std::size_t(x0);
             const float* r1 = r0 + stride;
-            return (1 - ty) * ((1 - tx) * double(r0[0]) + tx * double(r0[1])) +
-                   ty * ((1 - tx) * double(r1[0]) + tx * double(r1[1]));
+            const double v = (1 - ty) * ((1 - tx) * double(r0[0]) + tx * double(r0[1])) +
+                             ty * ((1 - tx) * double(r1[0]) + tx * double(r1[1]));
+            if (!std::isnan(v)) return v; // else a pixel not worked out, far outside
         }
         return sample_edge(x, y);
     }
-    /// sample() anywhere: on the window's last row or column, beyond it, beyond the image, or
-    /// not finite.
+    /// sample() anywhere: on the window's last row or column, beyond it, beyond the image, at
+    /// a pixel not worked out, or not finite.
     double sample_edge(double x, double y) const;
     /// The value at pixel (i, j) of the image.
     float at(int i, int j) const;
 };
 
 /// @brief Builds the signed distance field of a coverage mask: the border is where
-/// coverage crosses 0.5. Exact Euclidean distance transform (Felzenszwalb-Huttenlocher)
-/// of the binary mask, with pixels of fractional coverage refined to 0.5 - coverage
-/// (the sub-pixel position of a straight border through the pixel).
+/// coverage crosses 0.5. Exact Euclidean distance transform of the binary mask
+/// (squared_edt_signed()), with pixels of fractional coverage refined to 0.5 - coverage (the
+/// sub-pixel position of a straight border through the pixel).
 /// @throw cm::Error when the mask has no inside pixel.
 SilhouetteSdf silhouette_sdf(const Coverage& coverage, const std::string& view_name);
 /// The same from every pixel's coverage (width * height, row-major).
@@ -73,13 +82,13 @@ struct ViewSdf {
     SilhouetteSdf sdf;
 };
 
-/// The fields of every view, built side by side (each is parallel inside too) by the first
-/// caller and kept with the views (Views::derived) for the next.
+/// The fields of every view, built side by side (each is parallel inside too).
 /// @throw cm::Error naming the first view in order whose silhouette is empty.
-std::shared_ptr<const std::vector<ViewSdf>> view_sdfs(const Views& views);
+std::vector<ViewSdf> view_sdfs(const Views& views);
 
 class HullDistance {
 public:
+    /// Builds the views' fields (view_sdfs()).
     /// @throw cm::Error naming the view when a view has an empty silhouette.
     explicit HullDistance(const Views& views);
     /// Approximate signed distance from p to the visual hull in world units (positive outside).
@@ -129,8 +138,8 @@ private:
         return e.sdf.sample(q.x, q.y) * (1.0 / e.camera.scale);
     }
     double perspective_distance(const Entry& e, const Vec3d& p) const;
-    const std::vector<Entry>& fields() const { return *fields_; }
-    std::shared_ptr<const std::vector<Entry>> fields_;
+    const std::vector<Entry>& fields() const { return fields_; }
+    std::vector<Entry> fields_;
     double finest_pixel_ = 1.0;
 };
 

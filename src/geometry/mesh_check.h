@@ -3,11 +3,11 @@
 // (mesh.write and `conceptmesh check`).
 #pragma once
 #include <cstddef>
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/progress.h"
 #include "geometry/mesh_intersect.h"
 
 namespace cm {
@@ -42,7 +42,8 @@ struct OutputCheck {
     /// One phrase per broken rule ("3 boundary edges", ...); empty when clean.
     std::vector<std::string> broken() const;
 };
-/// `progress`, when given, is called per chunk with the fraction done and may throw to stop.
-OutputCheck check_output(const Mesh& mesh, const std::function<void(double)>& progress = {});
+/// The output rules measured on `mesh`; `progress` hears of each step (and per chunk of the
+/// crossing test), and a stop there ends the check (cm::Cancelled).
+OutputCheck check_output(const Mesh& mesh, Progress progress = {});
 
 } // namespace cm

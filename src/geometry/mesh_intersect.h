@@ -2,6 +2,7 @@
 // reports ("no self-intersections" is one of the output quality rules), and for the
 // stages that must not create any (smoothing repairs the faces it finds here).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -13,11 +14,23 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "core/progress.h"
 #include "util/uninit_vector.h"
 
 namespace cm {
 
 using FacePair = std::array<std::uint32_t, 2>; ///< (a, b) with a < b
+
+/// The pairs each thread found (a tbb::enumerable_thread_specific of vectors of pairs, or any
+/// range of them), as one sorted list without repeats.
+template <typename PerThread>
+std::vector<FacePair> merged_pairs(PerThread& found) {
+    std::vector<FacePair> pairs;
+    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    return pairs;
+}
 
 /// @brief Do triangles ta and tb (vertex indices into p) cross at a point inside both?
 /// Triangles sharing an edge never cross; with one shared vertex only the edges away
@@ -39,11 +52,11 @@ public:
     SelfIntersectionIndex(const std::vector<std::array<std::uint32_t, 3>>& triangles, const std::vector<Vec3f>& a,
                           const std::vector<Vec3f>* b = nullptr);
     /// Every crossing pair at positions `p` (each pair once, sorted). TBB-parallel.
-    /// `progress`, when given, is called per chunk of cells with the fraction done (from the
-    /// worker threads); it may throw to stop. `fans` (optional): embedded_fans() of the
+    /// `progress` hears the fraction done per chunk of cells (from the worker threads); a stop
+    /// there ends the search (cm::Cancelled). `fans` (optional): embedded_fans() of the
     /// triangles at `p`; two faces sharing only a vertex whose fan is embedded are not tested
     /// (they cannot cross), which leaves the answer as it is.
-    std::vector<FacePair> all(const std::vector<Vec3f>& p, const std::function<void(double)>& progress = {},
+    std::vector<FacePair> all(const std::vector<Vec3f>& p, Progress progress = {},
                               const std::vector<char>* fans = nullptr) const;
     /// The crossing pairs at positions `p` with at least one face in `faces` (sorted, unique).
     std::vector<FacePair> involving(const std::vector<std::uint32_t>& faces, const std::vector<Vec3f>& p) const;
@@ -55,6 +68,7 @@ public:
     void candidates(const Box& b, std::vector<std::uint32_t>& out) const;
 
 private:
+    class Builder; // the constructor's steps
     struct Range {
         std::array<std::uint64_t, 3> lo{}, hi{};
     };
@@ -101,7 +115,7 @@ std::vector<char> embedded_fans(const std::vector<std::array<std::uint32_t, 3>>&
 /// positions and triangles: the same mesh asked again (mesh.reduce checks its result,
 /// mesh.write what it writes) is answered at the cost of the fingerprint (under a millisecond
 /// for 100 k faces).
-std::vector<FacePair> find_self_intersections(const Mesh& mesh, const std::function<void(double)>& progress = {});
+std::vector<FacePair> find_self_intersections(const Mesh& mesh, Progress progress = {});
 
 /// @brief Number of pairs find_self_intersections() reports.
 std::size_t count_self_intersections(const Mesh& mesh);

@@ -1,7 +1,6 @@
-// The output rules of a mesh leaving the tool (mesh_intersect.h: OutputCheck): the mesh
+// The output rules of a mesh leaving the tool (mesh_check.h: OutputCheck): the mesh
 // check, crossing faces and coincident vertices.
 #include <cmath>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,22 +30,18 @@ std::vector<std::string> OutputCheck::broken() const {
     return out;
 }
 
-OutputCheck check_output(const Mesh& m, const std::function<void(double)>& progress) {
-    auto part = [&](double lo, double hi) -> std::function<void(double)> {
-        if (!progress) return {};
-        return [&progress, lo, hi](double f) { progress(lo + (hi - lo) * f); };
-    };
-    if (progress) progress(0);
+OutputCheck check_output(const Mesh& m, Progress progress) {
+    progress(0);
     OutputCheck c{check_mesh(m), {}};
-    if (progress) progress(0.2);
-    c.crossings = find_self_intersections(m, part(0.4, 0.9));
+    progress(0.2);
+    c.crossings = find_self_intersections(m, progress.part(0.4, 0.9));
     Vec3f lo, hi;
     m.bounds(lo, hi);
     const Vec3f d = hi - lo;
     const double diagonal = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
-    if (progress) progress(0.9);
+    progress(0.9);
     c.coincident_vertices = count_coincident_vertices(m, kCoincidentTolerance * diagonal);
-    if (progress) progress(1);
+    progress(1);
     return c;
 }
 

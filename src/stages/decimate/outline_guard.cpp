@@ -248,8 +248,8 @@ OutlineGuard::OutlineGuard(const Views& views, double tolerance_px) : views_(vie
 bool OutlineGuard::keeps(const decimate::Collapser& c, std::uint32_t v, std::uint32_t w, Samples* samples) const {
     CollapseFan fan;
     if (!fan.gather(c, v, w)) return false;
-    for (std::size_t view = 0; view < views_->size(); ++view)
-        if (!ViewLook((*views_)[view], view, fan, samples, tol_).keeps(c)) return false;
+    for (std::size_t view = 0; view < views_.size(); ++view)
+        if (!ViewLook(views_[view], view, fan, samples, tol_).keeps(c)) return false;
     return true;
 }
 

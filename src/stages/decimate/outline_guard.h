@@ -64,7 +64,7 @@ public:
         std::vector<double> d_;
         std::size_t views_;
     };
-    std::size_t view_count() const { return views_->size(); }
+    std::size_t view_count() const { return views_.size(); }
     /// Whether collapsing v into its neighbour w keeps every view's outline within the
     /// tolerance of the drawing (see above). `samples` (optional): the run's samples at the
     /// vertices (the same answers, each vertex's samples read once).
@@ -72,7 +72,7 @@ public:
 
 private:
     using Entry = ViewSdf;
-    std::shared_ptr<const std::vector<Entry>> views_;
+    std::vector<Entry> views_;
     double tol_;
 };
 

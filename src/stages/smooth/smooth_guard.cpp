@@ -240,11 +240,7 @@ std::vector<FacePair> Guard::crossings_of(const std::vector<std::uint32_t>& face
                     local.push_back({std::min(fa, fb), std::max(fa, fb)});
         }
     });
-    std::vector<FacePair> pairs;
-    for (auto& v : found) pairs.insert(pairs.end(), v.begin(), v.end());
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    return pairs;
+    return merged_pairs(found);
 }
 
 void Guard::pull_back(std::uint32_t v) {

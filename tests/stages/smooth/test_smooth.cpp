@@ -298,27 +298,6 @@ TEST(HullDistance, WithinAgreesWithTheDistance) {
     EXPECT_GT(outside, 100);
 }
 
-// The distance fields are built once per set of views and shared by the stages that use
-// them; a copy of the views (which a stage may then change) builds its own.
-TEST(HullDistance, FieldsAreBuiltOncePerViewsAndNotSharedWithACopy) {
-    Views views = test::make_box_views(-1.0f, 1.0f, 64);
-    const auto a = view_sdfs(views), b = view_sdfs(views);
-    EXPECT_EQ(a.get(), b.get());
-    Views copy = views;
-    { // the copy's front view inverted
-        std::vector<float> cov = copy.views[0].coverage.full();
-        for (float& c : cov) c = 1.0f - c;
-        copy.views[0].coverage = Coverage(cov, copy.views[0].width, copy.views[0].height);
-    }
-    const auto c = view_sdfs(copy);
-    EXPECT_NE(c.get(), a.get());
-    EXPECT_LT((*a)[0].sdf.at(32, 32), 0.0f);
-    EXPECT_GT((*c)[0].sdf.at(32, 32), 0.0f);
-    EXPECT_EQ(view_sdfs(views).get(), a.get());
-    copy = views; // assigned: derived data of neither is kept
-    EXPECT_NE(view_sdfs(copy).get(), a.get());
-}
-
 TEST(HullDistance, EmptySilhouetteIsAnErrorNamingTheView) {
     Views views = test::make_box_views(-1.0f, 1.0f, 32);
     views.views[1].coverage =
