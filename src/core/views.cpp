@@ -5,27 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include <tbb/collaborative_call_once.h>
-
 namespace cm {
-
-struct DerivedData::Slot {
-    tbb::collaborative_once_flag once;
-    std::shared_ptr<const void> item;
-};
-
-std::shared_ptr<const void> DerivedData::get(const std::string& key,
-                                             const std::function<std::shared_ptr<const void>()>& make) const {
-    std::shared_ptr<Slot> slot;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto& s = items_[key];
-        if (!s) s = std::make_shared<Slot>();
-        slot = s;
-    }
-    tbb::collaborative_call_once(slot->once, [&] { slot->item = make(); });
-    return slot->item;
-}
 
 // The image and window of a Coverage to be made from `part`, with the box of its nonzero
 // values (`nonzero`, in the part's coordinates; empty when all are zero) and that of its

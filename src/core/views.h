@@ -3,10 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -119,32 +116,6 @@ struct View {
     bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height && coverage_at(x, y) >= 0.5f; }
 };
 
-/// Data a stage derives from the views and another stage needs again (the silhouettes'
-/// distance fields: hull-constrained smoothing and the reduction's outline guard), kept with
-/// the views so that it is built once per run. A copy of the views starts with none: what
-/// was derived from one set of views is never handed out for another.
-class DerivedData {
-public:
-    DerivedData() = default;
-    DerivedData(const DerivedData&) {}
-    DerivedData& operator=(const DerivedData&) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        items_.clear();
-        return *this;
-    }
-    /// The item under `key`, made by `make` when there is none yet. It is made once: a
-    /// stage asking while another makes it helps with that one's parallel work
-    /// (tbb::collaborative_call_once) and then has it. When `make` throws, nothing is kept
-    /// and the next asker makes it.
-    std::shared_ptr<const void> get(const std::string& key,
-                                    const std::function<std::shared_ptr<const void>()>& make) const;
-
-private:
-    struct Slot;
-    mutable std::mutex mutex_;
-    mutable std::map<std::string, std::shared_ptr<Slot>> items_;
-};
-
 struct Views {
     std::vector<View> views;
     std::filesystem::path manifest;
@@ -157,8 +128,6 @@ struct Views {
     double units_per_pixel = 1.0;
     /// Finest pixel size in world units over all views (sub-pixel tolerances use it).
     double finest_pixel() const;
-    /// Data derived from these views by a stage, for others to reuse (see DerivedData).
-    DerivedData derived;
 };
 
 } // namespace cm
