@@ -69,20 +69,21 @@ private:
             opt_.prim + "\"\n    metersPerUnit = 1\n    upAxis = \"Y\"\n)\n\n";
     }
 
-    // `decl = [(a, b), ...]`: `count` tuples of `n` floats, item i's at `at(i)`; with an
-    // interpolation, as a primvar's metadata.
+    // `decl = [(a, b), ...]`: `count` tuples of `n` floats (plain numbers when n is 1), item
+    // i's at `at(i)`; with an interpolation, as a primvar's metadata.
     template <typename At>
     void tuples(const std::string& decl, std::size_t count, int n, At at, const char* interpolation = nullptr) {
         o_ += "        " + decl + " = [";
         for (std::size_t i = 0; i < count; ++i) {
             tick();
             const float* x = at(i);
-            o_ += i ? ", (" : "(";
+            if (i) o_ += ", ";
+            if (n > 1) o_ += '(';
             for (int k = 0; k < n; ++k) {
                 if (k) o_ += ", ";
                 append_float(o_, x[k]);
             }
-            o_ += ')';
+            if (n > 1) o_ += ')';
         }
         o_ += ']';
         if (interpolation) o_ += std::string(" (\n            interpolation = \"") + interpolation + "\"\n        )";

@@ -78,6 +78,16 @@ TEST(Usd, LayerHoldsThePointsTrianglesNormalsUvsAndColoursAsWritten) {
     EXPECT_FALSE(test::usd_has(layer, "material:binding"));
 }
 
+TEST(Usd, ColoursNotOpaqueGiveADisplayOpacity) {
+    test::TempDir dir("usd_opacity");
+    Mesh m = test::make_box({0, 0, 0}, {1, 1, 1});
+    for (std::size_t i = 0; i < m.positions.size(); ++i) m.colors.push_back({1, 0, 0, i == 3 ? 0.5f : 1.0f});
+    write_mesh(m, dir / "glass.usda");
+    const std::string layer = test::read_text(dir / "glass.usda");
+    EXPECT_TRUE(test::usd_has(layer, "float[] primvars:displayOpacity = [1, 1, 1, 0.5, 1, 1, 1, 1] (\n"
+                                     "            interpolation = \"vertex\"\n"));
+}
+
 TEST(Usd, LayerStatesItsUnitsUpAxisKindAndNoSubdivision) {
     test::TempDir dir("usd_units");
     write_mesh(test::make_box({0, 0, 0}, {1, 2, 3}), dir / "crate.usda");

@@ -106,6 +106,7 @@ TEST(UsdReaders, TinyUsdzLoadsEveryWrittenLayerAndPackageWithItsTexture) {
     test::TempDir dir("usd_tinyusdz");
     Mesh ball = test::make_sphere({0, 1, 0}, 1.0f, 2);
     ball.colors.assign(ball.positions.size(), {0.2f, 0.4f, 0.6f, 1.0f});
+    ball.colors[0][3] = 0.5f; // and a displayOpacity
     const auto plain = std::make_shared<const Mesh>(std::move(ball));
     for (const auto& [mesh, name] : {std::pair{crate(), "crate"}, std::pair{plain, "ball"}})
         for (const char* ext : {".usda", ".usdz"}) {
