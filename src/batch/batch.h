@@ -47,14 +47,20 @@ std::size_t scan_folder(const std::filesystem::path& folder, const std::filesyst
 /// What one asset's run needs: its folder, the command, and the hash of its inputs.
 struct AssetPlan {
     const AssetSpec* spec = nullptr;
-    std::filesystem::path dir;           ///< absolute: the asset's folder (its run's working folder)
-    std::filesystem::path manifest;      ///< absolute: the views manifest the run reads
-    std::vector<std::string> sets;       ///< every --set of its run, the batch's own first
-    std::string mesh_file, preview_file; ///< under dir; empty when the pipeline has none of that node
-    std::string inputs_hash;             ///< SHA-256 (hex) of images, manifest, pipeline, parameters, version
-    double memory_mib = 0;               ///< estimated peak memory of the run
-    std::vector<std::string> argv;       ///< conceptmesh run ... (argv[0] is this executable)
+    std::filesystem::path dir;      ///< absolute: the asset's folder (its run's working folder)
+    std::filesystem::path manifest; ///< absolute: the views manifest the run reads
+    std::vector<std::string> sets;  ///< every --set of its run, the batch's own first
+    /// Under dir; empty when the pipeline has none of that node (or writes a mesh in another
+    /// format than batch_mesh() takes).
+    std::string mesh_file, preview_file;
+    std::string inputs_hash;       ///< SHA-256 (hex) of images, manifest, pipeline, parameters, version
+    double memory_mib = 0;         ///< estimated peak memory of the run
+    std::vector<std::string> argv; ///< conceptmesh run ... (argv[0] is this executable)
 };
+
+/// True for the mesh formats a batch gives its assets and lists (report, review page): .glb
+/// (by default, drawn on the review page) and .usdz (when the pipeline writes one).
+bool batch_mesh(const std::filesystem::path& file);
 
 /// Plans every asset under `out_dir`: folders, --set list, hash, memory estimate and command.
 /// Throws cm::Error naming the asset when its pipeline cannot be read.

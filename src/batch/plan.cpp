@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/batch.h"
+#include "core/data.h"
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "io/image_io.h"
@@ -97,6 +98,11 @@ std::string shell_quote(const std::string& s) {
 
 } // namespace
 
+bool batch_mesh(const fs::path& file) {
+    const std::string ext = lower_extension(file);
+    return ext == ".glb" || ext == ".usdz";
+}
+
 std::string read_bytes(const fs::path& f) {
     std::ifstream in(f, std::ios::binary);
     std::stringstream ss;
@@ -160,7 +166,8 @@ std::vector<AssetPlan> plan_assets(const AssetsFile& f, const fs::path& out_dir)
         for (const auto& n : pl.nodes) {
             if (n.stage == "views.load") p.sets.push_back(n.id + ".manifest=" + p.manifest.string());
             if (n.stage == "mesh.write" && writes == 1) {
-                p.mesh_file = a.name + ".glb";
+                // The glTF binary the review page shows, unless the pipeline writes a USD package.
+                p.mesh_file = a.name + (lower_extension(param_text(n, "path")) == ".usdz" ? ".usdz" : ".glb");
                 p.sets.push_back(n.id + ".path=" + p.mesh_file);
             }
             if (n.stage == "eval.preview" && previews == 1) {
@@ -184,7 +191,7 @@ std::vector<AssetPlan> plan_assets(const AssetsFile& f, const fs::path& out_dir)
                 if (!r.empty()) resolution = std::max(resolution, std::stod(r));
             } catch (const std::exception&) {}
         }
-        if (p.mesh_file.size() < 4 || p.mesh_file.substr(p.mesh_file.size() - 4) != ".glb") p.mesh_file.clear();
+        if (!batch_mesh(p.mesh_file)) p.mesh_file.clear();
         p.memory_mib = a.memory_mib ? *a.memory_mib : memory_estimate_mib(manifest_pixels(p.manifest), resolution);
         p.inputs_hash = inputs_hash(p, a.pipeline);
         p.argv = {exe, "run", a.pipeline.string()};

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "batch/batch.h"
+#include "core/data.h"
 #include "core/error.h"
 #include "io/file_commit.h"
 #include "io/manifest.h"
@@ -95,6 +96,13 @@ std::vector<fs::path> copy_inputs(const AssetPlan& p) {
 
 constexpr std::size_t kEagerModels = 12;
 
+// The page draws glTF binaries: the three.js Debian packages (r111), which it copies beside
+// itself, has no USD loader, so a .usdz asset gets its link and its preview sheet but no 3D
+// view.
+bool drawn_here(const std::string& mesh_file) { return lower_extension(mesh_file) == ".glb"; }
+const char* kNotDrawn =
+    "no 3D view of a .usdz on this page (Debian's three.js reads no USD): open the mesh in a USD viewer";
+
 const char* kPageHead = R"(<!doctype html>
 <html lang="en"><head><meta charset="utf-8">
 <script>
@@ -122,6 +130,7 @@ h1 { font-size: 20px; margin: 0 0 8px 0; }
 .cause { color: #a00; font-family: monospace; white-space: pre-wrap; }
 .row { display: flex; gap: 8px; align-items: flex-start; }
 canvas.view3d { width: 320px; height: 240px; background: #2a2f38; border-radius: 4px; }
+.no3d { width: 320px; color: #666; font-size: 13px; }
 .inputs img { height: 72px; border: 1px solid #ddd; margin: 0 4px 4px 0; background: #fff; }
 .preview img { max-width: 100%; max-height: 200px; margin-top: 6px; }
 table.fig { border-collapse: collapse; font-size: 13px; }
@@ -248,8 +257,9 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
         const AssetResult& r = results[i];
         const AssetPlan& p = plans[i];
         const fs::path rel = fs::relative(r.dir, dir);
+        const bool has_mesh = r.status != "failed" && !p.mesh_file.empty() && fs::is_regular_file(r.dir / p.mesh_file);
         std::string model_attr;
-        if (r.status != "failed" && !p.mesh_file.empty() && fs::is_regular_file(r.dir / p.mesh_file)) {
+        if (has_mesh && drawn_here(p.mesh_file)) {
             // The model as a data URI in a script of its own: a page opened from disk may not
             // fetch files, but it may run scripts beside it.
             const std::string js = "CM_MODEL(" + json(r.name).dump() + ", \"data:model/gltf-binary;base64," +
@@ -266,6 +276,7 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
         if (r.status == "failed") h << "<div class=\"cause\">" << html(r.cause) << "</div>\n";
         h << "<div class=\"row\">";
         if (!model_attr.empty()) h << "<canvas class=\"view3d\" width=\"320\" height=\"240\"></canvas>";
+        else if (has_mesh) h << "<div class=\"no3d\">" << kNotDrawn << "</div>";
         h << "<div><table class=\"fig\">"
           << "<tr><td>silhouette error</td><td>" << (r.xor_pct >= 0 ? fixed_digits(r.xor_pct, 3) + " %" : "-")
           << "</td></tr>";
@@ -276,7 +287,7 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
           << "<tr><td>peak memory</td><td>" << (r.peak_mib > 0 ? fixed_digits(r.peak_mib, 0) + " MiB" : "-")
           << "</td></tr>"
           << "<tr><td>files</td><td>";
-        if (!model_attr.empty()) h << "<a href=\"" << html(url(rel / p.mesh_file)) << "\">mesh</a> ";
+        if (has_mesh) h << "<a href=\"" << html(url(rel / p.mesh_file)) << "\">mesh</a> ";
         h << "<a href=\"" << html(url(rel / "log.txt")) << "\">log</a> <a href=\"" << html(url(rel / "run.json"))
           << "\">report</a></td></tr></table>\n<div class=\"inputs\">";
         for (const auto& in : copy_inputs(p))
@@ -293,7 +304,7 @@ void write_review_page(const std::vector<AssetPlan>& plans, const std::vector<As
     std::size_t eager = 0;
     for (std::size_t i = 0; i < results.size() && eager < kEagerModels; ++i)
         if (fs::is_regular_file(results[i].dir / "model.js") && results[i].status != "failed" &&
-            !plans[i].mesh_file.empty()) {
+            drawn_here(plans[i].mesh_file)) {
             h << "<script src=\"" << html(url(fs::relative(results[i].dir / "model.js", dir))) << "\"></script>\n";
             ++eager;
         }

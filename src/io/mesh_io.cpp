@@ -6,7 +6,6 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -23,7 +22,9 @@
 #include "core/views.h"
 #include "io/gltf_io.h"
 #include "io/image_io.h"
+#include "io/number_text.h"
 #include "io/progress_stream.h"
+#include "io/usd_io.h"
 
 namespace fs = std::filesystem;
 
@@ -190,30 +191,8 @@ std::uint8_t srgb8(float linear) {
 // Every this many elements a writer reports its progress (and may be stopped).
 constexpr std::size_t kProgressEvery = 1 << 16;
 
-void write_text(const fs::path& file, const std::string& text, Progress progress = {}) {
-    ProgressFileStream out(file, text.size(), progress);
-    out.write(text.data(), std::streamsize(text.size()));
-    if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
-}
-
 bool has_uvs(const Mesh& m) {
     return m.corner_uvs.size() == m.triangles.size() * 3 || (!m.uvs.empty() && m.uvs.size() == m.positions.size());
-}
-
-// Appends the shortest decimal text that reads back as exactly x (std::to_chars): a file
-// read back holds the very floats written, so a sliver face stays a face. Fixed notation
-// with nine decimals (OpenMesh's) keeps only a few digits of small coordinates: vertices
-// near an axis plane were read back onto one line, and a face of theirs as degenerate.
-void put_float(std::string& o, float x) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, x);
-    o.append(buf, r.ptr);
-}
-
-void put_index(std::string& o, std::size_t i) {
-    char buf[24];
-    const auto r = std::to_chars(buf, buf + sizeof buf, i);
-    o.append(buf, r.ptr);
 }
 
 // OBJ by hand: v, then vt (per corner or per vertex) and vn when the mesh has them, and with
@@ -221,11 +200,12 @@ void put_index(std::string& o, std::size_t i) {
 // UVs nor a map_Kd).
 void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo, const Progress& progress) {
     const std::string name = wo.name.empty() ? file.stem().string() : wo.name;
-    const fs::path mtl_file = wo.mtl_file.empty() ? obj_material_path(file) : wo.mtl_file;
-    const fs::path tex_file = wo.texture_file.empty() ? obj_texture_path(file) : wo.texture_file;
-    const std::string mtl_name = wo.mtl_name.empty() ? obj_material_path(file).filename().string() : wo.mtl_name;
-    const std::string tex_name = wo.texture_name.empty() ? obj_texture_path(file).filename().string() : wo.texture_name;
-    const bool with_tex = obj_has_material(mesh);
+    const MeshSideFiles side = mesh_side_files(file, mesh); // the default names; none without a texture
+    const fs::path mtl_file = wo.mtl_file.empty() ? side.material : wo.mtl_file;
+    const fs::path tex_file = wo.texture_file.empty() ? side.texture : wo.texture_file;
+    const std::string mtl_name = wo.mtl_name.empty() ? side.material.filename().string() : wo.mtl_name;
+    const std::string tex_name = wo.texture_name.empty() ? side.texture.filename().string() : wo.texture_name;
+    const bool with_tex = has_texture_map(mesh);
     const bool corner = mesh.corner_uvs.size() == mesh.triangles.size() * 3;
     const bool with_uvs = has_uvs(mesh);
     const bool with_normals = wo.normals && mesh.normals.size() == mesh.positions.size();
@@ -246,7 +226,7 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
         o += tag;
         for (int k = 0; k < n; ++k) {
             o += ' ';
-            put_float(o, x[k]);
+            append_float(o, x[k]);
         }
         o += '\n';
     };
@@ -262,23 +242,24 @@ void write_obj(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& w
         for (int k = 0; k < 3; ++k) {
             const std::size_t v = mesh.triangles[f][std::size_t(k)] + 1;
             o += ' ';
-            put_index(o, v);
+            append_index(o, v);
             if (!with_uvs && !with_normals) continue;
             o += '/';
-            if (with_uvs) put_index(o, corner ? 3 * f + std::size_t(k) + 1 : v);
+            if (with_uvs) append_index(o, corner ? 3 * f + std::size_t(k) + 1 : v);
             if (with_normals) {
                 o += '/';
-                put_index(o, v);
+                append_index(o, v);
             }
         }
         o += '\n';
     }
-    write_text(file, o, progress.part(0.7, with_tex ? 0.9 : 1.0));
+    write_file_bytes(file, o, progress.part(0.7, with_tex ? 0.9 : 1.0));
     if (!with_tex) return;
-    write_text(mtl_file, "# conceptmesh\nnewmtl " + name +
-                             "\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 0\nd 1\nillum 1\nmap_Kd " + tex_name + "\n");
+    write_file_bytes(mtl_file, "# conceptmesh\nnewmtl " + name +
+                                   "\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 0\nd 1\nillum 1\nmap_Kd " + tex_name + "\n");
     const std::vector<unsigned char> png = encode_png(*mesh.texture, 3);
-    write_text(tex_file, std::string(png.begin(), png.end()), progress.part(0.9, 1.0));
+    write_file_bytes(tex_file, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
+                     progress.part(0.9, 1.0));
 }
 
 } // namespace
@@ -288,16 +269,19 @@ void MeshWriteOptions::declare(ParamBinder& b) {
     b.add(normals, ParamSpec::Bool("normals", true, "write per-vertex normals where the format holds them"));
 }
 
-bool obj_has_material(const Mesh& m) { return m.texture && !m.texture->empty() && has_uvs(m); }
+bool has_texture_map(const Mesh& m) { return m.texture && !m.texture->empty() && has_uvs(m); }
 
-fs::path obj_material_path(const fs::path& obj) {
-    fs::path p = obj;
-    return p.replace_extension(".mtl");
+MeshSideFiles mesh_side_files(const fs::path& file, const Mesh& mesh) {
+    MeshSideFiles side;
+    const std::string ext = lower_extension(file);
+    if ((ext != ".obj" && ext != ".usda") || !has_texture_map(mesh)) return side;
+    side.texture = file.parent_path() / (file.stem().string() + "_basecolor.png");
+    if (ext == ".obj") side.material = fs::path(file).replace_extension(".mtl");
+    return side;
 }
-fs::path obj_texture_path(const fs::path& obj) { return obj.parent_path() / (obj.stem().string() + "_basecolor.png"); }
 
 const std::vector<std::string>& mesh_extensions() {
-    static const std::vector<std::string> extensions = {".obj", ".ply", ".stl", ".off", ".glb"};
+    static const std::vector<std::string> extensions = {".obj", ".ply", ".stl", ".off", ".glb", ".usda", ".usdz"};
     return extensions;
 }
 
@@ -306,10 +290,12 @@ bool mesh_format_supported(const fs::path& file) {
     return std::find(known.begin(), known.end(), lower_extension(file)) != known.end();
 }
 
+bool mesh_readable(const fs::path& file) { return mesh_format_supported(file) && !is_usd_file(file); }
+
 Mesh read_mesh(const fs::path& file) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error("cannot read mesh \"" + file.string() + "\": no such file");
-    if (!mesh_format_supported(file))
+    if (!mesh_readable(file))
         throw Error("cannot read mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
     if (lower_extension(file) == ".glb") return read_glb(file);
     check_text_mesh(file);
@@ -350,7 +336,9 @@ Mesh read_mesh(const fs::path& file) {
 
 void write_mesh(const Mesh& mesh, const fs::path& file, const MeshWriteOptions& wo, Progress progress) {
     if (!mesh_format_supported(file))
-        throw Error("cannot write mesh \"" + file.string() + "\": unknown format (use .obj, .ply, .stl, .off or .glb)");
+        throw Error("cannot write mesh \"" + file.string() +
+                    "\": unknown format (use .obj, .ply, .stl, .off, .glb, .usda or .usdz)");
+    if (is_usd_file(file)) return write_usd(mesh, file, wo, progress);
     if (lower_extension(file) == ".glb") {
         if (mesh.triangles.empty()) throw Error("cannot write mesh \"" + file.string() + "\": the mesh is empty");
         return write_glb(mesh, file, wo.normals, wo.name, progress);

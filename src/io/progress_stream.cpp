@@ -1,7 +1,10 @@
 #include "io/progress_stream.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
+
+#include "core/error.h"
 
 namespace cm {
 
@@ -72,6 +75,12 @@ bool ProgressFileStream::finish() {
     const bool closed = buf_.file.close() != nullptr;
     if (buf_.stopped) std::rethrow_exception(buf_.stopped);
     return flushed && closed && !bad() && !fail();
+}
+
+void write_file_bytes(const std::filesystem::path& file, std::string_view bytes, Progress progress) {
+    ProgressFileStream out(file, bytes.size(), std::move(progress));
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    if (!out.finish()) throw Error("cannot write \"" + file.string() + "\": " + std::strerror(errno));
 }
 
 } // namespace cm

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <string_view>
 #include <vector>
 
 #include "core/progress.h"
@@ -39,5 +40,10 @@ private:
         int sync() override;
     } buf_;
 };
+
+/// Writes `bytes` to `file` through a ProgressFileStream: `progress` per chunk, and a stop it
+/// throws leaves a partial file for the caller (who wrote to a temporary name) to remove.
+/// @throw cm::Error naming the file when it cannot be written.
+void write_file_bytes(const std::filesystem::path& file, std::string_view bytes, Progress progress = {});
 
 } // namespace cm

@@ -365,6 +365,37 @@ TEST(Batch, SlurmRefusalIsOneLine) {
     EXPECT_NE(r.err.find("nosuch"), std::string::npos) << r.err;
 }
 
+// A pipeline that writes a USD package keeps its format in a batch: each asset gets
+// <name>.usdz, listed in the report and linked from its card, which has no 3D view (the
+// page's three.js reads glTF only); an asset's own `set` may ask for one too.
+TEST(Batch, APipelineWritingUsdzGivesEachAssetAUsdz) {
+    test::TempDir dir("batch-usdz");
+    const fs::path assets = copy_kit(dir);
+    std::string pipeline = test::read_text(test::source_dir() / "pipelines" / "paper.yaml");
+    pipeline.replace(pipeline.find("out/spot.obj"), 12, "out/spot.usdz");
+    test::write_text(dir / "usdz.yaml", pipeline);
+    test::write_text(assets, "pipeline: '" + (dir / "usdz.yaml").string() +
+                                 "'\nset: {hull.resolution: 40}\nassets:\n  - name: box\n    views: box/views.yaml\n"
+                                 "  - name: sphere\n    views: sphere/views.yaml\n    pipeline: '" +
+                                 (test::source_dir() / "pipelines" / "paper.yaml").string() +
+                                 "'\n    set: {write.path: ball.usdz}\n");
+    const fs::path out = dir / "out";
+    auto r = test::run_cli("batch '" + assets.string() + "' -q -o '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto a = by_asset(read_json(out / "batch-report.json"));
+    EXPECT_EQ(a["box"]["mesh"], "box/box.usdz");
+    EXPECT_EQ(a["sphere"]["mesh"], "sphere/ball.usdz");
+    EXPECT_TRUE(fs::is_regular_file(out / "box" / "box.usdz"));
+    EXPECT_FALSE(fs::exists(out / "box" / "box.glb"));
+    if (!fs::is_regular_file(out / "index.html")) GTEST_SKIP() << "no review page here (three.js missing)";
+    const std::string page = test::read_text(out / "index.html");
+    EXPECT_HAS(page, "<a href=\"box/box.usdz\">mesh</a>");
+    EXPECT_HAS(page, "<a href=\"sphere/ball.usdz\">mesh</a>");
+    EXPECT_HAS(page, "no 3D view of a .usdz");
+    EXPECT_EQ(page.find("data-model="), std::string::npos) << page;
+    EXPECT_FALSE(fs::exists(out / "box" / "model.js"));
+}
+
 TEST(Batch, ReviewPageDrawsEveryModelInHeadlessChromium) {
     if (sh("command -v chromium").exit_code != 0) GTEST_SKIP() << "chromium is not installed (Debian: chromium)";
     test::TempDir dir("batch-page");

@@ -68,7 +68,7 @@ TEST(StageHarness, MissingRequiredParameter) {
 
 TEST(StageHarness, StageCheckRefusesAsBeforeAPipelineRuns) {
     const std::string m = harness_message("mesh.write", "{path: x.abc}");
-    EXPECT_EQ(m, "path \"x.abc\" has an unknown extension (use .obj, .ply, .stl, .off or .glb)");
+    EXPECT_EQ(m, "path \"x.abc\" has an unknown extension (use .obj, .ply, .stl, .off, .glb, .usda or .usdz)");
     EXPECT_EQ(m, pipeline_message("  - {id: box, stage: test.box}\n"
                                   "  - {id: w, stage: mesh.write, inputs: {mesh: box}, params: {path: x.abc}}\n"));
     EXPECT_EQ(harness_message("mesh.reduce", "{target_faces: 10, target_ratio: 0.5}"),

@@ -24,6 +24,37 @@ Mesh make_box(Vec3f lo, Vec3f hi) {
     return m;
 }
 
+std::array<float, 3> textured_box_colour(int side) {
+    static const std::array<float, 3> colours[6] = {{0.9f, 0.1f, 0.1f}, {0.1f, 0.8f, 0.2f}, {0.1f, 0.2f, 0.9f},
+                                                    {0.9f, 0.9f, 0.1f}, {0.1f, 0.9f, 0.9f}, {0.8f, 0.2f, 0.9f}};
+    return colours[side];
+}
+
+Mesh make_textured_box(Vec3f lo, Vec3f hi) {
+    Mesh m = make_box(lo, hi);
+    constexpr int kBlock = 16;
+    auto tex = std::make_shared<Image>();
+    tex->width = 3 * kBlock;
+    tex->height = 2 * kBlock;
+    tex->channels = 4;
+    tex->pixels.resize(std::size_t(tex->width * tex->height * 4));
+    for (int y = 0; y < tex->height; ++y)
+        for (int x = 0; x < tex->width; ++x) {
+            const std::array<float, 3> c = textured_box_colour(y / kBlock * 3 + x / kBlock);
+            for (int k = 0; k < 3; ++k) tex->at(x, y, k) = c[std::size_t(k)];
+            tex->at(x, y, 3) = 1.0f;
+        }
+    m.texture = tex;
+    // Corners well inside their block (a quarter block from its centre), v up.
+    const float corner[3][2] = {{-0.25f, -0.25f}, {0.25f, -0.25f}, {0.0f, 0.25f}};
+    for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+        const int side = int(f / 2);
+        const float u0 = (float(side % 3) + 0.5f) / 3.0f, v0 = 1.0f - (float(side / 3) + 0.5f) / 2.0f;
+        for (const auto& c : corner) m.corner_uvs.push_back({u0 + c[0] / 3.0f, v0 + c[1] / 2.0f});
+    }
+    return m;
+}
+
 Mesh make_sphere(Vec3f c, float r, int subdivisions) {
     Mesh m;
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;

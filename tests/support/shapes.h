@@ -26,6 +26,13 @@ Mesh make_crossing_boxes();
 /// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
 Mesh make_lopsided();
 
+/// make_box(lo, hi) textured with six coloured blocks, 16 px each, 3 across and 2 down: side
+/// s (triangles 2 s and 2 s + 1) has its per-corner UVs (v up) inside block s (column s % 3,
+/// row s / 3 from the top), painted textured_box_colour(s). Its colours read upside down or
+/// mirrored land on another side.
+Mesh make_textured_box(Vec3f lo, Vec3f hi);
+std::array<float, 3> textured_box_colour(int side);
+
 /// Closed outward cube [lo, hi]^3 whose six faces are n x n grids of quads (two
 /// triangles each), sharing vertices along the edges: 12 n^2 triangles.
 Mesh make_grid_box(float lo, float hi, int n);

@@ -1,8 +1,8 @@
-// mesh.write: writes the mesh to OBJ, PLY, STL, OFF or glTF binary (format from
-// the extension), under a temporary name that the host renames when the run succeeds.
-// A textured mesh brings its material library and texture along with an OBJ (staged
-// the same way); `height` or `unit_scale` sizes the model in the file (glTF and Blender
-// read one unit as one metre).
+// mesh.write: writes the mesh to OBJ, PLY, STL, OFF, glTF binary or USD (format from the
+// extension), under a temporary name that the host renames when the run succeeds.
+// A textured mesh brings its material library and texture along with an OBJ, and its
+// texture with a .usda (staged the same way); `height` or `unit_scale` sizes the model in
+// the file (glTF, USD and Blender read one unit as one metre).
 #include <filesystem>
 #include <memory>
 
@@ -21,7 +21,8 @@ class MeshWrite : public Stage {
 public:
     StageSignature signature() const override {
         return {"mesh.write",
-                "Write the mesh to a file: .obj, .ply, .stl, .off or .glb (format from the extension)",
+                "Write the mesh to a file: .obj, .ply, .stl, .off, .glb, .usda or .usdz (format from the "
+                "extension)",
                 {{"mesh", DataKind::Mesh, "the mesh to write"}},
                 DataKind::File};
     }
@@ -40,14 +41,18 @@ public:
         format.name = path_.stem().string(); // not the temporary file's name
         auto out = std::make_shared<FileOutput>();
         out->paths.push_back(path_);
-        if (lower_extension(path_) == ".obj" && obj_has_material(file.mesh())) {
-            const auto mtl = obj_material_path(path_), tex = obj_texture_path(path_);
-            format.mtl_file = ctx.output_file(mtl);
-            format.texture_file = ctx.output_file(tex);
-            format.mtl_name = mtl.filename().string();
-            format.texture_name = tex.filename().string();
-            out->paths.push_back(mtl);
-            out->paths.push_back(tex);
+        // Files beside the mesh (an OBJ's material library and texture, a .usda's texture)
+        // are staged with it, under their final names in what refers to them.
+        const MeshSideFiles side = mesh_side_files(path_, file.mesh());
+        if (!side.material.empty()) {
+            format.mtl_file = ctx.output_file(side.material);
+            format.mtl_name = side.material.filename().string();
+            out->paths.push_back(side.material);
+        }
+        if (!side.texture.empty()) {
+            format.texture_file = ctx.output_file(side.texture);
+            format.texture_name = side.texture.filename().string();
+            out->paths.push_back(side.texture);
         }
         // Writing is about the first 60 % of the time (the check the rest); both look for a
         // stop per chunk.
