@@ -60,4 +60,15 @@ struct Result {
     Stats stats;
 };
 
+/// Runs an algorithm of `value` in its place: `run(const T& input)` gives the Result whose
+/// value replaces `value`; its stats are returned. For the `*_in_place` forms of algorithms
+/// that read their input while they write a new one.
+template <typename T, typename Run>
+auto replace_in_place(T& value, Run&& run) {
+    const T input = std::move(value);
+    auto r = std::forward<Run>(run)(input);
+    value = std::move(r.value);
+    return r.stats;
+}
+
 } // namespace cm

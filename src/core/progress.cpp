@@ -89,10 +89,13 @@ Progress::Progress(Report report)
 Progress::Progress(Check check)
     : dest_(check ? std::make_shared<const Destination>(Destination{{}, std::move(check)}) : nullptr) {}
 
+Progress::Progress(Report report, Check check)
+    : dest_(report || check ? std::make_shared<const Destination>(Destination{std::move(report), std::move(check)})
+                            : nullptr) {}
+
 Progress::Progress(Interrupter& interrupter, std::string what)
-    : dest_(std::make_shared<const Destination>(
-          Destination{[&interrupter, what = std::move(what)](double f) { interrupter.step(f, what); },
-                      [&interrupter] { interrupter.check(); }})) {}
+    : Progress([&interrupter, what = std::move(what)](double f) { interrupter.step(f, what); },
+               [&interrupter] { interrupter.check(); }) {}
 
 void Progress::operator()(double fraction) const {
     if (!dest_) return;

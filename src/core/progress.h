@@ -80,6 +80,8 @@ public:
     Progress(Report report);
     /// Reports nowhere; each look calls `check`, which may throw to stop.
     Progress(Check check);
+    /// Reports to `report`; a look for a stop alone (check()) calls `check`.
+    Progress(Report report, Check check);
     /// Reports to a node's interrupter, with `what` for the progress line.
     Progress(Interrupter& interrupter, std::string what);
 

@@ -31,8 +31,9 @@ fs::path executable_dir() {
 std::vector<fs::path> Registry::default_dirs() {
     std::vector<fs::path> dirs;
     const fs::path exe = executable_dir();
-    // <prefix>/bin/conceptmesh -> <prefix>/lib/conceptmesh/plugins (build and install trees alike).
-    dirs.push_back(exe.parent_path() / "lib" / "conceptmesh" / "plugins");
+    // <prefix>/bin/conceptmesh -> <prefix>/<libdir>/conceptmesh/plugins (build and install trees
+    // alike; libdir is lib, or lib/<multiarch> for an install into /usr).
+    dirs.push_back(exe.parent_path() / CONCEPTMESH_PLUGIN_SUBDIR);
     if (const char* env = std::getenv("CONCEPTMESH_PLUGIN_PATH")) {
         std::stringstream ss(env);
         std::string item;

@@ -84,8 +84,9 @@ TEST(Usd, ColoursNotOpaqueGiveADisplayOpacity) {
     for (std::size_t i = 0; i < m.positions.size(); ++i) m.colors.push_back({1, 0, 0, i == 3 ? 0.5f : 1.0f});
     write_mesh(m, dir / "glass.usda");
     const std::string layer = test::read_text(dir / "glass.usda");
-    EXPECT_TRUE(test::usd_has(layer, "float[] primvars:displayOpacity = [1, 1, 1, 0.5, 1, 1, 1, 1] (\n"
-                                     "            interpolation = \"vertex\"\n"));
+    EXPECT_TRUE(test::usd_has(layer,
+                              "float[] primvars:displayOpacity = [1, 1, 1, 0.5, 1, 1, 1, 1] (\n"
+                              "            interpolation = \"vertex\"\n"));
 }
 
 TEST(Usd, LayerStatesItsUnitsUpAxisKindAndNoSubdivision) {

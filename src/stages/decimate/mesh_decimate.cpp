@@ -169,10 +169,7 @@ Result<Mesh, DecimateStats> reduce_mesh(const Mesh& input, const ReduceOptions& 
 }
 
 DecimateStats reduce_mesh_in_place(Mesh& mesh, const ReduceOptions& opt, Progress progress) {
-    const Mesh input = std::move(mesh);
-    auto r = reduce_mesh(input, opt, std::move(progress));
-    mesh = std::move(r.value);
-    return r.stats;
+    return replace_in_place(mesh, [&](const Mesh& input) { return reduce_mesh(input, opt, progress); });
 }
 
 Result<Mesh, QuadricStats> quadric_decimate(const Mesh& input, const QuadricOptions& opt, Progress progress) {
@@ -188,10 +185,7 @@ Result<Mesh, QuadricStats> quadric_decimate(const Mesh& input, const QuadricOpti
 }
 
 QuadricStats quadric_decimate_in_place(Mesh& mesh, const QuadricOptions& opt, Progress progress) {
-    const Mesh input = std::move(mesh);
-    auto r = quadric_decimate(input, opt, std::move(progress));
-    mesh = std::move(r.value);
-    return r.stats;
+    return replace_in_place(mesh, [&](const Mesh& input) { return quadric_decimate(input, opt, progress); });
 }
 
 void ReduceOptions::declare_angle(ParamBinder& b) {

@@ -9,10 +9,7 @@
 namespace cm {
 namespace {
 
-class ExtractDualMarchingCubes : public Stage {
-    DualMcOptions opt_;
-    MeshCheckOptions check_;
-
+class ExtractDualMarchingCubes : public ExtractorStage<DualMcOptions> {
 public:
     StageSignature signature() const override {
         return {"extract.dual_marching_cubes",
@@ -20,19 +17,14 @@ public:
                 {{"volume", DataKind::Volume, "the hull (refined by hull.marching_intersections)"}},
                 DataKind::Mesh};
     }
-    void declare(ParamBinder& b) override {
-        opt_.declare(b);
-        check_.declare(b);
-    }
 
-    Data run(const Inputs& in, Context& ctx) override {
-        auto vol = in.get<Volume>("volume");
-        if (!vol->occupancy) throw Error("the volume has no occupancy grid");
-        if (!vol->crossings)
+protected:
+    Data extract(const Volume& vol, Context& ctx) override {
+        if (!vol.crossings)
             ctx.warn(
                 "the volume is not refined: the vertices are placed from edge midpoints (connect "
                 "hull.marching_intersections before this stage)");
-        return extracted_mesh(dual_marching_cubes(*vol, opt_, ctx.progress("dual marching cubes")), check_, ctx);
+        return extracted_mesh(dual_marching_cubes(vol, opt_, ctx.progress("dual marching cubes")), check_, ctx);
     }
 };
 

@@ -9,10 +9,7 @@
 namespace cm {
 namespace {
 
-class ExtractMarchingCubes : public Stage {
-    MarchingCubesOptions opt_;
-    MeshCheckOptions check_;
-
+class ExtractMarchingCubes : public ExtractorStage<MarchingCubesOptions> {
 public:
     StageSignature signature() const override {
         return {"extract.marching_cubes",
@@ -20,15 +17,10 @@ public:
                 {{"volume", DataKind::Volume, "the hull (refined by hull.marching_intersections, or not)"}},
                 DataKind::Mesh};
     }
-    void declare(ParamBinder& b) override {
-        opt_.declare(b);
-        check_.declare(b);
-    }
 
-    Data run(const Inputs& in, Context& ctx) override {
-        auto vol = in.get<Volume>("volume");
-        if (!vol->occupancy) throw Error("the volume has no occupancy grid");
-        return extracted_mesh(marching_cubes(*vol, opt_, ctx.progress("marching cubes")), check_, ctx);
+protected:
+    Data extract(const Volume& vol, Context& ctx) override {
+        return extracted_mesh(marching_cubes(vol, opt_, ctx.progress("marching cubes")), check_, ctx);
     }
 };
 

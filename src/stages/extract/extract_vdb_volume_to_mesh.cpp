@@ -12,10 +12,7 @@
 namespace cm {
 namespace {
 
-class ExtractVdbVolumeToMesh : public Stage {
-    VdbMesherOptions opt_;
-    MeshCheckOptions check_;
-
+class ExtractVdbVolumeToMesh : public ExtractorStage<VdbMesherOptions> {
 public:
     StageSignature signature() const override {
         return {"extract.vdb_volume_to_mesh",
@@ -23,18 +20,14 @@ public:
                 {{"volume", DataKind::Volume, "the hull (refined by hull.marching_intersections, or not)"}},
                 DataKind::Mesh};
     }
-    void declare(ParamBinder& b) override {
-        opt_.declare(b);
-        check_.declare(b);
-    }
-    Data run(const Inputs& in, Context& ctx) override {
-        auto vol = in.get<Volume>("volume");
-        if (!vol->occupancy) throw Error("the volume has no occupancy grid");
-        if (std::abs(opt_.isovalue) >= vol->voxel_size())
+
+protected:
+    Data extract(const Volume& vol, Context& ctx) override {
+        if (std::abs(opt_.isovalue) >= vol.voxel_size())
             throw Error("isovalue " + std::to_string(opt_.isovalue) + " is not within one cell (" +
-                        std::to_string(vol->voxel_size()) + " world units) of the hull: the level set holds no " +
+                        std::to_string(vol.voxel_size()) + " world units) of the hull: the level set holds no " +
                         "surface there");
-        auto r = vdb_volume_to_mesh(*vol, opt_, ctx.progress("level set"));
+        auto r = vdb_volume_to_mesh(vol, opt_, ctx.progress("level set"));
         ctx.progress(0.9, "check");
         return extracted_mesh(std::move(r), check_, ctx);
     }

@@ -1,6 +1,6 @@
-// What the extractors share: the figures of the mesh every one makes (its size, and the check
-// it runs on it, with a warning when the mesh fails), and handing the mesh and its figures to
-// the run.
+// What the extractors share: the stage's shape (a volume in, a mesh out, the `check`
+// parameter), the figures of the mesh every one makes (its size, and the check it runs on it,
+// with a warning when the mesh fails), and handing the mesh and its figures to the run.
 #pragma once
 #include <memory>
 
@@ -9,6 +9,7 @@
 #include "core/mesh.h"
 #include "core/params.h"
 #include "core/stage.h"
+#include "core/volume.h"
 
 namespace cm {
 
@@ -41,5 +42,28 @@ Data extracted_mesh(Result<Mesh, Stats>&& r, const MeshCheckOptions& check, Cont
     report_mesh(r.value, check, ctx);
     return std::make_shared<const Mesh>(std::move(r.value));
 }
+
+/// An extractor stage: the options of its algorithm and `check` as its parameters; a volume
+/// with an occupancy grid in, the mesh extract() makes (through extracted_mesh()) out.
+template <typename Options>
+class ExtractorStage : public Stage {
+public:
+    void declare(ParamBinder& b) override {
+        opt_.declare(b);
+        check_.declare(b);
+    }
+    Data run(const Inputs& in, Context& ctx) override {
+        auto vol = in.get<Volume>("volume");
+        if (!vol->occupancy) throw Error("the volume has no occupancy grid");
+        return extract(*vol, ctx);
+    }
+
+protected:
+    /// The algorithm on `volume`, handed to the run by extracted_mesh(..., check_, ctx).
+    virtual Data extract(const Volume& volume, Context& ctx) = 0;
+
+    Options opt_;
+    MeshCheckOptions check_;
+};
 
 } // namespace cm

@@ -50,8 +50,10 @@ public:
 
     Data run(const Inputs&, Context& ctx) override {
         // Reading the views is the first 80 % (load_views()), aligning them the rest.
-        auto [views, stats] = load_views(
-            manifest_, opt_, Progress([&ctx](double f) { ctx.progress(f, f < 0.8 ? "reading" : "aligning"); }));
+        auto [views, stats] =
+            load_views(manifest_, opt_,
+                       Progress([&ctx](double f) { ctx.progress(f, f < 0.8 ? "reading" : "aligning"); },
+                                [&ctx] { ctx.check_cancel(); }));
         for (const auto& n : stats.notes) ctx.info(n);
         stats.report(ctx);
         if (save_silhouettes_) {
