@@ -46,6 +46,15 @@ public:
 
     /// A count, as a figure.
     void count(const std::string& key, std::size_t n) { metric(key, double(n)); }
+    /// A yes/no figure ("yes" or "no").
+    void flag(const std::string& key, bool yes) { metric(key, std::string(yes ? "yes" : "no")); }
+    /// A count that is news only when it is not zero: then it is reported, and said as the
+    /// warning "<n> <what>".
+    void warned_count(const std::string& key, std::size_t n, const std::string& what) {
+        if (!n) return;
+        count(key, n);
+        warn(std::to_string(n) + " " + what);
+    }
     /// One figure per view, as a JSON object {"front": 1.5, ...} (names escaped as JSON needs).
     void per_view(const std::string& key, const std::vector<std::string>& views, const std::vector<double>& values);
     /// One count per view, as a JSON object of whole numbers {"front": 12, ...}.

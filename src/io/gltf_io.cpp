@@ -8,14 +8,8 @@
 #include <memory>
 #include <unordered_map>
 
-// Images are encoded and decoded with OpenImageIO (io/image_io.h), not stb.
 #define TINYGLTF_IMPLEMENTATION
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#include <tiny_gltf.h>
+#include "io/tinygltf_config.h"
 
 #include "core/error.h"
 #include "core/views.h"

@@ -232,11 +232,8 @@ void DecimateStats::report(Metrics& m) const {
     if (crossings_left)
         m.warn(std::to_string(crossings_left) + " pairs of faces cross each other in the result" +
                (restarts ? " (the input's own, or more than the restarts could remove)" : ""));
-    if (locked_vertices) {
-        m.count("locked_vertices", locked_vertices);
-        m.warn(std::to_string(locked_vertices) +
-               " vertices lie on a boundary or a non-manifold edge and were kept as they are");
-    }
+    m.warned_count("locked_vertices", locked_vertices,
+                   "vertices lie on a boundary or a non-manifold edge and were kept as they are");
 }
 
 void QuadricStats::report(Metrics& m) const {

@@ -458,12 +458,9 @@ void MarchingCubesStats::report(Metrics& m) const {
     m.count("centroid_vertices", centroid_vertices);
     m.count("thin_points", thin_points);
     m.count("thin_put_back", thin_put_back);
-    m.metric("refined", refined ? "yes" : "no");
-    if (missing_crossings) {
-        m.count("missing_crossings", missing_crossings);
-        m.warn(std::to_string(missing_crossings) +
-               " crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
-    }
+    m.flag("refined", refined);
+    m.warned_count("missing_crossings", missing_crossings,
+                   "crossed edge(s) have no crossing in the refined volume; their vertices sit at the edge midpoint");
 }
 
 } // namespace cm

@@ -99,6 +99,13 @@ Result<Mesh, VdbMesherStats> vdb_volume_to_mesh(const Volume& vol, const VdbMesh
     return r;
 }
 
+void VdbMesherStats::report(Metrics& m) const {
+    m.count("quads", quads);
+    m.count("triangles", triangles);
+    m.count("level_set_bytes", level_set_bytes);
+    m.flag("refined", refined);
+}
+
 void VdbMesherOptions::declare(ParamBinder& b) {
     b.add(adaptivity, ParamSpec::Float("adaptivity", 0.0, 0.0, 1.0, "",
                                        "volumeToMesh adaptivity: 0 one quad per crossed edge, towards 1 flat regions "
@@ -112,13 +119,6 @@ void VdbMesherOptions::declare(ParamBinder& b) {
     b.add(relax, ParamSpec::Bool("relax", true,
                                  "volumeToMesh relaxDisorientedTriangles: smooth triangles whose normals disagree "
                                  "with the level set's gradient (adaptive meshes)"));
-}
-
-void VdbMesherStats::report(Metrics& m) const {
-    m.count("quads", quads);
-    m.count("triangles", triangles);
-    m.count("level_set_bytes", level_set_bytes);
-    m.metric("refined", refined ? "yes" : "no");
 }
 
 } // namespace cm

@@ -207,13 +207,10 @@ void RefineStats::report(Metrics& m) const {
     m.count("crossings", crossings);
     m.count("thin_crossings", thin_crossings);
     m.metric("cell_px", cell_px);
-    m.metric("thin_searched", thin_searched ? "yes" : "no");
-    if (unresolved) {
-        m.count("unresolved_crossings", unresolved);
-        m.warn(std::to_string(unresolved) +
-               " crossing(s) could not be placed from the silhouettes (the views differ from the ones carved?); "
-               "they sit at the grid point");
-    }
+    m.flag("thin_searched", thin_searched);
+    m.warned_count("unresolved_crossings", unresolved,
+                   "crossing(s) could not be placed from the silhouettes (the views differ from the ones carved?); "
+                   "they sit at the grid point");
     m.count("grid_bytes", grid_bytes);
 }
 

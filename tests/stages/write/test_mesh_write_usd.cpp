@@ -4,7 +4,12 @@
 // packages are missing. The layer's content is checked in C++ in tests/io/test_mesh_usd.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -212,4 +217,65 @@ TEST(UsdReaders, TheBundledExampleAsUsdzLoadsInBothWithItsTexture) {
     EXPECT_EQ(three["meshes"][0]["map"]["width"], 2048);
     // 1.5 m tall, as the pipeline asks.
     EXPECT_NEAR(three["max"][1].get<double>() - three["min"][1].get<double>(), 1.5, 1e-5);
+}
+
+// A round trip of the bundled example: every corner of every face TinyUSDZ reads from the
+// package sits where the same run's .obj puts it, in metres with Y up (the layer says so), and
+// the faces' winding as read (USD's right-handed orientation) points out of the closed model:
+// its signed volume is positive.
+TEST(UsdReaders, TheBundledExamplesPointsReadBackAsWrittenWoundOutward) {
+    std::string why;
+    const fs::path modules = test::usd_readers(why);
+    if (modules.empty()) GTEST_SKIP() << why;
+    test::TempDir dir("usd_spot_points");
+    for (const char* out : {"out/spot.usdz", "out/spot.obj"}) {
+        const auto run =
+            test::run_cli("run " + (test::source_dir() / "pipelines/textured.yaml").string() +
+                              " -q --set views.manifest=" + (test::source_dir() / "examples/spot/views.yaml").string() +
+                              " --set write.path=" + out + " --set preview.path=out/spot.png",
+                          dir.path());
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+    }
+    const auto tiny = test::run_usd_reader(modules, "tinyusdz_load.mjs", dir / "out/spot.usdz", "TINYUSDZ", "points");
+    ASSERT_EQ(tiny["meshes"].size(), 1u) << tiny.value("error", "");
+    EXPECT_EQ(tiny["layer"]["metersPerUnit"], "1");
+    EXPECT_EQ(tiny["layer"]["upAxis"], "\"Y\"");
+    const auto& points = tiny["meshes"][0]["points"];
+    const auto& indices = tiny["meshes"][0]["indices"];
+    // The .obj's `v` lines and its faces (1-based `v/vt/vn` corners).
+    std::vector<std::array<double, 3>> obj;
+    std::vector<std::size_t> corners;
+    std::istringstream in(test::read_text(dir / "out/spot.obj"));
+    for (std::string line; std::getline(in, line);) {
+        std::istringstream ls(line);
+        std::string tag;
+        ls >> tag;
+        if (tag == "v") {
+            std::array<double, 3> p{};
+            ls >> p[0] >> p[1] >> p[2];
+            obj.push_back(p);
+        } else if (tag == "f") {
+            for (int c = 0; c < 3; ++c) {
+                std::string corner;
+                ls >> corner;
+                corners.push_back(std::stoul(corner.substr(0, corner.find('/'))) - 1);
+            }
+        }
+    }
+    ASSERT_GT(corners.size(), 3000u);
+    ASSERT_EQ(indices.size(), corners.size());
+    const auto at = [&](std::size_t c, int k) {
+        return points[3 * indices[c].get<std::size_t>() + std::size_t(k)].get<double>();
+    };
+    double worst = 0;
+    for (std::size_t c = 0; c < corners.size(); ++c)
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(at(c, k) - obj[corners[c]][std::size_t(k)]));
+    EXPECT_LT(worst, 1e-6) << "the largest difference between a corner read from the package and the .obj's";
+    double volume = 0;
+    for (std::size_t c = 0; c < corners.size(); c += 3)
+        volume += (at(c, 0) * (at(c + 1, 1) * at(c + 2, 2) - at(c + 1, 2) * at(c + 2, 1)) -
+                   at(c, 1) * (at(c + 1, 0) * at(c + 2, 2) - at(c + 1, 2) * at(c + 2, 0)) +
+                   at(c, 2) * (at(c + 1, 0) * at(c + 2, 1) - at(c + 1, 1) * at(c + 2, 0))) /
+                  6.0;
+    EXPECT_GT(volume, 0.01) << "a cow 1.5 m tall holds well over 10 litres";
 }

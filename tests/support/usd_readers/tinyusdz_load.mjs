@@ -1,12 +1,14 @@
 // Loads a .usda or .usdz with TinyUSDZ (npm `tinyusdz`, its WebAssembly build) and prints
-// what it read as one JSON line: node tinyusdz_load.mjs NODE_MODULES FILE
+// what it read as one JSON line: node tinyusdz_load.mjs NODE_MODULES FILE [points]
+// With `points`, each mesh's points and triangles as TinyUSDZ builds them for drawing (x, y, z,
+// ...; three indices into them per face: a point is split where its corners' UVs differ).
 // Textures beside a .usda are handed over as a web page would fetch them; TinyUSDZ decodes
 // every texture itself.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
-const [modules, file] = process.argv.slice(2);
+const [modules, file, what] = process.argv.slice(2);
 // The npm build targets browsers and refuses to start in node: it is shown a window.
 globalThis.window = globalThis;
 process.type = 'renderer';
@@ -36,7 +38,8 @@ if (ok) {
   for (let i = 0; i < usd.numMeshes(); ++i) {
     const m = usd.getMesh(i);
     out.meshes.push({ name: m.primName, faces: m.faceVertexCounts.length, material: m.materialId,
-                      texcoords: m.texcoords ? m.texcoords.length / 2 : 0 });
+                      texcoords: m.texcoords ? m.texcoords.length / 2 : 0,
+                      ...(what === 'points' ? { points: Array.from(m.points), indices: Array.from(m.faceVertexIndices) } : {}) });
   }
   for (let i = 0; usd.getImage(i) && usd.getImage(i).uri; ++i) {
     const im = usd.getImage(i);
