@@ -83,11 +83,9 @@ void Interrupter::check() {
     throw Cancelled(at >= 0 ? "stopped at " + std::to_string(at) + "%" : std::string("stopped"));
 }
 
-Progress::Progress(Report report)
-    : dest_(report ? std::make_shared<const Destination>(Destination{std::move(report), {}}) : nullptr) {}
+Progress::Progress(Report report) : Progress(std::move(report), Check{}) {}
 
-Progress::Progress(Check check)
-    : dest_(check ? std::make_shared<const Destination>(Destination{{}, std::move(check)}) : nullptr) {}
+Progress::Progress(Check check) : Progress(Report{}, std::move(check)) {}
 
 Progress::Progress(Report report, Check check)
     : dest_(report || check ? std::make_shared<const Destination>(Destination{std::move(report), std::move(check)})

@@ -180,6 +180,19 @@ TEST(UsdReaders, ThreeBuildsTheMeshWithItsTextureTheRightWayUp) {
     }
 }
 
+namespace {
+
+// The bundled example through pipelines/textured.yaml in `dir`, its model written to `out`
+// (and its preview to out/spot.png); `extra` goes on the command line after.
+test::CommandResult run_textured_example(const fs::path& dir, const std::string& out, const std::string& extra = {}) {
+    return test::run_cli("run " + (test::source_dir() / "pipelines/textured.yaml").string() +
+                             " -q --set views.manifest=" + (test::source_dir() / "examples/spot/views.yaml").string() +
+                             " --set write.path=" + out + " --set preview.path=out/spot.png" + extra,
+                         dir);
+}
+
+} // namespace
+
 // The end to end: the bundled example written as .usdz loads in both readers with
 // its texture, as many faces and vertices as mesh.write reports.
 TEST(UsdReaders, TheBundledExampleAsUsdzLoadsInBothWithItsTexture) {
@@ -187,11 +200,7 @@ TEST(UsdReaders, TheBundledExampleAsUsdzLoadsInBothWithItsTexture) {
     const fs::path modules = test::usd_readers(why);
     if (modules.empty()) GTEST_SKIP() << why;
     test::TempDir dir("usd_spot");
-    const auto run =
-        test::run_cli("run " + (test::source_dir() / "pipelines/textured.yaml").string() +
-                          " -q --set views.manifest=" + (test::source_dir() / "examples/spot/views.yaml").string() +
-                          " --set write.path=out/spot.usdz --set preview.path=out/spot.png --report run.json",
-                      dir.path());
+    const auto run = run_textured_example(dir.path(), "out/spot.usdz", " --report run.json");
     ASSERT_EQ(run.exit_code, 0) << run.err;
     double faces = 0, vertices = 0;
     const auto report = nlohmann::json::parse(test::read_text(dir / "run.json"));
@@ -229,11 +238,7 @@ TEST(UsdReaders, TheBundledExamplesPointsReadBackAsWrittenWoundOutward) {
     if (modules.empty()) GTEST_SKIP() << why;
     test::TempDir dir("usd_spot_points");
     for (const char* out : {"out/spot.usdz", "out/spot.obj"}) {
-        const auto run =
-            test::run_cli("run " + (test::source_dir() / "pipelines/textured.yaml").string() +
-                              " -q --set views.manifest=" + (test::source_dir() / "examples/spot/views.yaml").string() +
-                              " --set write.path=" + out + " --set preview.path=out/spot.png",
-                          dir.path());
+        const auto run = run_textured_example(dir.path(), out);
         ASSERT_EQ(run.exit_code, 0) << run.err;
     }
     const auto tiny = test::run_usd_reader(modules, "tinyusdz_load.mjs", dir / "out/spot.usdz", "TINYUSDZ", "points");
