@@ -144,6 +144,10 @@ def measure(obj, empty):
     both = np.count_nonzero(sil & mask)
     return {
         "extent_error": float(np.max(np.abs(built - drawn) / size)),
+        # The middle of the extents: where the mesh is, apart from how far inside the outline.
+        "centre_error": float(
+            np.max(np.abs((built[:2] + built[2:]) - (drawn[:2] + drawn[2:])) / 2 / size[:2])
+        ),
         "drawn": drawn.tolist(),
         "built": built.tolist(),
         "coverage": both / np.count_nonzero(mask),

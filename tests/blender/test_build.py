@@ -57,6 +57,7 @@ for e in empties:
     m = rig.measure(obj, e)
     print("     %s: drawn %s built %s" % (e.name, [round(v, 1) for v in m["drawn"]], [round(v, 1) for v in m["built"]]))
     check(m["extent_error"] < 0.01, "%s: extents within 1%% (%.3f%%)" % (e.name, 100 * m["extent_error"]))
+    check(m["centre_error"] < 0.002, "%s: centred on the drawing (%.3f%% off)" % (e.name, 100 * m["centre_error"]))
     check(m["coverage"] > 0.98, "%s: silhouette covers the drawing (%.2f%%)" % (e.name, 100 * m["coverage"]))
     check(m["iou"] > 0.95, "%s: silhouette IoU %.4f" % (e.name, m["iou"]))
 

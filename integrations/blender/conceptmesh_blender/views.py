@@ -132,7 +132,7 @@ def object_frame(refs):
         )
 
     def level_views(up):
-        return sum(1 for r in refs if abs(r.toward.dot(up)) < ANGLE_TOL or abs(r.toward.dot(up)) > 1 - 1e-7)
+        return sum(1 for r in refs if abs(r.toward.dot(up)) < ANGLE_TOL or abs(r.toward.dot(up)) > math.cos(ANGLE_TOL))
 
     up = max(ups, key=level_views)  # max keeps the first of equals: the scene's +Z first
     fronts = []
@@ -166,11 +166,15 @@ def _az_el(ref, frame):
     inv = frame.transposed()
     c = inv @ ref.toward
     u = inv @ ref.up
-    el = math.degrees(math.asin(max(-1.0, min(1.0, c.y))))
-    if abs(abs(c.y) - 1) < 1e-9 or math.hypot(c.x, c.z) < 1e-6:
+    flat = math.hypot(c.x, c.z)
+    # atan2, not asin: near the vertical asin turns single-precision noise in a matrix
+    # (1e-7) into a hundredth of a degree.
+    if flat < ANGLE_TOL:
         # Looking along the up, the azimuth is the turn of the image about it.
+        el = 90.0 if c.y > 0 else -90.0
         az = math.degrees(math.atan2(-u.x, -u.z) if c.y > 0 else math.atan2(u.x, u.z))
     else:
+        el = math.degrees(math.atan2(c.y, flat))
         az = math.degrees(math.atan2(c.x, c.z))
     return az % 360.0, el
 
