@@ -35,13 +35,14 @@ RIG_ROTATION = (math.radians(10), 0.0, math.radians(30))
 RIG_SCALE = 1.3
 DRAWING_SIZE = 2.5  # each drawing's side in the rig's units
 
-# Blender's own views: the drawing faces the camera of that view (as Add > Image > Reference
-# in that view places it).
-VIEWS = {
-    "front": (90, 0, 0),
-    "right": (90, 0, 90),
-    "top": (0, 0, 0),
-}
+VIEWS = ("front", "right", "top")
+
+
+def view_rotations():
+    """Blender's own views, as the add-on's Add Drawing turns a drawing to face the camera
+    of each (as Add > Image > Reference in that view does); test_views.py checks that they
+    read as those views."""
+    return sys.modules["conceptmesh_blender.ops"].VIEW_ROTATIONS
 
 
 def clear_scene():
@@ -56,7 +57,8 @@ def build_rig(examples):
     rig.rotation_euler = Euler(RIG_ROTATION)
     rig.scale = (RIG_SCALE,) * 3
     empties = []
-    for name, rot in VIEWS.items():
+    for name in VIEWS:
+        rot = view_rotations()[name]
         img = bpy.data.images.load(os.path.join(examples, name + ".png"))
         e = bpy.data.objects.new("ref_" + name, None)
         e.empty_display_type = "IMAGE"

@@ -54,14 +54,7 @@ def fresh():
     rig.clear_scene()
 
 
-BLENDER_VIEWS = {  # as Add > Image > Reference places a drawing in each of Blender's views
-    "front": (90, 0, 0),
-    "back": (90, 0, 180),
-    "right": (90, 0, 90),
-    "left": (90, 0, -90),
-    "top": (0, 0, 0),
-    "bottom": (180, 0, 0),
-}
+BLENDER_VIEWS = rig.view_rotations()
 
 # 1. Blender's six views are the six named views, in Blender's frame (up +Z, front -Y).
 fresh()
