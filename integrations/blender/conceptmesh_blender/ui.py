@@ -25,7 +25,7 @@ class ConceptmeshSettings(bpy.types.PropertyGroup):
         name="Smoothing", default=10, min=0, max=1000, description="Smoothing iterations (smooth.iterations)"
     )
     face_budget: IntProperty(
-        name="Face Budget", default=0, min=0, description="Reduce to at most this many faces (reduce.target_faces; 0: no limit)"
+        name="Max Faces", default=0, min=0, description="Reduce to at most this many faces (reduce.target_faces; 0: no limit)"
     )
     asset_name: StringProperty(name="Name", description="The object's name (empty: the drawings' folder)")
     target: PointerProperty(name="Object", type=bpy.types.Object, description="The object a re-build replaces the mesh of")
@@ -69,6 +69,8 @@ class CONCEPTMESH_PT_panel(bpy.types.Panel):
         except views.ViewsError as e:
             box.label(text=str(e), icon="ERROR")
         box.operator("conceptmesh.add_drawing", icon="FILE_IMAGE")
+        layout.use_property_split = True
+        layout.use_property_decorate = False
         layout.prop(s, "pipeline")
         if s.pipeline == "FILE":
             layout.prop(s, "pipeline_file")
