@@ -86,6 +86,16 @@ q.matrix_world = Matrix((right, up, toward)).transposed().to_4x4()
 got, _ = read([empty("front", BLENDER_VIEWS["front"]), empty("right", BLENDER_VIEWS["right"]), q])
 check(got.get("three_quarter") == "azimuth 45.0, elevation 30.0", "an oblique drawing: %s" % got.get("three_quarter"))
 
+# 3b. Drawings picked by hand: Add Drawing faces each the camera of the view named.
+fresh()
+bpy.context.scene.cursor.location = (1.0, 2.0, 0.5)
+for name in ("front", "right", "top"):
+    bpy.ops.conceptmesh.add_drawing(filepath=os.path.join(A["examples"], name + ".png"), view=name, size=1.5)
+picked = sorted((o for o in bpy.data.objects if views.is_image_empty(o)), key=lambda o: o.name)
+got, _ = read(picked)
+check(got == {"front": "front", "right": "right", "top": "top"}, "Add Drawing: %s" % got)
+check(all(abs(o.empty_display_size - 1.5) < 1e-9 for o in picked), "Add Drawing: the size given")
+
 # 4. Refusals, naming the reference.
 fresh()
 try:
