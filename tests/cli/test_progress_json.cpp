@@ -3,6 +3,7 @@
 // that fails with the message and the node and stage it names, and a non-zero status.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <map>
 #include <sstream>
 
@@ -121,4 +122,29 @@ TEST(ProgressJson, AnUnknownFormatIsAUsageError) {
     const auto r = test::run_cli("run x.yaml --progress xml", dir.path());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("xml"), std::string::npos) << r.err;
+}
+
+TEST(ProgressJson, AStoppedRunEndsCancelledAndLeavesNoFile) {
+    // The hull node is held (core/progress.h) until the stop comes, so the SIGTERM lands
+    // mid-run; the add-on's Esc sends the same signal.
+    test::TempDir dir("progress-json-cancel");
+    const std::string run =
+        "'" + std::string(CM_EXE) + "' " + run_args(test::source_dir() / "examples/spot/views.yaml");
+    const std::string script = "cd '" + dir.path().string() + "' && CONCEPTMESH_TEST_HOLD_NODE=hull " + run +
+                               " >out.jsonl 2>err.txt & pid=$!; n=0; "
+                               "while ! grep -q 'test hold' '" +
+                               (dir / "err.txt").string() +
+                               "' 2>/dev/null && [ $n -lt 600 ]; do sleep 0.05; n=$((n+1)); done; "
+                               "kill -TERM $pid; wait $pid; echo $? >'" +
+                               (dir / "status.txt").string() + "'";
+    ASSERT_EQ(std::system(script.c_str()), 0);
+    EXPECT_EQ(test::read_text(dir / "status.txt"), "143\n") << test::read_text(dir / "err.txt");
+    const std::vector<json> lines = lines_of(test::read_text(dir / "out.jsonl"));
+    ASSERT_FALSE(lines.empty());
+    EXPECT_EQ(lines.back()["event"], "end");
+    EXPECT_EQ(lines.back()["status"], "cancelled") << lines.back().dump();
+    // The stop is taken at the held node's next look, or by the node after it when the hull
+    // had no look left: either way the line names where.
+    EXPECT_TRUE(lines.back().contains("node") && lines.back().contains("stage")) << lines.back().dump();
+    EXPECT_FALSE(fs::exists(dir / "out")) << "no partial output";
 }
