@@ -150,6 +150,7 @@ class Pipeline:
         report: Optional[_Path] = ...,
         labels: Optional[Mapping[str, str]] = ...,
         side_output_dir: Optional[_Path] = ...,
+        keep: Optional[Iterable[str]] = ...,
     ) -> Result: ...
     def __or__(self, other: Union[Stage, _Data]) -> "Pipeline": ...
 

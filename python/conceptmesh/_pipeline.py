@@ -289,15 +289,18 @@ class Pipeline:
         self._built().validate()
         return self
 
-    def run(self, progress=None, report=None, labels=None, side_output_dir=None):
+    def run(self, progress=None, report=None, labels=None, side_output_dir=None, keep=None):
         """Runs the pipeline and returns a Result. `progress(event)` is called on this thread
-        with each ProgressEvent; `report` writes the run report there, as --report does."""
+        with each ProgressEvent; `report` writes the run report there, as --report does;
+        `keep` (node ids) hands back only those nodes' outputs (the others are None and freed
+        during the run, as the command frees them), every node's by default."""
         native = self._built()
         r = native.run(
             progress=progress,
             report=os.fspath(report) if report else "",
             labels=dict(labels or {}),
             side_output_dir=os.fspath(side_output_dir) if side_output_dir else "",
+            keep=None if keep is None else [str(k) for k in keep],
         )
         return Result(r, [n["id"] for n in native.nodes])
 

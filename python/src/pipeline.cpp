@@ -2,6 +2,7 @@
 // overridden as --set does, validated, and run by run_pipeline, the command's own executor,
 // on a thread of its own while the calling thread shows progress and watches for Ctrl-C.
 #include <mutex>
+#include <set>
 
 #include "core/error.h"
 #include "module.h"
@@ -20,7 +21,13 @@ struct PyPipeline {
 };
 
 pyb::dict run(PyPipeline& self, const pyb::object& progress, const std::string& report, const pyb::dict& labels,
-              const std::string& side_output_dir) {
+              const std::string& side_output_dir, const pyb::object& keep) {
+    // The outputs handed back: every node's, or those named (a grid the caller does not want is
+    // freed as the run goes, as in the command).
+    std::set<std::string> kept;
+    const bool keep_all = keep.is_none();
+    if (!keep_all)
+        for (auto id : keep) kept.insert(std::string(pyb::str(id)));
     EventQueue events;
     std::atomic<bool> stop{false};
     std::mutex outputs_mutex;
@@ -34,6 +41,7 @@ pyb::dict run(PyPipeline& self, const pyb::object& progress, const std::string& 
                                                    : fs::absolute(report).parent_path();
     for (auto [k, v] : labels) opt.labels[std::string(pyb::str(k))] = std::string(pyb::str(v));
     opt.on_output = [&](const std::string& node, const Data& d) {
+        if (!keep_all && !kept.count(node)) return;
         std::lock_guard<std::mutex> lock(outputs_mutex);
         outputs[node] = d;
     };
@@ -110,7 +118,7 @@ void bind_pipeline(pyb::module_& m) {
             },
             "Checks stages, parameters and the graph, and configures every stage.")
         .def("run", &run, pyb::arg("progress") = pyb::none(), pyb::arg("report") = "", pyb::arg("labels") = pyb::dict(),
-             pyb::arg("side_output_dir") = "")
+             pyb::arg("side_output_dir") = "", pyb::arg("keep") = pyb::none())
         .def_property_readonly("nodes", [](const PyPipeline& self) { return nodes_of(self.p); })
         .def_property_readonly("name", [](const PyPipeline& self) { return self.p.name; })
         .def_property_readonly("description", [](const PyPipeline& self) { return self.p.description; })

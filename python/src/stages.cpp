@@ -19,17 +19,20 @@ namespace cm::py {
 namespace {
 
 /// The plugin folders: beside the module in the build tree (<build>/python/conceptmesh ->
-/// <build>/lib/conceptmesh/plugins), else where the install put them; then
-/// CONCEPTMESH_PLUGIN_PATH, as for the command.
+/// <build>/lib/conceptmesh/plugins), else where the install put them relative to the module
+/// (<prefix>/lib/python3/dist-packages/conceptmesh -> <prefix>/<libdir>/conceptmesh/plugins);
+/// then CONCEPTMESH_PLUGIN_PATH, as for the command.
 std::vector<fs::path> plugin_dirs() {
     std::vector<fs::path> dirs;
     Dl_info info{};
     if (dladdr(reinterpret_cast<void*>(&plugin_dirs), &info) && info.dli_fname) {
-        const fs::path build =
-            fs::path(info.dli_fname).parent_path().parent_path().parent_path() / CONCEPTMESH_PLUGIN_SUBDIR;
-        if (fs::is_directory(build)) dirs.push_back(build);
+        const fs::path here = fs::path(info.dli_fname).parent_path();
+        for (const char* rel : {CONCEPTMESH_BUILD_PLUGIN_DIR, CONCEPTMESH_INSTALLED_PLUGIN_DIR})
+            if (fs::is_directory(here / rel)) {
+                dirs.push_back((here / rel).lexically_normal());
+                break;
+            }
     }
-    if (dirs.empty()) dirs.emplace_back(CONCEPTMESH_INSTALLED_PLUGIN_DIR);
     if (const char* env = std::getenv("CONCEPTMESH_PLUGIN_PATH")) {
         std::stringstream ss(env);
         std::string item;
@@ -154,7 +157,11 @@ void bind_stages(pyb::module_& m) {
         "check_stage_params",
         [](const std::string& name, const pyb::dict& params) {
             const auto text = text_of(params);
-            translated([&] { configure_stage(registry(), name, text_params(text)); });
+            try {
+                configure_stage(registry(), name, text_params(text));
+            } catch (const std::exception& e) {
+                raise_error(e, name); // a stage alone: no node, the stage named
+            }
         },
         pyb::arg("name"), pyb::arg("params"), "Checks parameters against the stage (ParameterError when refused).");
     m.def(

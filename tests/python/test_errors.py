@@ -35,6 +35,9 @@ def test_unknown_parameter_of_a_stage(cm):
         cm.stage("mesh.reduce", max_angle=20)
     with pytest.raises(ValueError, match="unknown stage"):
         cm.stage("mesh.nope")
+    with pytest.raises(OSError) as e:
+        cm.stage("views.load", manifest="no/such/views.yaml")
+    assert e.value.stage == "views.load" and e.value.node is None
 
 
 def test_missing_input_file_in_a_run(cm, tmp_path):

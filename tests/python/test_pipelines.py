@@ -86,6 +86,10 @@ def test_views_volume_and_chained_pipeline(cm, tmp_path):
     np.testing.assert_array_equal(built.outputs["reduce"].vertices, loaded.outputs["reduce"].vertices)
     np.testing.assert_array_equal(built.outputs["reduce"].faces, loaded.outputs["reduce"].faces)
 
+    # Only the outputs asked for.
+    only = cm.Pipeline.load("pipelines/paper.yaml", set=base).run(keep=["reduce"])
+    assert isinstance(only.outputs["reduce"], cm.Mesh) and only.outputs["hull"] is None
+
     # In-memory views into a pipeline, and numpy images in as views.
     again = (views | cm.stage("hull.carve", resolution=96)).run()
     hull = again.outputs["carve"]
