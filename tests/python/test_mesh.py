@@ -111,3 +111,15 @@ def test_bad_arrays_are_value_errors(cm):
         cm.Mesh(v, bad)
     with pytest.raises(ValueError, match="one row per vertex"):
         cm.Mesh(v, f, normals=v[:3])
+
+
+def test_numpy_mesh_into_a_pipeline_with_a_writer(cm, tmp_path):
+    v, f = icosphere(3)
+    p = cm.Mesh(v, f) | cm.stage("mesh.reduce", max_angle_deg=20) | cm.stage("mesh.write", path=str(tmp_path / "m.obj"))
+    assert [n["stage"] for n in p.nodes] == ["memory.mesh", "mesh.reduce", "mesh.write"]
+    assert p.nodes[1]["inputs"] == {"mesh": "mesh"} and p.nodes[2]["inputs"] == {"mesh": "reduce"}
+    r = p.run()
+    assert r.files == [str(tmp_path / "m.obj")]
+    text = (tmp_path / "m.obj").read_text()
+    assert text.count("\nf ") == len(r.outputs["reduce"].faces)
+    assert [n["stage"] for n in r.report_dict["nodes"]] == ["memory.mesh", "mesh.reduce", "mesh.write"]
