@@ -33,12 +33,10 @@ std::vector<fs::path> plugin_dirs() {
                 break;
             }
     }
-    if (const char* env = std::getenv("CONCEPTMESH_PLUGIN_PATH")) {
-        std::stringstream ss(env);
-        std::string item;
-        while (std::getline(ss, item, ':'))
-            if (!item.empty()) dirs.emplace_back(item);
-    }
+    // The command's search path after its first entry (the folder beside the executable, which
+    // here is python3's): the folders of CONCEPTMESH_PLUGIN_PATH.
+    const std::vector<fs::path> command_dirs = Registry::default_dirs();
+    dirs.insert(dirs.end(), command_dirs.begin() + 1, command_dirs.end());
     return dirs;
 }
 
