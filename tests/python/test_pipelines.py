@@ -96,6 +96,10 @@ def test_views_volume_and_chained_pipeline(cm, tmp_path):
     assert isinstance(hull, cm.Volume) and hull.active_voxels == loaded.outputs["hull"].active_voxels
     from_images = cm.views_from_images({v.name: np.asarray(v.image) for v in views})
     np.testing.assert_array_equal(from_images["right"].coverage, views["right"].coverage)
+    # A view by its camera rather than its name: azimuth 90 is the right view.
+    by_camera = cm.views_from_images({"front": views["front"].image, "side": (views["right"].image, {"azimuth": 90}),
+                                      "top": views["top"].image})
+    np.testing.assert_array_equal(by_camera["side"].camera["matrix"], views["right"].camera["matrix"])
 
     vdb = hull.save(tmp_path / "hull.vdb")
     assert pathlib.Path(vdb).stat().st_size > 0
