@@ -158,7 +158,9 @@ private:
         launch(i);
     }
     void execute(std::size_t i);
-    bool stopped() const { return cancel_requested() || stop_->load(); }
+    /// A stop asked for by the user or the host (RunOptions::stop); not abandon()'s, after which
+    /// a node already launched still starts and is stopped at its first look.
+    bool stopped() const { return cancel_requested() || (opt_.stop && opt_.stop->load()); }
     Context context(const PipelineNode& node);
     /// Runs the node's stage; false when it failed (the first failure is kept).
     bool run_node(std::size_t i, const Inputs& in, Context& ctx);
