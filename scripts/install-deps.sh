@@ -10,6 +10,8 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       libmeshoptimizer-dev libpng-dev libmimalloc-dev
       libssl-dev libjs-three)
 pkgs+=(libeigen3-dev) # the 3x3 QEF of extract.dual_marching_cubes
+# The Python module (python/, docs/python.md) and its tests; python3-openvdb gives Volume.grid().
+pkgs+=(pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -31,7 +31,7 @@ bool Interrupter::held() {
     if (holding_.load(std::memory_order_acquire)) {
         // Another thread of this node is held: this look waits for the stop as well, and takes
         // it (a stage working on several threads goes no further than each one's next look).
-        while (!cancel_requested().load()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        while (!stop_asked()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
         return false;
     }
     if (!hold_.load(std::memory_order_relaxed) || std::max(0, last_percent_.load()) < hold_at_ ||
@@ -40,7 +40,7 @@ bool Interrupter::held() {
     holding_.store(true, std::memory_order_release);
     const std::string line = "conceptmesh: test hold: node " + node_ + " at " + std::to_string(last_percent_) + "%\n";
     [[maybe_unused]] auto n = ::write(2, line.data(), line.size());
-    while (!cancel_requested().load()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    while (!stop_asked()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     return true;
 }
 

@@ -105,6 +105,7 @@ public:
           records_(n_),
           memory_(n_),
           sink_(opt.sink, gated),
+          stop_(opt.stop ? opt.stop : &own_stop_),
           open_(!gated) {
         schedule();
     }
@@ -132,7 +133,7 @@ public:
     /// Gives the run up before it was opened: the started nodes are asked to stop, waited
     /// for, and whatever they staged is deleted.
     void abandon() {
-        stop_ = true;
+        *stop_ = true;
         group_.wait();
         files_.discard();
     }
@@ -157,6 +158,9 @@ private:
         launch(i);
     }
     void execute(std::size_t i);
+    /// A stop asked for by the user or the host (RunOptions::stop); not abandon()'s, after which
+    /// a node already launched still starts and is stopped at its first look.
+    bool stopped() const { return cancel_requested() || (opt_.stop && opt_.stop->load()); }
     Context context(const PipelineNode& node);
     /// Runs the node's stage; false when it failed (the first failure is kept).
     bool run_node(std::size_t i, const Inputs& in, Context& ctx);
@@ -183,7 +187,8 @@ private:
     bool cancelled_ = false;
     process::MemoryMonitor memory_;
     HeldSink sink_;
-    std::atomic<bool> stop_{false}; ///< this run given up (abandon)
+    std::atomic<bool> own_stop_{false};
+    std::atomic<bool>* stop_; ///< this run given up (abandon) or stopped by its host (RunOptions::stop)
     std::mutex gate_mutex_;
     bool open_;                        ///< every node's stage is there
     std::vector<std::size_t> waiting_; ///< nodes ready before open()
@@ -214,7 +219,7 @@ RunResult PipelineRun::run() {
     group_.wait();
     // A stop asked for while the last stages ran (a stage that does not look, such as a
     // write in progress) still means no output.
-    if (!failed_ && cancel_requested()) {
+    if (!failed_ && stopped()) {
         failed_ = true;
         cancelled_ = true;
         first_error_ = p_.file.string() + ": stopped when the last stages had finished";
@@ -232,7 +237,7 @@ Context PipelineRun::context(const PipelineNode& node) {
     hooks.sink = sink_.sink();
     hooks.side_output_dir = opt_.side_output_dir;
     hooks.stage_file = [this](const fs::path& tmp, const fs::path& fin) { files_.add(tmp, fin); };
-    hooks.stop = &stop_;
+    hooks.stop = stop_;
     return Context(node.id, node.stage, hooks);
 }
 
@@ -252,6 +257,7 @@ void PipelineRun::execute(std::size_t i) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     record(i, ctx, secs, process::cpu_seconds() - cpu0, rss0, peak);
     if (auto* sink = sink_.sink()) sink->finished(node.id, secs);
+    if (opt_.on_output) opt_.on_output(node.id, outputs_[i]);
     in = Inputs();
     release(i);
 }
@@ -259,7 +265,7 @@ void PipelineRun::execute(std::size_t i) {
 bool PipelineRun::run_node(std::size_t i, const Inputs& in, Context& ctx) {
     const auto& node = p_.nodes[i];
     try {
-        if (cancel_requested()) throw Cancelled(); // no new stage after a stop was asked for
+        if (stopped()) throw Cancelled(); // no new stage after a stop was asked for
         Data d = stages_[i]->run(in, ctx);
         if (kind_of(d) != node.info.output)
             throw Error(std::string("the stage returned ") + to_string(kind_of(d)) + " instead of " +

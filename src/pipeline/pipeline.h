@@ -3,6 +3,7 @@
 // validate, configure, run, each a step of the executor (executor.cpp), the nodes in
 // dependency order with TBB. schema.cpp writes the schemas.
 #pragma once
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -104,6 +105,14 @@ struct RunOptions {
     /// Written into the run report as "labels" (a caller's own keys: an asset name, a hash
     /// of the inputs), so the report says which job it belongs to.
     std::map<std::string, std::string> labels;
+    /// A stop of this run alone (may be null): a host that runs the pipeline on a thread of
+    /// its own sets it to cancel the run as Ctrl-C cancels the command (cm::Cancelled, no
+    /// output file left). The process-wide cancel_requested() stops it too.
+    std::atomic<bool>* stop = nullptr;
+    /// Called with each node's output once the node has run (on the thread that ran it), for
+    /// a host that hands the outputs back (the Python module); the run frees its own
+    /// reference once the node's last consumer has run, as without it.
+    std::function<void(const std::string& node, const Data& output)> on_output;
 };
 
 struct RunResult {

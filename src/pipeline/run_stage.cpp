@@ -50,6 +50,7 @@ StageRun run_stage(const Registry& registry, const std::string& stage, const std
     Context::Hooks hooks;
     hooks.sink = opt.sink;
     hooks.side_output_dir = opt.side_output_dir;
+    hooks.stop = opt.stop;
     hooks.stage_file = [&](const fs::path& tmp, const fs::path& fin) {
         std::lock_guard<std::mutex> lock(staged_mutex);
         run.staged.emplace_back(tmp, fin);
@@ -62,6 +63,8 @@ StageRun run_stage(const Registry& registry, const std::string& stage, const std
                     to_string(output));
     run.metrics_json = ctx.metrics_json();
     run.warnings = ctx.warnings();
+    // A stop asked for while the stage ran its last part, which does not look, still means no output.
+    if (opt.stop && opt.stop->load()) throw Cancelled("stage \"" + stage + "\": stopped when the stage had finished");
     if (opt.commit) run.outputs = files.commit();
     return run;
 }

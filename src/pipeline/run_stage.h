@@ -3,6 +3,7 @@
 // same path as a node's (checked against the declaration, defaults filled in, the
 // stage's own check), and the files it writes are committed only when it succeeds.
 #pragma once
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -23,6 +24,9 @@ struct StageRunOptions {
     /// false: the files the stage writes stay under their temporary names (StageRun::staged)
     /// for the caller to look at and remove; nothing is committed.
     bool commit = true;
+    /// A stop of this run alone (may be null): set from another thread, the stage stops at
+    /// its next look (cm::Cancelled), as Ctrl-C stops it.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 struct StageRun {
