@@ -72,10 +72,10 @@ std::string segmentation_note(const SilhouetteResult& s, const SilhouetteOptions
         note += "segmented as a photograph: " + std::to_string(s.grown) +
                 " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
                 " enclosed region(s) filled (photo: off segments it as a drawing)";
-    } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+    } else if (const std::string holes = describe_regions(s.regions); !holes.empty()) {
         if (!note.empty()) note += "; ";
-        note += "filled " + std::to_string(s.regions_filled) +
-                " blank region(s) enclosed by the drawing (holes: keep keeps them open)";
+        note += "enclosed blank regions: " + holes;
+        if (so.holes == "auto" && s.regions_filled) note += " (holes: keep opens them)";
     }
     return note;
 }
