@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
+#include "opposite_holes.h"
 #include "sheet.h"
 #include "silhouette.h"
 
@@ -116,6 +117,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
     SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
     stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
+    std::vector<std::vector<EnclosedRegion>> regions(man.views.size());
     std::atomic<std::size_t> steps{0};
     auto step = [&] {
         if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
@@ -136,6 +138,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
             SilhouetteResult s =
                 mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
+            regions[i] = std::move(s.regions);
             if (const std::string note = segmentation_note(s, so); !note.empty())
                 notes[i] = "view \"" + v.name + "\": " + note;
             v.camera = camera_of(mv);
@@ -149,6 +152,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         if (!e.empty()) throw Error(e);
     for (const auto& n : notes)
         if (!n.empty()) stats.notes.push_back(n);
+    for (auto& n : open_confirmed_holes(views.views, regions)) stats.notes.push_back(std::move(n));
 }
 
 // Calibrated views keep the manifest's box; drawn views are aligned into the output frame.

@@ -179,6 +179,11 @@ public:
                 any = true;
             }
         for (const EnclosedRegion& g : regions) (g.hole ? res.holes_kept : res.regions_filled)++;
+        // The closed candidates' pixels, for the opposite view to confirm (see
+        // open_confirmed_holes); in this image's indices, moved to the whole image's later.
+        for (std::size_t i = 0; i < n_; ++i)
+            if (lab[i] >= 0 && regions[std::size_t(lab[i])].candidate && !regions[std::size_t(lab[i])].hole)
+                regions[std::size_t(lab[i])].pixels.push_back(std::uint32_t(i));
         if (any && ink) give_back_barrier_rim(*ink, hole);
         res.regions = std::move(regions);
     }
@@ -432,6 +437,10 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
             for (EnclosedRegion& g : res.regions) {
                 g.x += win->x0;
                 g.y += win->y0;
+                for (std::uint32_t& p : g.pixels)
+                    p = std::uint32_t((p / std::uint32_t(win->width) + std::uint32_t(win->y0)) *
+                                          std::uint32_t(img.width) +
+                                      p % std::uint32_t(win->width) + std::uint32_t(win->x0));
             }
             return win;
         }

@@ -3,6 +3,7 @@
 // detail of line art, or paper showing between hatch strokes.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,11 +11,12 @@ namespace cm {
 
 /// One blank region a drawing encloses, and what was made of it.
 struct EnclosedRegion {
-    std::size_t area = 0;   ///< pixels
-    int x = 0, y = 0;       ///< its centre (mean pixel), in the analysed image
-    bool hole = false;      ///< opened: background
-    bool candidate = false; ///< line art: a hole by nesting, opened only on further evidence
-    std::string why;        ///< what decided it, in a few words
+    std::size_t area = 0;              ///< pixels
+    int x = 0, y = 0;                  ///< its centre (mean pixel), in the analysed image
+    bool hole = false;                 ///< opened: background
+    bool candidate = false;            ///< line art: a hole by nesting, opened only on further evidence
+    std::string why;                   ///< what decided it, in a few words
+    std::vector<std::uint32_t> pixels; ///< candidates: the region's pixels (row-major image indices)
 };
 
 /// What the regions are judged on, all w x h, row-major.
