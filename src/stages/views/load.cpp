@@ -138,9 +138,9 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
             SilhouetteResult s =
                 mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
             v.coverage = std::move(s.coverage);
-            regions[i] = std::move(s.regions);
             if (const std::string note = segmentation_note(s, so); !note.empty())
                 notes[i] = "view \"" + v.name + "\": " + note;
+            regions[i] = std::move(s.regions); // after the note, which lists them
             v.camera = camera_of(mv);
         } catch (const Cancelled&) {
             throw;

@@ -439,4 +439,17 @@ TEST(RealDrawings, LineArtHoleOpensOnlyWhenTheOppositeViewShowsIt) {
     EXPECT_TRUE(noted);
     const Views one = load_views(dir / "one.yaml", {}).value;
     EXPECT_GT(one.views[0].coverage.at(100, 100), 0.5f);
+    // The run report names each view's holes with their area: a filled washer has one.
+    write_image(
+        render(200, 200,
+               [](double x, double y) {
+                   const double r = std::hypot(x - 100, y - 100);
+                   return r < 78 && r > 30 ? std::array<float, 3>{0.3f, 0.4f, 0.7f} : std::array<float, 3>{1, 1, 1};
+               }),
+        dir / "filled.png");
+    test::write_text(dir / "filled.yaml", "views:\n  front: filled.png\n");
+    const auto filled = load_views(dir / "filled.yaml", {}).stats;
+    std::string note;
+    for (const auto& n : filled.notes) note += n;
+    EXPECT_NE(note.find("view \"front\": enclosed blank regions: 1 hole(s): "), std::string::npos) << note;
 }
