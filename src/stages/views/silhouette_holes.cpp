@@ -10,6 +10,24 @@ namespace cm {
 
 namespace {
 
+// Calls f(q) for each 8-neighbour q (row-major index) of (x, y) within the w x h image.
+template <typename F>
+void neighbours8(int x, int y, int w, int h, F&& f) {
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx, yy = y + dy;
+            if ((dx || dy) && xx >= 0 && yy >= 0 && xx < w && yy < h) f(std::size_t(yy) * w + xx);
+        }
+}
+
+// The pieces of object (8-connected, neither outside nor a blank region): labels and sizes.
+int object_pieces(const RegionEvidence& e, std::vector<int>& lab, std::vector<std::size_t>& sizes) {
+    const std::size_t n = std::size_t(e.w) * e.h;
+    std::vector<char> object(n);
+    for (std::size_t i = 0; i < n; ++i) object[i] = !(*e.outside)[i] && (*e.region)[i] < 0;
+    return mask_components(object, e.w, e.h, true, lab, sizes);
+}
+
 // Multi-source breadth-first distances (8-connected steps) from the pixels where `dist` is 0
 // through the pixels `open` allows, up to `limit`; unreached pixels keep `dist` as given.
 template <typename Open>
@@ -19,18 +37,12 @@ void bfs8(std::vector<int>& dist, int w, int h, int limit, Open&& open) {
         if (dist[i] == 0) front.push_back(int(i));
     for (int d = 1; d <= limit && !front.empty(); ++d) {
         next.clear();
-        for (const int p : front) {
-            const int x = p % w, y = p / w;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                    const int q = yy * w + xx;
-                    if (dist[std::size_t(q)] <= d || !open(q)) continue;
-                    dist[std::size_t(q)] = d;
-                    next.push_back(q);
-                }
-        }
+        for (const int p : front)
+            neighbours8(p % w, p / w, w, h, [&](std::size_t q) {
+                if (dist[q] <= d || !open(int(q))) return;
+                dist[q] = d;
+                next.push_back(int(q));
+            });
         front.swap(next);
     }
 }
@@ -71,12 +83,7 @@ std::vector<char> near_outside(const RegionEvidence& e, int reach) {
         for (int x = 0; x < e.w; ++x) {
             const int r = (*e.region)[std::size_t(y) * e.w + x];
             if (r < 0 || near[std::size_t(r)]) continue;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= e.w || yy >= e.h) continue;
-                    if (dist[std::size_t(yy) * e.w + xx] < reach) near[std::size_t(r)] = 1;
-                }
+            neighbours8(x, y, e.w, e.h, [&](std::size_t q) { near[std::size_t(r)] |= dist[q] < reach; });
         }
     return near;
 }
@@ -84,31 +91,22 @@ std::vector<char> near_outside(const RegionEvidence& e, int reach) {
 // The regions that hold a mark of their own: a piece of object (8-connected, at least
 // `min_mark` px) that touches no outside pixel, only blank regions.
 std::vector<char> holding_marks(const RegionEvidence& e, std::size_t min_mark) {
-    const std::size_t n = std::size_t(e.w) * e.h;
-    std::vector<char> object(n);
-    for (std::size_t i = 0; i < n; ++i) object[i] = !(*e.outside)[i] && (*e.region)[i] < 0;
     std::vector<int> lab;
     std::vector<std::size_t> sizes;
-    const int count = mask_components(object, e.w, e.h, true, lab, sizes);
+    const int count = object_pieces(e, lab, sizes);
     std::vector<char> touches_outside(std::size_t(count), 0);
     std::vector<std::vector<int>> beside(static_cast<std::size_t>(count));
     for (int y = 0; y < e.h; ++y)
         for (int x = 0; x < e.w; ++x) {
             const int c = lab[std::size_t(y) * e.w + x];
             if (c < 0) continue;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= e.w || yy >= e.h) {
-                        touches_outside[std::size_t(c)] = 1;
-                        continue;
-                    }
-                    const std::size_t q = std::size_t(yy) * e.w + xx;
-                    if ((*e.outside)[q]) touches_outside[std::size_t(c)] = 1;
-                    const int r = (*e.region)[q];
-                    auto& b = beside[std::size_t(c)];
-                    if (r >= 0 && std::find(b.begin(), b.end(), r) == b.end()) b.push_back(r);
-                }
+            if (x == 0 || y == 0 || x + 1 == e.w || y + 1 == e.h) touches_outside[std::size_t(c)] = 1;
+            neighbours8(x, y, e.w, e.h, [&](std::size_t q) {
+                if ((*e.outside)[q]) touches_outside[std::size_t(c)] = 1;
+                const int r = (*e.region)[q];
+                auto& b = beside[std::size_t(c)];
+                if (r >= 0 && std::find(b.begin(), b.end(), r) == b.end()) b.push_back(r);
+            });
         }
     std::vector<char> holds(std::size_t(e.count), 0);
     for (int c = 0; c < count; ++c) {
@@ -124,12 +122,9 @@ std::vector<char> holding_marks(const RegionEvidence& e, std::size_t min_mark) {
 // region) they touch is under 5 % of the largest piece, the size below which
 // keep_components drops a mark (the gaps between a label's letters, bridged by gap closing).
 std::vector<char> inside_marks(const RegionEvidence& e) {
-    const std::size_t n = std::size_t(e.w) * e.h;
-    std::vector<char> object(n);
-    for (std::size_t i = 0; i < n; ++i) object[i] = !(*e.outside)[i] && (*e.region)[i] < 0;
     std::vector<int> lab;
     std::vector<std::size_t> sizes;
-    const int count = mask_components(object, e.w, e.h, true, lab, sizes);
+    const int count = object_pieces(e, lab, sizes);
     std::vector<char> out(std::size_t(e.count), 1);
     if (count == 0) return out;
     const double largest = double(*std::max_element(sizes.begin(), sizes.end()));
@@ -137,13 +132,9 @@ std::vector<char> inside_marks(const RegionEvidence& e) {
         for (int x = 0; x < e.w; ++x) {
             const int c = lab[std::size_t(y) * e.w + x];
             if (c < 0 || double(sizes[std::size_t(c)]) < 0.05 * largest) continue;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int xx = x + dx, yy = y + dy;
-                    if (xx < 0 || yy < 0 || xx >= e.w || yy >= e.h) continue;
-                    const int r = (*e.region)[std::size_t(yy) * e.w + xx];
-                    if (r >= 0) out[std::size_t(r)] = 0;
-                }
+            neighbours8(x, y, e.w, e.h, [&](std::size_t q) {
+                if ((*e.region)[q] >= 0) out[std::size_t((*e.region)[q])] = 0;
+            });
         }
     return out;
 }
@@ -156,13 +147,7 @@ std::vector<char> bounded_by_outline_ink(const RegionEvidence& e) {
     std::vector<std::size_t> sizes;
     const int count = mask_components(*e.ink, e.w, e.h, true, lab, sizes);
     std::vector<char> network(std::size_t(count), 0);
-    auto each_neighbour = [&](int x, int y, auto&& f) {
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int xx = x + dx, yy = y + dy;
-                if ((dx || dy) && xx >= 0 && yy >= 0 && xx < e.w && yy < e.h) f(std::size_t(yy) * e.w + xx);
-            }
-    };
+    auto each_neighbour = [&](int x, int y, auto&& f) { neighbours8(x, y, e.w, e.h, f); };
     for (int y = 0; y < e.h; ++y)
         for (int x = 0; x < e.w; ++x) {
             const int c = lab[std::size_t(y) * e.w + x];
