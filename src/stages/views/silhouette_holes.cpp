@@ -286,14 +286,23 @@ std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::s
     const std::vector<char> inked = bounded_by_outline_ink(e);
     std::size_t body = 0;
     for (std::size_t i = 0; i < e.outside->size(); ++i) body += !(*e.outside)[i];
+    // Hatching leaves many slivers of paper between its strokes; a few narrow regions in a
+    // drawing without hatching are gaps between close parts (an ear beside a head).
+    std::size_t slivers = 0;
+    for (std::size_t r = 0; r < out.size(); ++r)
+        slivers += out[r].area >= min_area && depth[r] <= sliver && !in_mark[r];
+    const bool hatched = slivers >= 20;
     for (std::size_t r = 0; r < out.size(); ++r) {
         EnclosedRegion& g = out[r];
         if (g.area < min_area) g.why = "a gap between strokes";
         else if (in_mark[r]) {
             g.hole = true; // a small separate mark (a letter) keeps its counters
             g.why = "inside a separate mark";
-        } else if (depth[r] <= sliver) g.why = "paper between strokes";
-        else if (tint[r] > 0.5 * e.threshold) g.why = "tinted, not the paper";
+        } else if (depth[r] <= sliver && hatched) g.why = "paper between strokes";
+        else if (depth[r] <= sliver) {
+            g.hole = true;
+            g.why = "a narrow gap between parts";
+        } else if (tint[r] > 0.5 * e.threshold) g.why = "tinted, not the paper";
         else if (edge[r]) g.why = "outlined with the body";
         else if (marks[r]) g.why = "holds a mark of its own";
         else if (inked[r]) g.why = "bounded by the outline's lines";

@@ -43,7 +43,9 @@ std::vector<int> region_depths(const RegionEvidence& e);
 
 /// @brief The enclosed regions of a filled drawing (more ink than blank). A region is a hole
 /// when it shows the outside background through the fill; it is a part when
-/// - it is a sliver (no pixel deeper than max(2, outline width)): paper between strokes;
+/// - it is a sliver (no pixel deeper than max(2, outline width)) in a hatched drawing (20
+///   slivers or more): paper between strokes. Without hatching a sliver is a narrow gap
+///   between parts (an ear beside a head), a hole;
 /// - it comes within the outline's width of the outside: its own outline is the body's
 ///   (an eye on the edge of a head, a stripe across the body);
 /// - most of its rim is ink joined to the ink around the body (a shirt between drawn lapels);
