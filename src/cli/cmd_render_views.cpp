@@ -1,5 +1,6 @@
 // conceptmesh render-views: synthetic concept art (or masks) of a mesh, with a views
 // manifest whose cameras are exact.
+#include <array>
 #include <iostream>
 
 #include "cli/commands.h"
@@ -23,7 +24,41 @@ struct RenderViewsOptions {
     AxisOptions axes;
     int size = 1024;
     unsigned seed = 1;
+    std::string line_colour = "#1f3f8f"; ///< blueprint style
+    double line_width = 1.5;             ///< blueprint style, pixels
 };
+
+// "#rrggbb" or a name (black, blue, red, grey) as RGB in [0, 1].
+std::array<float, 3> parse_line_colour(const std::string& s) {
+    if (s == "black") return {0.05f, 0.05f, 0.06f};
+    if (s == "blue") return {0.12f, 0.25f, 0.56f};
+    if (s == "red") return {0.75f, 0.12f, 0.1f};
+    if (s == "grey" || s == "gray") return {0.45f, 0.45f, 0.47f};
+    if (s.size() == 7 && s[0] == '#' && s.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
+        std::array<float, 3> c{};
+        for (int k = 0; k < 3; ++k)
+            c[std::size_t(k)] = float(std::stoi(s.substr(1 + 2 * std::size_t(k), 2), nullptr, 16)) / 255.0f;
+        return c;
+    }
+    throw Error("--line-colour must be #rrggbb, black, blue, red or grey, got \"" + s + "\"");
+}
+
+// The drawing options of a style: art as it was; blueprint: lines only (the outline and
+// every crease and inner contour) in the line colour and width on white paper, no fill.
+ArtOptions style_options(const RenderViewsOptions& o) {
+    ArtOptions art;
+    art.seed = o.seed;
+    if (o.style != "blueprint") return art;
+    art.paper = {1.0f, 1.0f, 1.0f};
+    art.fill = art.paper;
+    art.shade = false;
+    art.grain = 0;
+    art.vignette = 0;
+    art.ink = parse_line_colour(o.line_colour);
+    art.outline_px = float(o.line_width);
+    art.crease_px = float(o.line_width);
+    return art;
+}
 
 void write_image_atomic(const Image& img, const fs::path& file) {
     FileCommit files;
@@ -79,8 +114,7 @@ ManifestView render_view(const Mesh& mesh, const ViewSpec& s, const RenderViewsO
     mesh.bounds(lo, hi);
     const Camera cam = framed_camera(s.dir, Vec3d(lo), Vec3d(hi), o.size, o.size);
     const auto mask = render_mask(mesh, cam, o.size, o.size);
-    ArtOptions art;
-    art.seed = o.seed;
+    const ArtOptions art = style_options(o);
     const Image img = o.style == "mask" ? mask_image(mask, o.size) : art_image(mesh, cam, o.size, art);
     // An object cut by the image border cannot be extracted faithfully.
     if (touches_border(mask, o.size) && !g.quiet)
@@ -110,7 +144,8 @@ int run_render_views(const RenderViewsOptions& o, const GlobalOptions& g) {
     const std::vector<ViewSpec> specs = parse_views(o.views);
     // Bytes per pixel at the peak, measured at 4096 px: 9 for masks, 50 for art (the
     // shading keeps depth, normals and float colour per pixel).
-    const double per_pixel = o.style == "art" ? 52 : 10;
+    const double per_pixel = o.style == "mask" ? 10 : 52;
+    if (o.style == "blueprint") parse_line_colour(o.line_colour); // a bad colour before any work
     check_memory_estimate(std::uint64_t(per_pixel * double(o.size) * double(o.size)),
                           "render-views at " + std::to_string(o.size) + " px (" + o.style + ")", "lower --size");
     const Mesh mesh = load_oriented(o.mesh, orient);
@@ -147,9 +182,16 @@ void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int
     cmd->add_option("--size", o->size, "Image width and height in pixels")
         ->capture_default_str()
         ->check(CLI::Range(16, 16384));
-    cmd->add_option("--style", o->style, "mask: binary silhouettes; art: shaded drawing with outlines on paper")
+    cmd->add_option("--style", o->style,
+                    "mask: binary silhouettes; art: shaded drawing with outlines on paper; blueprint: line art "
+                    "(outline, creases, part boundaries) in --line-colour and --line-width on white")
         ->capture_default_str()
-        ->check(CLI::IsMember({"mask", "art"}));
+        ->check(CLI::IsMember({"mask", "art", "blueprint"}));
+    cmd->add_option("--line-colour", o->line_colour, "Blueprint style: line colour, #rrggbb or black, blue, red, grey")
+        ->capture_default_str();
+    cmd->add_option("--line-width", o->line_width, "Blueprint style: line width in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(0.5, 16.0));
     o->axes.add_to(cmd, "The model's own up axis (+X -X +Y -Y +Z -Z)", "The model's own front axis (the way it faces)");
     cmd->add_option("--seed", o->seed, "Paper grain pattern (art style)")->capture_default_str();
     cmd->add_flag("-q,--quiet", g.quiet, "Only errors and warnings");

@@ -175,6 +175,10 @@ public:
             for (int k = 0; k < 3; ++k) out[k] = opt.ink[std::size_t(k)];
             return true;
         }
+        if (!opt.shade) {
+            for (int k = 0; k < 3; ++k) out[k] = opt.fill[std::size_t(k)];
+            return true;
+        }
         // Smooth normal at the pixel centre: barycentric coordinates of the ray's hit.
         const std::uint32_t t = D.face[i];
         const auto& f = mesh.triangles[t];

@@ -21,8 +21,9 @@ struct ArtOptions {
     float crease_px = 1.2f;                             ///< width of crease and inner-contour lines
     float crease_deg = 40.0f;                           ///< dihedral angle that draws a crease line
     bool lines = true;                                  ///< false: shaded fill only
-    int supersample = 3;                                ///< samples per pixel along x and y (anti-aliasing)
-    unsigned seed = 1;                                  ///< grain pattern
+    bool shade = true;   ///< false: the fill flat in its colour (blueprint-style line art: fill = paper)
+    int supersample = 3; ///< samples per pixel along x and y (anti-aliasing)
+    unsigned seed = 1;   ///< grain pattern
 };
 
 /// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the

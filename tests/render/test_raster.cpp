@@ -229,3 +229,32 @@ TEST(Raster, ArtOverTheMeshsBoxIsTheWholePicturesArt) {
         EXPECT_EQ(render_art(m, c, 300, 200).pixels, render_art(wider, c, 300, 200).pixels) << direction.azimuth_deg;
     }
 }
+
+TEST(Raster, BlueprintStyleIsLinesOnPaperOnly) {
+    // Line art as render-views --style blueprint draws it: the fill is the paper, flat, so
+    // every pixel is paper or a mix of paper and the line colour; a box seen at an angle
+    // shows its outline and the crease between its faces.
+    const Mesh m = test::make_box({-1, -1, -1}, {1, 1, 1});
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Camera c = framed_camera(Camera::from_azimuth_elevation(30, 20), Vec3d(lo), Vec3d(hi), 200, 200);
+    ArtOptions bp;
+    bp.paper = bp.fill = {1, 1, 1};
+    bp.shade = false;
+    bp.grain = bp.vignette = 0;
+    bp.ink = {0.1f, 0.2f, 0.6f};
+    const Image img = render_art(m, c, 200, 200, bp);
+    std::size_t line = 0;
+    for (std::size_t i = 0; i < std::size_t(200) * 200; ++i) {
+        const float* p = &img.pixels[i * 4];
+        // On the segment from paper to ink: the blue channel falls least.
+        const float t = (1 - p[0]) / 0.9f;
+        EXPECT_NEAR(p[1], 1 - 0.8f * t, 2e-3f);
+        EXPECT_NEAR(p[2], 1 - 0.4f * t, 2e-3f);
+        line += t > 0.5f;
+    }
+    // The box's middle (inside a face, away from every line) is paper.
+    EXPECT_EQ(img.pixels[(std::size_t(150) * 200 + 60) * 4], 1.0f);
+    EXPECT_GT(line, 600u);
+    EXPECT_LT(line, 4000u);
+}

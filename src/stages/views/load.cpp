@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
+#include "opposite_holes.h"
 #include "sheet.h"
 #include "silhouette.h"
 
@@ -72,10 +73,10 @@ std::string segmentation_note(const SilhouetteResult& s, const SilhouetteOptions
         note += "segmented as a photograph: " + std::to_string(s.grown) +
                 " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
                 " enclosed region(s) filled (photo: off segments it as a drawing)";
-    } else if (s.regions_filled && s.holes_kept == 0 && s.regions_filled > 0 && so.holes == "auto") {
+    } else if (const std::string holes = describe_regions(s.regions); !holes.empty()) {
         if (!note.empty()) note += "; ";
-        note += "filled " + std::to_string(s.regions_filled) +
-                " blank region(s) enclosed by the drawing (holes: keep keeps them open)";
+        note += "enclosed blank regions: " + holes;
+        if (so.holes == "auto" && s.regions_filled) note += " (holes: keep opens them)";
     }
     return note;
 }
@@ -116,6 +117,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
     SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
     stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
+    std::vector<std::vector<EnclosedRegion>> regions(man.views.size());
     std::atomic<std::size_t> steps{0};
     auto step = [&] {
         if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
@@ -138,6 +140,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
             v.coverage = std::move(s.coverage);
             if (const std::string note = segmentation_note(s, so); !note.empty())
                 notes[i] = "view \"" + v.name + "\": " + note;
+            regions[i] = std::move(s.regions); // after the note, which lists them
             v.camera = camera_of(mv);
         } catch (const Cancelled&) {
             throw;
@@ -149,6 +152,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         if (!e.empty()) throw Error(e);
     for (const auto& n : notes)
         if (!n.empty()) stats.notes.push_back(n);
+    for (auto& n : open_confirmed_holes(views.views, regions)) stats.notes.push_back(std::move(n));
 }
 
 // Calibrated views keep the manifest's box; drawn views are aligned into the output frame.

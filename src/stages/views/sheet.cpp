@@ -1,7 +1,9 @@
 #include "sheet.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "core/error.h"
 #include "silhouette.h"
@@ -135,8 +137,21 @@ PanelsFound find_panels(const std::vector<float>& coverage, int width, int heigh
     }
     if (drawings.empty()) return found;
     const int gap = std::max(3, int(std::lround(opt.gap_fraction * std::max(width, height))));
-    std::vector<Box> panels;
-    xy_cut(drawings, gap, panels);
+    std::vector<Box> groups, panels;
+    xy_cut(drawings, gap, groups);
+    // A group of pieces none of which is a drawing's size is text (a title, a letter of a
+    // title written vertically, a dimension's number): its pieces are marks.
+    for (const Box& g : groups) {
+        double big = 0;
+        int pieces = 0;
+        for (const Box& b : drawings)
+            if (b.x0 >= g.x0 && b.x1 <= g.x1 && b.y0 >= g.y0 && b.y1 <= g.y1) {
+                big = std::max(big, b.area);
+                ++pieces;
+            }
+        if (big < opt.text_fraction * largest) found.marks += pieces;
+        else panels.push_back(g);
+    }
     reading_order(panels);
     for (const Box& b : panels) {
         const int margin =
@@ -144,6 +159,139 @@ PanelsFound find_panels(const std::vector<float>& coverage, int width, int heigh
         found.panels.push_back(grow(coverage, width, height, b, margin));
     }
     return found;
+}
+
+namespace {
+
+// The pixels of a frame drawn around the whole sheet, from the sheet's coverage (object
+// where the frame encloses it): the piece of object spanning at least 80 % of the sheet
+// both ways, and within it the ink (colour distance to the paper over `threshold`) joined
+// to its outer edge. Empty when there is no such piece, or when that ink covers more than
+// a quarter of its box (a drawing filling the sheet, not a frame).
+std::vector<char> frame_pixels(const Image& img, const std::vector<float>& cov, double threshold) {
+    const int w = img.width, h = img.height;
+    const std::size_t n = std::size_t(w) * h;
+    std::array<double, 3> paper{0, 0, 0};
+    std::size_t np = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (cov[i] == 0.0f) {
+            const auto p = img.rgba(i);
+            for (int k = 0; k < 3; ++k) paper[std::size_t(k)] += p[std::size_t(k)];
+            ++np;
+        }
+    if (np == 0) return {};
+    for (double& c : paper) c /= double(np);
+    auto ink = [&](std::size_t i) {
+        const auto p = img.rgba(i);
+        double d = 0;
+        for (int k = 0; k < 3; ++k)
+            d += (p[std::size_t(k)] - paper[std::size_t(k)]) * (p[std::size_t(k)] - paper[std::size_t(k)]);
+        return cov[i] >= 0.5f && std::sqrt(d / 3.0) >= threshold;
+    };
+    std::vector<char> frame(n, 0);
+    std::vector<std::size_t> stack;
+    // Seeds: object pixels beside paper the border reaches (every piece's outer edge).
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const bool edge = x == 0 || y == 0 || x + 1 == w || y + 1 == h || cov[i - 1] == 0.0f ||
+                              cov[i + 1] == 0.0f || cov[i - std::size_t(w)] == 0.0f || cov[i + std::size_t(w)] == 0.0f;
+            if (edge && ink(i)) stack.push_back(i);
+        }
+    std::vector<int> seen(n, -1);
+    int best = -1;
+    std::size_t best_area = 0;
+    for (std::size_t s : stack) {
+        if (seen[s] >= 0) continue;
+        const int id = int(s);
+        std::vector<std::size_t> todo{s}, piece;
+        seen[s] = id;
+        int x0 = w, y0 = h, x1 = 0, y1 = 0;
+        while (!todo.empty()) {
+            const std::size_t i = todo.back();
+            todo.pop_back();
+            piece.push_back(i);
+            const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+            x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x + 1), y1 = std::max(y1, y + 1);
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const std::size_t j = std::size_t(yy) * w + xx;
+                    if (seen[j] < 0 && ink(j)) {
+                        seen[j] = id;
+                        todo.push_back(j);
+                    }
+                }
+        }
+        const double box = double(x1 - x0) * double(y1 - y0);
+        if (x1 - x0 >= 0.8 * w && y1 - y0 >= 0.8 * h && double(piece.size()) <= 0.25 * box &&
+            piece.size() > best_area) {
+            best = id;
+            best_area = piece.size();
+        }
+    }
+    if (best < 0) return {};
+    for (std::size_t i = 0; i < n; ++i) frame[i] = seen[i] == best;
+    return frame;
+}
+
+// `img` with the `frame` pixels and their anti-aliased fringe (two pixels around) painted
+// in the paper's colour: the mean of the paper beside the frame.
+Image erase_frame(const Image& img, const std::vector<char>& frame) {
+    const int w = img.width, h = img.height, r = 2;
+    std::vector<char> grown(frame.size(), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (frame[std::size_t(y) * w + x])
+                for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
+                    for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx)
+                        grown[std::size_t(yy) * w + xx] = 1;
+    // The paper: pixels one step beyond the grown frame.
+    std::array<double, 4> paper{0, 0, 0, 0};
+    std::size_t np = 0;
+    for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (grown[i] || !(grown[i - 1] || grown[i + 1] || grown[i - std::size_t(w)] || grown[i + std::size_t(w)]))
+                continue;
+            const auto p = img.rgba(i);
+            for (int k = 0; k < 4; ++k) paper[std::size_t(k)] += p[std::size_t(k)];
+            ++np;
+        }
+    Image out = img;
+    if (np == 0) return out;
+    for (double& c : paper) c /= double(np);
+    for (std::size_t i = 0; i < grown.size(); ++i) {
+        if (!grown[i]) continue;
+        for (int k = 0; k < out.channels; ++k) {
+            const double v = out.channels < 3 ? paper[0] : paper[std::size_t(k)];
+            const std::size_t s = i * std::size_t(out.channels) + std::size_t(k);
+            if (out.eight_bit()) out.bytes[s] = std::uint8_t(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+            else out.pixels[s] = float(v);
+        }
+    }
+    return out;
+}
+
+} // namespace
+
+std::vector<float> sheet_coverage(const Image& img, const ImageInfo& info, const SilhouetteOptions& so, int& frames) {
+    SilhouetteResult res = extract_silhouette(img, info, so);
+    std::vector<float> cov = res.coverage.full();
+    frames = 0;
+    // Frames inside frames: each erased in turn (at most three).
+    Image erased;
+    for (const Image* at = &img; frames < 3;) {
+        const std::vector<char> frame = frame_pixels(*at, cov, res.threshold);
+        if (frame.empty()) break;
+        erased = erase_frame(*at, frame);
+        at = &erased;
+        res = extract_silhouette(erased, info, so);
+        cov = res.coverage.full();
+        ++frames;
+    }
+    return cov;
 }
 
 Image crop_image(const Image& sheet, const SheetPanel& p) {
@@ -177,6 +325,7 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
         ImageInfo info;
         Image img;
         PanelsFound found;
+        int frames = 0;
         try {
             img = read_image(sh.image, &info, true);
             SilhouetteOptions so; // the sheet's options; every mark kept, so panels are whole
@@ -189,7 +338,7 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
             // the test sheets fall into twice their panels).
             so.shadow = "keep";
             so.close_gaps = 0;
-            found = find_panels(extract_silhouette(img, info, so).coverage.full(), img.width, img.height, opt);
+            found = find_panels(sheet_coverage(img, info, so, frames), img.width, img.height, opt);
         } catch (const Error& e) {
             throw Error(where + ": " + e.what());
         }
@@ -210,7 +359,8 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
         }
         out.notes.push_back(where.substr(where.find("sheet \"")) + ": " + std::to_string(found.panels.size()) +
                             " panels: " + placed + "; " + std::to_string(found.marks) +
-                            " mark(s) outside them left out (labels, specks)");
+                            " mark(s) outside them left out (labels, specks)" +
+                            (frames ? "; " + std::to_string(frames) + " frame(s) around the sheet left out" : ""));
     }
     return out;
 }

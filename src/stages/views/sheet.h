@@ -9,6 +9,7 @@
 #include "core/views.h"
 #include "io/image_io.h"
 #include "io/manifest.h"
+#include "silhouette.h"
 
 namespace cm {
 
@@ -28,6 +29,10 @@ struct PanelSearch {
     /// Blank paper kept around a drawing in its crop: this fraction of the drawing's larger
     /// side, between 6 and 64 pixels, less where a mark or another panel comes closer.
     double margin_fraction = 0.08;
+    /// A group of pieces (those no blank band divides) whose largest is under this fraction
+    /// of the sheet's largest piece is text (a title, a number), not a drawing: its pieces
+    /// are marks.
+    double text_fraction = 0.06;
 };
 
 struct PanelsFound {
@@ -40,6 +45,11 @@ struct PanelsFound {
 /// XY-cut on their boxes), each with a margin of blank paper. Rows of panels are those
 /// whose vertical extents overlap.
 PanelsFound find_panels(const std::vector<float>& coverage, int width, int height, const PanelSearch& opt = {});
+
+/// @brief The coverage of a sheet to find its panels on: its silhouette under `so`, after a
+/// frame drawn around the whole sheet (ink spanning at least 80 % of it both ways, thin) is
+/// painted out in the paper's colour, up to three nested frames; `frames` gets their number.
+std::vector<float> sheet_coverage(const Image& img, const ImageInfo& info, const SilhouetteOptions& so, int& frames);
 
 /// The part of `sheet` that `p` covers.
 Image crop_image(const Image& sheet, const SheetPanel& p);

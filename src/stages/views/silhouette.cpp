@@ -23,6 +23,7 @@
 #include "pixel_flood.h"
 #include "shadow.h"
 #include "sheet.h"
+#include "silhouette_holes.h"
 
 namespace cm {
 
@@ -118,7 +119,9 @@ public:
 
     // Background-coloured regions the object encloses: holes through a filled drawing, or
     // the blank inside of a line drawing. A drawing whose ink covers less than its enclosed
-    // blank regions is a line drawing. The holes (by `mode`, see SilhouetteOptions::holes)
+    // blank regions is a line drawing. Which regions are holes is decided by evidence (see
+    // judge_filled_regions, judge_line_regions) under `auto`; `fill` opens none, `keep`
+    // every region of a filled drawing and the nested ones of a line drawing. The holes
     // become background.
     void open_holes(const std::string& mode, SilhouetteResult& res) {
         std::vector<char> enclosed(n_, 0);
@@ -131,26 +134,25 @@ public:
         std::vector<std::size_t> sizes;
         const int nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
         // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
-        // `keep` keeps every enclosed region.
+        // `keep` keeps every enclosed region, however small.
         const std::size_t min_hole = mode == "keep" ? 1 : 9;
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
-        const bool holes = mode == "keep" || (mode == "auto" && ink > blank);
         line_drawing_ = ink <= blank;
-        if (mode == "auto" && line_drawing_) return open_nested_holes(res);
-        std::vector<char> is_hole(std::size_t(nreg), 0);
-        for (int r = 0; r < nreg; ++r) {
-            is_hole[std::size_t(r)] = holes && sizes[std::size_t(r)] >= min_hole;
-            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
-        }
-        for (std::size_t i = 0; i < n_; ++i)
-            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) bg_[i] = 1;
+        if (mode != "fill" && line_drawing_) return open_nested_holes(mode, res);
+        std::vector<char> dark;
+        const std::vector<float> lum = luminance(dark);
+        const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
+        std::vector<EnclosedRegion> regions;
+        if (mode == "auto") regions = judge_filled_regions(ev, min_hole);
+        else regions = judge_all_regions(ev, mode == "keep", mode == "keep" ? "holes: keep" : "holes: fill");
+        record(regions, lab, nullptr, res);
     }
 
     // The holes of a line drawing: blank regions behind an even number of strokes (see
-    // nested_holes), at least 9 px; their barrier rim goes back to them.
-    void open_nested_holes(SilhouetteResult& res) {
-        std::vector<char> blank(n_, 0), ink(n_, 0), hole(n_, 0);
+    // nested_holes) are candidates, opened under `keep`; their barrier rim goes back to them.
+    void open_nested_holes(const std::string& mode, SilhouetteResult& res) {
+        std::vector<char> blank(n_, 0), ink(n_, 0);
         for (std::size_t i = 0; i < n_; ++i) {
             blank[i] = !bg_[i] && !closed_[i];
             ink[i] = d_[i] >= t_;
@@ -158,14 +160,48 @@ public:
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
         const int nreg = mask_components(blank, w_, h_, false, lab, sizes);
-        std::vector<char> is_hole = nested_holes(lab, nreg, closed_, bg_, w_, h_);
-        for (int r = 0; r < nreg; ++r) {
-            is_hole[std::size_t(r)] = is_hole[std::size_t(r)] && sizes[std::size_t(r)] >= 9;
-            (is_hole[std::size_t(r)] ? res.holes_kept : res.regions_filled)++;
-        }
+        const std::vector<char> nested = nested_holes(lab, nreg, closed_, bg_, w_, h_);
+        std::vector<char> dark;
+        const std::vector<float> lum = luminance(dark);
+        const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
+        record(judge_line_regions(ev, nested, 9, mode == "keep"), lab, &ink, res);
+    }
+
+    // The judged regions into `res` and the background (holes opened; with `ink`, their
+    // barrier rim too).
+    void record(std::vector<EnclosedRegion> regions, const std::vector<int>& lab, const std::vector<char>* ink,
+                SilhouetteResult& res) {
+        std::vector<char> hole(n_, 0);
+        bool any = false;
         for (std::size_t i = 0; i < n_; ++i)
-            if (lab[i] >= 0 && is_hole[std::size_t(lab[i])]) hole[i] = bg_[i] = 1;
-        if (res.holes_kept) give_back_barrier_rim(ink, hole);
+            if (lab[i] >= 0 && regions[std::size_t(lab[i])].hole) {
+                hole[i] = bg_[i] = 1;
+                any = true;
+            }
+        for (const EnclosedRegion& g : regions) (g.hole ? res.holes_kept : res.regions_filled)++;
+        // The closed candidates' pixels, for the opposite view to confirm (see
+        // open_confirmed_holes); in this image's indices, moved to the whole image's later.
+        for (std::size_t i = 0; i < n_; ++i)
+            if (lab[i] >= 0 && regions[std::size_t(lab[i])].candidate && !regions[std::size_t(lab[i])].hole)
+                regions[std::size_t(lab[i])].pixels.push_back(std::uint32_t(i));
+        if (any && ink) give_back_barrier_rim(*ink, hole);
+        res.regions = std::move(regions);
+    }
+
+    // Each pixel's luminance (Rec. 709 weights); `ink` gets the black and grey ink: under a
+    // 0.45 of the paper's luminance (the background field's) and nearly colourless.
+    std::vector<float> luminance(std::vector<char>& ink) const {
+        std::vector<float> lum(n_);
+        ink.assign(n_, 0);
+        for (std::size_t i = 0; i < n_; ++i) {
+            const auto p = img_.rgba(i);
+            const Rgb b = bgc_.at(i);
+            lum[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+            const double paper = 0.2126 * b[0] + 0.7152 * b[1] + 0.0722 * b[2];
+            const float chroma = std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]});
+            ink[i] = lum[i] < 0.45 * paper && chroma < 0.15f;
+        }
+        return lum;
     }
 
     // A photograph (see segment_photo): the background is all but the object it finds.
@@ -398,6 +434,14 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
             part.assign(std::size_t(win->width) * win->height, 0.0f);
             analyse(cut, part);
             res.analysed_pixels = part.size();
+            for (EnclosedRegion& g : res.regions) {
+                g.x += win->x0;
+                g.y += win->y0;
+                for (std::uint32_t& p : g.pixels)
+                    p = std::uint32_t((p / std::uint32_t(win->width) + std::uint32_t(win->y0)) *
+                                          std::uint32_t(img.width) +
+                                      p % std::uint32_t(win->width) + std::uint32_t(win->x0));
+            }
             return win;
         }
     }

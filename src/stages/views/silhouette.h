@@ -5,6 +5,7 @@
 
 #include "core/views.h"
 #include "io/image_io.h"
+#include "silhouette_holes.h"
 
 namespace cm {
 
@@ -16,8 +17,9 @@ struct SilhouetteOptions {
     double threshold = -1;
     /// auto: drop specks and separate marks much smaller than the object; largest; all.
     std::string keep = "auto";
-    /// Regions enclosed by the object that look like the background: auto (holes in a filled
-    /// drawing, interior of a line drawing), fill (always object), keep (always holes).
+    /// Regions enclosed by the object that look like the background: auto (holes by evidence:
+    /// the background seen through a filled drawing; none in line art), fill (always object),
+    /// keep (every region of a filled drawing, the nested regions of line art).
     std::string holes = "auto";
     /// Breaks in the ink up to this many pixels wide are closed before the background is
     /// flooded from the border; < 0: 0.4 % of the image's larger side, at least 3 px; 0: off.
@@ -49,6 +51,7 @@ struct SilhouetteResult {
     double weak_threshold = 0;              ///< photograph: the colour distance growth needs
     std::size_t grown = 0;                  ///< photograph: pixels joined to the seeds by growth
     std::size_t analysed_pixels = 0;        ///< pixels the analysis went over (the window, or all)
+    std::vector<EnclosedRegion> regions;    ///< the enclosed blank regions, judged (drawings)
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.

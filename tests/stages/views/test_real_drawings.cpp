@@ -410,3 +410,46 @@ TEST(RealDrawings, TheWindowAroundTheInkGivesTheWholeImagesAnswers) {
     EXPECT_GE(extract(filled).holes_kept, 1);
     EXPECT_GT(extract(sketchy).spurs_removed, 0u);
 }
+
+TEST(RealDrawings, LineArtHoleOpensOnlyWhenTheOppositeViewShowsIt) {
+    // A washer drawn as line art: two circles seen from the front and from the back, a
+    // band from the side. The inner circle is an opening only because both the front and
+    // the back show it; with the front and the side alone it is surface detail.
+    test::TempDir dir("line_art_opposite");
+    auto ring = [](double x, double y) -> std::array<float, 3> {
+        const double r = std::hypot(x - 100, y - 100);
+        const bool line = std::abs(r - 78) < 1.2 || std::abs(r - 30) < 1.2;
+        return line ? std::array<float, 3>{0.1f, 0.12f, 0.4f} : std::array<float, 3>{1, 1, 1};
+    };
+    auto band = [](double x, double y) -> std::array<float, 3> {
+        const bool in = x > 90 && x < 110 && y > 22 && y<178, inner = x> 92 && x < 108 && y > 24 && y < 176;
+        return in && !inner ? std::array<float, 3>{0.1f, 0.12f, 0.4f} : std::array<float, 3>{1, 1, 1};
+    };
+    write_image(render(200, 200, ring), dir / "front.png");
+    write_image(render(200, 200, ring), dir / "back.png");
+    write_image(render(200, 200, band), dir / "right.png");
+    test::write_text(dir / "both.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+    test::write_text(dir / "one.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    const auto [both, report] = load_views(dir / "both.yaml", {});
+    EXPECT_LT(both.views[0].coverage.at(100, 100), 0.5f);
+    EXPECT_LT(both.views[1].coverage.at(100, 100), 0.5f);
+    EXPECT_GT(both.views[0].coverage.at(100, 40), 0.5f);
+    bool noted = false;
+    for (const auto& n : report.notes) noted = noted || n.find("both show an opening") != std::string::npos;
+    EXPECT_TRUE(noted);
+    const Views one = load_views(dir / "one.yaml", {}).value;
+    EXPECT_GT(one.views[0].coverage.at(100, 100), 0.5f);
+    // The run report names each view's holes with their area: a filled washer has one.
+    write_image(
+        render(200, 200,
+               [](double x, double y) {
+                   const double r = std::hypot(x - 100, y - 100);
+                   return r < 78 && r > 30 ? std::array<float, 3>{0.3f, 0.4f, 0.7f} : std::array<float, 3>{1, 1, 1};
+               }),
+        dir / "filled.png");
+    test::write_text(dir / "filled.yaml", "views:\n  front: filled.png\n");
+    const auto filled = load_views(dir / "filled.yaml", {}).stats;
+    std::string note;
+    for (const auto& n : filled.notes) note += n;
+    EXPECT_NE(note.find("view \"front\": enclosed blank regions: 1 hole(s): "), std::string::npos) << note;
+}

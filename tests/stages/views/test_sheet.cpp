@@ -238,3 +238,46 @@ TEST(Sheet, OptionsOfTheSheetApplyToEveryPanel) {
     const std::string e = error_of([&] { load_views(dir / "views.yaml", {}); });
     EXPECT_NE(e.find("views.yaml:2: sheet \"missing.png\": "), std::string::npos) << e;
 }
+
+TEST(Sheet, FrameAndVerticalTitleAreNotPanels) {
+    // A blueprint sheet: a frame ruled around the whole sheet, the views inside it, and the
+    // title written vertically beside them (letters turned a quarter, each as large as a
+    // small drawing's detail). The splitter yields exactly the three panels.
+    test::TempDir dir("sheet_frame");
+    const Mesh m = test::make_lopsided();
+    Sheet s = compose(560, 260, {draw(m, "front", 130), draw(m, "right", 110), draw(m, "top", 100)},
+                      {{std::array<int, 2>{70, 40}}, {225, 50}, {370, 60}});
+    auto ink = [&](int x, int y) {
+        for (int k = 0; k < 3; ++k) s.image.pixels[(std::size_t(y) * s.image.width + x) * 3 + k] = 0.2f;
+    };
+    // The frame: 3 px, 8 px in from the sheet's edge.
+    for (int y = 8; y < 252; ++y)
+        for (int x = 8; x < 552; ++x)
+            if (x < 11 || x >= 549 || y < 11 || y >= 249) ink(x, y);
+    // The title: seven letters down the left, inside the frame (an "O", an "L" and a bar
+    // in turn, turned on their side), 26 px apart.
+    for (int c = 0; c < 7; ++c) {
+        const int x0 = 22, y0 = 30 + 28 * c;
+        for (int y = y0; y < y0 + 16; ++y)
+            for (int x = x0; x < x0 + 22; ++x) {
+                const bool o = c % 3 == 0 && (y < y0 + 4 || y >= y0 + 12 || x < x0 + 4 || x >= x0 + 18);
+                const bool l = c % 3 == 1 && (y >= y0 + 12 || x < x0 + 4);
+                const bool bar = c % 3 == 2 && y >= y0 + 6 && y < y0 + 10;
+                if (o || l || bar) ink(x, y);
+            }
+    }
+    write_image(s.image, dir / "sheet.png");
+    test::write_text(dir / "views.yaml", "sheet: {image: sheet.png, views: [front, right, top]}\n");
+    const SheetViews sv = split_sheets(read_manifest(dir / "views.yaml"));
+    ASSERT_EQ(sv.panels.size(), 3u);
+    const auto [views, report] = load_views(dir / "views.yaml", {});
+    ASSERT_EQ(views.views.size(), 3u);
+    for (int k = 0; k < 3; ++k) {
+        SCOPED_TRACE(k);
+        int outside = 0;
+        EXPECT_GE(panel_iou(views.views[std::size_t(k)], sv.panels[std::size_t(k)], s, k, outside), 0.99);
+        EXPECT_EQ(outside, 0);
+    }
+    ASSERT_FALSE(sv.notes.empty());
+    EXPECT_NE(sv.notes.front().find("1 frame(s)"), std::string::npos) << sv.notes.front();
+}

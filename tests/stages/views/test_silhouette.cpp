@@ -354,3 +354,94 @@ TEST(Silhouette, GreyDrawingKeptAsOneChannelGivesTheSameSilhouette) {
     EXPECT_GT(iou(a.coverage, w, h, figure), 0.99);
     EXPECT_EQ(a.coverage.full(), b.coverage.full());
 }
+
+namespace {
+
+// A band `width` px wide around the outline of `shape` (inside it): an ink outline.
+Shape outline_of(const Shape& shape, double width) {
+    return [shape, width](double x, double y) {
+        if (!shape(x, y)) return false;
+        for (int k = 0; k < 8; ++k) {
+            const double a = k * 3.14159265 / 4;
+            if (!shape(x + width * std::cos(a), y + width * std::sin(a))) return true;
+        }
+        return false;
+    };
+}
+
+} // namespace
+
+TEST(SilhouetteHoles, LineDrawingOfABoxWithACircleOnItsFaceHasNoHole) {
+    // Line art: a box's outline and a circle drawn on its face. The circle is surface
+    // detail, not an opening; holes: keep opens it.
+    const Shape box = [](double x, double y) { return x > 40 && x < 170 && y > 30 && y < 160; };
+    const Shape circle = [](double x, double y) { return std::hypot(x - 105, y - 95) < 35; };
+    Image img = draw(210, 190, outline_of(box, 2.5), {0.1f, 0.1f, 0.12f, 1}, {0.97f, 0.96f, 0.93f, 1});
+    paint(img, outline_of(circle, 2.0), {0.1f, 0.1f, 0.12f});
+    const SilhouetteResult s = extract(img);
+    EXPECT_EQ(s.holes_kept, 0);
+    EXPECT_GT(iou(s.coverage, 210, 190, box), 0.99);
+    bool candidate = false;
+    for (const EnclosedRegion& g : s.regions) candidate = candidate || (g.candidate && !g.hole);
+    EXPECT_TRUE(candidate); // the circle's inside is listed, not opened
+    SilhouetteOptions keep;
+    keep.holes = "keep";
+    const SilhouetteResult k = extract(img, false, keep);
+    EXPECT_EQ(k.holes_kept, 1);
+    EXPECT_LT(k.coverage[std::size_t(95) * 210 + 105], 0.5f);
+    EXPECT_GT(k.coverage[std::size_t(40) * 210 + 50], 0.5f);
+}
+
+TEST(SilhouetteHoles, HatchedRingWithOutlinesIsARing) {
+    // A ring drawn as a marker artist does: dark outlines on both edges, the band hatched
+    // (vertical 4 px strokes every 6 px, 2 px of paper showing between them). The paper
+    // between the strokes is not a hole; the middle is, showing the paper around the ring.
+    const Shape ring = [](double x, double y) {
+        const double r = std::hypot(x - 100, y - 100);
+        return r <= 70 && r >= 30;
+    };
+    const Shape hatch = [ring](double x, double y) { return ring(x, y) && std::fmod(x, 6.0) < 4.0; };
+    Image img = draw(200, 200, hatch, {0.45f, 0.2f, 0.55f, 1}, {1, 1, 1, 1});
+    paint(img, outline_of(ring, 3.0), {0.08f, 0.08f, 0.1f});
+    const SilhouetteResult s = extract(img);
+    EXPECT_EQ(s.holes_kept, 1);
+    EXPECT_GT(iou(s.coverage, 200, 200, ring), 0.98);
+    EXPECT_LT(s.coverage[std::size_t(100) * 200 + 100], 0.5f);
+    // Every pixel of the band is object.
+    std::size_t band_gaps = 0;
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 200; ++x) {
+            const double r = std::hypot(x + 0.5 - 100, y + 0.5 - 100);
+            band_gaps += r > 32 && r < 68 && s.coverage[std::size_t(y) * 200 + x] < 0.5f;
+        }
+    EXPECT_EQ(band_gaps, 0u);
+}
+
+TEST(SilhouetteHoles, DrawnFaceKeepsItsWhiteEyes) {
+    // A head (skin-coloured, outlined) with two eyes left white inside ink outlines: one
+    // inside the head with a pupil, one on the edge of the head reaching beyond it. Both are
+    // parts of the head, not holes.
+    const Shape head = [](double x, double y) { return std::hypot(x - 110, y - 110) < 70; };
+    const Shape eye_in = [](double x, double y) { return std::hypot(x - 85, y - 100) < 16; };
+    const Shape eye_edge = [](double x, double y) { return std::hypot(x - 172, y - 85) < 18; };
+    const Shape face = [&](double x, double y) { return head(x, y) || eye_edge(x, y); };
+    Image img = draw(230, 220, face, {0.93f, 0.72f, 0.58f, 1}, {1, 1, 1, 1});
+    paint(img, outline_of(face, 3.0), {0.08f, 0.06f, 0.06f});
+    paint(img, eye_in, {1, 1, 1});
+    paint(img, eye_edge, {1, 1, 1});
+    paint(img, outline_of(eye_in, 2.0), {0.08f, 0.06f, 0.06f});
+    paint(img, outline_of(eye_edge, 2.5), {0.08f, 0.06f, 0.06f});
+    paint(img, [](double x, double y) { return std::hypot(x - 88, y - 102) < 5; }, {0.05f, 0.05f, 0.05f});
+    const SilhouetteResult s = extract(img);
+    EXPECT_EQ(s.holes_kept, 0);
+    EXPECT_GT(iou(s.coverage, 230, 220, face), 0.99);
+    EXPECT_GT(s.coverage[std::size_t(95) * 230 + 78], 0.5f);  // the inner eye's white
+    EXPECT_GT(s.coverage[std::size_t(85) * 230 + 175], 0.5f); // the edge eye's white
+    // The same head with a real opening (no outline of its own near the edge, nothing
+    // inside it) keeps that opening.
+    Image pierced = img;
+    paint(pierced, [](double x, double y) { return std::hypot(x - 110, y - 150) < 14; }, {1, 1, 1});
+    const SilhouetteResult p = extract(pierced);
+    EXPECT_EQ(p.holes_kept, 1);
+    EXPECT_LT(p.coverage[std::size_t(150) * 230 + 110], 0.5f);
+}
