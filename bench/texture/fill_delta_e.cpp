@@ -1,8 +1,8 @@
 // fill_delta_e MESH VIEWS.yaml [RADIUS]: the colour error of a coloured mesh against the
 // fill of hand-drawn views (docs/results/real-drawings.md): per view, the mesh's colour
 // rendered through the view's camera (as views.load aligns it) against the drawing's fill,
-// the mean of the pixels that are not strokes (ink with its fringe, and the paper showing
-// between marker strokes) over a square of side 2 RADIUS + 1 (default 6 px), in CIE76
+// the mean of the pixels that are not strokes (ink, black or grey, with its fringe, and the
+// paper showing between marker strokes; coloured strokes are fill) over a square of side 2 RADIUS + 1 (default 6 px), in CIE76
 // delta E, over the silhouette eroded by 3 px without the strokes. Also the error against
 // those pixels one by one. Prints one line per view: name, mean delta E against the fill,
 // against the pixels, and the pixels compared.
@@ -40,7 +40,11 @@ int main(int argc, char** argv) {
                     inside[std::size_t(y) * w + x] = v.inside(x, y);
                     outside[std::size_t(y) * w + x] = !v.inside(x, y);
                 }
-            std::vector<char> strokes = find_ink(v.image, inside, 4, 0.12f, true);
+            // Ink as texturing takes it: thin dark strokes that are not coloured (marker and
+            // coloured hatching are the fill), with their fringe.
+            std::vector<char> ink = find_ink(v.image, inside, 4, 0.12f, false);
+            keep_neutral_ink(v.image, ink, 0.25f);
+            std::vector<char> strokes = grow_ink(ink, inside, w, h);
             const std::vector<char> slivers =
                 find_paper_slivers(v.image, inside, paper_colour(v.image, inside), 4, 0.12f);
             std::vector<char> keep(n);

@@ -69,6 +69,16 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
     return light;
 }
 
+void keep_neutral_ink(const Image& img, std::vector<char>& ink, float max_chroma) {
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            char& k = ink[std::size_t(y) * img.width + x];
+            if (!k) continue;
+            const float r = img.at(x, y, 0), g = img.at(x, y, 1), b = img.at(x, y, 2);
+            k = std::max({r, g, b}) - std::min({r, g, b}) < max_chroma;
+        }
+}
+
 std::array<float, 3> paper_colour(const Image& img, const std::vector<char>& inside) {
     double s[3] = {0, 0, 0}, n = 0;
     for (int y = 0; y < img.height; ++y)

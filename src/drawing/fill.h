@@ -17,6 +17,11 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
                                      const std::array<float, 3>& paper, float width, float contrast,
                                      float paper_distance = 0.35f);
 
+/// @brief Leaves out of `ink` the coloured strokes: pixels whose saturation (largest minus
+/// smallest of R, G, B) is at least `max_chroma`. Marker strokes and coloured hatching are the
+/// fill as drawn, not ink; outlines and hatching in black, grey or pencil stay ink.
+void keep_neutral_ink(const Image& img, std::vector<char>& ink, float max_chroma);
+
 /// The mean colour of the pixels outside `inside` (the paper of a drawing flattened onto
 /// it); white when every pixel is inside.
 std::array<float, 3> paper_colour(const Image& img, const std::vector<char>& inside);

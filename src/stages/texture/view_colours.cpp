@@ -22,6 +22,10 @@ void CleanOptions::declare(ParamBinder& b) {
                           "with strip_lines, also leave out the paper showing between marker or hatching strokes "
                           "(thin, lighter than around them by line_contrast, near the paper's colour), so the fill "
                           "does not come out paler than drawn"));
+    b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
+                                       "strokes at least this saturated (largest minus smallest of R, G, B, 0-1) are "
+                                       "coloured: marker or coloured hatching, part of the fill and smoothed with it, "
+                                       "not ink (1: every thin dark stroke is ink)"));
     b.add(fill_smooth, ParamSpec::Float("fill_smooth", 5, 0, 64, "px",
                                         "radius of the low-pass of the fill across the stroke pattern: where strokes "
                                         "were left out around a pixel, its colour leans to the mean of the fill "
@@ -66,16 +70,19 @@ void strip_strokes(const Image& img, const std::vector<char>& inside, const Clea
             }
         searched = &patched;
     }
-    const std::vector<char> ink = find_ink(*searched, inside, opt.line_width, opt.line_contrast, false);
+    const std::vector<char> all_strokes = find_ink(*searched, inside, opt.line_width, opt.line_contrast, false);
+    std::vector<char> ink = all_strokes;
+    if (opt.ink_chroma < 1) keep_neutral_ink(*searched, ink, opt.ink_chroma);
     const std::vector<char> fringed = grow_ink(ink, inside, w, h);
     std::vector<char> strokes(n), loose(n);
     for (std::size_t i = 0; i < n; ++i) {
         vc.line_pixels += ink[i] && inside[i] ? 1 : 0;
         vc.sliver_pixels += slivers[i] && !fringed[i] ? 1 : 0;
-        strokes[i] = fringed[i] || slivers[i];
+        // Coloured strokes stay (their colour is the fill's) but count as the stroke pattern.
+        strokes[i] = fringed[i] || slivers[i] || all_strokes[i];
         loose[i] = valid[i] && !ink[i] && !slivers[i]; // the fringe kept
         if (ink[i]) drawn[i] = 0;
-        if (strokes[i]) valid[i] = 0;
+        if (fringed[i] || slivers[i]) valid[i] = 0;
     }
     if (opt.fill_smooth <= 0) return;
     const int r = int(opt.fill_smooth);

@@ -19,9 +19,8 @@ namespace {
 
 const Rgb kFill{0.90f, 0.25f, 0.60f}; // a pink marker
 
-// A box's front, drawn as a marker drawing is: the flat fill crossed by diagonal strokes
-// where the marker went over twice (2 px, darker), with the paper showing through between
-// strokes (1 px, white), every `period` px.
+// A box's front in a flat colour hatched over in black ink (diagonal strokes 2 px wide), with
+// the paper showing through between the fill's strokes (1 px, white), every `period` px.
 std::shared_ptr<Views> hatched_front(int period) {
     View v = test::painted_view("front", 160, 64, test::box_outline({-1, -1, -1}, {1, 1, 1}, Camera::named("front")->d),
                                 [](const Vec3d&) { return kFill; });
@@ -30,7 +29,7 @@ std::shared_ptr<Views> hatched_front(int period) {
             if (!v.inside(i, j)) continue;
             const int phase = (i + j) % period;
             for (int k = 0; k < 3; ++k) {
-                if (phase < 2) v.image.at(i, j, k) = 0.5f * kFill[std::size_t(k)];
+                if (phase < 2) v.image.at(i, j, k) = 0.08f;
                 if (phase == 4) v.image.at(i, j, k) = 1.0f;
             }
         }
