@@ -201,6 +201,48 @@ double colour_evidence(const Frame& f, const ColourModels& m, std::size_t i) {
     return std::clamp((squared(c, b.mean) - squared(c, m.object.mean)) / (2 * var), -4.0, 4.0);
 }
 
+// Seeds whose colour is clearly a backdrop's (a fold of a dark cloth catching the light, a
+// wall beside the cloth, far from the backdrop the border's field gives them but of its
+// chromaticity, not the object's): not seeds; the cut decides them with the other weak
+// pixels. The object's model comes from the largest seed components, so this holds for
+// what differs from most of the object. Returns the pixels demoted.
+constexpr double kBackdropEvidence = -2.0;
+std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::vector<char>& seed,
+                                  std::vector<char>& grows) {
+    std::size_t demoted = 0;
+    for (std::size_t i = 0; i < f.n; ++i) {
+        if (!seed[i] || colour_evidence(f, m, i) > kBackdropEvidence) continue;
+        seed[i] = grows[i] = 0;
+        ++demoted;
+    }
+    return demoted;
+}
+
+// Whether an enclosed region is a see-through gap rather than a shadow the object casts on
+// itself: where at least a quarter of it is bright enough to tell, clearly of a backdrop's
+// colour (mean evidence -1 or less); else mostly (60 %) as dark as a backdrop (under the
+// weak threshold), with no evidence for the object, and large (at least kGapShare of the
+// object's area: a shadow pocket is small beside its object).
+constexpr double kGapShare = 0.03;
+bool see_through(const Frame& f, const ColourModels& m, const std::vector<double>& tw, const std::vector<int>& hole,
+                 std::size_t object_area) {
+    std::size_t dark = 0, told = 0;
+    double evidence = 0;
+    for (int p : hole) {
+        const std::size_t i = std::size_t(p);
+        dark += f.dist[i] < tw[f.source[i]] ? 1 : 0;
+        const double e = colour_evidence(f, m, i);
+        if (e != 0.0) {
+            evidence += e;
+            ++told;
+        }
+    }
+    // Mostly bright enough to tell: a backdrop's colour, clearly.
+    if (told >= 50 && double(told) >= 0.25 * double(hole.size())) return evidence < -1.0 * double(told);
+    if (double(dark) < 0.6 * double(hole.size()) || evidence > 0) return false;
+    return double(hole.size()) >= kGapShare * double(object_area);
+}
+
 // Labels the region's weak pixels (object: 1 in `obj`) by a minimum cut of: per pixel its
 // colour evidence, per pair of 8-neighbours labelled apart kSmooth over their distance;
 // seeds are object, what lies outside the region backdrop. Returns the pixels made object.
@@ -263,8 +305,10 @@ void refit_backdrops(const Frame& f, const std::vector<char>& seed, const std::v
 
 // What the border reaches through the rest is background (breaks up to close_gaps bridged;
 // the barrier's rim outside the object goes back to it); regions the object encloses are
-// filled unless `holes` is keep. Counts them into `cut`.
-void close_enclosed(const Frame& f, const std::string& holes, double close_gaps, PhotoCut& cut) {
+// filled unless `holes` is keep, or under auto they are see-through gaps (see_through).
+// Counts them into `cut`.
+void close_enclosed(const Frame& f, const ColourModels& m, const std::vector<double>& tw, const std::string& holes,
+                    double close_gaps, PhotoCut& cut) {
     std::vector<char>& obj = cut.object;
     const std::size_t w = std::size_t(f.w);
     const std::vector<char> barrier = close_ink(obj, f.w, f.h, close_gaps);
@@ -280,7 +324,8 @@ void close_enclosed(const Frame& f, const std::string& holes, double close_gaps,
         }
     for (std::size_t i = 0; i < f.n; ++i) reached[i] = reached[i] || rim[i];
 
-    const bool fill = holes != "keep";
+    std::size_t object_area = 0;
+    for (char o : obj) object_area += o ? 1 : 0;
     std::vector<char> seen(f.n, 0);
     std::vector<int> stack, hole;
     for (std::size_t s = 0; s < f.n; ++s) {
@@ -301,6 +346,7 @@ void close_enclosed(const Frame& f, const std::string& holes, double close_gaps,
                     stack.push_back(q);
                 }
         }
+        const bool fill = holes == "fill" || (holes != "keep" && !see_through(f, m, tw, hole, object_area));
         (fill ? cut.holes_filled : cut.holes_kept)++;
         if (fill)
             for (int p : hole) obj[std::size_t(p)] = 1;
@@ -330,12 +376,13 @@ PhotoCut segment_photo(const Image& img, const std::vector<double>& dist, const 
     const std::vector<double> tw = weak_thresholds(f);
     cut.weak_threshold = tw[0];
     ColourModels models = fit_models(f, seed, grows);
+    cut.demoted = demote_backdrop_seeds(f, models, seed, grows);
     const std::vector<char> region = growth_region(f, seed, grows, tw);
     // Two rounds: the second with the backdrops as the first cut found them.
     cut.grown = cut_region(f, seed, region, models, cut.object);
     refit_backdrops(f, seed, region, cut.object, models);
     cut.grown = cut_region(f, seed, region, models, cut.object);
-    close_enclosed(f, holes, close_gaps, cut);
+    close_enclosed(f, models, tw, holes, close_gaps, cut);
     return cut;
 }
 
