@@ -36,7 +36,7 @@ struct PhotoCut {
 ///    of the larger side), the brightest of them when few reach 50 x the noise (at least the
 ///    90th percentile's R + G + B, and 10 x the noise). Seeds whose colour evidence (step 4)
 ///    is -2 or less, clearly a backdrop's (a lit fold of a dark cloth, a wall beside it), are
-///    no longer seeds: the cut decides them.
+///    no longer seeds unless beside a seed of the object's colour: the cut decides them.
 /// 4. The region's weak pixels are labelled by a minimum cut (MinCut) of an energy with a
 ///    colour term per pixel (squared chromaticity distances to the two models over twice
 ///    their common variance, widened by the noise of a ratio of small numbers; within +-4;
@@ -47,10 +47,10 @@ struct PhotoCut {
 /// 5. What the border reaches (4-connected) through the rest, with breaks narrower than
 ///    `close_gaps` px bridged (0: none; see close_ink), is background. Enclosed regions
 ///    follow `holes`: fill makes them object, keep keeps them open, and auto keeps open the
-///    see-through gaps: regions whose mean colour evidence is -1 or less where at least a
-///    quarter of them is bright enough to tell, else regions at least 60 % as dark as a
-///    backdrop, with no evidence for the object, of at least 3 % of the object's area; the
-///    rest (a shadow the object casts on itself, small beside it) becomes object.
+///    see-through gaps: regions of at least 3 % of the object's area whose mean colour
+///    evidence is -1 or less where at least a quarter of them is bright enough to tell, else
+///    at least 60 % as dark as a backdrop, with no evidence for the object; the rest (a
+///    shadow the object casts on itself, small beside it) becomes object.
 PhotoCut segment_photo(const Image& img, const std::vector<double>& dist, const std::vector<unsigned char>& source,
                        int backgrounds, double t, double noise, const std::string& holes, double close_gaps);
 
