@@ -34,9 +34,11 @@ struct PhotoCut {
 ///    each a median with a MAD spread: the object's from the seeds' interior (R + G + B at
 ///    least 50 x the noise), each backdrop's from its pixels away from the seeds (beyond 3 %
 ///    of the larger side), the brightest of them when few reach 50 x the noise (at least the
-///    90th percentile's R + G + B, and 10 x the noise). Seeds whose colour evidence (step 4)
-///    is -2 or less, clearly a backdrop's (a lit fold of a dark cloth, a wall beside it), are
-///    no longer seeds unless beside a seed of the object's colour: the cut decides them.
+///    90th percentile's R + G + B, and 10 x the noise). In seed components reaching the
+///    image border, seeds whose colour evidence (step 4) is -2 or less, clearly a backdrop's
+///    (a lit fold of a dark cloth, a wall beside it), are no longer seeds: all of a component
+///    whose median evidence is -1 or less, else those not beside a seed of the object's
+///    colour. The cut decides them.
 /// 4. The region's weak pixels are labelled by a minimum cut (MinCut) of an energy with a
 ///    colour term per pixel (squared chromaticity distances to the two models over twice
 ///    their common variance, widened by the noise of a ratio of small numbers; within +-4;
