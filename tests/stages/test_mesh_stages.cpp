@@ -1,6 +1,7 @@
 // The mesh stages through their Stage interface: parameters, ports and errors.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <memory>
 
 #include "core/error.h"
@@ -87,15 +88,42 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     EXPECT_EQ(std::stod(h.metrics().at("boundary_edges")), 0.0);
     EXPECT_TRUE(h.warnings().empty());
 
+    // A broken rule that a file can hold is a warning: an open box.
+    Mesh open = test::make_box({0, 0, 0}, {1, 1, 1});
+    open.triangles.pop_back();
+    h.param("path", dir / "open.ply");
+    h.input("mesh", open);
+    h.run<FileOutput>();
+    EXPECT_GT(std::stod(h.metrics().at("boundary_edges")), 0.0);
+    ASSERT_EQ(h.warnings().size(), 1u);
+    EXPECT_NE(h.warnings()[0].find("boundary edges"), std::string::npos) << h.warnings()[0];
+    EXPECT_NE(h.warnings()[0].find("open.ply"), std::string::npos) << h.warnings()[0];
+
+    // Crossing faces are never written: an error naming the file, and no file.
     const Mesh two = test::make_crossing_boxes();
     h.param("path", dir / "crossing.ply");
     h.input("mesh", two);
-    h.run<FileOutput>();
-    EXPECT_GT(std::stod(h.metrics().at("self_intersections")), 0.0);
-    ASSERT_EQ(h.warnings().size(), 1u);
-    EXPECT_NE(h.warnings()[0].find("self-intersecting face pairs"), std::string::npos) << h.warnings()[0];
-    EXPECT_NE(h.warnings()[0].find("crossing.ply"), std::string::npos) << h.warnings()[0];
+    try {
+        h.run<FileOutput>();
+        ADD_FAILURE() << "a mesh with crossing faces was written";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("pairs of crossing faces"), std::string::npos) << what;
+        EXPECT_NE(what.find("crossing.ply"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "crossing.ply"));
 
+    // Nor are degenerate faces: a box with a face of zero area.
+    Mesh flat = test::make_box({0, 0, 0}, {1, 1, 1});
+    flat.triangles.push_back({flat.triangles[0][0], flat.triangles[0][1], flat.triangles[0][1]});
+    h.param("path", dir / "flat.ply");
+    h.input("mesh", flat);
+    EXPECT_THROW(h.run<FileOutput>(), Error);
+    EXPECT_FALSE(std::filesystem::exists(dir / "flat.ply"));
+
+    h.param("path", dir / "crossing.ply");
+    h.input("mesh", two);
     h.params("{check: false}");
     h.run<FileOutput>();
     EXPECT_EQ(h.metrics().count("self_intersections"), 0u);

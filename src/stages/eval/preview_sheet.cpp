@@ -170,6 +170,18 @@ std::string fixed(double v, int digits) {
     return buf;
 }
 
+// The grey a coloured mesh is shaded as: lit, at most 0.94 of the page's white, so a white
+// model reads as a light grey with its shading and outlines.
+constexpr float kLitGrey = 0.9f;
+
+// `shaded` (the shading and lines of the mesh on white) times `colour` (the mesh's colours
+// on white), channel by channel: the colours lit and outlined, the page left white.
+void multiply_rgb(Image& shaded, const Image& colour) {
+    for (int y = 0; y < shaded.height; ++y)
+        for (int x = 0; x < shaded.width; ++x)
+            for (int k = 0; k < 3; ++k) shaded.at(x, y, k) *= colour.at(x, y, k);
+}
+
 // Where the parts of a sheet go.
 struct Layout {
     int P, gap, scale;
@@ -211,7 +223,9 @@ public:
     /// Step 1: the mesh drawn from each view's camera, at the panel's size (its samples give
     /// the anti-aliasing; lines half as wide as in a full drawing, to read as in one shrunk):
     /// the views side by side, each drawing's serial passes (its distances to the outline)
-    /// beside the others' instead of one after another.
+    /// beside the others' instead of one after another. A coloured mesh shows its colours
+    /// under the same shading and lines: its colours alone would leave a white or pale
+    /// model white on the white page.
     std::vector<Image> draw_meshes() const {
         ArtOptions art;
         art.paper = {1.0f, 1.0f, 1.0f};
@@ -219,16 +233,19 @@ public:
         art.vignette = 0;
         art.outline_px = 1.0f;
         art.crease_px = 0.6f;
+        const bool coloured = has_colour(mesh_);
+        // Lit, the shading of a grey under white stays below the page's white.
+        if (coloured) art.fill = {kLitGrey, kLitGrey, kLitGrey};
         std::vector<Image> drawn(static_cast<std::size_t>(lay_.nviews));
         tbb::parallel_for(0, lay_.nviews, [&](int v) {
             const View& view = views_.views[std::size_t(v)];
             const double f = std::min(1.0, double(lay_.P) / std::max(view.width, view.height));
             const int sw = std::max(1, int(std::lround(view.width * f))),
                       sh = std::max(1, int(std::lround(view.height * f)));
-            // (a coloured mesh in its own colours, unlit, to hold beside the drawing)
             const Camera small = resized_camera(view.camera, double(sw) / view.width);
-            drawn[std::size_t(v)] = has_colour(mesh_) ? render_colour(mesh_, small, sw, sh, {1, 1, 1}, progress_)
-                                                      : render_art(mesh_, small, sw, sh, art, progress_);
+            Image shaded = render_art(mesh_, small, sw, sh, art, progress_);
+            if (coloured) multiply_rgb(shaded, render_colour(mesh_, small, sw, sh, {1, 1, 1}, progress_));
+            drawn[std::size_t(v)] = std::move(shaded);
         });
         return drawn;
     }

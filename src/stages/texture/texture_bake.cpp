@@ -117,6 +117,7 @@ public:
     void sample_views(const Views& views, const Progress& progress) {
         samplers_.reserve(views.views.size());
         st_.line_pixels.clear();
+        st_.sliver_pixels.clear();
         st_.views.clear();
         for (const View& v : views.views) {
             if (v.image.empty() || v.image.width != v.width || v.image.height != v.height) continue;
@@ -126,6 +127,7 @@ public:
             s.depth = render_depth(mesh_, v.camera, v.width, v.height);
             s.colours = clean_view_colours(v, &s.depth, 4.0 * s.pixel_world, opt_.clean);
             st_.line_pixels.push_back(s.colours.line_pixels);
+            st_.sliver_pixels.push_back(s.colours.sliver_pixels);
             st_.views.push_back(v.name);
             samplers_.push_back(std::move(s));
             progress(0.05 + 0.25 * double(samplers_.size()) / double(views.views.size()));
@@ -348,7 +350,10 @@ void TextureStats::report(Metrics& m) const {
         m.metric("texels_per_unit", texels_per_unit);
         m.metric("atlas_fill", atlas_fill);
     }
-    if (lines_stripped) m.per_view("ink_pixels", views, line_pixels);
+    if (lines_stripped) {
+        m.per_view("ink_pixels", views, line_pixels);
+        m.per_view("paper_sliver_pixels", views, sliver_pixels);
+    }
     m.per_view("view_delta_e", views, view_error);
     if (balanced) {
         m.per_view("view_weight", views, view_weight);

@@ -39,6 +39,7 @@ struct TextureStats {
     double atlas_fill = 0;                     ///< fraction of the image covered by triangles
     std::vector<std::string> views;            ///< the views colours came from (those with a drawing)
     std::vector<std::size_t> line_pixels;      ///< per entry of `views`
+    std::vector<std::size_t> sliver_pixels;    ///< per entry of `views`: paper between strokes left out
     std::vector<double> view_weight;           ///< per entry of `views` (view_balance.h)
     std::vector<double> view_error;            ///< estimated mean delta E against each drawing, ink left out
     std::vector<double> view_error_unbalanced; ///< the same with every view's weight 1

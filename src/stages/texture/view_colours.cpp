@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "drawing/fill.h"
 #include "drawing/ink.h"
 #include "geometry/distance_transform.h"
 
@@ -16,6 +17,19 @@ void CleanOptions::declare(ParamBinder& b) {
     b.add(line_width, ParamSpec::Float("line_width", 4, 1, 64, "px", "the widest stroke taken for ink (strip_lines)"));
     b.add(line_contrast, ParamSpec::Float("line_contrast", 0.12, 0.01, 1, "",
                                           "how much darker (luminance, 0-1) than the fill around it a stroke is"));
+    b.add(paper_slivers,
+          ParamSpec::Bool("paper_slivers", true,
+                          "with strip_lines, also leave out the paper showing between marker or hatching strokes "
+                          "(thin, lighter than around them by line_contrast, near the paper's colour), so the fill "
+                          "does not come out paler than drawn"));
+    b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
+                                       "strokes at least this saturated (largest minus smallest of R, G, B, 0-1) are "
+                                       "coloured: marker or coloured hatching, part of the fill and smoothed with it, "
+                                       "not ink (1: every thin dark stroke is ink)"));
+    b.add(fill_smooth, ParamSpec::Float("fill_smooth", 5, 0, 64, "px",
+                                        "radius of the low-pass of the fill across the stroke pattern: where strokes "
+                                        "were left out around a pixel, its colour leans to the mean of the fill "
+                                        "around it (0: the pixels' own colours)"));
     b.add(erode_px,
           ParamSpec::Float("erode", 2, 0, 64, "px", "silhouette border not sampled (the background bleeds in there)"));
     b.add(blend_px, ParamSpec::Float("blend", 3, 0.5, 64, "px",
@@ -23,6 +37,82 @@ void CleanOptions::declare(ParamBinder& b) {
                                      "mesh's occlusion edges in it, so views blend across seams (under ink a view has "
                                      "no say; beside it, full say)"));
 }
+
+namespace {
+
+// Leaves the strokes out of `valid` and `drawn`: ink (and its fringe) and, with
+// paper_slivers, the paper between strokes. With fill_smooth, `fill` gets each valid pixel's
+// colour: its own, leaning to the fill's low-pass as much as strokes crowd around it (a
+// flat drawing keeps its pixels, a marker drawing its fill's mean, not the stroke pattern).
+void strip_strokes(const Image& img, const std::vector<char>& inside, const CleanOptions& opt, ViewColours& vc,
+                   std::vector<char>& valid, std::vector<char>& drawn, std::vector<std::array<float, 3>>& fill) {
+    const int w = img.width, h = img.height;
+    const std::size_t n = std::size_t(w) * h;
+    // The paper between strokes first: beside it the fill looks dark, and the ink finder
+    // would take it all for ink. Its pixels take the fill around them before ink is looked for.
+    std::vector<char> slivers(n, 0);
+    const Image* searched = &img;
+    Image patched;
+    if (opt.paper_slivers) {
+        slivers = find_paper_slivers(img, inside, paper_colour(img, inside), opt.line_width, opt.line_contrast);
+        std::vector<char> keep(n);
+        for (std::size_t i = 0; i < n; ++i) keep[i] = inside[i] && !slivers[i];
+        std::vector<float> unused;
+        const auto around = fill_under_strokes(img, keep, slivers, int(std::ceil(opt.line_width)), unused);
+        patched.width = w;
+        patched.height = h;
+        patched.channels = 3;
+        patched.pixels.resize(n * 3);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t i = std::size_t(y) * w + x;
+                for (int c = 0; c < 3; ++c) patched.pixels[i * 3 + c] = slivers[i] ? around[i][c] : img.at(x, y, c);
+            }
+        searched = &patched;
+    }
+    const std::vector<char> all_strokes = find_ink(*searched, inside, opt.line_width, opt.line_contrast, false);
+    std::vector<char> ink = all_strokes;
+    if (opt.ink_chroma < 1) keep_neutral_ink(*searched, ink, opt.ink_chroma);
+    const std::vector<char> fringed = grow_ink(ink, inside, w, h);
+    std::vector<char> strokes(n), loose(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        vc.line_pixels += ink[i] && inside[i] ? 1 : 0;
+        vc.sliver_pixels += slivers[i] && !fringed[i] ? 1 : 0;
+        // Coloured strokes stay (their colour is the fill's) but count as the stroke pattern.
+        strokes[i] = fringed[i] || slivers[i] || all_strokes[i];
+        loose[i] = valid[i] && !ink[i] && !slivers[i]; // the fringe kept
+        if (ink[i]) drawn[i] = 0;
+        if (fringed[i] || slivers[i]) valid[i] = 0;
+    }
+    if (opt.fill_smooth <= 0) return;
+    const int r = int(opt.fill_smooth);
+    std::vector<float> share, core;
+    const std::vector<std::array<float, 3>> low = fill_under_strokes(img, valid, strokes, r, share);
+    fill_under_strokes(img, valid, valid, r, core);
+    // Strokes so dense that no pixel beside them is clear of their fringe: the fringe's own
+    // mean (slightly darkened by the ink in it) rather than no colour from this view at all.
+    bool crowded = false;
+    for (std::size_t i = 0; i < n && !crowded; ++i) crowded = loose[i] && !valid[i] && core[i] == 0;
+    std::vector<float> unused;
+    const std::vector<std::array<float, 3>> low_loose =
+        crowded ? fill_under_strokes(img, loose, strokes, r, unused) : std::vector<std::array<float, 3>>{};
+    fill.resize(n);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (crowded && loose[i] && !valid[i] && core[i] == 0) {
+                valid[i] = 1;
+                fill[i] = low_loose[i];
+                continue;
+            }
+            // A quarter of the window in strokes is a stroke pattern: the fill's mean all through.
+            const float a = std::clamp(4.0f * share[i], 0.0f, 1.0f);
+            for (int c = 0; c < 3; ++c)
+                fill[i][std::size_t(c)] = (1 - a) * img.at(x, y, c) + a * low[i][std::size_t(c)];
+        }
+}
+
+} // namespace
 
 ViewColours clean_view_colours(const View& view, const DepthImage* depth, double depth_jump, const CleanOptions& opt) {
     const Image& img = view.image;
@@ -50,17 +140,8 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
     std::vector<char> valid(n), weak(n);
     for (std::size_t i = 0; i < n; ++i) valid[i] = inside[i] && d_out[i] > opt.erode_px * opt.erode_px;
     std::vector<char> drawn = valid;
-    if (opt.strip_lines) {
-        const std::vector<char> ink = find_ink(img, inside, opt.line_width, opt.line_contrast, false);
-        const std::vector<char> fringed = grow_ink(ink, inside, w, h);
-        for (std::size_t i = 0; i < n; ++i) {
-            if (fringed[i]) valid[i] = 0;
-            if (ink[i]) {
-                vc.line_pixels += inside[i] ? 1 : 0;
-                drawn[i] = 0;
-            }
-        }
-    }
+    std::vector<std::array<float, 3>> fill;
+    if (opt.strip_lines) strip_strokes(img, inside, opt, vc, valid, drawn, fill);
     // The say ramps up from the eroded border and from occlusion edges.
     for (std::size_t i = 0; i < n; ++i) weak[i] = !inside[i] || d_out[i] <= opt.erode_px * opt.erode_px;
     // Occlusion edges of the mesh in this view: a surface behind another one ends there,
@@ -94,8 +175,10 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
     for (std::size_t i = 0; i < n; ++i)
         if (valid[i]) {
             const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
-            vc.rgb[i] = {img.at(x, y, 0), img.at(x, y, std::min(1, img.channels - 1)),
-                         img.at(x, y, std::min(2, img.channels - 1))};
+            vc.rgb[i] = fill.empty()
+                            ? std::array<float, 3>{img.at(x, y, 0), img.at(x, y, std::min(1, img.channels - 1)),
+                                                   img.at(x, y, std::min(2, img.channels - 1))}
+                            : fill[i];
             done[i] = 1;
             queue.push_back(std::uint32_t(i));
         }

@@ -10,17 +10,19 @@
 
 #include "core/params.h"
 #include "core/views.h"
-#include "drawing/ink.h"
 #include "render/raster.h"
 
 namespace cm {
 
 /// The parameters of a drawing's cleaning (texture.project's strip_lines, line_width,
-/// line_contrast, erode and blend).
+/// line_contrast, paper_slivers, ink_chroma, fill_smooth, erode and blend).
 struct CleanOptions {
     bool strip_lines;    ///< find ink strokes and fill them from the neighbouring fill
     float line_width;    ///< widest stroke taken for ink, px
     float line_contrast; ///< a stroke is this much darker (luminance) than the fill around it
+    bool paper_slivers;  ///< also leave out the paper showing between strokes (thin, light, paper-coloured)
+    float ink_chroma;    ///< strokes at least this saturated are coloured (fill), not ink; 1: every stroke is ink
+    float fill_smooth;   ///< radius of the fill's low-pass across the stroke pattern, px (0: none)
     float erode_px;      ///< silhouette border not sampled, px
     float blend_px;      ///< confidence ramp from removed pixels and occlusion edges, px
 
@@ -35,6 +37,7 @@ struct ViewColours {
     std::vector<char> drawn;               ///< the drawing's own colour (not ink, not the eroded border)
     std::vector<float> border_px;          ///< distance to the outside of the silhouette, px
     std::size_t line_pixels = 0;           ///< pixels taken for ink inside the silhouette
+    std::size_t sliver_pixels = 0;         ///< pixels taken for paper between strokes inside the silhouette
     bool any_valid = false;
     /// Bilinear colour and confidence at continuous pixel coordinates (clamped to the image).
     void sample(double x, double y, std::array<float, 3>& c, float& conf) const;

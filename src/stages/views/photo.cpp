@@ -201,6 +201,90 @@ double colour_evidence(const Frame& f, const ColourModels& m, std::size_t i) {
     return std::clamp((squared(c, b.mean) - squared(c, m.object.mean)) / (2 * var), -4.0, 4.0);
 }
 
+// Seeds whose colour is clearly a backdrop's (a fold of a dark cloth catching the light, a
+// wall beside the cloth, far from the backdrop the border's field gives them but of its
+// chromaticity, not the object's): not seeds; the cut decides them with the other weak
+// pixels. The object's model comes from the largest seed components, so this holds for
+// what differs from most of the object; its rim (a seed beside one of the object's colour)
+// stays. Returns the pixels demoted.
+constexpr double kBackdropEvidence = -2.0, kRim = 1.5;
+std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::vector<char>& seed,
+                                  std::vector<char>& grows) {
+    std::vector<float> evidence(f.n, 0.0f);
+    for (std::size_t i = 0; i < f.n; ++i)
+        if (seed[i]) evidence[i] = float(colour_evidence(f, m, i));
+    // The object's rim mixes its colour with the backdrop's: a pixel beside (within kRim px of) a seed
+    // of the object's colour stays.
+    std::vector<char> object_coloured(f.n);
+    for (std::size_t i = 0; i < f.n; ++i) object_coloured[i] = seed[i] && evidence[i] > 0;
+    const std::vector<float> to_object = squared_edt(object_coloured, f.w, f.h);
+    auto beside_object = [&](std::size_t i) { return to_object[i] <= float(kRim * kRim); };
+    std::vector<int> comp(f.n, -1);
+    std::vector<float> median;
+    std::vector<char> at_border;
+    for (std::size_t s0 = 0; s0 < f.n; ++s0) {
+        if (!seed[s0] || comp[s0] >= 0) continue;
+        const int id = int(median.size());
+        std::vector<float> ev;
+        bool border = false;
+        comp[s0] = id;
+        grow_piece_8(
+            int(s0), f.w, f.h,
+            [&](int q) {
+                if (!seed[std::size_t(q)] || comp[std::size_t(q)] >= 0) return false;
+                comp[std::size_t(q)] = id;
+                return true;
+            },
+            [&](int p) {
+                ev.push_back(evidence[std::size_t(p)]);
+                const int x = p % f.w, y = p / f.w;
+                border = border || x == 0 || y == 0 || x + 1 == f.w || y + 1 == f.h;
+            });
+        at_border.push_back(border);
+        std::nth_element(ev.begin(), ev.begin() + std::ptrdiff_t(ev.size() / 2), ev.end());
+        median.push_back(ev.empty() ? 0.0f : ev[ev.size() / 2]);
+    }
+    // Demoted: in a component reaching the frame (a cloth hangs from it), its backdrop-coloured
+    // pixels away from the object's own colour, or all of it when most of it is backdrop-coloured.
+    // Elsewhere a seed stays: a small dark piece of the object may well look like the backdrop.
+    std::vector<std::size_t> out;
+    for (int y = 0; y < f.h; ++y)
+        for (int x = 0; x < f.w; ++x) {
+            const std::size_t i = std::size_t(y) * f.w + std::size_t(x);
+            if (!seed[i] || evidence[i] > kBackdropEvidence) continue;
+            const std::size_t c = std::size_t(comp[i]);
+            const bool backdrop_piece = median[c] <= kBackdropEvidence / 2;
+            if (at_border[c] && (backdrop_piece || !beside_object(i))) out.push_back(i);
+        }
+    for (std::size_t i : out) seed[i] = grows[i] = 0;
+    return out.size();
+}
+
+// Whether an enclosed region is a see-through gap rather than a shadow the object casts on
+// itself: large (at least kGapShare of the object's area: a shadow pocket is small beside
+// its object), and where at least a quarter of it is bright enough to tell, clearly of a
+// backdrop's colour (mean evidence -1 or less), else mostly (60 %) as dark as a backdrop
+// (under the weak threshold), with no evidence for the object.
+constexpr double kGapShare = 0.03;
+bool see_through(const Frame& f, const ColourModels& m, const std::vector<double>& tw, const std::vector<int>& hole,
+                 std::size_t object_area) {
+    std::size_t dark = 0, told = 0;
+    double evidence = 0;
+    for (int p : hole) {
+        const std::size_t i = std::size_t(p);
+        dark += f.dist[i] < tw[f.source[i]] ? 1 : 0;
+        const double e = colour_evidence(f, m, i);
+        if (e != 0.0) {
+            evidence += e;
+            ++told;
+        }
+    }
+    if (double(hole.size()) < kGapShare * double(object_area)) return false;
+    // Mostly bright enough to tell: a backdrop's colour, clearly.
+    if (told >= 50 && double(told) >= 0.25 * double(hole.size())) return evidence < -1.0 * double(told);
+    return double(dark) >= 0.6 * double(hole.size()) && evidence <= 0;
+}
+
 // Labels the region's weak pixels (object: 1 in `obj`) by a minimum cut of: per pixel its
 // colour evidence, per pair of 8-neighbours labelled apart kSmooth over their distance;
 // seeds are object, what lies outside the region backdrop. Returns the pixels made object.
@@ -263,8 +347,10 @@ void refit_backdrops(const Frame& f, const std::vector<char>& seed, const std::v
 
 // What the border reaches through the rest is background (breaks up to close_gaps bridged;
 // the barrier's rim outside the object goes back to it); regions the object encloses are
-// filled unless `holes` is keep. Counts them into `cut`.
-void close_enclosed(const Frame& f, const std::string& holes, double close_gaps, PhotoCut& cut) {
+// filled unless `holes` is keep, or under auto they are see-through gaps (see_through).
+// Counts them into `cut`.
+void close_enclosed(const Frame& f, const ColourModels& m, const std::vector<double>& tw, const std::string& holes,
+                    double close_gaps, PhotoCut& cut) {
     std::vector<char>& obj = cut.object;
     const std::size_t w = std::size_t(f.w);
     const std::vector<char> barrier = close_ink(obj, f.w, f.h, close_gaps);
@@ -280,7 +366,8 @@ void close_enclosed(const Frame& f, const std::string& holes, double close_gaps,
         }
     for (std::size_t i = 0; i < f.n; ++i) reached[i] = reached[i] || rim[i];
 
-    const bool fill = holes != "keep";
+    std::size_t object_area = 0;
+    for (char o : obj) object_area += o ? 1 : 0;
     std::vector<char> seen(f.n, 0);
     std::vector<int> stack, hole;
     for (std::size_t s = 0; s < f.n; ++s) {
@@ -301,6 +388,7 @@ void close_enclosed(const Frame& f, const std::string& holes, double close_gaps,
                     stack.push_back(q);
                 }
         }
+        const bool fill = holes == "fill" || (holes != "keep" && !see_through(f, m, tw, hole, object_area));
         (fill ? cut.holes_filled : cut.holes_kept)++;
         if (fill)
             for (int p : hole) obj[std::size_t(p)] = 1;
@@ -330,12 +418,13 @@ PhotoCut segment_photo(const Image& img, const std::vector<double>& dist, const 
     const std::vector<double> tw = weak_thresholds(f);
     cut.weak_threshold = tw[0];
     ColourModels models = fit_models(f, seed, grows);
+    cut.demoted = demote_backdrop_seeds(f, models, seed, grows);
     const std::vector<char> region = growth_region(f, seed, grows, tw);
     // Two rounds: the second with the backdrops as the first cut found them.
     cut.grown = cut_region(f, seed, region, models, cut.object);
     refit_backdrops(f, seed, region, cut.object, models);
     cut.grown = cut_region(f, seed, region, models, cut.object);
-    close_enclosed(f, holes, close_gaps, cut);
+    close_enclosed(f, models, tw, holes, close_gaps, cut);
     return cut;
 }
 

@@ -11,8 +11,8 @@ void MeshFileOptions::declare(ParamBinder& b) {
     format.declare(b);
     b.add(check, ParamSpec::Bool("check", true,
                                  "check the mesh first (closed, 2-manifold, outward, no degenerate faces, no "
-                                 "self-intersections): figures in the run report, a warning when a rule is "
-                                 "broken"));
+                                 "self-intersections): figures in the run report; degenerate or crossing faces "
+                                 "are an error and nothing is written, another broken rule a warning"));
     b.add(height, ParamSpec::Float("height", 0, 0, 1e9, "m",
                                    "scale the model to this height (Y extent) in the file; 0: keep its size "
                                    "(the views' real size when the manifest gives one, else one unit per "
@@ -75,5 +75,16 @@ void MeshFile::write(const std::filesystem::path& file, const std::filesystem::p
 }
 
 void MeshFile::check(Progress progress) { stats_.check = check_output(mesh(), progress); }
+
+void MeshFile::refuse_broken_faces(const std::filesystem::path& path) const {
+    if (!stats_.check) return;
+    const std::size_t degenerate = stats_.check->mesh.degenerate_faces, crossing = stats_.check->crossings.size();
+    if (degenerate == 0 && crossing == 0) return;
+    std::string what;
+    if (degenerate) what = std::to_string(degenerate) + " degenerate faces";
+    if (crossing) what += (what.empty() ? "" : " and ") + std::to_string(crossing) + " pairs of crossing faces";
+    throw Error("\"" + path.string() + "\" not written: the mesh has " + what +
+                " (made by a stage before mesh.write; check: false writes it unchecked)");
+}
 
 } // namespace cm

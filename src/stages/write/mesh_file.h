@@ -18,8 +18,9 @@ namespace cm {
 /// The parameters of mesh.write beside its path.
 struct MeshFileOptions {
     MeshWriteOptions format; ///< `binary` and `normals`; MeshFile::write() takes a copy that names the files
-    /// Check the written mesh (closed, 2-manifold, outward, no degenerate faces, no
-    /// self-intersections): figures in the stats, and a warning when a rule is broken.
+    /// Check the mesh before writing it (closed, 2-manifold, outward, no degenerate faces, no
+    /// self-intersections): figures in the stats; degenerate or crossing faces are an error
+    /// (nothing written), another broken rule a warning.
     bool check;
     double height;     ///< > 0: scale the model to this height (Y extent) in the file; 0: keep its size
     double unit_scale; ///< multiply every coordinate by this (not with height)
@@ -58,8 +59,11 @@ public:
     /// `progress` (per chunk) leaves a partial file for the caller to remove.
     void write(const std::filesystem::path& file, const std::filesystem::path& path, const MeshWriteOptions& format,
                Progress progress = {});
-    /// Checks what write() wrote against the output rules (geometry/mesh_check.h).
+    /// Checks the mesh as the file will hold it against the output rules (geometry/mesh_check.h).
     void check(Progress progress = {});
+    /// @throw cm::Error (one line naming `path`) when check() found degenerate faces or pairs
+    /// of crossing faces: those are never written. Nothing without a check.
+    void refuse_broken_faces(const std::filesystem::path& path) const;
     const MeshFileStats& stats() const { return stats_; }
 
 private:

@@ -87,3 +87,29 @@ TEST(EvalStages, PreviewWritesThroughTheHost) {
     h.param("path", dir / "sheet.jpg");
     EXPECT_THROW(h.configure(), Error);
 }
+
+TEST(EvalStages, PreviewShowsAWhiteMeshOnTheWhitePage) {
+    // A white-painted box (line art textures white): its column on the sheet must show it.
+    Mesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
+    box.colors.assign(box.positions.size(), {1.0f, 1.0f, 1.0f});
+    Views views;
+    views.views.push_back(front_view_of(box, 64));
+    PreviewOptions opt;
+    opt.panel = 64;
+    const Image sheet = make_preview_sheet(box, views, opt).value;
+    std::size_t covered = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) covered += views.views[0].inside(x, y) ? 1 : 0;
+    ASSERT_GT(covered, 1000u);
+    // The panel of the mesh: the second of the row, below the header's two lines and the
+    // view's own (64 px panels: gaps of 8 px, lines of 7 + 2 * 8 px).
+    const int gap = 8, line = 7 + 2 * gap, px = 2 * gap + 64, py = 3 * line;
+    std::size_t shown = 0, page = 0;
+    for (int y = py; y < py + 64; ++y)
+        for (int x = px; x < px + 64; ++x) {
+            const float lo = std::min({sheet.at(x, y, 0), sheet.at(x, y, 1), sheet.at(x, y, 2)});
+            (lo < 0.97f ? shown : page) += 1;
+        }
+    EXPECT_GE(double(shown), 0.9 * double(covered)) << "page pixels " << page;
+    EXPECT_GT(page, 0u); // the page around the mesh stays white
+}

@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "core/views.h"
+#include "drawing/fill.h"
+
+using namespace cm;
+
+namespace {
+
+// A 60 x 60 grey-on-white drawing: a square of fill (0.6, 0.2, 0.4) from 10 to 50, crossed by
+// vertical white slivers (1 px) every 6 px and dark strokes (1 px) between them.
+Image marker_square(std::vector<char>& inside) {
+    Image img;
+    img.width = img.height = 60;
+    img.channels = 3;
+    img.pixels.assign(60 * 60 * 3, 1.0f);
+    inside.assign(60 * 60, 0);
+    for (int y = 10; y < 50; ++y)
+        for (int x = 10; x < 50; ++x) {
+            inside[std::size_t(y) * 60 + x] = 1;
+            const float c[3] = {0.6f, 0.2f, 0.4f};
+            for (int k = 0; k < 3; ++k) {
+                float v = c[k];
+                if (x % 6 == 0) v = 0.98f;       // paper between strokes
+                if (x % 6 == 3) v = c[k] * 0.4f; // a stroke over another
+                img.at(x, y, k) = v;
+            }
+        }
+    return img;
+}
+
+} // namespace
+
+TEST(Fill, PaperSliversAreTheThinLightPaperColouredPixelsOnly) {
+    std::vector<char> inside;
+    const Image img = marker_square(inside);
+    const auto paper = paper_colour(img, inside);
+    EXPECT_NEAR(paper[0], 1.0f, 1e-6f);
+    const std::vector<char> s = find_paper_slivers(img, inside, paper, 4, 0.12f);
+    for (int y = 12; y < 48; ++y)
+        for (int x = 12; x < 48; ++x) EXPECT_EQ(s[std::size_t(y) * 60 + x] != 0, x % 6 == 0) << x << "," << y;
+    // Outside the silhouette nothing is looked at.
+    EXPECT_EQ(s[5 * 60 + 5], 0);
+}
+
+TEST(Fill, TheFillUnderStrokesIsTheMeanOfTheKeptPixels) {
+    std::vector<char> inside;
+    const Image img = marker_square(inside);
+    std::vector<char> keep(inside.size()), strokes(inside.size());
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 60; ++x) {
+            const std::size_t i = std::size_t(y) * 60 + x;
+            strokes[i] = inside[i] && (x % 6 == 0 || x % 6 == 3);
+            keep[i] = inside[i] && !strokes[i];
+        }
+    std::vector<float> share;
+    const auto fill = fill_under_strokes(img, keep, strokes, 3, share);
+    for (int y = 15; y < 45; ++y)
+        for (int x = 15; x < 45; ++x) {
+            const std::size_t i = std::size_t(y) * 60 + x;
+            EXPECT_NEAR(fill[i][0], 0.6f, 1e-5f);
+            EXPECT_NEAR(fill[i][1], 0.2f, 1e-5f);
+            EXPECT_NEAR(fill[i][2], 0.4f, 1e-5f);
+            // 2 or 3 of the window's 7 columns are strokes (every third column).
+            EXPECT_TRUE(share[i] > 2.0f / 7 - 1e-5f && share[i] < 3.0f / 7 + 1e-5f) << share[i];
+        }
+    // Far from any kept pixel, a pixel keeps its own colour.
+    EXPECT_FLOAT_EQ(fill[0][0], 1.0f);
+    EXPECT_FLOAT_EQ(share[0], 0.0f);
+}
