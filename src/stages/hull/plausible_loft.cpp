@@ -65,24 +65,35 @@ public:
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is.
     LoftValue value(const Coord& p) const {
-        double best_key = 1e300, best = 0.0, square = 0.0;
+        double best_key = 1e300, square = 0.0;
+        Interval sb, sc;
+        int best_a = -1;
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
             // The section's box: along b from the projection along c, along c from the one along b.
             const Interval ib = run(c, b, p), ic = run(b, c, p);
             if (ib.empty() || ic.empty()) continue;
-            const double hb = ib.half(), hc = ic.half();
             const double w = squareness(a, b, c, p, ib, ic);
-            const double key = hb * hc * (1.0 - 0.9 * w);
+            const double key = ib.half() * ic.half() * (1.0 - 0.9 * w);
             if (key >= best_key) continue;
             best_key = key;
             square = w;
-            const double e = round_ * std::pow(kSquare / round_, w);
-            const double ub = std::abs(double(p[b]) - ib.mid()) / hb, uc = std::abs(double(p[c]) - ic.mid()) / hc;
-            const double s = std::pow(std::pow(ub, e) + std::pow(uc, e), 1.0 / e);
-            best = (s - 1.0) * std::min(hb, hc);
+            best_a = a;
+            sb = ib;
+            sc = ic;
         }
-        return {float(best), float(square)};
+        if (best_a < 0) return {};
+        const int b = (best_a + 1) % 3, c = (best_a + 2) % 3;
+        const double hb = sb.half(), hc = sc.half();
+        const double ub = std::abs(double(p[b]) - sb.mid()) / hb, uc = std::abs(double(p[c]) - sc.mid()) / hc;
+        double s;
+        if (square == 0.0 && round_ == 2.0) {
+            s = std::sqrt(ub * ub + uc * uc);
+        } else {
+            const double e = round_ * std::pow(kSquare / round_, square);
+            s = std::pow(std::pow(ub, e) + std::pow(uc, e), 1.0 / e);
+        }
+        return {float((s - 1.0) * std::min(hb, hc)), float(square)};
     }
 
 private:
