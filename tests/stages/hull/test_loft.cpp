@@ -135,17 +135,6 @@ Known wedge() {
     return {out, sdf, lo, hi};
 }
 
-std::set<std::pair<int, int>> columns(const Volume& v, int axis) {
-    std::set<std::pair<int, int>> s;
-    auto grid = v.occupancy->deepCopy();
-    grid->tree().voxelizeActiveTiles();
-    for (auto it = grid->cbeginValueOn(); it; ++it) {
-        const auto c = it.getCoord();
-        s.insert({c[(axis + 1) % 3], c[(axis + 2) % 3]});
-    }
-    return s;
-}
-
 } // namespace
 
 // Round shapes from front, right and top come back within 1 % of their diagonal (the
