@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "plausible_loft.h"
 #include "plausible_state.h"
 
 namespace cm {
@@ -42,6 +43,10 @@ void PlausibleOptions::declare(ParamBinder& b) {
                                          "standard deviation of the Gaussian smoothing of the field (a smoother "
                                          "new surface), in cells of a grid of 256 along the object's longest "
                                          "side, 0 for none"));
+    b.add(loft, ParamSpec::Float("loft", 0.0, 0.0, 1.0, "",
+                                 "share of the lofted cross-sections in the field (superellipses in the boxes the "
+                                 "other views give, square where straight walls meet the view along them at its "
+                                 "outline): 0 the drawings' depth profiles alone, 1 the lofted sections alone"));
 }
 
 void PlausibleStats::report(Metrics& m) const {
@@ -59,6 +64,7 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("cavities_filled", cavities_filled);
     m.count("pieces_joined", pieces_joined);
     m.count("ball_rays", ball_rays);
+    m.count("square_voxels", square_voxels);
     m.metric("cell_px", cell_px);
     if (!refined) m.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");
 }
@@ -119,6 +125,20 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
     thin_.assign(vox_.n, 0);
 }
 
+// The lofted prior blended in. A square section (where the hull is the section) keeps the
+// lofted field, which leaves the hull there, whatever the share: the profiles would round a
+// box's edges.
+void Plausible::loft() {
+    const std::vector<LoftValue> lofted = loft_field(vox_, opt_.profile_exponent);
+    const float share = float(opt_.loft);
+    tbb::parallel_for(std::size_t(0), vox_.n, [&](std::size_t i) {
+        const float own = lofted[i].square + (1.0f - lofted[i].square) * share;
+        phi_[i] = own * lofted[i].field + (1.0f - own) * phi_[i];
+    });
+    st_.square_voxels =
+        std::size_t(std::count_if(lofted.begin(), lofted.end(), [](const LoftValue& v) { return v.square >= 0.5f; }));
+}
+
 void Plausible::remove() {
     removed_.assign(vox_.n, 0);
     std::atomic<std::size_t> count{0};
@@ -160,6 +180,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
         progress(0.05 + 0.4 * double(v + 1) / double(nv));
     }
     p.join_views();
+    if (opt.loft > 0) p.loft();
     // 3. The field smoothed; thin parts kept.
     p.smooth();
     progress(0.55);

@@ -41,6 +41,10 @@ struct PlausibleOptions {
     /// along the object's longest side (scaled with the resolution, so the new surface is
     /// as smooth at any resolution), 0 for none (the parameter `smooth`).
     double smooth_cells;
+    /// Share of the lofted prior in the field (plausible_loft.h): 0 the drawings' depth
+    /// profiles alone, 1 the lofted cross-sections alone. Where a lofted section is square
+    /// (straight walls, and the view along them shows the box's sides), it has the whole say.
+    double loft;
 
     PlausibleOptions() { set_declared_defaults(*this); }
     /// Every parameter.
@@ -61,6 +65,7 @@ struct PlausibleStats {
     std::size_t pieces_joined = 0;   ///< pieces of the kept volume joined to the body by a bridge
     std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
+    std::size_t square_voxels = 0;   ///< voxels whose lofted section is square (the hull kept; loft > 0)
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
     bool refined = false;            ///< the input had crossings (hull.marching_intersections)
     /// The counts, the share removed and the pitch; a warning when the input was not refined.

@@ -72,6 +72,8 @@ public:
     void view_field(std::size_t v);
     /// 2. The views' shares joined (the smooth maximum's logarithm).
     void join_views();
+    /// 2, with the lofted prior in place of the views' profiles (plausible_loft.h).
+    void loft();
     /// 3. The field smoothed over the hull's voxels; thin parts keep their voxels.
     void smooth();
     /// 4. Every line of sight keeps min(ray_keep, its voxels) voxels with field <= 0.

@@ -42,19 +42,6 @@ std::shared_ptr<Views> sphere_views(double r) {
 
 std::size_t occupied(const Volume& v) { return std::size_t(v.occupancy->activeVoxelCount()); }
 
-// The set of grid lines along `axis` holding an occupied grid point: what an
-// axis-aligned orthographic view sees at the grid's resolution.
-std::set<std::pair<int, int>> columns(const Volume& v, int axis) {
-    std::set<std::pair<int, int>> s;
-    auto grid = v.occupancy->deepCopy();
-    grid->tree().voxelizeActiveTiles();
-    for (auto it = grid->cbeginValueOn(); it; ++it) {
-        const auto c = it.getCoord();
-        s.insert({c[(axis + 1) % 3], c[(axis + 2) % 3]});
-    }
-    return s;
-}
-
 // Every grid line along x, y and z that held a voxel of the hull still holds one.
 void expect_columns_kept(const Volume& hull, const Volume& out) {
     for (int a = 0; a < 3; ++a) EXPECT_EQ(columns(hull, a), columns(out, a)) << "axis " << a;

@@ -1,0 +1,198 @@
+// The lofted prior of hull.plausible (prior: loft; plausible_loft.h). A modeller lofting from
+// blueprints sweeps a cross-section along the object, scaled at each station to the extents
+// the other views give, rounded where the drawings show curves and kept square where they
+// show straight walls meeting at corners. Here the "drawings" are the hull's projections along
+// the grid's three axes (for the named views front/right/top they are the drawings
+// themselves, at the grid's pitch), so the prior needs no view to lie along an axis and takes
+// any set of views.
+#include "plausible_loft.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace cm::plausible {
+
+namespace {
+
+// Exponent of a section where the walls are straight along the slicing axis and the view
+// along it confirms the box's sides: a superellipse this square is the box to a few
+// hundredths of its half-width, so the hull decides the section.
+constexpr double kSquare = 32.0;
+
+double smoothstep(double x, double a, double b) {
+    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// The hull projected along one grid axis k: a mask over the other two axes (u = the lower,
+// v = the higher), and per inside pixel the bounds of its run along u and along v.
+struct Projection {
+    int k = 0, u = 0, v = 0;
+    int u0 = 0, v0 = 0, nu = 0, nv = 0;
+    std::vector<std::uint8_t> in;
+    std::vector<std::int32_t> lo_u, hi_u, lo_v, hi_v;
+
+    std::size_t index(int iu, int iv) const { return std::size_t(iu - u0) * std::size_t(nv) + std::size_t(iv - v0); }
+    bool inside(int iu, int iv) const {
+        return iu >= u0 && iv >= v0 && iu < u0 + nu && iv < v0 + nv && in[index(iu, iv)] != 0;
+    }
+};
+
+struct Interval {
+    int lo = 0, hi = -1;
+    bool empty() const { return hi < lo; }
+    double half() const { return 0.5 * double(hi - lo) + 0.5; } // the voxels' extent, cells
+    double mid() const { return 0.5 * double(lo + hi); }
+};
+
+double jaccard(const Interval& a, const Interval& b) {
+    if (a.empty() || b.empty()) return 0.0;
+    const int i = std::min(a.hi, b.hi) - std::max(a.lo, b.lo) + 1;
+    const int u = std::max(a.hi, b.hi) - std::min(a.lo, b.lo) + 1;
+    return i > 0 ? double(i) / double(u) : 0.0;
+}
+
+class Lofter {
+public:
+    Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) {
+        for (int k = 0; k < 3; ++k) project(vox, k);
+    }
+
+    // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
+    // section taken there is.
+    LoftValue value(const Coord& p) const {
+        double best_key = 1e300, square = 0.0;
+        Interval sb, sc;
+        int best_a = -1;
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            // The section's box: along b from the projection along c, along c from the one along b.
+            const Interval ib = run(c, b, p), ic = run(b, c, p);
+            if (ib.empty() || ic.empty()) continue;
+            const double w = squareness(a, b, c, p, ib, ic);
+            const double key = ib.half() * ic.half() * (1.0 - 0.9 * w);
+            if (key >= best_key) continue;
+            best_key = key;
+            square = w;
+            best_a = a;
+            sb = ib;
+            sc = ic;
+        }
+        if (best_a < 0) return {};
+        const int b = (best_a + 1) % 3, c = (best_a + 2) % 3;
+        const double hb = sb.half(), hc = sc.half();
+        const double ub = std::abs(double(p[b]) - sb.mid()) / hb, uc = std::abs(double(p[c]) - sc.mid()) / hc;
+        double s;
+        if (square == 0.0 && round_ == 2.0) {
+            s = std::sqrt(ub * ub + uc * uc);
+        } else {
+            const double e = round_ * std::pow(kSquare / round_, square);
+            s = std::pow(std::pow(ub, e) + std::pow(uc, e), 1.0 / e);
+        }
+        return {float((s - 1.0) * std::min(hb, hc)), float(square)};
+    }
+
+private:
+    void project(const HullVoxels& vox, int k) {
+        Projection& P = proj_[std::size_t(k)];
+        P.k = k;
+        P.u = k == 0 ? 1 : 0;
+        P.v = k == 2 ? 1 : 2;
+        P.u0 = vox.box.min()[P.u];
+        P.v0 = vox.box.min()[P.v];
+        P.nu = vox.box.dim()[P.u];
+        P.nv = vox.box.dim()[P.v];
+        const std::size_t n = std::size_t(P.nu) * std::size_t(P.nv);
+        P.in.assign(n, 0);
+        for (std::size_t l = 0; l < vox.nleaf; ++l)
+            for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
+                const Coord c = it.getCoord();
+                P.in[P.index(c[P.u], c[P.v])] = 1;
+            }
+        P.lo_u.assign(n, 0);
+        P.hi_u.assign(n, -1);
+        P.lo_v.assign(n, 0);
+        P.hi_v.assign(n, -1);
+        // Runs along v (rows of the array), then along u (its columns).
+        tbb::parallel_for(0, P.nu, [&](int iu) { runs(P, std::size_t(iu) * P.nv, 1, P.nv, P.v0, P.lo_v, P.hi_v); });
+        tbb::parallel_for(0, P.nv,
+                          [&](int iv) { runs(P, std::size_t(iv), std::size_t(P.nv), P.nu, P.u0, P.lo_u, P.hi_u); });
+    }
+
+    static void runs(const Projection& P, std::size_t first, std::size_t stride, int count, int origin,
+                     std::vector<std::int32_t>& lo, std::vector<std::int32_t>& hi) {
+        for (int i = 0; i < count;) {
+            if (!P.in[first + std::size_t(i) * stride]) {
+                ++i;
+                continue;
+            }
+            int j = i;
+            while (j + 1 < count && P.in[first + std::size_t(j + 1) * stride]) ++j;
+            for (int t = i; t <= j; ++t) {
+                lo[first + std::size_t(t) * stride] = origin + i;
+                hi[first + std::size_t(t) * stride] = origin + j;
+            }
+            i = j + 1;
+        }
+    }
+
+    // The run along axis `along` through p's projection along axis k (empty when p projects
+    // outside).
+    Interval run(int k, int along, const Coord& p) const {
+        const Projection& P = proj_[std::size_t(k)];
+        if (!P.inside(p[P.u], p[P.v])) return {};
+        const std::size_t i = P.index(p[P.u], p[P.v]);
+        return along == P.u ? Interval{P.lo_u[i], P.hi_u[i]} : Interval{P.lo_v[i], P.hi_v[i]};
+    }
+
+    // How square the section across axis a at p is, in [0, 1]: its box must stay the same
+    // along a over the box's own half-width (the walls are straight: a prism along a), and the
+    // view along a must show the box's four sides as its outline (a straight edge of that
+    // view, not a part hidden inside it). Then that view is the section (a box, the disc of a
+    // standing cylinder, the triangle of a wedge) and the prior leaves the hull alone there.
+    double squareness(int a, int b, int c, const Coord& p, const Interval& ib, const Interval& ic) const {
+        const Projection& A = proj_[std::size_t(a)];
+        const int mb = int(std::lround(ib.mid())), mc = int(std::lround(ic.mid()));
+        int sides = 0;
+        const auto outside = [&](int vb, int vc) {
+            Coord q = p;
+            q[b] = vb;
+            q[c] = vc;
+            return !A.inside(q[A.u], q[A.v]);
+        };
+        sides += outside(ib.lo - 2, mc);
+        sides += outside(ib.hi + 2, mc);
+        sides += outside(mb, ic.lo - 2);
+        sides += outside(mb, ic.hi + 2);
+        if (sides < 4) return 0.0;
+        // The extent along a: where both runs along a through p hold.
+        const Interval ab = run(c, a, p), ac = run(b, a, p);
+        const Interval along{std::max(ab.lo, ac.lo), std::min(ab.hi, ac.hi)};
+        const int reach = std::max(1, int(std::lround(std::min(ib.half(), ic.half()))));
+        double q = 1.0;
+        for (int s = -1; s <= 1; s += 2) {
+            Coord n = p;
+            n[a] = std::clamp(p[a] + s * reach, std::min(along.lo + 1, p[a]), std::max(along.hi - 1, p[a]));
+            q = std::min({q, jaccard(ib, run(c, b, n)), jaccard(ic, run(b, c, n))});
+        }
+        return smoothstep(q, 0.85, 0.97);
+    }
+
+    double round_;
+    std::array<Projection, 3> proj_;
+};
+
+} // namespace
+
+std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
+    const Lofter lofter(vox, round_exponent);
+    std::vector<LoftValue> out(vox.n);
+    vox.for_voxels([&](std::size_t i, const Coord& c) { out[i] = lofter.value(c); });
+    return out;
+}
+
+} // namespace cm::plausible

@@ -1,0 +1,24 @@
+// The lofted prior of hull.plausible (`prior: loft`): per voxel, the cross-section of the
+// object across each grid axis is taken as a superellipse inscribed in the box the hull's
+// projections along the other two axes give there; the voxel follows the axis whose box is
+// smallest (the most section-like), made square where the walls are straight and the view
+// along the axis shows the box's sides as its outline.
+#pragma once
+#include <vector>
+
+#include "plausible_state.h"
+
+namespace cm::plausible {
+
+/// The lofted prior at a voxel.
+struct LoftValue {
+    float field = 0;  ///< cells outside the lofted section (<= 0 inside)
+    float square = 0; ///< how square the section is, in [0, 1] (1: the hull decides)
+};
+
+/// @brief The lofted field of every voxel of `vox` (cells, <= 0 inside the lofted sections;
+/// about the distance to the section's outline in cells). `round_exponent` is the exponent of
+/// a rounded section (2: an ellipse).
+std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
+
+} // namespace cm::plausible

@@ -1,0 +1,204 @@
+// hull.plausible's lofted prior (loft: 1) on shapes drawn in code whose answer is known:
+// round shapes come back close to themselves, hard surfaces keep their flat faces, and every
+// line of sight keeps its voxel.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <set>
+
+#include "geometry/mesh_check.h"
+#include "hull_steps.h"
+#include "marching_cubes.h"
+#include "plausible.h"
+#include "support/shapes.h"
+#include "support/test_support.h"
+
+using namespace cm;
+using namespace cm::test;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A shape known in closed form: its outline seen along each named view (signed, positive
+// inside, in world units near the outline), its distance function (the same sign) and box.
+struct Known {
+    std::function<Outline(const Camera&)> outline;
+    std::function<double(const Vec3d&)> sdf;
+    Vec3d lo, hi;
+};
+
+std::shared_ptr<const Volume> lofted(const Known& k, int resolution, double share,
+                                     std::shared_ptr<const Volume>* hull_out = nullptr) {
+    std::vector<View> vs;
+    for (const char* n : {"front", "right", "top"})
+        vs.push_back(ortho_view(n, 320, 120.0, k.outline(*Camera::named(n))));
+    auto views = make_views(std::move(vs), k.lo, k.hi);
+    auto hull = carve_and_refine(views, resolution);
+    PlausibleOptions opt;
+    opt.loft = share;
+    auto out = make_plausible(*hull, nullptr, opt).value;
+    if (hull_out) *hull_out = hull;
+    return out;
+}
+
+double diagonal(const Known& k) { return length(k.hi - k.lo); }
+
+// Mean distance of the mesh's vertices to the known surface, in % of its box's diagonal
+// (a signed distance's value near the surface, divided by its gradient's length).
+double surface_error_pct(const Mesh& m, const Known& k) {
+    double s = 0;
+    const double h = 1e-4 * diagonal(k);
+    for (const auto& p : m.positions) {
+        const Vec3d q(p);
+        Vec3d g;
+        for (int a = 0; a < 3; ++a) {
+            Vec3d e(0, 0, 0);
+            e[a] = h;
+            g[a] = (k.sdf(q + e) - k.sdf(q - e)) / (2 * h);
+        }
+        s += std::abs(k.sdf(q)) / std::max(length(g), 1e-9);
+    }
+    return 100.0 * s / double(m.positions.size()) / diagonal(k);
+}
+
+// Share of the mesh's area (%) whose face normal is within `deg` of the known surface's
+// normal at the face's centre.
+double area_within_pct(const Mesh& m, const Known& k, double deg) {
+    double all = 0, good = 0;
+    const double h = 1e-4 * diagonal(k);
+    for (const auto& t : m.triangles) {
+        const Vec3d a(m.positions[t[0]]), b(m.positions[t[1]]), c(m.positions[t[2]]);
+        const Vec3d n = cross(b - a, c - a);
+        const double area = 0.5 * length(n);
+        if (area <= 0) continue;
+        const Vec3d q = (a + b + c) / 3.0;
+        Vec3d g;
+        for (int ax = 0; ax < 3; ++ax) {
+            Vec3d e(0, 0, 0);
+            e[ax] = h;
+            g[ax] = -(k.sdf(q + e) - k.sdf(q - e)); // outward
+        }
+        const double cosang = dot(n, g) / std::max(length(n) * length(g), 1e-30);
+        all += area;
+        good += area * (std::acos(std::clamp(cosang, -1.0, 1.0)) * 180.0 / kPi <= deg);
+    }
+    return 100.0 * good / std::max(all, 1e-30);
+}
+
+// Axis-aligned ellipsoid of semi-axes r: the outline along a view axis is the ellipse of the
+// other two semi-axes.
+Known ellipsoid(Vec3d r) {
+    auto f = [r](const Vec3d& q) {
+        const double s = std::sqrt(std::pow(q[0] / r[0], 2) + std::pow(q[1] / r[1], 2) + std::pow(q[2] / r[2], 2));
+        return (1.0 - s) * std::min({r[0], r[1], r[2]});
+    };
+    return {[f](const Camera&) { return Outline(f); }, f, -r, r};
+}
+
+// A standing (y axis) shape of revolution of radius rad(y) for y in [y0, y1]: the front and
+// right views show the profile, the top the widest disc.
+Known revolution(std::function<double(double)> rad, double y0, double y1, double rmax) {
+    auto sdf = [rad, y0, y1](const Vec3d& q) {
+        return std::min({rad(q[1]) - std::hypot(q[0], q[2]), q[1] - y0, y1 - q[1]});
+    };
+    auto out = [rad, y0, y1, rmax](const Camera& c) -> Outline {
+        if (std::abs(c.d[1]) > 0.5) return [rmax](const Vec3d& q) { return rmax - std::hypot(q[0], q[2]); };
+        return [rad, y0, y1](const Vec3d& q) {
+            return std::min({rad(q[1]) - std::abs(q[0]) - std::abs(q[2]), q[1] - y0, y1 - q[1]});
+        };
+    };
+    return {out, sdf, {-rmax, y0, -rmax}, {rmax, y1, rmax}};
+}
+
+Known box(Vec3d lo, Vec3d hi) {
+    auto sdf = [lo, hi](const Vec3d& q) {
+        double s = 1e300;
+        for (int a = 0; a < 3; ++a) s = std::min({s, q[a] - lo[a], hi[a] - q[a]});
+        return s;
+    };
+    return {[lo, hi](const Camera& c) { return box_outline(lo, hi, c.d); }, sdf, lo, hi};
+}
+
+// A wedge: the triangle x >= -1, y >= -1, x + y <= 0 (seen from the front) extruded along z.
+Known wedge() {
+    auto tri = [](const Vec3d& q) { return std::min({q[0] + 1.0, q[1] + 1.0, (0.0 - q[0] - q[1]) / std::sqrt(2.0)}); };
+    const Vec3d lo(-1, -1, -0.8), hi(1, 1, 0.8);
+    auto sdf = [tri, lo, hi](const Vec3d& q) { return std::min({tri(q), q[2] - lo[2], hi[2] - q[2]}); };
+    auto out = [tri, lo, hi](const Camera& c) -> Outline {
+        if (std::abs(c.d[2]) > 0.5) return tri;
+        return box_outline(lo, hi, c.d);
+    };
+    return {out, sdf, lo, hi};
+}
+
+} // namespace
+
+// Round shapes from front, right and top come back within 1 % of their diagonal (the
+// visual hull of the sphere is at about 2 %), and the drawn views stay exact: every grid
+// line along an axis that held a hull voxel still holds one.
+TEST(HullLoft, RoundShapesComeBackWithinOnePercent) {
+    const double ring = 0.25, big = 0.75;
+    const Known torus{[ring, big](const Camera& c) -> Outline {
+                          if (std::abs(c.d[1]) > 0.5)
+                              return
+                                  [ring, big](const Vec3d& q) { return ring - std::abs(std::hypot(q[0], q[2]) - big); };
+                          return [ring, big](const Vec3d& q) {
+                              return ring - std::hypot(std::max(0.0, std::abs(q[0]) + std::abs(q[2]) - big), q[1]);
+                          };
+                      },
+                      [ring, big](const Vec3d& q) { return ring - std::hypot(std::hypot(q[0], q[2]) - big, q[1]); },
+                      {-1, -ring, -1},
+                      {1, ring, 1}};
+    const std::vector<std::pair<const char*, Known>> shapes = {
+        {"sphere", ellipsoid({1, 1, 1})},
+        {"ellipsoid", ellipsoid({1.0, 0.6, 0.8})},
+        {"cone", revolution([](double y) { return 0.5 * (1.0 - y); }, -1.0, 1.0, 1.0)},
+        {"vase", revolution([](double y) { return 0.55 + 0.25 * std::sin(2.2 * y); }, -1.0, 1.0, 0.8)},
+        {"torus", torus},
+    };
+    for (const auto& [name, k] : shapes) {
+        std::shared_ptr<const Volume> hull;
+        auto out = lofted(k, 96, 1.0, &hull);
+        const Mesh mh = marching_cubes(*hull).value, ml = marching_cubes(*out).value;
+        const double eh = surface_error_pct(mh, k), el = surface_error_pct(ml, k);
+        std::cout << name << ": hull " << eh << " %, lofted " << el << " % of the diagonal\n";
+        EXPECT_LT(el, 1.0) << name;
+        EXPECT_LE(el, eh) << name;
+        EXPECT_TRUE(check_mesh(ml).closed_manifold()) << name;
+        for (int a = 0; a < 3; ++a) EXPECT_EQ(columns(*hull, a), columns(*out, a)) << name << ", axis " << a;
+    }
+}
+
+// A box, a standing cylinder and a wedge keep their flat faces: the views' straight walls
+// meet the view along them at its outline, so the lofted section is the hull's.
+TEST(HullLoft, HardSurfacesKeepFlatFaces) {
+    const std::vector<std::pair<const char*, Known>> shapes = {
+        {"box", box({-1.0, -0.6, -0.8}, {1.0, 0.6, 0.8})},
+        {"cylinder", revolution([](double) { return 0.7; }, -1.0, 1.0, 0.7)},
+        {"wedge", wedge()},
+    };
+    for (const auto& [name, k] : shapes) {
+        auto out = lofted(k, 96, 1.0);
+        const Mesh m = marching_cubes(*out).value;
+        const double flat = area_within_pct(m, k, 2.0);
+        std::cout << name << ": " << flat << " % of the area within 2 deg of the true normal\n";
+        EXPECT_GE(flat, 95.0) << name;
+        EXPECT_LT(surface_error_pct(m, k), 0.5) << name;
+    }
+}
+
+// Share 0 is the profile prior as it was, voxel for voxel.
+TEST(HullLoft, ShareZeroIsTheProfilePrior) {
+    const Known k = ellipsoid({1.0, 0.6, 0.8});
+    std::shared_ptr<const Volume> hull;
+    auto a = lofted(k, 48, 0.0, &hull);
+    auto b = make_plausible(*hull, nullptr, {}).value;
+    EXPECT_EQ(a->occupancy->activeVoxelCount(), b->occupancy->activeVoxelCount());
+    auto diff = a->occupancy->deepCopy();
+    diff->tree().topologyDifference(b->occupancy->tree());
+    EXPECT_EQ(diff->activeVoxelCount(), 0u);
+}
