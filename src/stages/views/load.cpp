@@ -190,6 +190,7 @@ void place_views(const Manifest& man, const LoadViewsOptions& opt, Views& views,
     ro.opposite = opt.opposite;
     ro.tolerance = opt.align_tolerance;
     ro.bend = opt.bend;
+    ro.stretch = opt.stretch;
     stats.reconciled = reconcile_views(views, ro, stats.warnings);
 }
 
@@ -234,6 +235,10 @@ void LoadViewsOptions::declare(ParamBinder& b) {
     b.add(bend, ParamSpec::Float("bend", 0.01, 0.0, 0.1, "ratio",
                                  "the largest bend of a view's outline to agree with the others, a ratio of the "
                                  "silhouette's longest side; a larger disagreement is left and reported"));
+    b.add(stretch, ParamSpec::Enum("stretch", "uniform", {"uniform", "axes"},
+                                   "how a reconciled view may scale: uniform keeps each drawing's proportions (one "
+                                   "scale, turned and bent); axes scales its two image axes apart, so that views "
+                                   "drawn off along one axis agree (the drawing's proportions change)"));
 }
 
 void LoadViewsStats::report(Metrics& m) const {

@@ -19,9 +19,10 @@ struct LoadViewsOptions {
     std::string reconcile;  ///< on | off: reconcile drawn views that disagree (reconcile.h)
     std::string opposite;   ///< union | intersect | primary: views seeing along one line of sight
     double bend;            ///< the largest bend, a ratio of the silhouette's longest side
+    std::string stretch;    ///< uniform | axes: how a reconciled view may scale
 
     LoadViewsOptions() { set_declared_defaults(*this); }
-    /// `keep`, `align_tolerance`, `reconcile`, `opposite` and `bend`.
+    /// `keep`, `align_tolerance`, `reconcile`, `opposite`, `bend` and `stretch`.
     void declare(ParamBinder& b);
 };
 

@@ -8,98 +8,12 @@
 #include <tbb/parallel_for.h>
 
 #include "align.h"
-#include "reconcile_grid.h"
+#include "reconcile_state.h"
 #include "silhouette_extent.h"
 
 namespace cm {
 
-namespace {
-
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-
-// Drawn pixel p to reconciled pixel q = c + t + K R(theta) (p - c): a turn about the
-// silhouette's centre c, a stretch of each image axis, and a shift that keeps the centre.
-struct Affine {
-    Vec2d c{0, 0}, t{0, 0};
-    double kx = 1, ky = 1, theta = 0;
-    Vec2d inv(const Vec2d& q) const {
-        const double dx = (q.x - c.x - t.x) / kx, dy = (q.y - c.y - t.y) / ky;
-        const double cs = std::cos(theta), sn = std::sin(theta);
-        return {c.x + cs * dx + sn * dy, c.y - sn * dx + cs * dy};
-    }
-    Vec2d fwd(const Vec2d& p) const {
-        const double dx = p.x - c.x, dy = p.y - c.y, cs = std::cos(theta), sn = std::sin(theta);
-        return {c.x + t.x + kx * (cs * dx - sn * dy), c.y + t.y + ky * (sn * dx + cs * dy)};
-    }
-};
-
-// Bilinear coverage at continuous pixel coordinates (pixel i spans [i, i + 1)).
-float sample(const Coverage& cov, double x, double y) {
-    const double fx = x - 0.5, fy = y - 0.5;
-    const int i = int(std::floor(fx)), j = int(std::floor(fy));
-    const float ax = float(fx - i), ay = float(fy - j);
-    return (1 - ay) * ((1 - ax) * cov.at(i, j) + ax * cov.at(i + 1, j)) +
-           ay * ((1 - ax) * cov.at(i, j + 1) + ax * cov.at(i + 1, j + 1));
-}
-
-const char* axis_word(int k) { return k == 0 ? "width" : k == 1 ? "height" : "depth"; }
-
-// One axis view taking part.
-struct Member {
-    std::size_t index = 0;
-    int ar = -1, au = -1; // world axes of image x and y
-    bool primary = false;
-    std::vector<Vec2d> boundary; // centres of the silhouette's boundary pixels
-    Vec2d pad{0, 0};             // extent beyond the boundary centres, per side
-    Affine T;
-    Vec2d offset{0, 0}; // where the reconciled canvas grew to the left and top
-    Vec2d fine{0, 0};   // a follower's shift beyond centring, from its overlap with the anchor
-    Vec2d mid{0, 0};    // the turned extent's centre, relative to T.c
-    double w = 0, h = 0;
-    Camera cam;
-    bool applied = false; // T is in the silhouette now
-};
-
-class Reconciler {
-public:
-    Reconciler(Views& views, const ReconcileOptions& opt, std::vector<std::string>& warnings)
-        : views_(views), opt_(opt), warnings_(warnings) {}
-
-    std::vector<ViewReconciliation> run();
-
-private:
-    void setup();
-    void fit();
-    void place_followers();
-    AxisMask mask_of(const Member& m, const ReconcileGrid& g) const;
-    ReconcileGrid grid(int cells) const;
-    // Masks of every member (the drawing through T until it is applied), then the merged
-    // mask of every line of sight.
-    std::vector<AxisMask> member_masks(const ReconcileGrid& g) const;
-    /// `mode` "": the options' (what is carved); the search and the bend take the union, so
-    /// that what one opposite view alone draws is neither turned nor bent away.
-    std::vector<AxisMask> group_masks(const std::vector<AxisMask>& m, const std::string& mode = "") const;
-    std::vector<double> missing_shares(int cells) const;
-    double score() const;
-    void search_turns();
-    bool moved(const Member& m) const;
-    void resample(Member& m);
-    void merge_opposites();
-    void bend();
-    void warn_moved(const Member& m, const ViewReconciliation& r);
-
-    Views& views_;
-    const ReconcileOptions& opt_;
-    std::vector<std::string>& warnings_;
-    std::vector<Member> members_;
-    std::vector<std::vector<std::size_t>> groups_; // members by line of sight; the primary (or first) first
-    std::vector<std::size_t> group_of_;
-    std::vector<std::size_t> anchor_; // per member: the first of its line of sight (itself if so)
-    std::array<double, 3> size_{0, 0, 0};
-    std::vector<double> warp_px_;
-    int search_cells_ = 128, fine_cells_ = 192;
-};
-
+namespace reconcile_detail {
 void Reconciler::setup() {
     for (std::size_t i = 0; i < views_.views.size(); ++i) {
         const View& v = views_.views[i];
@@ -188,6 +102,8 @@ void Reconciler::fit() {
         else if (anchor_[k] == k) {
             m.T.kx = s[k] * size_[std::size_t(m.ar)] / m.w;
             m.T.ky = s[k] * size_[std::size_t(m.au)] / m.h;
+            // uniform: the drawing keeps its proportions (one scale, as the alignment's).
+            if (opt_.stretch == "uniform") m.T.kx = m.T.ky = std::sqrt(m.T.kx * m.T.ky);
         } else {
             // The anchor's drawn pixels per unit along each axis, as this view's.
             const Member& a = members_[anchor_[k]];
@@ -320,7 +236,7 @@ double Reconciler::score() const {
         for (std::size_t i = 0; i < own.in.size(); ++i) in += own.in[i], out += miss[i];
         s += in > 0 ? out / in : 0.0;
     }
-    return s + 0.25 * (1.0 - hull_share(g, all));
+    return s + 0.05 * (1.0 - hull_share(g, all));
 }
 
 // Each free view's turn in turn, the others held: coarse steps over the range, then fine
@@ -420,143 +336,6 @@ void Reconciler::merge_opposites() {
     }
 }
 
-// What the views still disagree on, once reconciled: a drawing's line of sight the others
-// cut away entirely. Where the others' silhouettes come within the tolerance of letting it
-// through, they are bent (grown) there; beyond it the bend is refused and the user told.
-void Reconciler::bend() {
-    const ReconcileGrid g = grid(fine_cells_);
-    const std::vector<AxisMask> m = member_masks(g), gm = group_masks(m, "union");
-    std::vector<const AxisMask*> all;
-    for (const auto& x : gm) all.push_back(&x);
-    std::vector<std::vector<float>> dist;
-    std::vector<double> px, tol; // pixels per cell and the tolerance in pixels, per line of sight
-    for (std::size_t q = 0; q < groups_.size(); ++q) {
-        dist.push_back(distance_to_mask(g, gm[q]));
-        double scale = 1e300, longest = 0;
-        for (std::size_t k : groups_[q]) {
-            const View& v = views_.views[members_[k].index];
-            const Coverage::Box& b = v.coverage.inside_box();
-            scale = std::min(scale, v.camera.scale);
-            longest = std::max({longest, double(b.x1 - b.x0 + 1), double(b.y1 - b.y0 + 1)});
-        }
-        px.push_back(std::min(g.h[std::size_t(gm[q].a)], g.h[std::size_t(gm[q].b)]) * scale);
-        tol.push_back(opt_.bend * longest);
-    }
-    std::vector<AxisMask> add = gm;
-    for (auto& a : add) std::fill(a.in.begin(), a.in.end(), 0);
-    auto cell_of = [&](const AxisMask& q, const std::array<int, 3>& idx) {
-        return std::size_t(idx[std::size_t(q.a)]) +
-               std::size_t(g.n[std::size_t(q.a)]) * std::size_t(idx[std::size_t(q.b)]);
-    };
-    for (std::size_t k = 0; k < members_.size(); ++k) {
-        const std::size_t own = group_of_[k];
-        const AxisMask& mk = m[k];
-        const auto miss = missing_cells(g, mk, all);
-        const int c = 3 - mk.a - mk.b, na = g.n[std::size_t(mk.a)];
-        std::vector<std::size_t> refused(groups_.size(), 0);
-        std::vector<double> refused_px(groups_.size(), 0.0);
-        double inside = 0;
-        for (std::size_t cell = 0; cell < miss.size(); ++cell) {
-            inside += mk.in[cell];
-            if (!miss[cell] || !gm[own].in[cell]) continue; // intersect leaves that out on purpose
-            std::array<int, 3> idx{0, 0, 0};
-            idx[std::size_t(mk.a)] = int(cell % std::size_t(na)), idx[std::size_t(mk.b)] = int(cell / std::size_t(na));
-            double best = 1e300;
-            int best_k = 0;
-            for (int z = 0; z < g.n[std::size_t(c)]; ++z) {
-                idx[std::size_t(c)] = z;
-                double cost = 0;
-                for (std::size_t q = 0; q < groups_.size(); ++q)
-                    if (q != own) cost = std::max(cost, dist[q][cell_of(gm[q], idx)] * px[q] / tol[q]);
-                if (cost < best) best = cost, best_k = z;
-            }
-            idx[std::size_t(c)] = best_k;
-            for (std::size_t q = 0; q < groups_.size(); ++q) {
-                if (q == own) continue;
-                const double d = dist[q][cell_of(gm[q], idx)] * px[q];
-                if (best <= 1.0) {
-                    if (d > 0) add[q].in[cell_of(gm[q], idx)] = 1;
-                    for (std::size_t j : groups_[q]) warp_px_[j] = std::max(warp_px_[j], d);
-                } else if (d > tol[q]) {
-                    ++refused[q];
-                    refused_px[q] = std::max(refused_px[q], d);
-                }
-            }
-        }
-        for (std::size_t q = 0; q < groups_.size(); ++q) {
-            if (!(refused[q] > 0.001 * inside)) continue;
-            std::ostringstream os;
-            os << std::fixed << std::setprecision(1) << "view \""
-               << views_.views[members_[groups_[q].front()].index].name << "\" would have to bend " << refused_px[q]
-               << " px (tolerance " << tol[q] << " px) to agree with \"" << views_.views[members_[k].index].name
-               << "\"; not bent there: " << 100.0 * refused[q] / inside << " % of \""
-               << views_.views[members_[k].index].name << "\" stays cut";
-            warnings_.push_back(os.str());
-        }
-    }
-    // The bends: each added cell covered in every view of its line of sight.
-    for (std::size_t q = 0; q < groups_.size(); ++q)
-        for (std::size_t k : groups_[q]) {
-            View& v = views_.views[members_[k].index];
-            std::vector<float> cov;
-            const int a = add[q].a, b = add[q].b, na = g.n[std::size_t(a)];
-            for (std::size_t cell = 0; cell < add[q].in.size(); ++cell) {
-                if (!add[q].in[cell]) continue;
-                if (cov.empty()) cov = v.coverage.full();
-                double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-                for (int corner = 0; corner < 4; ++corner) {
-                    Vec3d p{0, 0.5 * size_[1], 0};
-                    p[a] = g.lo[a] + (double(cell % std::size_t(na)) + (corner & 1)) * g.h[std::size_t(a)];
-                    p[b] = g.lo[b] + (double(cell / std::size_t(na)) + (corner >> 1)) * g.h[std::size_t(b)];
-                    const Vec2d s = v.camera.project(p);
-                    x0 = std::min(x0, s.x), y0 = std::min(y0, s.y), x1 = std::max(x1, s.x), y1 = std::max(y1, s.y);
-                }
-                for (int y = std::max(0, int(std::floor(y0))); y < std::min(v.height, int(std::ceil(y1))); ++y)
-                    for (int x = std::max(0, int(std::floor(x0))); x < std::min(v.width, int(std::ceil(x1))); ++x)
-                        cov[std::size_t(y) * v.width + x] = 1.0f;
-            }
-            if (!cov.empty()) v.coverage = Coverage(cov, v.width, v.height);
-        }
-}
-
-// One line per view moved beyond the tolerance: stretched one axis against the other
-// (against the primary's scale; a view drawn larger all over is not news) or turned.
-void Reconciler::warn_moved(const Member& m, const ViewReconciliation& r) {
-    const bool uneven = std::abs(r.scale_x / r.scale_y - 1) > opt_.tolerance;
-    const bool turned = std::abs(std::sin(m.T.theta)) > opt_.tolerance;
-    if (!uneven && !turned) return;
-    std::vector<std::string> parts;
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(1);
-    if (uneven)
-        for (const auto& [k, axis] : {std::pair{r.scale_x, m.ar}, std::pair{r.scale_y, m.au}})
-            if (std::abs(k - 1) > 0.5 * opt_.tolerance) {
-                std::ostringstream p;
-                p << std::fixed << std::setprecision(1) << (k > 1 ? "stretched " : "shrunk ") << 100.0 * std::abs(k - 1)
-                  << " % in " << axis_word(axis);
-                parts.push_back(p.str());
-            }
-    if (turned) {
-        std::ostringstream p;
-        p << std::fixed << std::setprecision(1) << "turned " << std::abs(m.T.theta) / kDeg << " deg";
-        parts.push_back(p.str());
-    }
-    if (parts.empty()) return;
-    std::vector<std::string> with;
-    for (const Member& o : members_)
-        if (&o != &m && (o.ar == m.ar || o.ar == m.au || o.au == m.ar || o.au == m.au)) {
-            const std::string n = "\"" + views_.views[o.index].name + "\"";
-            if (o.primary) with.insert(with.begin(), n);
-            else with.push_back(n);
-        }
-    os << "view \"" << views_.views[m.index].name << "\" ";
-    for (std::size_t i = 0; i < parts.size(); ++i) os << (i ? " and " : "") << parts[i];
-    os << " to agree with ";
-    for (std::size_t i = 0; i < with.size(); ++i) os << (i ? " and " : "") << with[i];
-    os << "; " << r.missing_pct << " % of it not modelled";
-    warnings_.push_back(os.str());
-}
-
 std::vector<ViewReconciliation> Reconciler::run() {
     std::vector<ViewReconciliation> out(views_.views.size());
     for (std::size_t i = 0; i < out.size(); ++i) out[i].name = views_.views[i].name;
@@ -602,11 +381,11 @@ std::vector<ViewReconciliation> Reconciler::run() {
     return out;
 }
 
-} // namespace
+} // namespace reconcile_detail
 
 std::vector<ViewReconciliation> reconcile_views(Views& views, const ReconcileOptions& opt,
                                                 std::vector<std::string>& warnings) {
-    return Reconciler(views, opt, warnings).run();
+    return reconcile_detail::Reconciler(views, opt, warnings).run();
 }
 
 } // namespace cm

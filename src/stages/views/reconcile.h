@@ -12,11 +12,12 @@
 namespace cm {
 
 struct ReconcileOptions {
-    std::size_t primary = 0;        ///< the view that stays as drawn
-    std::string opposite = "union"; ///< union | intersect | primary: views seeing along one line of sight
-    double tolerance = 0.02;        ///< a view moved by more than this ratio is reported in a warning
-    double max_turn_deg = 4.0;      ///< the largest turn searched
-    double bend = 0.01;             ///< the largest bend, as a ratio of the silhouette's longest side
+    std::size_t primary = 0;         ///< the view that stays as drawn
+    std::string opposite = "union";  ///< union | intersect | primary: views seeing along one line of sight
+    double tolerance = 0.02;         ///< a view moved by more than this ratio is reported in a warning
+    double max_turn_deg = 4.0;       ///< the largest turn searched
+    double bend = 0.01;              ///< the largest bend, as a ratio of the silhouette's longest side
+    std::string stretch = "uniform"; ///< uniform (one scale per view) | axes (each image axis its own)
 };
 
 /// What reconciliation did to one view, in the drawing's pixels.

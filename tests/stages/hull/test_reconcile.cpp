@@ -38,8 +38,9 @@ std::function<bool(double, double)> rect(double cx, double cy, double w, double 
 
 std::shared_ptr<const Views> load(const std::filesystem::path& manifest, const std::string& reconcile,
                                   const std::string& opposite, std::vector<std::string>* warnings = nullptr,
-                                  LoadViewsStats* stats = nullptr) {
+                                  LoadViewsStats* stats = nullptr, const std::string& stretch = "uniform") {
     LoadViewsOptions opt;
+    opt.stretch = stretch;
     opt.reconcile = reconcile;
     opt.opposite = opposite;
     auto r = load_views(manifest, opt);
@@ -70,7 +71,7 @@ std::size_t cells_above(const std::shared_ptr<const Views>& views, double y) {
 
 // A box 200 wide, 300 high, 150 deep: the front and the top as drawn, the right drawn 8 %
 // taller and turned by 2 degrees. One scale per view cuts the box where the views disagree;
-// reconciled, the hull is the whole box.
+// reconciled with stretch: axes, the hull is the whole box.
 TEST(Reconcile, BoxDrawnApartInScaleAndRollIsWhole) {
     test::TempDir dir("rc_box");
     draw(dir / "front.png", 400, 460, rect(200, 230, 200, 300));
@@ -78,7 +79,7 @@ TEST(Reconcile, BoxDrawnApartInScaleAndRollIsWhole) {
     draw(dir / "top.png", 400, 400, rect(200, 200, 200, 150));
     test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
     std::vector<std::string> warnings;
-    const auto on = load(dir / "views.yaml", "on", "union", &warnings);
+    const auto on = load(dir / "views.yaml", "on", "union", &warnings, nullptr, "axes");
     // The front's width and height as drawn; the depth, drawn by the right and the top
     // alone, between theirs.
     EXPECT_NEAR(on->bounds_max.y - on->bounds_min.y, 300.0, 1.5);
