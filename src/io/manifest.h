@@ -30,6 +30,7 @@ struct ManifestView {
     std::filesystem::path mask;       ///< a mask image used instead of segmentation (resolved); empty: none
     std::string shadow = "auto";      ///< auto (a ground shadow is background) | keep
     std::string photo = "auto";       ///< auto (calibrated views are photographs) | on | off
+    bool primary = false;             ///< the view reconciliation leaves as drawn (one at most)
 };
 
 // Turnaround sheets.

@@ -50,7 +50,7 @@ struct CameraKeys {
     int matrix_sources = 0;
 };
 
-// The keys for drawings as they are handed over (close_gaps, mask, shadow, photo); false when
+// The keys for drawings as they are handed over (close_gaps, mask, shadow, photo, primary); false when
 // `k` is none of them.
 bool read_real_drawing_key(const fs::path& file, const fs::path& base, const std::string& k, const YAML::Node& val,
                            ManifestView& v) {
@@ -83,6 +83,11 @@ bool read_real_drawing_key(const fs::path& file, const fs::path& base, const std
         v.photo = scalar(file, val, v.key, k);
         if (v.photo != "auto" && v.photo != "on" && v.photo != "off")
             throw Error(where + "photo must be auto, on or off, got \"" + v.photo + "\"");
+    } else if (k == "primary") {
+        const std::string text = scalar(file, val, v.key, k);
+        if (text != "true" && text != "false")
+            throw Error(where + "primary must be true or false, got \"" + text + "\"");
+        v.primary = text == "true";
     } else {
         return false;
     }
@@ -139,7 +144,7 @@ void read_view_key(const fs::path& file, const fs::path& base, const YAML::Node&
     else
         throw Error(at(file, key) + ": view \"" + v.key + "\": unknown key \"" + k +
                     "\" (known: image, view, azimuth, elevation, scale, origin, matrix, matrix_file, K, R, t, "
-                    "background, threshold, keep, holes, close_gaps, mask, shadow, photo)");
+                    "background, threshold, keep, holes, close_gaps, mask, shadow, photo, primary)");
 }
 
 // A view given as a mapping (node n): its keys, then the camera they give, given once and

@@ -73,6 +73,7 @@ void real_drawing_fields(const ManifestView& v, const fs::path& folder, std::vec
     if (!v.mask.empty()) f.push_back("mask: " + image_text(v.mask, folder));
     if (v.shadow != "auto") f.push_back("shadow: " + scalar_text(v.shadow));
     if (v.photo != "auto") f.push_back("photo: " + scalar_text(v.photo));
+    if (v.primary) f.push_back("primary: true");
 }
 
 std::vector<std::string> view_fields(const ManifestView& v, const fs::path& folder) {

@@ -15,14 +15,13 @@
 
 namespace cm {
 
-namespace {
-
-// Which world axis (0=X,1=Y,2=Z) a unit vector lies along, or -1.
 int axis_of(const Vec3d& a) {
     for (int k = 0; k < 3; ++k)
         if (std::abs(std::abs(a[k]) - 1.0) < 1e-9) return k;
     return -1;
 }
+
+namespace {
 
 const char* axis_name(int k) { return k == 0 ? "width (X)" : k == 1 ? "height (Y)" : "depth (Z)"; }
 

@@ -20,6 +20,9 @@ struct AlignOptions {
     std::optional<std::array<double, 6>> bounds;
 };
 
+/// Which world axis (0 = X, 1 = Y, 2 = Z) a unit vector lies along, or -1.
+int axis_of(const Vec3d& a);
+
 /// @brief Sets scale and image origin of every orthographic camera that is not fixed, and
 /// fills views.bounds. Appends warnings for views that disagree on a shared axis.
 ///

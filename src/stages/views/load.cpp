@@ -172,7 +172,30 @@ void place_views(const Manifest& man, const LoadViewsOptions& opt, Views& views,
     ao.tolerance = opt.align_tolerance;
     for (const auto& mv : man.views) ao.fixed.push_back(mv.scale.has_value());
     ao.bounds = man.bounds;
-    align_views(views, ao, stats.warnings);
+    const bool fixed = std::find(ao.fixed.begin(), ao.fixed.end(), true) != ao.fixed.end();
+    if (opt.reconcile == "off" || fixed) {
+        // Fixed cameras are the user's word on where each view stands: nothing moves them.
+        align_views(views, ao, stats.warnings);
+        return;
+    }
+    // Reconciled views are told what moved instead of how far their axes were apart.
+    std::vector<std::string> disagreements;
+    align_views(views, ao, disagreements);
+    ReconcileOptions ro;
+    std::string primary;
+    for (std::size_t i = 0; i < man.views.size(); ++i) {
+        if (!man.views[i].primary) continue;
+        if (!primary.empty())
+            throw Error(man.file.string() + ": views \"" + primary + "\" and \"" + man.views[i].key +
+                        "\" are both marked primary: one view at most stays as drawn");
+        primary = man.views[i].key;
+        ro.primary = i;
+    }
+    ro.opposite = opt.opposite;
+    ro.tolerance = opt.align_tolerance;
+    ro.bend = opt.bend;
+    ro.stretch = opt.stretch;
+    stats.reconciled = reconcile_views(views, ro, stats.warnings);
 }
 
 // A silhouette's area: its coverage summed in fixed blocks of pixels (the same figure on
@@ -206,12 +229,35 @@ void LoadViewsOptions::declare(ParamBinder& b) {
     b.add(align_tolerance, ParamSpec::Float("align_tolerance", 0.02, 0.0, 1.0, "ratio",
                                             "relative disagreement between views on a shared axis that raises a "
                                             "warning"));
+    b.add(reconcile, ParamSpec::Enum("reconcile", "on", {"on", "off"},
+                                     "reconcile drawn views that disagree: each view but the primary may scale its "
+                                     "image axes apart, turn and bend slightly so that what the views share agrees "
+                                     "(off: one scale and placement per view)"));
+    b.add(opposite, ParamSpec::Enum("opposite", "union", {"union", "intersect", "primary"},
+                                    "views along one line of sight (front and back, ...): keep what either draws "
+                                    "(union), what both draw (intersect) or what the primary draws"));
+    b.add(bend, ParamSpec::Float("bend", 0.01, 0.0, 0.1, "ratio",
+                                 "the largest bend of a view's outline to agree with the others, a ratio of the "
+                                 "silhouette's longest side; a larger disagreement is left and reported"));
+    b.add(stretch, ParamSpec::Enum("stretch", "uniform", {"uniform", "axes"},
+                                   "how a reconciled view may scale: uniform keeps each drawing's proportions (one "
+                                   "scale, turned and bent); axes scales its two image axes apart, so that views "
+                                   "drawn off along one axis agree (the drawing's proportions change)"));
 }
 
 void LoadViewsStats::report(Metrics& m) const {
     for (const auto& w : warnings) m.warn(w);
     m.count("views", names.size());
     for (std::size_t i = 0; i < names.size(); ++i) m.metric("silhouette_area_px." + names[i], silhouette_area_px[i]);
+    for (const auto& r : reconciled) {
+        if (!r.reconciled) continue;
+        const std::string k = "reconcile." + r.name + ".";
+        m.metric(k + "scale_x", r.scale_x);
+        m.metric(k + "scale_y", r.scale_y);
+        m.metric(k + "turn_deg", r.turn_deg);
+        m.metric(k + "warp_px", r.warp_px);
+        m.metric(k + "missing_pct", r.missing_pct);
+    }
     if (bounds_size) {
         const Vec3d& e = *bounds_size;
         m.metric_json("bounds_size",

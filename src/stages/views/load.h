@@ -8,6 +8,7 @@
 
 #include "core/algorithm.h"
 #include "core/views.h"
+#include "reconcile.h"
 
 namespace cm {
 
@@ -15,20 +16,26 @@ namespace cm {
 struct LoadViewsOptions {
     std::string keep;       ///< default for views whose manifest entry says keep: auto
     double align_tolerance; ///< relative disagreement on a shared axis that raises a warning
+    std::string reconcile;  ///< on | off: reconcile drawn views that disagree (reconcile.h)
+    std::string opposite;   ///< union | intersect | primary: views seeing along one line of sight
+    double bend;            ///< the largest bend, a ratio of the silhouette's longest side
+    std::string stretch;    ///< uniform | axes: how a reconciled view may scale
 
     LoadViewsOptions() { set_declared_defaults(*this); }
-    /// `keep` and `align_tolerance`.
+    /// `keep`, `align_tolerance`, `reconcile`, `opposite`, `bend` and `stretch`.
     void declare(ParamBinder& b);
 };
 
 struct LoadViewsStats {
-    std::vector<std::string> warnings;      ///< views disagreeing on an axis
-    std::vector<std::string> notes;         ///< dropped marks, filled regions (the stage's info lines)
-    std::vector<std::string> names;         ///< the views, in the manifest's order
-    std::vector<double> silhouette_area_px; ///< per view: its coverage summed, in pixels
-    std::optional<Vec3d> bounds_size;       ///< the size of the views' box, when they have one
+    std::vector<std::string> warnings;          ///< views disagreeing on an axis
+    std::vector<std::string> notes;             ///< dropped marks, filled regions (the stage's info lines)
+    std::vector<std::string> names;             ///< the views, in the manifest's order
+    std::vector<double> silhouette_area_px;     ///< per view: its coverage summed, in pixels
+    std::optional<Vec3d> bounds_size;           ///< the size of the views' box, when they have one
+    std::vector<ViewReconciliation> reconciled; ///< per view, when reconciliation ran
     /// The warnings, then `views` (their number), `silhouette_area_px.<view>` and, with a
-    /// box, `bounds_size`; not the notes.
+    /// box, `bounds_size`; after reconciliation `reconcile.<view>.{scale_x, scale_y,
+    /// turn_deg, warp_px, missing_pct}`; not the notes.
     void report(Metrics& m) const;
 };
 

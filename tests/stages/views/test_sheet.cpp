@@ -111,7 +111,10 @@ TEST(Sheet, FourPanelsWithLabelsAtDifferentScales) {
     test::write_text(dir / "views.yaml", "sheet: {image: sheet.png, views: [front, right, back, top]}\n");
     const Manifest man = read_manifest(dir / "views.yaml");
     const SheetViews sv = split_sheets(man);
-    const auto [views, report] = load_views(dir / "views.yaml", {});
+    // The silhouettes as extracted from the panels: reconciliation would resample them.
+    LoadViewsOptions as_drawn;
+    as_drawn.reconcile = "off";
+    const auto [views, report] = load_views(dir / "views.yaml", as_drawn);
     ASSERT_EQ(views.views.size(), 4u);
     const char* names[] = {"front", "right", "back", "top"};
     for (int k = 0; k < 4; ++k) {
@@ -149,7 +152,10 @@ TEST(Sheet, TwoRowsAreReadLeftToRightThenTopToBottom) {
     test::write_text(dir / "views.yaml",
                      "sheet:\n  image: sheet.png\n  views: [front, right, top, {name: rear, view: back}]\n");
     const SheetViews sv = split_sheets(read_manifest(dir / "views.yaml"));
-    const Views views = load_views(dir / "views.yaml", {}).value;
+    // The silhouettes as extracted from the panels: reconciliation would resample them.
+    LoadViewsOptions as_drawn;
+    as_drawn.reconcile = "off";
+    const Views views = load_views(dir / "views.yaml", as_drawn).value;
     ASSERT_EQ(views.views.size(), 4u);
     EXPECT_EQ(views.views[3].name, "rear");
     for (int k = 0; k < 4; ++k) {

@@ -1,0 +1,192 @@
+// Drawings that disagree, from the manifest to the carved hull: views.load reconciles them
+// (stages/views/reconcile.h) and hull.carve carves what every drawing shows.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "align.h"
+#include "carve.h"
+#include "io/image_io.h"
+#include "load.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A drawing: black where `ink(x, y)` (pixel centres) on white, as an 8-bit PNG.
+void draw(const std::filesystem::path& file, int w, int h, const std::function<bool(double, double)>& ink) {
+    Image img{w, h, 3, std::vector<float>(std::size_t(w) * h * 3, 1.0f), {}};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (ink(x + 0.5, y + 0.5))
+                for (int k = 0; k < 3; ++k) img.pixels[(std::size_t(y) * w + x) * 3 + k] = 0.0f;
+    write_image(img, file);
+}
+
+// A rectangle of w x h px centred at (cx, cy), turned by `deg` degrees.
+std::function<bool(double, double)> rect(double cx, double cy, double w, double h, double deg = 0) {
+    const double c = std::cos(deg * kPi / 180), s = std::sin(deg * kPi / 180);
+    return [=](double x, double y) {
+        const double dx = x - cx, dy = y - cy, u = c * dx + s * dy, v = -s * dx + c * dy;
+        return std::abs(u) <= w / 2 && std::abs(v) <= h / 2;
+    };
+}
+
+std::shared_ptr<const Views> load(const std::filesystem::path& manifest, const std::string& reconcile,
+                                  const std::string& opposite, std::vector<std::string>* warnings = nullptr,
+                                  LoadViewsStats* stats = nullptr, const std::string& stretch = "uniform") {
+    LoadViewsOptions opt;
+    opt.stretch = stretch;
+    opt.reconcile = reconcile;
+    opt.opposite = opposite;
+    auto r = load_views(manifest, opt);
+    if (warnings) *warnings = r.stats.warnings;
+    if (stats) *stats = r.stats;
+    return std::make_shared<const Views>(std::move(r.value));
+}
+
+// The carved hull's volume, in world units.
+double hull_volume(const std::shared_ptr<const Views>& views, int resolution = 96) {
+    CarveOptions opt;
+    opt.resolution = resolution;
+    const auto vol = carve(views, opt).value;
+    return double(vol->occupancy->activeVoxelCount()) * std::pow(vol->voxel_size(), 3);
+}
+
+// The hull's cells above height y (world), counted.
+std::size_t cells_above(const std::shared_ptr<const Views>& views, double y) {
+    CarveOptions opt;
+    opt.resolution = 96;
+    const auto vol = carve(views, opt).value;
+    std::size_t n = 0;
+    for (auto it = vol->occupancy->cbeginValueOn(); it; ++it) n += vol->transform().indexToWorld(it.getCoord()).y() > y;
+    return n;
+}
+
+} // namespace
+
+// A box 200 wide, 300 high, 150 deep: the front and the top as drawn, the right drawn 8 %
+// taller and turned by 2 degrees. One scale per view cuts the box where the views disagree;
+// reconciled with stretch: axes, the hull is the whole box.
+TEST(Reconcile, BoxDrawnApartInScaleAndRollIsWhole) {
+    test::TempDir dir("rc_box");
+    draw(dir / "front.png", 400, 460, rect(200, 230, 200, 300));
+    draw(dir / "right.png", 400, 460, rect(190, 240, 150, 300 * 1.08, 2.0));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 200, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    std::vector<std::string> warnings;
+    const auto on = load(dir / "views.yaml", "on", "union", &warnings, nullptr, "axes");
+    // The front's width and height as drawn; the depth, drawn by the right and the top
+    // alone, between theirs.
+    EXPECT_NEAR(on->bounds_max.y - on->bounds_min.y, 300.0, 1.5);
+    EXPECT_NEAR(on->bounds_max.x - on->bounds_min.x, 200.0, 1.5);
+    const double depth = on->bounds_max.z - on->bounds_min.z;
+    EXPECT_GT(depth, 138.0);
+    EXPECT_LT(depth, 151.0);
+    EXPECT_GT(hull_volume(on), 0.975 * 200.0 * 300.0 * depth);
+    // Told what moved: the right view, its height, its turn.
+    bool told = false;
+    for (const auto& w : warnings)
+        told = told || (w.rfind("view \"right\" ", 0) == 0 && w.find("% in height") != std::string::npos &&
+                        w.find("turned 2.0 deg to agree with \"front\"") != std::string::npos);
+    EXPECT_TRUE(told) << (warnings.empty() ? "no warning" : warnings.front());
+    // One scale per view: faces are cut.
+    const auto off = load(dir / "views.yaml", "off", "union");
+    const Vec3d e = off->bounds_max - off->bounds_min;
+    EXPECT_LT(hull_volume(off), 0.96 * e.x * e.y * e.z);
+}
+
+// Front and back see along the same lines: a spike only the front draws stays in the model
+// with opposite: union and is carved away with intersect.
+TEST(Reconcile, SpikeOnlyTheFrontDrawsFollowsTheOppositeMode) {
+    test::TempDir dir("rc_spike");
+    const auto body = rect(200, 260, 200, 200);
+    draw(dir / "front.png", 400, 400, [&](double x, double y) {
+        // A spike 80 high above the body's top (y = 160), left of centre.
+        return body(x, y) || (y > 80 && y <= 160 && std::abs(x - 150) <= 0.2 * (y - 80));
+    });
+    draw(dir / "back.png", 400, 400, body);
+    draw(dir / "right.png", 400, 400, [&](double x, double y) { return rect(200, 220, 160, 280)(x, y); });
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+    const auto uni = load(dir / "views.yaml", "on", "union");
+    const auto inter = load(dir / "views.yaml", "on", "intersect");
+    // The body's top in world units: 200 high above the bottom of the box (the spike's tip).
+    const double top = uni->bounds_max.y - 80.0;
+    EXPECT_GT(cells_above(uni, top + 10), 10u);
+    EXPECT_EQ(cells_above(inter, top + 10), 0u);
+}
+
+// The right view leaves a band of rows empty that the front fills: bridging 30 px is far
+// beyond the bend tolerance (1 % of 300 px), so it is refused and the view is named.
+TEST(Reconcile, BendBeyondTheToleranceIsRefusedWithAWarning) {
+    test::TempDir dir("rc_bend");
+    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
+    draw(dir / "right.png", 400, 400,
+         [](double x, double y) { return rect(200, 200, 150, 300)(x, y) && std::abs(y - 200) > 15; });
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    std::vector<std::string> warnings;
+    LoadViewsStats stats;
+    load(dir / "views.yaml", "on", "union", &warnings, &stats);
+    bool refused = false;
+    for (const auto& w : warnings)
+        refused = refused || (w.find("view \"right\" would have to bend") == 0 &&
+                              w.find("to agree with \"front\"") != std::string::npos);
+    EXPECT_TRUE(refused) << (warnings.empty() ? "no warning" : warnings.front());
+    ASSERT_EQ(stats.reconciled.size(), 2u);
+    EXPECT_GT(stats.reconciled[0].missing_pct, 5.0); // the band: 30 of 300 rows of the front
+    EXPECT_LT(stats.reconciled[0].missing_pct, 15.0);
+}
+
+// A gap within the tolerance is bent over: nothing of the front is missing, and no warning.
+TEST(Reconcile, BendWithinTheToleranceClosesTheGap) {
+    test::TempDir dir("rc_bend_small");
+    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
+    draw(dir / "right.png", 400, 400,
+         [](double x, double y) { return rect(200, 200, 150, 300)(x, y) && std::abs(y - 200) > 1; });
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    std::vector<std::string> warnings;
+    LoadViewsStats stats;
+    const auto v = load(dir / "views.yaml", "on", "union", &warnings, &stats);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    ASSERT_EQ(stats.reconciled.size(), 2u);
+    EXPECT_LT(stats.reconciled[0].missing_pct, 0.1);
+    EXPECT_GT(stats.reconciled[1].warp_px, 0.0);
+    EXPECT_NEAR(hull_volume(v), 200.0 * 300.0 * 150.0, 0.02 * 200.0 * 300.0 * 150.0);
+}
+
+// reconcile: off is the alignment alone: the silhouettes as extracted, the cameras and the
+// box as the alignment sets them, and its warnings, whatever the views disagree on.
+TEST(Reconcile, OffIsTheAlignmentAlone) {
+    test::TempDir dir("rc_off");
+    draw(dir / "front.png", 400, 460, rect(200, 230, 200, 300));
+    draw(dir / "right.png", 400, 460, rect(190, 240, 150, 300 * 1.12, 2.0));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 200, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    std::vector<std::string> warnings;
+    LoadViewsStats stats;
+    const auto off = load(dir / "views.yaml", "off", "union", &warnings, &stats);
+    EXPECT_TRUE(stats.reconciled.empty());
+    // The same silhouettes aligned afresh.
+    Views again = *off;
+    for (auto& v : again.views) v.camera = *Camera::named(v.name);
+    std::vector<std::string> again_warnings;
+    align_views(again, {}, again_warnings);
+    EXPECT_EQ(warnings, again_warnings);
+    ASSERT_FALSE(warnings.empty());
+    EXPECT_NE(warnings[0].find("disagree on the"), std::string::npos) << warnings[0];
+    for (std::size_t i = 0; i < off->views.size(); ++i) {
+        EXPECT_EQ(off->views[i].camera.scale, again.views[i].camera.scale);
+        EXPECT_EQ(off->views[i].camera.cx, again.views[i].camera.cx);
+        EXPECT_EQ(off->views[i].camera.cy, again.views[i].camera.cy);
+    }
+    EXPECT_EQ(off->bounds_max.z, again.bounds_max.z);
+    // Reconciled, the right view is resampled; off, it is as drawn (400 x 460).
+    const auto on = load(dir / "views.yaml", "on", "union");
+    EXPECT_EQ(off->views[1].width, 400);
+    EXPECT_EQ(off->views[1].height, 460);
+    EXPECT_NE(on->views[1].coverage.full(), off->views[1].coverage.full());
+}
