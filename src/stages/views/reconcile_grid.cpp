@@ -1,6 +1,7 @@
 #include "reconcile_grid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -46,31 +47,82 @@ AxisMask merge_masks(const std::vector<const AxisMask*>& masks, const std::strin
     return m;
 }
 
+namespace {
+
+// The hull's cells along lines of the grid parallel to one axis c, as 64-bit words: a mask
+// that contains c is kept as one bit row along c per cell of its other axis, so a line's
+// cells inside every mask are a few word ANDs, not a walk over every cell and mask.
+class HullLines {
+public:
+    HullLines(const ReconcileGrid& g, const std::vector<const AxisMask*>& groups, int c)
+        : g_(g), c_(c), words_((g.n[std::size_t(c)] + 63) / 64) {
+        const int nc = g.n[std::size_t(c)];
+        for (const AxisMask* m : groups) {
+            if (m->a != c && m->b != c) {
+                flat_.push_back(m);
+                continue;
+            }
+            Rows r;
+            r.other = m->a == c ? m->b : m->a;
+            const int no = g.n[std::size_t(r.other)];
+            r.bits.assign(std::size_t(no) * words_, 0);
+            for (int o = 0; o < no; ++o)
+                for (int k = 0; k < nc; ++k) {
+                    const std::size_t q =
+                        m->a == c ? std::size_t(k) + std::size_t(nc) * o : std::size_t(o) + std::size_t(no) * k;
+                    if (m->in[q]) r.bits[std::size_t(o) * words_ + std::size_t(k / 64)] |= std::uint64_t(1) << (k % 64);
+                }
+            rows_.push_back(std::move(r));
+        }
+    }
+
+    /// The words of the line through idx (its coordinate along c ignored) inside every mask,
+    /// written to `out` (words() long); false when a mask without c leaves it out whole.
+    bool line(std::array<int, 3> idx, std::uint64_t* out) const {
+        for (const AxisMask* m : flat_)
+            if (!m->in[std::size_t(idx[std::size_t(m->a)]) +
+                       std::size_t(g_.n[std::size_t(m->a)]) * std::size_t(idx[std::size_t(m->b)])])
+                return false;
+        const int nc = g_.n[std::size_t(c_)];
+        for (int w = 0; w < words_; ++w)
+            out[w] = (w + 1) * 64 <= nc ? ~std::uint64_t(0) : (std::uint64_t(1) << (nc - w * 64)) - 1;
+        for (const Rows& r : rows_) {
+            const std::uint64_t* b = r.bits.data() + std::size_t(idx[std::size_t(r.other)]) * words_;
+            for (int w = 0; w < words_; ++w) out[w] &= b[w];
+        }
+        return true;
+    }
+    int words() const { return words_; }
+
+private:
+    struct Rows {
+        int other = 0;
+        std::vector<std::uint64_t> bits;
+    };
+    const ReconcileGrid& g_;
+    int c_, words_;
+    std::vector<const AxisMask*> flat_;
+    std::vector<Rows> rows_;
+};
+
+} // namespace
+
 std::vector<std::uint8_t> missing_cells(const ReconcileGrid& g, const AxisMask& own,
                                         const std::vector<const AxisMask*>& groups) {
     const int a = own.a, b = own.b, c = 3 - a - b;
-    const int na = g.n[std::size_t(a)], nb = g.n[std::size_t(b)], nc = g.n[std::size_t(c)];
+    const int na = g.n[std::size_t(a)], nb = g.n[std::size_t(b)];
+    const HullLines lines(g, groups, c);
     std::vector<std::uint8_t> out(own.in.size(), 0);
     tbb::parallel_for(0, nb, [&](int j) {
+        std::vector<std::uint64_t> acc(std::size_t(lines.words()));
         std::array<int, 3> idx{0, 0, 0};
         idx[std::size_t(b)] = j;
         for (int i = 0; i < na; ++i) {
             const std::size_t cell = std::size_t(i) + std::size_t(na) * j;
             if (!own.in[cell]) continue;
             idx[std::size_t(a)] = i;
-            bool hit = false;
-            for (int k = 0; k < nc && !hit; ++k) {
-                idx[std::size_t(c)] = k;
-                hit = true;
-                for (const AxisMask* m : groups) {
-                    const std::size_t q = std::size_t(idx[std::size_t(m->a)]) +
-                                          std::size_t(g.n[std::size_t(m->a)]) * std::size_t(idx[std::size_t(m->b)]);
-                    if (!m->in[q]) {
-                        hit = false;
-                        break;
-                    }
-                }
-            }
+            const bool hit = lines.line(idx, acc.data()) &&
+                             std::any_of(acc.begin(), acc.end(), [](std::uint64_t w) { return w != 0; });
             out[cell] = hit ? 0 : 1;
         }
     });
@@ -79,24 +131,15 @@ std::vector<std::uint8_t> missing_cells(const ReconcileGrid& g, const AxisMask& 
 
 double hull_share(const ReconcileGrid& g, const std::vector<const AxisMask*>& groups) {
     const int nx = g.n[0], ny = g.n[1], nz = g.n[2];
-    std::vector<double> per(std::size_t(nz), 0.0);
-    tbb::parallel_for(0, nz, [&](int k) {
+    const HullLines lines(g, groups, 2);
+    std::vector<double> per(std::size_t(ny), 0.0);
+    tbb::parallel_for(0, ny, [&](int j) {
+        std::vector<std::uint64_t> acc(std::size_t(lines.words()));
         double n = 0;
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const std::array<int, 3> idx{i, j, k};
-                bool in = true;
-                for (const AxisMask* m : groups) {
-                    const std::size_t q = std::size_t(idx[std::size_t(m->a)]) +
-                                          std::size_t(g.n[std::size_t(m->a)]) * std::size_t(idx[std::size_t(m->b)]);
-                    if (!m->in[q]) {
-                        in = false;
-                        break;
-                    }
-                }
-                n += in;
-            }
-        per[std::size_t(k)] = n;
+        for (int i = 0; i < nx; ++i)
+            if (lines.line({i, j, 0}, acc.data()))
+                for (std::uint64_t w : acc) n += std::popcount(w);
+        per[std::size_t(j)] = n;
     });
     double n = 0;
     for (double x : per) n += x;
