@@ -67,6 +67,15 @@ std::size_t cells_above(const std::shared_ptr<const Views>& views, double y) {
     return n;
 }
 
+// A front box and a right view of it missing a band of rows 2 * half_band px tall across
+// its middle, which the front fills.
+void front_and_right_with_a_band(const test::TempDir& dir, double half_band) {
+    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
+    draw(dir / "right.png", 400, 400,
+         [half_band](double x, double y) { return rect(200, 200, 150, 300)(x, y) && std::abs(y - 200) > half_band; });
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n");
+}
+
 } // namespace
 
 // A box 200 wide, 300 high, 150 deep: the front and the top as drawn, the right drawn 8 %
@@ -124,10 +133,7 @@ TEST(Reconcile, SpikeOnlyTheFrontDrawsFollowsTheOppositeMode) {
 // beyond the bend tolerance (1 % of 300 px), so it is refused and the view is named.
 TEST(Reconcile, BendBeyondTheToleranceIsRefusedWithAWarning) {
     test::TempDir dir("rc_bend");
-    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
-    draw(dir / "right.png", 400, 400,
-         [](double x, double y) { return rect(200, 200, 150, 300)(x, y) && std::abs(y - 200) > 15; });
-    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    front_and_right_with_a_band(dir, 15);
     std::vector<std::string> warnings;
     LoadViewsStats stats;
     load(dir / "views.yaml", "on", "union", &warnings, &stats);
@@ -144,10 +150,7 @@ TEST(Reconcile, BendBeyondTheToleranceIsRefusedWithAWarning) {
 // A gap within the tolerance is bent over: nothing of the front is missing, and no warning.
 TEST(Reconcile, BendWithinTheToleranceClosesTheGap) {
     test::TempDir dir("rc_bend_small");
-    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
-    draw(dir / "right.png", 400, 400,
-         [](double x, double y) { return rect(200, 200, 150, 300)(x, y) && std::abs(y - 200) > 1; });
-    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    front_and_right_with_a_band(dir, 1);
     std::vector<std::string> warnings;
     LoadViewsStats stats;
     const auto v = load(dir / "views.yaml", "on", "union", &warnings, &stats);
