@@ -105,7 +105,8 @@ void bind_pipeline(pyb::module_& m) {
             "set",
             [](PyPipeline& self, const pyb::dict& values) {
                 for (const auto& [k, v] : param_text(values))
-                    translated([&, &key = k, &value = v] { self.p.apply_override(key + "=" + value); });
+                    translated(
+                        [&, &key = k, &value = v] { self.p.apply_override(key + "=" + value, "set= in Python"); });
             },
             pyb::arg("values"), "Applies NODE.PARAM -> value overrides, as --set does.")
         .def(

@@ -156,7 +156,7 @@ void bind_stages(pyb::module_& m) {
         [](const std::string& name, const pyb::dict& params) {
             const auto text = text_of(params);
             try {
-                configure_stage(registry(), name, text_params(text));
+                configure_stage(registry(), name, text_params(text, "a keyword argument"));
             } catch (const std::exception& e) {
                 raise_error(e, name); // a stage alone: no node, the stage named
             }
@@ -166,7 +166,7 @@ void bind_stages(pyb::module_& m) {
         "run_stage",
         [](const std::string& name, const pyb::dict& params, const pyb::dict& inputs, const pyb::object& progress,
            const std::string& side_output_dir) {
-            const auto raw = text_params(text_of(params));
+            const auto raw = text_params(text_of(params), "a keyword argument");
             Inputs in;
             for (auto [port, data] : inputs)
                 in.set(port.cast<std::string>(), from_python(data, "input \"" + port.cast<std::string>() + "\""));

@@ -154,25 +154,26 @@ std::string Pipeline::where(const PipelineNode& n, int line) const {
     return file_line(file, line ? line : n.line) + ": node \"" + n.id + "\" (" + n.stage + "): ";
 }
 
-void Pipeline::apply_override(const std::string& assignment) {
+void Pipeline::apply_override(const std::string& assignment, const std::string& source) {
     const auto eq = assignment.find('=');
     const auto dot = assignment.find('.');
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq)
-        throw UsageError("--set \"" + assignment + "\": expected NODE.PARAM=VALUE");
+        throw UsageError(source + " \"" + assignment + "\": expected NODE.PARAM=VALUE");
     const std::string id = assignment.substr(0, dot), param = assignment.substr(dot + 1, eq - dot - 1),
                       value = assignment.substr(eq + 1);
     for (auto& n : nodes) {
         if (n.id != id) continue;
         RawParam raw;
         raw.text = value;
+        raw.source = source;
         n.raw_params[param] = raw;
         validated = false;
         return;
     }
     std::string known;
     for (auto& n : nodes) known += (known.empty() ? "" : ", ") + n.id;
-    throw UsageError("--set \"" + assignment + "\": " + file.string() + " has no node \"" + id + "\" (nodes: " + known +
-                     ")");
+    throw UsageError(source + " \"" + assignment + "\": " + file.string() + " has no node \"" + id +
+                     "\" (nodes: " + known + ")");
 }
 
 std::map<std::string, std::size_t> Pipeline::node_index() const {

@@ -28,6 +28,9 @@ struct RawParam {
     std::string kind;
     std::string text; ///< --set: the value; YAML: the scalar as written, for messages
     int line = 0;     ///< 1-based line in the pipeline file; 0 for --set
+    /// Where a --set-like value came from, for messages: "--set" on the command line, a
+    /// keyword argument or `set=` in the Python module ("set= in Python").
+    std::string source = "--set";
     bool from_set() const { return kind.empty(); }
     bool is_null() const { return kind == "null value"; }
 };
@@ -68,7 +71,8 @@ struct Pipeline {
 
     /// Applies "NODE.PARAM=VALUE"; an unknown node is an error (unknown parameters
     /// are caught by validate()).
-    void apply_override(const std::string& assignment);
+    /// `source` names where the assignment came from in messages ("--set" on the command line).
+    void apply_override(const std::string& assignment, const std::string& source = "--set");
     /// Checks every node's stage and parameters, then the graph (unknown node,
     /// port kind mismatch, missing input, cycle). Throws cm::Error naming the
     /// file, line, node and stage.

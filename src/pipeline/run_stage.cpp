@@ -10,9 +10,13 @@ namespace fs = std::filesystem;
 
 namespace cm {
 
-std::map<std::string, RawParam> text_params(const std::map<std::string, std::string>& values) {
+std::map<std::string, RawParam> text_params(const std::map<std::string, std::string>& values,
+                                            const std::string& source) {
     std::map<std::string, RawParam> out;
-    for (const auto& [k, v] : values) out[k].text = v;
+    for (const auto& [k, v] : values) {
+        out[k].text = v;
+        out[k].source = source;
+    }
     return out;
 }
 

@@ -38,8 +38,10 @@ struct StageRun {
     std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;
 };
 
-/// Parameters for run_stage() from text, as --set gives them: name -> value.
-std::map<std::string, RawParam> text_params(const std::map<std::string, std::string>& values);
+/// Parameters for run_stage() from text, as --set gives them: name -> value. `source` names
+/// where they came from in messages ("--set", "a keyword argument").
+std::map<std::string, RawParam> text_params(const std::map<std::string, std::string>& values,
+                                            const std::string& source = "--set");
 /// Parameters for run_stage() from a YAML mapping ("{resolution: 64, keep: all}"), typed as
 /// in a pipeline file. Throws cm::Error for malformed YAML or a value that is no mapping.
 std::map<std::string, RawParam> yaml_params(const std::string& yaml_mapping);

@@ -19,7 +19,7 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
     ParamSet ps;
     for (const auto& [key, raw] : raw_params) {
         const ParamSpec* spec = find_param(info.params, key);
-        const std::string src = raw.from_set() ? " (from --set)" : "";
+        const std::string src = raw.from_set() ? " (from " + raw.source + ")" : "";
         // A bad --set value is a command-line mistake (exit status 2); a bad file value is not.
         auto fail = [&, &r = raw](const std::string& text) { // (a structured binding is not captured by clang 14)
             if (r.from_set()) throw UsageError(where(r.line) + text);
