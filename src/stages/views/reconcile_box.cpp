@@ -54,4 +54,27 @@ void Reconciler::settle_box() {
     span_.first = span_.first + d, span_.second = span_.second + d;
 }
 
+void Reconciler::grow_canvas(Member& m, int left, int top, int right, int bottom) {
+    left = std::max(0, left), top = std::max(0, top), right = std::max(0, right), bottom = std::max(0, bottom);
+    if (left + top + right + bottom == 0) return;
+    View& v = views_.views[m.index];
+    const int W = v.width + left + right, H = v.height + top + bottom;
+    std::vector<float> cov(std::size_t(W) * H, 0.0f);
+    Image img{W, H, 4, std::vector<float>(std::size_t(W) * H * 4, 0.0f), {}};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const int sx = x - left, sy = y - top;
+            if (sx >= 0 && sy >= 0 && sx < v.width && sy < v.height)
+                cov[std::size_t(y) * W + x] = v.coverage.at(sx, sy);
+            const int ix = std::clamp(sx, 0, v.width - 1), iy = std::clamp(sy, 0, v.height - 1);
+            const auto px = v.image.rgba(std::size_t(iy) * v.width + ix);
+            for (int c = 0; c < 4; ++c) img.pixels[(std::size_t(y) * W + x) * 4 + c] = px[std::size_t(c)];
+        }
+    v.coverage = Coverage(cov, W, H);
+    v.image = std::move(img);
+    v.width = W, v.height = H;
+    v.camera.cx += left, v.camera.cy += top;
+    m.cam = v.camera;
+}
+
 } // namespace cm::reconcile_detail

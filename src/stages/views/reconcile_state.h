@@ -84,6 +84,11 @@ private:
     void resample(Member& m);
     void merge_opposites();
     void bend();
+    /// Paints pixel rects (x0, y0, x1, y1) into a member's silhouette, growing its canvas.
+    void paint(Member& m, const std::vector<std::array<double, 4>>& rects);
+    /// Grows a member's canvas by the given pixels on each side (none where not positive),
+    /// moving its camera with the drawing; the new paper repeats the drawing's edge.
+    void grow_canvas(Member& m, int left, int top, int right, int bottom);
     /// Per world axis, the span of the applied members' silhouettes measuring it: their union
     /// (`all` true) or their intersection.
     std::pair<Vec3d, Vec3d> silhouette_span(bool all) const;

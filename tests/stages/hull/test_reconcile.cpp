@@ -207,6 +207,23 @@ TEST(Reconcile, AxisDrawnLongerInOneViewIsKept) {
     EXPECT_GT(stats.reconciled[0].warp_px, 2.0);
 }
 
+// As above with the front drawn on paper cropped 2 px from the box: keeping the top's longer
+// width grows the front beyond its paper, which grows with it.
+TEST(Reconcile, GrowingBeyondACroppedDrawingGrowsItsPaper) {
+    test::TempDir dir("rc_cropped");
+    draw(dir / "front.png", 204, 304, rect(102, 152, 200, 300));
+    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    LoadViewsStats stats;
+    const auto on = load(dir / "views.yaml", "on", "union", nullptr, &stats);
+    ASSERT_EQ(stats.reconciled.size(), 3u);
+    for (const auto& r : stats.reconciled) EXPECT_LT(r.missing_pct, 0.5) << r.name;
+    EXPECT_GT(on->views[0].width, 204);
+    EXPECT_EQ(on->views[0].image.width, on->views[0].width);
+    EXPECT_GT(hull_extent(on).x, 205.0);
+}
+
 // reconcile: off is the alignment alone: the silhouettes as extracted, the cameras and the
 // box as the alignment sets them, and its warnings, whatever the views disagree on.
 TEST(Reconcile, OffIsTheAlignmentAlone) {
