@@ -110,7 +110,7 @@ private:
     bool span_set_ = false;
     std::pair<Vec3d, Vec3d> span_;
     std::vector<double> warp_px_;
-    int search_cells_ = 128, fine_cells_ = 192;
+    int search_cells_ = 128, fine_cells_ = 384;
 };
 
 } // namespace cm::reconcile_detail
