@@ -4,13 +4,18 @@
 // a similarity (scale, turn, shift) that minimises their disagreement, then the drawing's
 // share not covered (missing) and the share covered beyond it (extra) are printed, one line
 // per view: "<view> <missing %> <extra %>". Silhouettes are extracted as views.load does,
-// without reconciliation.
+// without reconciliation. With OUT_DIR, writes OUT_DIR/<view>-overlay.png: grey where both
+// agree, orange where the drawing is not covered (missing), blue where the model covers
+// beyond it (extra).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "core/error.h"
+#include "io/image_io.h"
 #include "load.h"
 
 using namespace cm;
@@ -41,8 +46,9 @@ struct Sim {
 };
 
 // Missing and extra pixel counts of the render laid over the drawing by `f`, every
-// `stride`-th pixel of the drawing's box grown by a tenth.
-std::pair<double, double> disagreement(const Mask& d, const Mask& r, const Sim& f, int stride) {
+// `stride`-th pixel of the drawing; with `overlay`, each pixel's colour there.
+std::pair<double, double> disagreement(const Mask& d, const Mask& r, const Sim& f, int stride,
+                                       Image* overlay = nullptr) {
     const double cs = std::cos(f.a), sn = std::sin(f.a);
     double missing = 0, extra = 0;
     for (int y = 0; y < d.h; y += stride)
@@ -53,6 +59,15 @@ std::pair<double, double> disagreement(const Mask& d, const Mask& r, const Sim& 
             const bool ind = d.in[std::size_t(y) * d.w + x];
             missing += ind && !inr;
             extra += inr && !ind;
+            if (overlay) {
+                const std::array<float, 3> c = ind && inr ? std::array<float, 3>{0.6f, 0.6f, 0.6f}
+                                               : ind      ? std::array<float, 3>{1.0f, 0.45f, 0.0f}
+                                               : inr      ? std::array<float, 3>{0.2f, 0.45f, 1.0f}
+                                                          : std::array<float, 3>{1.0f, 1.0f, 1.0f};
+                for (int k = 0; k < 3; ++k)
+                    overlay->pixels[(std::size_t(y) * d.w + x) * 4 + std::size_t(k)] = c[std::size_t(k)];
+                overlay->pixels[(std::size_t(y) * d.w + x) * 4 + 3] = 1.0f;
+            }
         }
     return {missing * stride * stride, extra * stride * stride};
 }
@@ -89,8 +104,8 @@ Sim fit(const Mask& d, const Mask& r) {
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 3) {
-        std::fprintf(stderr, "usage: score_drawings DRAWINGS/views.yaml RENDERS/views.yaml\n");
+    if (argc != 3 && argc != 4) {
+        std::fprintf(stderr, "usage: score_drawings DRAWINGS/views.yaml RENDERS/views.yaml [OUT_DIR]\n");
         return 2;
     }
     try {
@@ -103,7 +118,9 @@ int main(int argc, char** argv) {
                 if (v.name == dv.name) rv = &v;
             if (!rv) throw Error("no render of view \"" + dv.name + "\" in " + std::string(argv[2]));
             const Mask d = mask_of(dv), r = mask_of(*rv);
-            const auto [missing, extra] = disagreement(d, r, fit(d, r), 1);
+            Image overlay{d.w, d.h, 4, std::vector<float>(std::size_t(d.w) * d.h * 4, 0.0f), {}};
+            const auto [missing, extra] = disagreement(d, r, fit(d, r), 1, argc == 4 ? &overlay : nullptr);
+            if (argc == 4) write_image(overlay, std::filesystem::path(argv[3]) / (dv.name + "-overlay.png"));
             std::printf("%s %.3f %.3f\n", dv.name.c_str(), 100.0 * missing / d.area, 100.0 * extra / d.area);
         }
     } catch (const std::exception& e) {

@@ -236,9 +236,10 @@ void LoadViewsOptions::declare(ParamBinder& b) {
     b.add(opposite, ParamSpec::Enum("opposite", "union", {"union", "intersect", "primary"},
                                     "views along one line of sight (front and back, ...): keep what either draws "
                                     "(union), what both draw (intersect) or what the primary draws"));
-    b.add(bend, ParamSpec::Float("bend", 0.01, 0.0, 0.1, "ratio",
-                                 "the largest bend of a view's outline to agree with the others, a ratio of the "
-                                 "silhouette's longest side; a larger disagreement is left and reported"));
+    b.add(bend, ParamSpec::Float("bend", 0.05, 0.0, 0.1, "ratio",
+                                 "how far a view's outline may grow to keep what another view draws beyond it (an "
+                                 "axis drawn longer, a part drawn wider), a ratio of the silhouette's longest side; "
+                                 "a larger disagreement is carved and reported"));
     b.add(stretch, ParamSpec::Enum("stretch", "uniform", {"uniform", "axes"},
                                    "how a reconciled view may scale: uniform keeps each drawing's proportions (one "
                                    "scale, turned and bent); axes scales its two image axes apart, so that views "

@@ -176,6 +176,7 @@ void Reconciler::place_followers() {
 }
 
 ReconcileGrid Reconciler::grid(int cells) const {
+    if (span_set_) return ReconcileGrid::over(span_.first, span_.second - span_.first, cells);
     return ReconcileGrid::over({-size_[0] / 2, 0, -size_[2] / 2}, {size_[0], size_[1], size_[2]}, cells);
 }
 
@@ -357,11 +358,13 @@ std::vector<ViewReconciliation> Reconciler::run() {
         views_.bounds_min = {-size_[0] / 2, 0.0, -size_[2] / 2};
         views_.bounds_max = {size_[0] / 2, size_[1], size_[2] / 2};
         views_.has_bounds = true;
+        span_ = silhouette_span(true), span_set_ = true;
         // Bent on the drawings as they are, before merging: what an opposite view alone
         // draws is not a disagreement to bend away (intersect removes it on purpose).
         bend();
         merge_opposites();
         shares = missing_shares(fine_cells_);
+        settle_box();
     }
     double primary_scale = views_.views[std::min(opt_.primary, views_.views.size() - 1)].camera.scale;
     for (const Member& m : members_)

@@ -16,7 +16,7 @@ struct ReconcileOptions {
     std::string opposite = "union";  ///< union | intersect | primary: views seeing along one line of sight
     double tolerance = 0.02;         ///< a view moved by more than this ratio is reported in a warning
     double max_turn_deg = 4.0;       ///< the largest turn searched
-    double bend = 0.01;              ///< the largest bend, as a ratio of the silhouette's longest side
+    double bend = 0.05;              ///< the largest bend, as a ratio of the silhouette's longest side
     std::string stretch = "uniform"; ///< uniform (one scale per view) | axes (each image axis its own)
 };
 
@@ -33,7 +33,8 @@ struct ViewReconciliation {
 /// @brief Reconciles aligned, drawn orthographic views (no fixed camera): fits per-axis
 /// scales and a turn for every axis view but the primary, resamples the silhouettes (and
 /// drawings) into the reconciled frame, merges views with one line of sight as
-/// `opt.opposite` says, bends what still disagrees within `opt.bend`, and resets the box
+/// `opt.opposite` says, grows each view within `opt.bend` where another draws beyond it (so
+/// that the model keeps what every drawing shows), and sets the box to what the views span
 /// and the cameras' placement. Views that already agree are left untouched, bit for bit.
 /// Appends one warning per view moved more than `opt.tolerance`, and one per view whose
 /// disagreement would need a bend beyond the tolerance (refused).

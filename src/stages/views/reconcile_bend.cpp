@@ -86,26 +86,42 @@ void Reconciler::bend() {
     // The bends: each added cell covered in every view of its line of sight.
     for (std::size_t q = 0; q < groups_.size(); ++q)
         for (std::size_t k : groups_[q]) {
-            View& v = views_.views[members_[k].index];
-            std::vector<float> cov;
             const int a = add[q].a, b = add[q].b, na = g.n[std::size_t(a)];
+            std::vector<std::array<double, 4>> rects; // x0, y0, x1, y1 in the view's pixels
             for (std::size_t cell = 0; cell < add[q].in.size(); ++cell) {
                 if (!add[q].in[cell]) continue;
-                if (cov.empty()) cov = v.coverage.full();
-                double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+                std::array<double, 4> r{1e300, 1e300, -1e300, -1e300};
                 for (int corner = 0; corner < 4; ++corner) {
                     Vec3d p{0, 0.5 * size_[1], 0};
                     p[a] = g.lo[a] + (double(cell % std::size_t(na)) + (corner & 1)) * g.h[std::size_t(a)];
                     p[b] = g.lo[b] + (double(cell / std::size_t(na)) + (corner >> 1)) * g.h[std::size_t(b)];
-                    const Vec2d s = v.camera.project(p);
-                    x0 = std::min(x0, s.x), y0 = std::min(y0, s.y), x1 = std::max(x1, s.x), y1 = std::max(y1, s.y);
+                    const Vec2d s = views_.views[members_[k].index].camera.project(p);
+                    r = {std::min(r[0], s.x), std::min(r[1], s.y), std::max(r[2], s.x), std::max(r[3], s.y)};
                 }
-                for (int y = std::max(0, int(std::floor(y0))); y < std::min(v.height, int(std::ceil(y1))); ++y)
-                    for (int x = std::max(0, int(std::floor(x0))); x < std::min(v.width, int(std::ceil(x1))); ++x)
-                        cov[std::size_t(y) * v.width + x] = 1.0f;
+                rects.push_back(r);
             }
-            if (!cov.empty()) v.coverage = Coverage(cov, v.width, v.height);
+            paint(members_[k], rects);
         }
+}
+
+// The bend's cells painted into a view's silhouette; where they reach beyond the drawing's
+// canvas (a drawing cropped close to what it draws), the canvas grows first.
+void Reconciler::paint(Member& m, const std::vector<std::array<double, 4>>& rects) {
+    if (rects.empty()) return;
+    View& v = views_.views[m.index];
+    double x0 = 0, y0 = 0, x1 = v.width, y1 = v.height;
+    for (const auto& r : rects)
+        x0 = std::min(x0, r[0]), y0 = std::min(y0, r[1]), x1 = std::max(x1, r[2]), y1 = std::max(y1, r[3]);
+    // Rects were projected by the camera before the canvas grew: they move with it.
+    const int left = int(std::ceil(-x0)), top = int(std::ceil(-y0));
+    grow_canvas(m, left, top, int(std::ceil(x1)) - v.width, int(std::ceil(y1)) - v.height);
+    std::vector<float> cov = v.coverage.full();
+    for (const auto& r : rects)
+        for (int y = std::max(0, int(std::floor(r[1])) + top); y < std::min(v.height, int(std::ceil(r[3])) + top); ++y)
+            for (int x = std::max(0, int(std::floor(r[0])) + left); x < std::min(v.width, int(std::ceil(r[2])) + left);
+                 ++x)
+                cov[std::size_t(y) * v.width + x] = 1.0f;
+    v.coverage = Coverage(cov, v.width, v.height);
 }
 
 // One line per view moved beyond the tolerance: stretched one axis against the other

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "reconcile.h"
@@ -83,6 +84,17 @@ private:
     void resample(Member& m);
     void merge_opposites();
     void bend();
+    /// Paints pixel rects (x0, y0, x1, y1) into a member's silhouette, growing its canvas.
+    void paint(Member& m, const std::vector<std::array<double, 4>>& rects);
+    /// Grows a member's canvas by the given pixels on each side (none where not positive),
+    /// moving its camera with the drawing; the new paper repeats the drawing's edge.
+    void grow_canvas(Member& m, int left, int top, int right, int bottom);
+    /// Per world axis, the span of the applied members' silhouettes measuring it: their union
+    /// (`all` true) or their intersection.
+    std::pair<Vec3d, Vec3d> silhouette_span(bool all) const;
+    /// The box to the views' intersection span, moved into the output frame (bottom centre
+    /// at the origin) with every orthographic camera.
+    void settle_box();
     void warn_moved(const Member& m, const ViewReconciliation& r);
 
     Views& views_;
@@ -93,8 +105,12 @@ private:
     std::vector<std::size_t> group_of_;
     std::vector<std::size_t> anchor_; // per member: the first of its line of sight (itself if so)
     std::array<double, 3> size_{0, 0, 0};
+    // Once the members are applied, the grids span every silhouette (their union), so that
+    // what one drawing draws beyond the fitted box is seen, bent for and counted.
+    bool span_set_ = false;
+    std::pair<Vec3d, Vec3d> span_;
     std::vector<double> warp_px_;
-    int search_cells_ = 128, fine_cells_ = 192;
+    int search_cells_ = 128, fine_cells_ = 384;
 };
 
 } // namespace cm::reconcile_detail

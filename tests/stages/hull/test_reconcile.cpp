@@ -2,6 +2,7 @@
 // (stages/views/reconcile.h) and hull.carve carves what every drawing shows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -38,9 +39,11 @@ std::function<bool(double, double)> rect(double cx, double cy, double w, double 
 
 std::shared_ptr<const Views> load(const std::filesystem::path& manifest, const std::string& reconcile,
                                   const std::string& opposite, std::vector<std::string>* warnings = nullptr,
-                                  LoadViewsStats* stats = nullptr, const std::string& stretch = "uniform") {
+                                  LoadViewsStats* stats = nullptr, const std::string& stretch = "uniform",
+                                  double bend = -1) {
     LoadViewsOptions opt;
     opt.stretch = stretch;
+    if (bend >= 0) opt.bend = bend;
     opt.reconcile = reconcile;
     opt.opposite = opposite;
     auto r = load_views(manifest, opt);
@@ -65,6 +68,19 @@ std::size_t cells_above(const std::shared_ptr<const Views>& views, double y) {
     std::size_t n = 0;
     for (auto it = vol->occupancy->cbeginValueOn(); it; ++it) n += vol->transform().indexToWorld(it.getCoord()).y() > y;
     return n;
+}
+
+// The carved hull's extent along each world axis (cell centres), in world units.
+Vec3d hull_extent(const std::shared_ptr<const Views>& views) {
+    CarveOptions opt;
+    opt.resolution = 128;
+    const auto vol = carve(views, opt).value;
+    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (auto it = vol->occupancy->cbeginValueOn(); it; ++it) {
+        const auto p = vol->transform().indexToWorld(it.getCoord());
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    }
+    return hi - lo + Vec3d{1, 1, 1} * vol->voxel_size();
 }
 
 // A front box and a right view of it missing a band of rows 2 * half_band px tall across
@@ -130,13 +146,13 @@ TEST(Reconcile, SpikeOnlyTheFrontDrawsFollowsTheOppositeMode) {
 }
 
 // The right view leaves a band of rows empty that the front fills: bridging 30 px is far
-// beyond the bend tolerance (1 % of 300 px), so it is refused and the view is named.
+// beyond a bend tolerance of 1 % of 300 px, so it is refused and the view is named.
 TEST(Reconcile, BendBeyondTheToleranceIsRefusedWithAWarning) {
     test::TempDir dir("rc_bend");
     front_and_right_with_a_band(dir, 15);
     std::vector<std::string> warnings;
     LoadViewsStats stats;
-    load(dir / "views.yaml", "on", "union", &warnings, &stats);
+    load(dir / "views.yaml", "on", "union", &warnings, &stats, "uniform", 0.01);
     bool refused = false;
     for (const auto& w : warnings)
         refused = refused || (w.find("view \"right\" would have to bend") == 0 &&
@@ -159,6 +175,53 @@ TEST(Reconcile, BendWithinTheToleranceClosesTheGap) {
     EXPECT_LT(stats.reconciled[0].missing_pct, 0.1);
     EXPECT_GT(stats.reconciled[1].warp_px, 0.0);
     EXPECT_NEAR(hull_volume(v), 200.0 * 300.0 * 150.0, 0.02 * 200.0 * 300.0 * 150.0);
+}
+
+// A box 200 wide, 300 high, 150 deep whose top view draws the width 8 % longer: one scale
+// for the top puts its width beyond the front's and its depth short of the right's. The
+// model keeps what every drawing shows: it grows to the longer of the two along each axis
+// (the fitted box does not cut it), so no drawing is missing any of itself.
+TEST(Reconcile, AxisDrawnLongerInOneViewIsKept) {
+    test::TempDir dir("rc_longer");
+    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
+    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    std::vector<std::string> warnings;
+    LoadViewsStats stats;
+    const auto on = load(dir / "views.yaml", "on", "union", &warnings, &stats);
+    ASSERT_EQ(stats.reconciled.size(), 3u);
+    for (const auto& r : stats.reconciled) EXPECT_LT(r.missing_pct, 0.5) << r.name;
+    // The top's scale: the geometric mean of its width against the front's and its depth
+    // against the right's (sqrt(1.08) = 1.039); the width as the top draws it, the depth as
+    // the right does, the height as the front and the right.
+    const Vec3d e = hull_extent(on);
+    EXPECT_GT(e.x, 205.0);
+    EXPECT_GT(e.z, 148.0);
+    EXPECT_NEAR(e.y, 300.0, 4.0);
+    // The box holds the hull and its bottom is the output frame's floor.
+    EXPECT_NEAR(on->bounds_min.y, 0.0, 1e-9);
+    EXPECT_NEAR(on->bounds_min.x + on->bounds_max.x, 0.0, 1e-9);
+    EXPECT_GE(on->bounds_max.x - on->bounds_min.x, e.x - 2.0);
+    // Each grown view is told by how much it bent.
+    EXPECT_GT(stats.reconciled[0].warp_px, 2.0);
+}
+
+// As above with the front drawn on paper cropped 2 px from the box: keeping the top's longer
+// width grows the front beyond its paper, which grows with it.
+TEST(Reconcile, GrowingBeyondACroppedDrawingGrowsItsPaper) {
+    test::TempDir dir("rc_cropped");
+    draw(dir / "front.png", 204, 304, rect(102, 152, 200, 300));
+    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    LoadViewsStats stats;
+    const auto on = load(dir / "views.yaml", "on", "union", nullptr, &stats);
+    ASSERT_EQ(stats.reconciled.size(), 3u);
+    for (const auto& r : stats.reconciled) EXPECT_LT(r.missing_pct, 0.5) << r.name;
+    EXPECT_GT(on->views[0].width, 204);
+    EXPECT_EQ(on->views[0].image.width, on->views[0].width);
+    EXPECT_GT(hull_extent(on).x, 205.0);
 }
 
 // reconcile: off is the alignment alone: the silhouettes as extracted, the cameras and the
