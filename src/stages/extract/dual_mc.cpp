@@ -85,12 +85,13 @@ std::vector<Vec3f> crossing_normals(const Volume& vol, const Mesh& mc, const Mar
     return N;
 }
 
-/// Splits the quad (a, b, c, d) along the diagonal whose two triangles bend least.
-void split_quad(const std::vector<Vec3f>& x, const Index* q, std::array<Index, 3>* out) {
+/// Splits the quad (a, b, c, d) along the diagonal whose two triangles bend least, or along
+/// the other one when `other` (the crossing guard's choice where the first crossed a face).
+void split_quad(const std::vector<Vec3f>& x, const Index* q, bool other, std::array<Index, 3>* out) {
     auto normal = [&](Index i, Index j, Index k) { return normalize(cross(x[j] - x[i], x[k] - x[i])); };
     const float bend02 = dot(normal(q[0], q[1], q[2]), normal(q[0], q[2], q[3]));
     const float bend13 = dot(normal(q[0], q[1], q[3]), normal(q[1], q[2], q[3]));
-    if (bend02 >= bend13) {
+    if ((bend02 >= bend13) != other) {
         out[0] = {q[0], q[1], q[2]};
         out[1] = {q[0], q[2], q[3]};
     } else {
@@ -99,9 +100,10 @@ void split_quad(const std::vector<Vec3f>& x, const Index* q, std::array<Index, 3
     }
 }
 
-/// The triangles of the dual mesh on the vertices that remain after merging (rep).
+/// The triangles of the dual mesh on the vertices that remain after merging (rep), quads
+/// split the other way where `other` says so; `crossing_of` gets each triangle's crossing.
 Mesh dual_triangles(const DualMesh& D, const std::vector<Index>& rep, const openvdb::math::Transform& xf,
-                    std::size_t nv) {
+                    std::size_t nv, const std::vector<char>& other, std::vector<Index>& crossing_of) {
     Mesh out;
     const std::size_t nloops = rep.size();
     std::vector<Index> id(nloops, kNoIndex);
@@ -112,6 +114,7 @@ Mesh dual_triangles(const DualMesh& D, const std::vector<Index>& rep, const open
         out.positions.emplace_back(float(w.x()), float(w.y()), float(w.z()));
     }
     out.triangles.reserve(2 * nv);
+    crossing_of.clear();
     for (std::size_t v = 0; v < nv; ++v) {
         Index poly[16];
         int k = 0;
@@ -123,18 +126,20 @@ Mesh dual_triangles(const DualMesh& D, const std::vector<Index>& rep, const open
         if (k < 3) continue;
         if (k == 4) {
             std::array<Index, 3> t[2];
-            split_quad(out.positions, poly, t);
+            split_quad(out.positions, poly, other[v] != 0, t);
             out.triangles.push_back(t[0]);
             out.triangles.push_back(t[1]);
         } else {
             for (int i = 1; i + 1 < k; ++i) out.triangles.push_back({poly[0], poly[i], poly[i + 1]});
         }
+        crossing_of.resize(out.triangles.size(), Index(v));
     }
     return out;
 }
 
-/// Rounds of the crossing guard of the adaptive merge.
-constexpr int kGuardRounds = 4;
+/// Rounds of the crossing guard (merges undone, vertices put at their mass point, quads
+/// split the other way).
+constexpr int kGuardRounds = 8;
 
 /// The steps of dual_marching_cubes (see the top of the file), over the dual mesh they make.
 class DualContouring {
@@ -159,10 +164,17 @@ public:
     Mesh merge(const Progress& progress);
 
 private:
+    /// Per loop: whether a vertex of `out`'s crossing faces `pairs` stands for it.
+    std::vector<char> loops_hit(const Mesh& out, const std::vector<FacePair>& pairs,
+                                const std::vector<Index>& rep) const;
     /// Freezes every loop of the merged vertices that `out`'s crossing faces `pairs` touch;
     /// returns the merged loops among them.
     std::size_t freeze_crossings(const Mesh& out, const std::vector<FacePair>& pairs, const std::vector<Index>& rep,
                                  std::vector<char>& frozen) const;
+    /// Puts the vertex (in `vert`) of every loop that `pairs` touch, and is not there yet, at
+    /// the mass point of its crossings; returns how many moved.
+    std::size_t relax_crossings(const Mesh& out, const std::vector<FacePair>& pairs, const std::vector<Index>& rep,
+                                std::vector<char>& relaxed, std::vector<Vec3d>& vert) const;
 
     const Volume& vol_;
     const DualMcOptions& opt_;
@@ -246,15 +258,23 @@ void DualContouring::polygons() {
     }
 }
 
-// A merge is checked against the polygons around its own vertex only, so a coarse polygon
-// can still cut through a surface nearby (a thin part across a groove): the merged mesh is
-// checked for crossing faces, and the merges that made them are undone (their loops frozen)
-// and the octree merged again, until none is left or no merged vertex is involved.
+// The dual mesh is checked for crossing faces, and the guard removes them where they come
+// from, in rounds until none is left:
+// - a merge is checked against the polygons around its own vertex only, so a coarse polygon
+//   can still cut through a surface nearby (a thin part across a groove): merges that made
+//   crossing faces are undone (their loops frozen) and the octree merged again;
+// - a QEF minimum can stray from its disc where the normals disagree with the crossings (a
+//   thin part, a part one cell across, the views' normals at a wobbly outline) and meet the
+//   vertex of a disc beside it, even within one cell (seen on drawn outlines at resolution
+//   256): the vertices of crossing faces go back to the mass point of their crossings, which
+//   lies inside their disc's cell among its crossings;
+// - what still crosses after that is a quad split along the wrong diagonal: split the other
+//   way.
 Mesh DualContouring::merge(const Progress& progress) {
     const std::size_t nloops = D_.loop_cell.size();
-    const std::vector<Vec3d> vert0 = D_.vert;
-    std::vector<char> frozen(nloops, 0);
-    std::vector<Index> rep(nloops);
+    std::vector<Vec3d> vert0 = D_.vert;
+    std::vector<char> frozen(nloops, 0), relaxed(nloops, 0), other(nv_, 0);
+    std::vector<Index> rep(nloops), crossing_of;
     Mesh out;
     for (int round = 0;; ++round) {
         for (std::size_t l = 0; l < nloops; ++l) rep[l] = Index(l);
@@ -266,33 +286,69 @@ Mesh DualContouring::merge(const Progress& progress) {
             st_.levels = ast.levels;
         }
         progress(0.9);
-        out = dual_triangles(D_, rep, xf_, nv_);
-        if (!opt_.guard || opt_.max_error <= 0 || st_.merged == 0 || round >= kGuardRounds) break;
+        out = dual_triangles(D_, rep, xf_, nv_, other, crossing_of);
+        if (!opt_.guard) break;
         const std::vector<FacePair> pairs = find_self_intersections(out);
-        if (pairs.empty()) break;
-        if (freeze_crossings(out, pairs, rep, frozen) == 0) break; // the crossings do not come from merges
+        st_.crossings_left = pairs.size();
+        if (pairs.empty() || round >= kGuardRounds) break;
         ++st_.guard_rounds;
+        if (st_.merged && freeze_crossings(out, pairs, rep, frozen)) continue;
+        if (const std::size_t moved = relax_crossings(out, pairs, rep, relaxed, vert0)) {
+            st_.relaxed += moved;
+            continue;
+        }
+        std::size_t flipped = 0;
+        for (const FacePair& fp : pairs)
+            for (std::uint32_t f : fp) {
+                const Index v = crossing_of[f];
+                if (D_.face_first[v + 1] - D_.face_first[v] == 4 && !other[v]) other[v] = 1, ++flipped;
+            }
+        st_.flipped += flipped;
+        if (!flipped) break;
     }
     return out;
 }
 
-std::size_t DualContouring::freeze_crossings(const Mesh& out, const std::vector<FacePair>& pairs,
-                                             const std::vector<Index>& rep, std::vector<char>& frozen) const {
+std::vector<char> DualContouring::loops_hit(const Mesh& out, const std::vector<FacePair>& pairs,
+                                            const std::vector<Index>& rep) const {
     const std::size_t nloops = rep.size();
-    // Output vertex -> its root loop; freeze every loop of the roots of crossing faces.
+    // Output vertex -> its root loop; then every loop of the roots of crossing faces.
     std::vector<Index> root_of(out.positions.size(), kNoIndex);
     for (std::size_t l = 0, k = 0; l < nloops; ++l)
         if (rep[l] == l) root_of[k++] = Index(l);
-    std::vector<char> hit(nloops, 0);
+    std::vector<char> root_hit(nloops, 0), hit(nloops, 0);
     for (const FacePair& fp : pairs)
         for (std::uint32_t f : fp)
-            for (Index u : out.triangles[f]) hit[root_of[u]] = 1;
+            for (Index u : out.triangles[f]) root_hit[root_of[u]] = 1;
+    for (std::size_t l = 0; l < nloops; ++l) hit[l] = root_hit[rep[l]];
+    return hit;
+}
+
+std::size_t DualContouring::freeze_crossings(const Mesh& out, const std::vector<FacePair>& pairs,
+                                             const std::vector<Index>& rep, std::vector<char>& frozen) const {
+    const std::vector<char> hit = loops_hit(out, pairs, rep);
     std::size_t newly = 0;
-    for (std::size_t l = 0; l < nloops; ++l)
-        if (hit[rep[l]] && rep[l] != l) ++newly; // a merged loop (frozen ones never merge)
-    for (std::size_t l = 0; l < nloops; ++l)
-        if (hit[rep[l]]) frozen[l] = 1;
+    for (std::size_t l = 0; l < rep.size(); ++l)
+        if (hit[l] && rep[l] != l) ++newly; // a merged loop (frozen ones never merge)
+    for (std::size_t l = 0; l < rep.size(); ++l)
+        if (hit[l]) frozen[l] = 1;
     return newly;
+}
+
+std::size_t DualContouring::relax_crossings(const Mesh& out, const std::vector<FacePair>& pairs,
+                                            const std::vector<Index>& rep, std::vector<char>& relaxed,
+                                            std::vector<Vec3d>& vert) const {
+    const std::vector<char> hit = loops_hit(out, pairs, rep);
+    std::size_t moved = 0;
+    for (std::size_t l = 0; l < rep.size(); ++l) {
+        if (!hit[l] || relaxed[l]) continue;
+        Vec3d sum{};
+        for (Index i = D_.loop_first[l]; i < D_.loop_first[l + 1]; ++i) sum += D_.cross_pos[D_.loop_cross[i]];
+        vert[l] = sum / double(D_.loop_first[l + 1] - D_.loop_first[l]);
+        relaxed[l] = 1;
+        ++moved;
+    }
+    return moved;
 }
 
 } // namespace
@@ -348,6 +404,11 @@ void DualMcStats::report(Metrics& m) const {
     m.count("merged", merged);
     m.metric("levels", double(levels));
     m.metric("guard_rounds", double(guard_rounds));
+    m.count("guard_relaxed", relaxed);
+    m.count("guard_flipped", flipped);
+    if (crossings_left)
+        m.warn(std::to_string(crossings_left) + " pairs of faces cross each other in the extracted mesh, more than " +
+               "the guard could remove (mesh.write will refuse them)");
     m.count("thin_points", mc.thin_points);
     if (mc.missing_crossings)
         m.warn(std::to_string(mc.missing_crossings) +

@@ -29,8 +29,10 @@ struct DualMcOptions {
     /// lies within this distance of every crossing's tangent plane and the merge keeps the
     /// topology (dmc_octree.h); 0 keeps one vertex per disc of every cell.
     double max_error;
-    /// Undo merges whose polygons cross another part of the surface (dual_mc.cpp): on by
-    /// default; off only to see what the merge alone makes. Not a parameter.
+    /// Remove crossing faces where they come from (dual_mc.cpp): undo merges whose polygons
+    /// cross another part of the surface, put vertices of crossing faces at their mass point,
+    /// split their quads the other way. On by default; off only to see what the extraction
+    /// alone makes. Not a parameter.
     bool guard = true;
 
     DualMcOptions() { set_declared_defaults(*this); }
@@ -49,12 +51,15 @@ struct DualMcStats {
     std::size_t rank[4] = {0, 0, 0, 0}; ///< discs by the QEF's rank: 0 (none), 1 flat, 2 crease, 3 corner
     std::size_t merged = 0;             ///< discs merged into a coarser vertex (adaptive)
     int levels = 0;                     ///< octree levels that merged anything
-    int guard_rounds = 0;               ///< merges undone and redone because the merged mesh crossed itself
+    int guard_rounds = 0;               ///< rounds of the crossing guard (the mesh crossed itself)
+    std::size_t relaxed = 0;            ///< vertices the guard put at their mass point
+    std::size_t flipped = 0;            ///< quads the guard split along the other diagonal
+    std::size_t crossings_left = 0;     ///< crossing face pairs the guard could not remove
     const char* normals = "";           ///< "stored", "views" or "mesh"
     MarchingCubesStats mc;
 
-    /// The figures of extract.dual_marching_cubes, and a warning for crossed edges without a
-    /// crossing.
+    /// The figures of extract.dual_marching_cubes, and warnings for crossed edges without a
+    /// crossing and for crossing faces left.
     void report(Metrics& m) const;
 };
 

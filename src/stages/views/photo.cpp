@@ -207,7 +207,7 @@ double colour_evidence(const Frame& f, const ColourModels& m, std::size_t i) {
 // pixels. The object's model comes from the largest seed components, so this holds for
 // what differs from most of the object; its rim (a seed beside one of the object's colour)
 // stays. Returns the pixels demoted.
-constexpr double kBackdropEvidence = -2.0, kRim = 1.5;
+constexpr double kBackdropEvidence = -2.0, kRim = 1.5, kBand = 3.0;
 std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::vector<char>& seed,
                                   std::vector<char>& grows) {
     std::vector<float> evidence(f.n, 0.0f);
@@ -244,18 +244,27 @@ std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::ve
         std::nth_element(ev.begin(), ev.begin() + std::ptrdiff_t(ev.size() / 2), ev.end());
         median.push_back(ev.empty() ? 0.0f : ev[ev.size() / 2]);
     }
-    // Demoted: in a component reaching the frame (a cloth hangs from it), its backdrop-coloured
-    // pixels away from the object's own colour, or all of it when most of it is backdrop-coloured.
-    // Elsewhere a seed stays: a small dark piece of the object may well look like the backdrop.
+    // Demoted: in a component reaching the frame (a cloth hangs from it), all of it when most
+    // of it is backdrop-coloured; else its backdrop-coloured pixels away from the object's own
+    // colour where they make patches at least kBand px across (a fold, a wall: the opening of
+    // those pixels by a disc of that diameter). A thinner band is the object's rim against the
+    // backdrop (its shadowed underside, where it reaches the frame), its colours mixed, and
+    // stays. Elsewhere a seed stays: a small dark piece of the object may well look like the
+    // backdrop.
+    std::vector<char> keep(f.n, 1), backdrop_piece(f.n, 0);
+    for (std::size_t i = 0; i < f.n; ++i) {
+        if (!seed[i] || evidence[i] > kBackdropEvidence || !at_border[std::size_t(comp[i])]) continue;
+        backdrop_piece[i] = median[std::size_t(comp[i])] <= kBackdropEvidence / 2;
+        keep[i] = !backdrop_piece[i] && beside_object(i);
+    }
+    const float r2 = float(kBand * kBand / 4);
+    const std::vector<float> inside = squared_edt(keep, f.w, f.h); // to the nearest pixel kept
+    std::vector<char> core(f.n, 0);
+    for (std::size_t i = 0; i < f.n; ++i) core[i] = !keep[i] && inside[i] > r2;
+    const std::vector<float> to_core = squared_edt(core, f.w, f.h);
     std::vector<std::size_t> out;
-    for (int y = 0; y < f.h; ++y)
-        for (int x = 0; x < f.w; ++x) {
-            const std::size_t i = std::size_t(y) * f.w + std::size_t(x);
-            if (!seed[i] || evidence[i] > kBackdropEvidence) continue;
-            const std::size_t c = std::size_t(comp[i]);
-            const bool backdrop_piece = median[c] <= kBackdropEvidence / 2;
-            if (at_border[c] && (backdrop_piece || !beside_object(i))) out.push_back(i);
-        }
+    for (std::size_t i = 0; i < f.n; ++i)
+        if (backdrop_piece[i] || (!keep[i] && to_core[i] <= r2)) out.push_back(i);
     for (std::size_t i : out) seed[i] = grows[i] = 0;
     return out.size();
 }
