@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "plausible_hard.h"
 #include "plausible_loft.h"
 #include "plausible_state.h"
 
@@ -47,6 +48,11 @@ void PlausibleOptions::declare(ParamBinder& b) {
                                  "share of the lofted cross-sections in the field (superellipses in the boxes the "
                                  "other views give, square where straight walls meet the view along them at its "
                                  "outline): 0 the drawings' depth profiles alone, 1 the lofted sections alone"));
+    b.add(hard_surface,
+          ParamSpec::Float("hard_surface", 0.0, 0.0, 1.0, "",
+                           "weight of the hard-surface detection: where every view's outline runs mostly along "
+                           "straight lines (a machined part), roundness and loft are scaled down by this times the "
+                           "detected hardness, keeping the hull; 0 never"));
 }
 
 void PlausibleStats::report(Metrics& m) const {
@@ -66,6 +72,8 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);
     m.metric("cell_px", cell_px);
+    m.metric("hardness", hardness);
+    m.metric("straight_pct", straight_pct);
     if (!refined) m.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");
 }
 
@@ -132,7 +140,9 @@ void Plausible::loft() {
     const std::vector<LoftValue> lofted = loft_field(vox_, opt_.profile_exponent);
     const float share = float(opt_.loft);
     tbb::parallel_for(std::size_t(0), vox_.n, [&](std::size_t i) {
-        const float own = lofted[i].square + (1.0f - lofted[i].square) * share;
+        // A section the view along its axis does not confirm (ghost volume between limbs)
+        // leaves the say to the profiles.
+        const float own = lofted[i].square + (1.0f - lofted[i].square) * share * lofted[i].fit;
         phi_[i] = own * lofted[i].field + (1.0f - own) * phi_[i];
     });
     st_.square_voxels =
@@ -164,12 +174,21 @@ double Plausible::finest_cell_px() const {
 } // namespace plausible
 
 Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in, std::shared_ptr<const Views> views,
-                                                               const PlausibleOptions& opt, Progress progress) {
+                                                               const PlausibleOptions& given, Progress progress) {
     if (!in.occupancy) throw Error("the volume has no occupancy grid (connect hull.carve or its refinement)");
     if (!views) views = in.views;
     if (!views || views->views.empty()) throw Error("no views to keep the silhouettes of");
     PlausibleStats st;
     st.refined = in.crossings != nullptr;
+    // 0. A machined part keeps its hull: the rounding scaled down by the detected hardness.
+    PlausibleOptions opt = given;
+    if (given.hard_surface > 0) {
+        std::vector<double> shares;
+        st.hardness = given.hard_surface * plausible::hard_surface(*views, shares);
+        st.straight_pct = 100.0 * *std::min_element(shares.begin(), shares.end());
+        opt.roundness *= 1.0 - st.hardness;
+        opt.loft *= 1.0 - st.hardness;
+    }
     // 1. The hull's voxels.
     plausible::Plausible p(in, *views, opt, st);
     progress(0.05);

@@ -45,6 +45,10 @@ struct PlausibleOptions {
     /// profiles alone, 1 the lofted cross-sections alone. Where a lofted section is square
     /// (straight walls, and the view along them shows the box's sides), it has the whole say.
     double loft;
+    /// Weight of the hard-surface detection (plausible_hard.h): when every view's outline runs
+    /// mostly along straight lines (a machined part), the rounding and the lofted prior are
+    /// scaled down by this times the detected hardness, so the hull stays; 0 never.
+    double hard_surface;
 
     PlausibleOptions() { set_declared_defaults(*this); }
     /// Every parameter.
@@ -67,6 +71,8 @@ struct PlausibleStats {
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     std::size_t square_voxels = 0;   ///< voxels whose lofted section is square (the hull kept; loft > 0)
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
+    double hardness = 0;             ///< detected hard-surface weight in [0, 1] (hard_surface > 0)
+    double straight_pct = 0;         ///< the least straight view's share of straight outline, %
     bool refined = false;            ///< the input had crossings (hull.marching_intersections)
     /// The counts, the share removed and the pitch; a warning when the input was not refined.
     void report(Metrics& m) const;

@@ -22,6 +22,9 @@ namespace {
 // along it confirms the box's sides: a superellipse this square is the box to a few
 // hundredths of its half-width, so the hull decides the section.
 constexpr double kSquare = 32.0;
+// The share of a section's box the view along its axis must cover for the lofted section to
+// count (a smooth step between the two; an inscribed ellipse covers 0.785).
+constexpr double kFitLow = 0.5, kFitHigh = 0.7;
 
 double smoothstep(double x, double a, double b) {
     const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
@@ -35,6 +38,21 @@ struct Projection {
     int u0 = 0, v0 = 0, nu = 0, nv = 0;
     std::vector<std::uint8_t> in;
     std::vector<std::int32_t> lo_u, hi_u, lo_v, hi_v;
+    // Summed-area table of `in`, (nu + 1) x (nv + 1): sat[(iu + 1, iv + 1)] counts the inside
+    // pixels up to and including (iu, iv) (local indices).
+    std::vector<std::int32_t> sat;
+
+    // Inside pixels in the box [u0, u1] x [v0, v1] (grid coordinates), clamped to the array.
+    double count(int a0, int a1, int b0, int b1) const {
+        a0 = std::max(a0 - u0, 0);
+        b0 = std::max(b0 - v0, 0);
+        a1 = std::min(a1 - u0, nu - 1);
+        b1 = std::min(b1 - v0, nv - 1);
+        if (a1 < a0 || b1 < b0) return 0.0;
+        const std::size_t w = std::size_t(nv) + 1;
+        const auto at = [&](int i, int j) { return double(sat[std::size_t(i) * w + std::size_t(j)]); };
+        return at(a1 + 1, b1 + 1) - at(a0, b1 + 1) - at(a1 + 1, b0) + at(a0, b0);
+    }
 
     std::size_t index(int iu, int iv) const { return std::size_t(iu - u0) * std::size_t(nv) + std::size_t(iv - v0); }
     bool inside(int iu, int iv) const {
@@ -65,7 +83,7 @@ public:
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is.
     LoftValue value(const Coord& p) const {
-        double best_key = 1e300, square = 0.0;
+        double best_key = 1e300, square = 0.0, fitted = 0.0;
         Interval sb, sc;
         int best_a = -1;
         for (int a = 0; a < 3; ++a) {
@@ -74,10 +92,13 @@ public:
             const Interval ib = run(c, b, p), ic = run(b, c, p);
             if (ib.empty() || ic.empty()) continue;
             const double w = squareness(a, b, c, p, ib, ic);
-            const double key = ib.half() * ic.half() * (1.0 - 0.9 * w);
+            const double f = fit(a, b, ib, ic);
+            // Sections the view along their axis does not confirm count larger (up to 3x).
+            const double key = ib.half() * ic.half() * (1.0 - 0.9 * w) * (3.0 - 2.0 * std::max(f, w));
             if (key >= best_key) continue;
             best_key = key;
             square = w;
+            fitted = std::max(f, w);
             best_a = a;
             sb = ib;
             sc = ic;
@@ -93,7 +114,7 @@ public:
             const double e = round_ * std::pow(kSquare / round_, square);
             s = std::pow(std::pow(ub, e) + std::pow(uc, e), 1.0 / e);
         }
-        return {float((s - 1.0) * std::min(hb, hc)), float(square)};
+        return {float((s - 1.0) * std::min(hb, hc)), float(square), float(fitted)};
     }
 
 private:
@@ -121,6 +142,26 @@ private:
         tbb::parallel_for(0, P.nu, [&](int iu) { runs(P, std::size_t(iu) * P.nv, 1, P.nv, P.v0, P.lo_v, P.hi_v); });
         tbb::parallel_for(0, P.nv,
                           [&](int iv) { runs(P, std::size_t(iv), std::size_t(P.nv), P.nu, P.u0, P.lo_u, P.hi_u); });
+        const std::size_t w = std::size_t(P.nv) + 1;
+        P.sat.assign((std::size_t(P.nu) + 1) * w, 0);
+        for (int iu = 0; iu < P.nu; ++iu)
+            for (int iv = 0; iv < P.nv; ++iv)
+                P.sat[std::size_t(iu + 1) * w + std::size_t(iv + 1)] =
+                    P.sat[std::size_t(iu) * w + std::size_t(iv + 1)] +
+                    P.sat[std::size_t(iu + 1) * w + std::size_t(iv)] - P.sat[std::size_t(iu) * w + std::size_t(iv)] +
+                    P.in[P.index(iu + P.u0, iv + P.v0)];
+    }
+
+    // How well the section's box across axis a agrees with the view along a, in [0, 1]: the
+    // share of the box that view covers. A section inscribed in the box covers pi/4 of it (an
+    // ellipse), more where it is squarer; a box paired from runs of two views that the third
+    // does not see there (an arm beside the body in one view, in front of it in the other)
+    // covers much less: its lofted section would be ghost volume.
+    double fit(int a, int b, const Interval& ib, const Interval& ic) const {
+        const Projection& A = proj_[std::size_t(a)];
+        const double area = double(ib.hi - ib.lo + 1) * double(ic.hi - ic.lo + 1);
+        const double cover = b == A.u ? A.count(ib.lo, ib.hi, ic.lo, ic.hi) : A.count(ic.lo, ic.hi, ib.lo, ib.hi);
+        return smoothstep(cover / area, kFitLow, kFitHigh);
     }
 
     static void runs(const Projection& P, std::size_t first, std::size_t stride, int count, int origin,

@@ -14,6 +14,7 @@ namespace cm::plausible {
 struct LoftValue {
     float field = 0;  ///< cells outside the lofted section (<= 0 inside)
     float square = 0; ///< how square the section is, in [0, 1] (1: the hull decides)
+    float fit = 0;    ///< how well the view along the section's axis covers its box, in [0, 1]
 };
 
 /// @brief The lofted field of every voxel of `vox` (cells, <= 0 inside the lofted sections;

@@ -1,0 +1,29 @@
+// Hard-surface detection for hull.plausible (`hard_surface`): a machined part is drawn with
+// long straight edges meeting at corners, a creature with curves. Where every drawing's
+// outline runs mostly along straight lines the visual hull is the shape a modeller would
+// build from the drawings (extrusions cut by one another), so the rounding stays off.
+#pragma once
+#include <vector>
+
+#include "core/views.h"
+
+namespace cm::plausible {
+
+/// @brief The share in [0, 1] of a silhouette's outline that lies on a straight stretch: the
+/// outline is sampled on a raster whose longest side spans the silhouette's box in
+/// kStraightCells cells (or its pixels when fewer); an outline cell is on a straight stretch when the outline cells
+/// within a tenth of that side lie within half a cell (rms) of one line. Curves of any
+/// radius the silhouette's own size allows (a disc, an ellipse, a body's back) are not
+/// straight at that reach; the edges of a box, a wedge or a machined part are. 0 for an
+/// empty silhouette.
+double outline_straightness(const View& view);
+
+/// Cells along the silhouette box's longest side of outline_straightness()'s raster.
+constexpr int kStraightCells = 460;
+
+/// @brief How hard-surfaced the views say the object is, in [0, 1]: a smooth step of the
+/// least straight view's share (from 0 at 0.06 to 1 at 0.12; a curved view rounds the shape).
+/// `shares` gets each view's outline_straightness().
+double hard_surface(const Views& views, std::vector<double>& shares);
+
+} // namespace cm::plausible
