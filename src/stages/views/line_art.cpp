@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "components.h"
 #include "geometry/distance_transform.h"
 
 namespace cm {
@@ -116,35 +117,29 @@ std::vector<std::pair<std::size_t, float>> thin_ridge(const std::vector<float>& 
 std::size_t open_outside_pockets(std::vector<char>& bg, const std::vector<char>& ink, const std::vector<float>& to_bg2,
                                  float reach, int w, int h) {
     const std::size_t n = bg.size();
-    std::vector<char> seen(n, 0);
-    std::vector<int> piece, stack;
-    std::size_t opened = 0;
+    std::vector<char> blank(n);
+    for (std::size_t i = 0; i < n; ++i) blank[i] = !bg[i] && !ink[i];
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int count = mask_components(blank, w, h, false, lab, sizes);
+    // Per piece: beside the background, and how far from it its deepest pixel lies.
+    std::vector<char> beside(std::size_t(count), 0);
+    std::vector<float> deepest(std::size_t(count), 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (lab[i] < 0) continue;
+        const std::size_t k = std::size_t(lab[i]);
+        beside[k] = beside[k] || to_bg2[i] <= 2.0f;
+        deepest[k] = std::max(deepest[k], to_bg2[i]);
+    }
+    // Deep, or large (the paper between doubled strokes, reached through a break): inside.
     const float reach2 = reach * reach;
-    for (std::size_t s = 0; s < n; ++s) {
-        if (seen[s] || bg[s] || ink[s] || to_bg2[s] > 2.0f) continue; // a blank pixel beside the background
-        piece.clear();
-        bool shallow = true;
-        stack.push_back(int(s));
-        seen[s] = 1;
-        while (!stack.empty()) {
-            const int p = stack.back();
-            stack.pop_back();
-            piece.push_back(p);
-            shallow = shallow && to_bg2[std::size_t(p)] <= reach2;
-            const int x = p % w, y = p / w;
-            const int next[4][2] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
-            for (const auto& q : next) {
-                if (q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h) continue;
-                const std::size_t j = std::size_t(q[1]) * w + q[0];
-                if (seen[j] || bg[j] || ink[j]) continue;
-                seen[j] = 1;
-                stack.push_back(int(j));
-            }
-        }
-        // Deep, or long (the paper between doubled strokes, reached through a break): inside.
-        if (!shallow || float(piece.size()) > 4.0f * reach2) continue;
-        for (int p : piece) bg[std::size_t(p)] = 1;
-        opened += piece.size();
+    std::size_t opened = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (lab[i] < 0) continue;
+        const std::size_t k = std::size_t(lab[i]);
+        if (!beside[k] || deepest[k] > reach2 || float(sizes[k]) > 4.0f * reach2) continue;
+        bg[i] = 1;
+        ++opened;
     }
     return opened;
 }
