@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -73,7 +74,14 @@ std::string segmentation_note(const SilhouetteResult& s, const SilhouetteOptions
         note += "segmented as a photograph: " + std::to_string(s.grown) +
                 " px grown from the seeds beyond the threshold, " + std::to_string(s.regions_filled) +
                 " enclosed region(s) filled (photo: off segments it as a drawing)";
-    } else if (const std::string holes = describe_regions(s.regions); !holes.empty()) {
+    } else if (s.stroke.samples) {
+        if (!note.empty()) note += "; ";
+        char width[96];
+        std::snprintf(width, sizeof width, "line art: outline at its strokes' centre (stroke %.1f px)",
+                      s.stroke.stroke_width);
+        note += width;
+    }
+    if (const std::string holes = s.photo ? "" : describe_regions(s.regions); !holes.empty()) {
         if (!note.empty()) note += "; ";
         note += "enclosed blank regions: " + holes;
         if (so.holes == "auto" && s.regions_filled) note += " (holes: keep opens them)";

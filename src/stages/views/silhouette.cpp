@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "gaps.h"
 #include "io/manifest.h"
+#include "line_art.h"
 #include "line_holes.h"
 #include "photo.h"
 #include "pixel_flood.h"
@@ -95,26 +96,10 @@ public:
         if (gap > 0) give_back_barrier_rim(ink, bg_);
     }
 
-    // The barrier's rim outside the ink (see close_ink) is background where it touches what
-    // the flood reached: one step, so it cannot pass a bridged break.
+    // The barrier's rim outside the ink touching `from` goes back to the background (see
+    // give_back_barrier_rim).
     void give_back_barrier_rim(const std::vector<char>& ink, const std::vector<char>& from) {
-        const std::vector<char>& closed = closed_;
-        std::vector<char> rim(n_, 0); // found first, set after: `from` may be bg_ itself
-        tbb::parallel_for(0, h_, [&](int y) {
-            for (int x = 0; x < w_; ++x) {
-                const std::size_t i = std::size_t(y) * w_ + x;
-                if (bg_[i] || ink[i] || !closed[i]) continue;
-                bool near = false;
-                for (int dy = -1; dy <= 1 && !near; ++dy)
-                    for (int dx = -1; dx <= 1 && !near; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        near = xx >= 0 && yy >= 0 && xx < w_ && yy < h_ && from[std::size_t(yy) * w_ + xx];
-                    }
-                rim[i] = near;
-            }
-        });
-        for (std::size_t i = 0; i < n_; ++i)
-            if (rim[i]) bg_[i] = 1;
+        cm::give_back_barrier_rim(bg_, ink, closed_, from, w_, h_);
     }
 
     // Background-coloured regions the object encloses: holes through a filled drawing, or
@@ -220,6 +205,14 @@ public:
         const std::size_t removed = remove_thin_spurs(bg_, ink, w_, h_, gap);
         mark_forced(before);
         return removed;
+    }
+
+    // Line art's outline at its strokes' centre line (see pull_to_stroke_centre).
+    void pull_to_stroke_centre(std::vector<float>& cov, SilhouetteResult& res) const {
+        if (!line_drawing_) return;
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        res.stroke = cm::pull_to_stroke_centre(cov, bg_, ink, res.close_gaps, w_, h_);
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
@@ -421,6 +414,7 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
         cut.open_holes(opt.holes, res);
         res.spurs_removed = cut.remove_spurs(res.close_gaps);
         cut.coverage(coverage);
+        cut.pull_to_stroke_centre(coverage, res);
     };
     // On the window around the ink when it is at most half the image (further backgrounds
     // along the border reach in from it: those drawings are analysed whole). The margin is

@@ -5,6 +5,7 @@
 
 #include "core/views.h"
 #include "io/image_io.h"
+#include "line_art.h"
 #include "silhouette_holes.h"
 
 namespace cm {
@@ -52,6 +53,7 @@ struct SilhouetteResult {
     std::size_t grown = 0;                  ///< photograph: pixels joined to the seeds by growth
     std::size_t analysed_pixels = 0;        ///< pixels the analysis went over (the window, or all)
     std::vector<EnclosedRegion> regions;    ///< the enclosed blank regions, judged (drawings)
+    StrokeCentre stroke;                    ///< line art: its outline moved to the strokes' centre
 };
 
 /// @brief Extracts the silhouette of the object in a drawing.

@@ -101,12 +101,12 @@ TEST(Silhouette, AlphaPngIsTheCoverage) {
 
 TEST(Silhouette, ClosedLineDrawingWithWhiteInteriorFills) {
     test::TempDir dir("sil_line");
-    // A 2.5 px dark outline around the figure, white inside and outside.
+    // A 2.5 px dark outline centred on the figure's edge (as an artist draws it), white
+    // inside and outside.
     const Shape outline = [](double x, double y) {
-        if (!figure(x, y)) return false;
         for (int k = 0; k < 8; ++k) {
             const double a = k * 3.14159265 / 4;
-            if (!figure(x + 2.5 * std::cos(a), y + 2.5 * std::sin(a))) return true;
+            if (figure(x, y) != figure(x + 1.25 * std::cos(a), y + 1.25 * std::sin(a))) return true;
         }
         return false;
     };
@@ -369,6 +369,17 @@ Shape outline_of(const Shape& shape, double width) {
     };
 }
 
+// A band `width` px wide centred on the outline of `shape`: an outline as an artist draws it.
+Shape centred_outline_of(const Shape& shape, double width) {
+    return [shape, width](double x, double y) {
+        for (int k = 0; k < 8; ++k) {
+            const double a = k * 3.14159265 / 4;
+            if (shape(x, y) != shape(x + 0.5 * width * std::cos(a), y + 0.5 * width * std::sin(a))) return true;
+        }
+        return false;
+    };
+}
+
 } // namespace
 
 TEST(SilhouetteHoles, LineDrawingOfABoxWithACircleOnItsFaceHasNoHole) {
@@ -376,7 +387,7 @@ TEST(SilhouetteHoles, LineDrawingOfABoxWithACircleOnItsFaceHasNoHole) {
     // detail, not an opening; holes: keep opens it.
     const Shape box = [](double x, double y) { return x > 40 && x < 170 && y > 30 && y < 160; };
     const Shape circle = [](double x, double y) { return std::hypot(x - 105, y - 95) < 35; };
-    Image img = draw(210, 190, outline_of(box, 2.5), {0.1f, 0.1f, 0.12f, 1}, {0.97f, 0.96f, 0.93f, 1});
+    Image img = draw(210, 190, centred_outline_of(box, 2.5), {0.1f, 0.1f, 0.12f, 1}, {0.97f, 0.96f, 0.93f, 1});
     paint(img, outline_of(circle, 2.0), {0.1f, 0.1f, 0.12f});
     const SilhouetteResult s = extract(img);
     EXPECT_EQ(s.holes_kept, 0);
