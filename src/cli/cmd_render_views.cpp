@@ -56,6 +56,7 @@ ArtOptions style_options(const RenderViewsOptions& o) {
     art.vignette = 0;
     art.ink = parse_line_colour(o.line_colour);
     art.outline_px = float(o.line_width);
+    art.outline_centred = true; // inked on the edge, as drawn by hand or by a CAD program
     art.crease_px = float(o.line_width);
     return art;
 }

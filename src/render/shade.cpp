@@ -164,7 +164,7 @@ public:
         const ArtOptions& opt = opt_;
         const std::ptrdiff_t at = s_.at(x, y);
         const std::size_t i = std::size_t(at);
-        if (at < 0 || s_.empty[i]) {
+        if (at < 0 || (s_.empty[i] && !(opt.lines && opt.outline_centred && on_line_[i]))) {
             // Paper with a mild vignette.
             const double uu = (x + 0.5) / W * 2 - 1, vv = (y + 0.5) / H * 2 - 1;
             const double v = 1.0 - opt.vignette * 0.5 * (uu * uu + vv * vv);
@@ -254,7 +254,9 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     Mesh mesh = mesh_in;
     if (mesh.normals.size() != mesh.positions.size()) mesh.compute_normals();
     // Over the samples the mesh can cover, with a rim of two empty ones; the rest is paper.
-    const DepthImage D = render_depth(mesh, hi, W, H, covered_window(mesh, hi, W, H, 2), progress);
+    // A centred outline reaches half its width beyond the silhouette: the window holds it.
+    const int rim = 2 + (opt.lines && opt.outline_centred ? int(std::ceil(0.5f * opt.outline_px * float(ss))) : 0);
+    const DepthImage D = render_depth(mesh, hi, W, H, covered_window(mesh, hi, W, H, rim), progress);
     const int w = D.width, h = D.height;
     const std::size_t N = std::size_t(w) * h;
     ArtScene scene{mesh, cam, hi, D, W, H, ss, face_normals(mesh), std::vector<char>(N)};
@@ -268,7 +270,18 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     // and nearer to any sample in it than an empty sample beyond it.
     std::vector<char> on_line;
     if (opt.lines) {
-        on_line = within_chamfer(scene.empty, w, h, true, opt.outline_px * float(ss));
+        if (opt.outline_centred) {
+            // Within half the width of the edge on either side: near the outside and inside,
+            // or near the inside and outside (each call also marks its own seeds).
+            const float half = 0.5f * opt.outline_px * float(ss);
+            on_line = within_chamfer(scene.empty, w, h, true, half);
+            std::vector<char> covered(N);
+            for (std::size_t i = 0; i < N; ++i) covered[i] = !scene.empty[i];
+            const std::vector<char> near_inside = within_chamfer(covered, w, h, false, half);
+            for (std::size_t i = 0; i < N; ++i) on_line[i] = on_line[i] && near_inside[i];
+        } else {
+            on_line = within_chamfer(scene.empty, w, h, true, opt.outline_px * float(ss));
+        }
         const std::vector<char> near_crease = within_chamfer(crease, w, h, false, 0.5f * opt.crease_px * float(ss));
         for (std::size_t i = 0; i < N; ++i) on_line[i] |= near_crease[i];
     }

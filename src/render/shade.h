@@ -18,17 +18,21 @@ struct ArtOptions {
     float grain = 0.025f;                               ///< paper grain amplitude (uniform, +-), 0 for none
     float vignette = 0.04f;                             ///< darkening at the corners, 0 for none
     float outline_px = 2.0f;                            ///< silhouette line width, drawn inside the silhouette
-    float crease_px = 1.2f;                             ///< width of crease and inner-contour lines
-    float crease_deg = 40.0f;                           ///< dihedral angle that draws a crease line
-    bool lines = true;                                  ///< false: shaded fill only
-    bool shade = true;   ///< false: the fill flat in its colour (blueprint-style line art: fill = paper)
-    int supersample = 3; ///< samples per pixel along x and y (anti-aliasing)
-    unsigned seed = 1;   ///< grain pattern
+    /// true: the outline centred on the silhouette's edge, half of it outside, as a
+    /// draughtsman inks an outline (blueprint style); false: inside, so a filled drawing's
+    /// silhouette is the mask's.
+    bool outline_centred = false;
+    float crease_px = 1.2f;   ///< width of crease and inner-contour lines
+    float crease_deg = 40.0f; ///< dihedral angle that draws a crease line
+    bool lines = true;        ///< false: shaded fill only
+    bool shade = true;        ///< false: the fill flat in its colour (blueprint-style line art: fill = paper)
+    int supersample = 3;      ///< samples per pixel along x and y (anti-aliasing)
+    unsigned seed = 1;        ///< grain pattern
 };
 
 /// @brief Renders the mesh as a drawing. The silhouette's anti-aliased coverage follows the
-/// pixel-centre silhouette of render_mask() (outlines lie inside the silhouette), so a
-/// silhouette extracted from the drawing matches the mask.
+/// pixel-centre silhouette of render_mask() (outlines lie inside the silhouette unless
+/// `outline_centred`), so a silhouette extracted from the drawing matches the mask.
 /// `progress` is looked at between the steps and per chunk of the render (progress.check()).
 /// @return RGBA, alpha 1 everywhere (the drawing has no transparency).
 Image render_art(const Mesh& mesh, const Camera& cam, int width, int height, const ArtOptions& opt = {},

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <numeric>
 #include <random>
@@ -257,4 +258,33 @@ TEST(Raster, BlueprintStyleIsLinesOnPaperOnly) {
     EXPECT_EQ(img.pixels[(std::size_t(150) * 200 + 60) * 4], 1.0f);
     EXPECT_GT(line, 600u);
     EXPECT_LT(line, 4000u);
+}
+
+TEST(Raster, BlueprintOutlineIsCentredOnTheEdge) {
+    // A draughtsman inks an outline on the edge: half the line lies outside the silhouette.
+    // Drawn inside (the filled style), none of it does.
+    const Mesh m = test::make_box({-1, -1, -1}, {1, 1, 1});
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Camera c = framed_camera(*Camera::named("front"), Vec3d(lo), Vec3d(hi), 200, 200);
+    const std::vector<std::uint8_t> mask = render_mask(m, c, 200, 200);
+    ArtOptions bp;
+    bp.paper = bp.fill = {1, 1, 1};
+    bp.shade = false;
+    bp.grain = bp.vignette = 0;
+    bp.ink = {0, 0, 0};
+    bp.outline_px = 4;
+    auto ink_in_out = [&](bool centred) {
+        bp.outline_centred = centred;
+        const Image img = render_art(m, c, 200, 200, bp);
+        std::array<double, 2> ink{0, 0}; // inside, outside
+        for (std::size_t i = 0; i < mask.size(); ++i) ink[mask[i] ? 0 : 1] += 1.0 - img.pixels[i * 4];
+        return ink;
+    };
+    const auto inside_only = ink_in_out(false), centred = ink_in_out(true);
+    EXPECT_LT(inside_only[1], 1.0);
+    EXPECT_GT(inside_only[0], 4 * 4 * 100.0); // the 4 px outline around a square of 100+ px sides
+    // Centred: as much ink outside as inside, the same line in all.
+    EXPECT_NEAR(centred[1] / centred[0], 1.0, 0.2);
+    EXPECT_NEAR(centred[0] + centred[1], inside_only[0], 0.15 * inside_only[0]);
 }
