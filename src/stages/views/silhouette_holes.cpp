@@ -5,6 +5,7 @@
 #include <map>
 
 #include "components.h"
+#include "line_holes.h"
 
 namespace cm {
 
@@ -322,13 +323,17 @@ std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const st
     const std::vector<int> depth = region_depths(e);
     for (std::size_t r = 0; r < out.size(); ++r) {
         EnclosedRegion& g = out[r];
-        if (!nested[r]) g.why = "the inside";
+        if (nested[r] == kNestedInside) g.why = "the inside";
         else if (g.area < min_area) g.why = "a gap between strokes";
         else if (depth[r] <= 2) g.why = "paper between strokes";
         else {
+            const bool between = nested[r] == kBetweenParts;
             g.candidate = true;
+            g.between_parts = between;
             g.hole = open_candidates;
-            g.why = open_candidates ? "line art, holes: keep" : "line art: detail unless another view shows it";
+            g.why = open_candidates ? "line art, holes: keep"
+                    : between       ? "line art, a gap between parts: opened if the opposite view shows it"
+                                    : "line art: detail unless another view shows it";
         }
     }
     return out;
