@@ -59,7 +59,8 @@ std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::s
 
 /// @brief The enclosed regions of a line drawing. `nested` says per region what nested_holes
 /// found: the regions behind an even number of strokes and the gaps between parts, at
-/// least `min_area` pixels and not slivers, are candidates; a candidate is a hole only when
+/// least `min_area` pixels (and, unless `open_candidates`, 0.25 % of the drawing, as a
+/// filled drawing's openings) and not slivers, are candidates; a candidate is a hole only when
 /// `open_candidates` (holes: keep) or when the opposite view shows it too (see
 /// open_confirmed_holes); every other region is the object's inside or surface detail.
 std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const std::vector<char>& nested,
