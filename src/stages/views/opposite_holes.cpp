@@ -50,7 +50,12 @@ std::vector<std::string> open_confirmed_holes(std::vector<View>& views,
                     if (!gb.candidate || gb.hole) continue;
                     const Placed pb = place(views[b], gb);
                     const double ratio = pa.area / std::max(1e-12, pb.area);
-                    if (std::hypot(pa.u - pb.u, pa.v - pb.v) > 0.1 || ratio > 2 || ratio < 0.5) continue;
+                    // A gap between parts is bounded by the silhouette's own outline, which
+                    // both views draw alike: it must match closely (2 % of the box, areas
+                    // within 15 %); a nested loop is drawn by each view's own lines.
+                    const bool outline = ga.between_parts || gb.between_parts;
+                    const double near = outline ? 0.02 : 0.1, spread = outline ? 1.15 : 2.0;
+                    if (std::hypot(pa.u - pb.u, pa.v - pb.v) > near || ratio > spread || ratio * spread < 1) continue;
                     ga.hole = gb.hole = true;
                     ga.why = gb.why = "line art, shown by the opposite view";
                     open_region(views[a], ga);

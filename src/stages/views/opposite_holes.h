@@ -14,7 +14,8 @@ namespace cm {
 /// 8 degrees) with image axes parallel or reversed; a candidate of one and one of the other
 /// match when their centres, placed in their silhouettes' boxes and mirrored as the axes
 /// are, lie within 10 % of the box and their areas, relative to the box, within a factor
-/// of 2. Both are opened (coverage 0) and marked as holes. `regions[i]` belongs to
+/// of 2; a gap between parts (EnclosedRegion::between_parts), bounded by the silhouette's
+/// own outline which both views draw alike, within 2 % and 15 %. Both are opened (coverage 0) and marked as holes. `regions[i]` belongs to
 /// `views[i]`. Returns a note per pair of matched candidates.
 std::vector<std::string> open_confirmed_holes(std::vector<View>& views,
                                               std::vector<std::vector<EnclosedRegion>>& regions);

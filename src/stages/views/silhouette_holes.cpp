@@ -5,6 +5,7 @@
 #include <map>
 
 #include "components.h"
+#include "line_holes.h"
 
 namespace cm {
 
@@ -320,15 +321,22 @@ std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const st
     std::vector<EnclosedRegion> out = region_records(e);
     if (out.empty()) return out;
     const std::vector<int> depth = region_depths(e);
+    std::size_t body = 0;
+    for (const char o : *e.outside) body += !o;
     for (std::size_t r = 0; r < out.size(); ++r) {
         EnclosedRegion& g = out[r];
-        if (!nested[r]) g.why = "the inside";
+        if (nested[r] == kNestedInside) g.why = "the inside";
         else if (g.area < min_area) g.why = "a gap between strokes";
         else if (depth[r] <= 2) g.why = "paper between strokes";
+        else if (!open_candidates && double(g.area) < 0.0025 * double(body)) g.why = "too small for an opening";
         else {
+            const bool between = nested[r] == kBetweenParts;
             g.candidate = true;
+            g.between_parts = between;
             g.hole = open_candidates;
-            g.why = open_candidates ? "line art, holes: keep" : "line art: detail unless another view shows it";
+            g.why = open_candidates ? "line art, holes: keep"
+                    : between       ? "line art, a gap between parts: opened if the opposite view shows it"
+                                    : "line art: detail unless another view shows it";
         }
     }
     return out;

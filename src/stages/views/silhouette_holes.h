@@ -15,6 +15,7 @@ struct EnclosedRegion {
     int x = 0, y = 0;                  ///< its centre (mean pixel), in the analysed image
     bool hole = false;                 ///< opened: background
     bool candidate = false;            ///< line art: a hole by nesting, opened only on further evidence
+    bool between_parts = false;        ///< a candidate bounded by the outlines of parts (see nested_holes)
     std::string why;                   ///< what decided it, in a few words
     std::vector<std::uint32_t> pixels; ///< candidates: the region's pixels (row-major image indices)
 };
@@ -56,10 +57,12 @@ std::vector<int> region_depths(const RegionEvidence& e);
 /// Regions under `min_area` pixels are gaps between strokes (parts).
 std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::size_t min_area);
 
-/// @brief The enclosed regions of a line drawing. `nested` marks the regions behind an even
-/// number of strokes (see nested_holes): those at least `min_area` pixels and not slivers
-/// are candidates; a candidate is a hole only when `open_candidates` (holes: keep); every
-/// other region is the object's inside or surface detail.
+/// @brief The enclosed regions of a line drawing. `nested` says per region what nested_holes
+/// found: the regions behind an even number of strokes and the gaps between parts, at
+/// least `min_area` pixels (and, unless `open_candidates`, 0.25 % of the drawing, as a
+/// filled drawing's openings) and not slivers, are candidates; a candidate is a hole only when
+/// `open_candidates` (holes: keep) or when the opposite view shows it too (see
+/// open_confirmed_holes); every other region is the object's inside or surface detail.
 std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const std::vector<char>& nested,
                                                std::size_t min_area, bool open_candidates);
 

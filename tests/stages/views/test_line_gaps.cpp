@@ -1,0 +1,113 @@
+// Gaps between parts in line art: the space between an arm and the body, bounded by the
+// parts' own outlines, against closed loops of detail drawn on a face.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "io/image_io.h"
+#include "load.h"
+#include "support/test_support.h"
+
+using namespace cm;
+
+namespace {
+
+using Inside = std::function<bool(double x, double y)>;
+
+// Line art of a shape: 200 x 200, each pixel the mean of 4x4 samples, ink (a blueprint's
+// blue) where the shape is within 1.5 px of its edge or `detail` holds, paper elsewhere.
+Image outline(const Inside& in, const Inside& detail = {}) {
+    Image img;
+    img.width = img.height = 200;
+    img.channels = 3;
+    img.pixels.assign(200 * 200 * 3, 1.0f);
+    auto ink = [&](double x, double y) {
+        if (detail && detail(x, y)) return true;
+        if (!in(x, y)) return false;
+        for (int k = 0; k < 8; ++k) {
+            const double a = k * 3.14159265358979 / 4;
+            if (!in(x + 1.5 * std::cos(a), y + 1.5 * std::sin(a))) return true;
+        }
+        return false;
+    };
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 200; ++x) {
+            float sum = 0;
+            for (int sy = 0; sy < 4; ++sy)
+                for (int sx = 0; sx < 4; ++sx) sum += ink(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4) ? 1.0f / 16 : 0.0f;
+            const float c[3] = {0.12f, 0.25f, 0.56f};
+            for (int k = 0; k < 3; ++k) img.pixels[(std::size_t(y) * 200 + x) * 3 + k] = 1.0f - sum * (1.0f - c[k]);
+        }
+    return img;
+}
+
+// A body with an arm hanging beside it from the shoulder; the hand comes within 2 px of the
+// hip at (100, 140), a break the outline's gap closing bridges, which closes the gap
+// between arm and body (up to 27 px wide, 90 px tall): there its tip meets the outside
+// coming up from below the hand. `mirror`: seen from the back.
+bool figure(double x, double y, bool mirror) {
+    if (mirror) x = 200 - x;
+    const bool body = x > 50 && x < 100 && y > 30 && y < 180;
+    const bool shoulder = x > 50 && x < 150 && y > 30 && y < 50;
+    // The arm's inner edge runs from x = 127 under the shoulder to 2 px from the hip at
+    // y = 140 and away again: below the hand the outside reaches up to where the two meet.
+    const double inner = y < 140 ? 102 + 0.28 * (140 - y) : 102 + (y - 140);
+    const bool arm = x > inner && x < 150 && y > 30 && y < 165;
+    return body || shoulder || arm;
+}
+
+bool side_band(double x, double y) { return x > 80 && x < 120 && y > 30 && y < 180; }
+
+} // namespace
+
+TEST(LineGaps, GapBetweenArmAndBodyOpensWhenTheOppositeViewShowsIt) {
+    test::TempDir dir("line_gaps_arm");
+    write_image(outline([](double x, double y) { return figure(x, y, false); }), dir / "front.png");
+    write_image(outline([](double x, double y) { return figure(x, y, true); }), dir / "back.png");
+    write_image(outline(side_band), dir / "right.png");
+    test::write_text(dir / "both.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+    test::write_text(dir / "one.yaml", "views:\n  front: front.png\n  right: right.png\n");
+    test::write_text(dir / "keep.yaml", "views:\n  front: { image: front.png, holes: keep }\n  right: right.png\n");
+    // The gap, seen from both sides, is opened (and said so); the body and the arm stay.
+    const auto loaded = load_views(dir / "both.yaml", {});
+    const std::vector<View>& both = loaded.value.views;
+    EXPECT_GT(both[0].coverage.at(75, 80), 0.5f);
+    EXPECT_GT(both[0].coverage.at(140, 80), 0.5f);
+    EXPECT_LT(both[0].coverage.at(106, 80), 0.5f);
+    EXPECT_LT(both[1].coverage.at(94, 80), 0.5f);
+    const std::vector<std::string>& notes = loaded.stats.notes;
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(),
+                            [](const std::string& n) { return n.find("both show an opening") != std::string::npos; }));
+    // From one side only, line art cannot tell the gap from a panel: it stays closed,
+    // unless the manifest says holes: keep.
+    EXPECT_GT(load_views(dir / "one.yaml", {}).value.views[0].coverage.at(106, 80), 0.5f);
+    EXPECT_LT(load_views(dir / "keep.yaml", {}).value.views[0].coverage.at(106, 80), 0.5f);
+}
+
+TEST(LineGaps, CircleOnABoxFaceIsNoHole) {
+    // A box with a circle drawn on its front face, joined to the outline by a line (a panel
+    // line): front and back both drawn so. A closed loop of detail is no gap between parts,
+    // even seen from both sides; neither is a circle drawn on the front face alone.
+    test::TempDir dir("line_gaps_circle");
+    const Inside box = [](double x, double y) { return x > 40 && x < 160 && y > 40 && y < 160; };
+    const Inside circle = [](double x, double y) {
+        const double r = std::hypot(x - 100, y - 100);
+        return std::abs(r - 30) < 0.8 || (std::abs(y - 100) < 0.8 && x > 130 && x < 160);
+    };
+    const Inside plain_circle = [](double x, double y) { return std::abs(std::hypot(x - 100, y - 100) - 30) < 0.8; };
+    write_image(outline(box, circle), dir / "front.png");
+    write_image(outline(box, circle), dir / "back.png");
+    write_image(outline(box, plain_circle), dir / "front_plain.png");
+    write_image(outline(box), dir / "back_plain.png");
+    write_image(outline(box), dir / "right.png");
+    test::write_text(dir / "joined.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+    test::write_text(dir / "one_face.yaml",
+                     "views:\n  front: front_plain.png\n  back: back_plain.png\n  right: right.png\n");
+    for (const char* m : {"joined.yaml", "one_face.yaml"}) {
+        const Views v = load_views(dir / m, {}).value;
+        EXPECT_GT(v.views[0].coverage.at(100, 100), 0.5f) << m;
+        EXPECT_GT(v.views[1].coverage.at(100, 100), 0.5f) << m;
+    }
+}
