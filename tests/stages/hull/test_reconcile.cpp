@@ -177,16 +177,24 @@ TEST(Reconcile, BendWithinTheToleranceClosesTheGap) {
     EXPECT_NEAR(hull_volume(v), 200.0 * 300.0 * 150.0, 0.02 * 200.0 * 300.0 * 150.0);
 }
 
+// The box below drawn front (on paper `fw` x `fh`, the box centred), right and top, the top
+// drawing its width 8 % longer, with their manifest.
+namespace {
+void draw_box_drawn_longer_on_top(const std::filesystem::path& dir, int fw, int fh) {
+    draw(dir / "front.png", fw, fh, rect(fw / 2, fh / 2, 200, 300));
+    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
+    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+}
+} // namespace
+
 // A box 200 wide, 300 high, 150 deep whose top view draws the width 8 % longer: one scale
 // for the top puts its width beyond the front's and its depth short of the right's. The
 // model keeps what every drawing shows: it grows to the longer of the two along each axis
 // (the fitted box does not cut it), so no drawing is missing any of itself.
 TEST(Reconcile, AxisDrawnLongerInOneViewIsKept) {
     test::TempDir dir("rc_longer");
-    draw(dir / "front.png", 400, 400, rect(200, 200, 200, 300));
-    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
-    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
-    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    draw_box_drawn_longer_on_top(dir.path(), 400, 400);
     std::vector<std::string> warnings;
     LoadViewsStats stats;
     const auto on = load(dir / "views.yaml", "on", "union", &warnings, &stats);
@@ -211,10 +219,7 @@ TEST(Reconcile, AxisDrawnLongerInOneViewIsKept) {
 // width grows the front beyond its paper, which grows with it.
 TEST(Reconcile, GrowingBeyondACroppedDrawingGrowsItsPaper) {
     test::TempDir dir("rc_cropped");
-    draw(dir / "front.png", 204, 304, rect(102, 152, 200, 300));
-    draw(dir / "right.png", 400, 400, rect(200, 200, 150, 300));
-    draw(dir / "top.png", 400, 400, rect(200, 200, 216, 150));
-    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    draw_box_drawn_longer_on_top(dir.path(), 204, 304);
     LoadViewsStats stats;
     const auto on = load(dir / "views.yaml", "on", "union", nullptr, &stats);
     ASSERT_EQ(stats.reconciled.size(), 3u);
