@@ -263,7 +263,15 @@ Image render_art(const Mesh& mesh_in, const Camera& cam, int width, int height, 
     for (std::size_t i = 0; i < N; ++i) scene.empty[i] = D.face[i] == DepthImage::kNoFace;
 
     // Lines: silhouette outline inside the silhouette, and creases / inner contours.
-    const std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
+    std::vector<char> crease = opt.lines ? crease_samples(scene, opt) : std::vector<char>(N, 0);
+    if (opt.lines && opt.outline_centred) {
+        // A centred outline is the line there: a crease or contour within it (a smooth
+        // surface's contour generator, a rim on the edge) would ink it again further in, so
+        // crease lines stop where their band meets the outline's inner edge.
+        const float reach = 0.5f * (opt.outline_px + opt.crease_px) * float(ss);
+        const std::vector<char> near_edge = within_chamfer(scene.empty, w, h, true, reach);
+        for (std::size_t i = 0; i < N; ++i) crease[i] = crease[i] && !near_edge[i];
+    }
     progress.check();
     // A sample is on a line within the outline's width of the outside or half a crease's width
     // of a crease. Over the window: its rim is empty (or the picture's edge, outside as there),

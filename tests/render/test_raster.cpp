@@ -288,3 +288,25 @@ TEST(Raster, BlueprintOutlineIsCentredOnTheEdge) {
     EXPECT_NEAR(centred[1] / centred[0], 1.0, 0.2);
     EXPECT_NEAR(centred[0] + centred[1], inside_only[0], 0.15 * inside_only[0]);
 }
+
+TEST(Raster, BlueprintOutlineOfASmoothSurfaceIsInkedOnce) {
+    // A sphere's contour generator lies on its silhouette: drawn as an inner contour too, it
+    // would ink the outline again further in. Centred, the outline is one line on the edge.
+    const Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 5);
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Camera c = framed_camera(*Camera::named("front"), Vec3d(lo), Vec3d(hi), 200, 200);
+    const std::vector<std::uint8_t> mask = render_mask(m, c, 200, 200);
+    ArtOptions bp;
+    bp.paper = bp.fill = {1, 1, 1};
+    bp.shade = false;
+    bp.grain = bp.vignette = 0;
+    bp.ink = {0, 0, 0};
+    bp.outline_px = bp.crease_px = 3;
+    bp.outline_centred = true;
+    const Image img = render_art(m, c, 200, 200, bp);
+    double in = 0, out = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) (mask[i] ? in : out) += 1.0 - img.pixels[i * 4];
+    EXPECT_GT(out, 100.0);
+    EXPECT_NEAR(in / out, 1.0, 0.2);
+}
