@@ -70,9 +70,13 @@ def tick():
         state["step"] = "cancel-wait"
         return 0.05
     if step == "cancel-wait":
-        state["ticks_while_running"] += 1  # Blender's timers run: it is not frozen
-        if STATUS["overall"] <= 0.3:
-            return 0.05
+        # Blender's timers run while the build runs: it is not frozen. Esc once the build is
+        # past 0.3 and at least two ticks saw it running (a fast start can pass 0.3 before the
+        # second tick on a busy machine); a build no longer running goes to the checks at once.
+        if STATUS["state"] == "running":
+            state["ticks_while_running"] += 1
+            if STATUS["overall"] <= 0.3 or state["ticks_while_running"] < 2:
+                return 0.05
         state["progress_seen"] = STATUS["overall"]
         state["pid"], state["folder"] = STATUS["pid"], STATUS["folder"]
         bpy.context.window_manager.windows[0].event_simulate(type="ESC", value="PRESS")
