@@ -260,28 +260,38 @@ TEST(Raster, BlueprintStyleIsLinesOnPaperOnly) {
     EXPECT_LT(line, 4000u);
 }
 
-TEST(Raster, BlueprintOutlineIsCentredOnTheEdge) {
-    // A draughtsman inks an outline on the edge: half the line lies outside the silhouette.
-    // Drawn inside (the filled style), none of it does.
-    const Mesh m = test::make_box({-1, -1, -1}, {1, 1, 1});
-    Vec3f lo, hi;
-    m.bounds(lo, hi);
-    const Camera c = framed_camera(*Camera::named("front"), Vec3d(lo), Vec3d(hi), 200, 200);
-    const std::vector<std::uint8_t> mask = render_mask(m, c, 200, 200);
+namespace {
+// Black lines on white, no fill, as render-views --style blueprint draws them.
+ArtOptions black_lines_on_white(float outline_px, bool centred) {
     ArtOptions bp;
     bp.paper = bp.fill = {1, 1, 1};
     bp.shade = false;
     bp.grain = bp.vignette = 0;
     bp.ink = {0, 0, 0};
-    bp.outline_px = 4;
-    auto ink_in_out = [&](bool centred) {
-        bp.outline_centred = centred;
-        const Image img = render_art(m, c, 200, 200, bp);
-        std::array<double, 2> ink{0, 0}; // inside, outside
-        for (std::size_t i = 0; i < mask.size(); ++i) ink[mask[i] ? 0 : 1] += 1.0 - img.pixels[i * 4];
-        return ink;
-    };
-    const auto inside_only = ink_in_out(false), centred = ink_in_out(true);
+    bp.outline_px = outline_px;
+    bp.outline_centred = centred;
+    return bp;
+}
+
+// The ink of the mesh drawn from the front at 200 px, inside and outside its mask.
+std::array<double, 2> ink_inside_outside(const Mesh& m, const ArtOptions& bp) {
+    Vec3f lo, hi;
+    m.bounds(lo, hi);
+    const Camera c = framed_camera(*Camera::named("front"), Vec3d(lo), Vec3d(hi), 200, 200);
+    const std::vector<std::uint8_t> mask = render_mask(m, c, 200, 200);
+    const Image img = render_art(m, c, 200, 200, bp);
+    std::array<double, 2> ink{0, 0};
+    for (std::size_t i = 0; i < mask.size(); ++i) ink[mask[i] ? 0 : 1] += 1.0 - img.pixels[i * 4];
+    return ink;
+}
+} // namespace
+
+TEST(Raster, BlueprintOutlineIsCentredOnTheEdge) {
+    // A draughtsman inks an outline on the edge: half the line lies outside the silhouette.
+    // Drawn inside (the filled style), none of it does.
+    const Mesh m = test::make_box({-1, -1, -1}, {1, 1, 1});
+    const auto inside_only = ink_inside_outside(m, black_lines_on_white(4, false));
+    const auto centred = ink_inside_outside(m, black_lines_on_white(4, true));
     EXPECT_LT(inside_only[1], 1.0);
     EXPECT_GT(inside_only[0], 4 * 4 * 100.0); // the 4 px outline around a square of 100+ px sides
     // Centred: as much ink outside as inside, the same line in all.
@@ -292,21 +302,9 @@ TEST(Raster, BlueprintOutlineIsCentredOnTheEdge) {
 TEST(Raster, BlueprintOutlineOfASmoothSurfaceIsInkedOnce) {
     // A sphere's contour generator lies on its silhouette: drawn as an inner contour too, it
     // would ink the outline again further in. Centred, the outline is one line on the edge.
-    const Mesh m = test::make_sphere({0, 0, 0}, 1.0f, 5);
-    Vec3f lo, hi;
-    m.bounds(lo, hi);
-    const Camera c = framed_camera(*Camera::named("front"), Vec3d(lo), Vec3d(hi), 200, 200);
-    const std::vector<std::uint8_t> mask = render_mask(m, c, 200, 200);
-    ArtOptions bp;
-    bp.paper = bp.fill = {1, 1, 1};
-    bp.shade = false;
-    bp.grain = bp.vignette = 0;
-    bp.ink = {0, 0, 0};
-    bp.outline_px = bp.crease_px = 3;
-    bp.outline_centred = true;
-    const Image img = render_art(m, c, 200, 200, bp);
-    double in = 0, out = 0;
-    for (std::size_t i = 0; i < mask.size(); ++i) (mask[i] ? in : out) += 1.0 - img.pixels[i * 4];
-    EXPECT_GT(out, 100.0);
-    EXPECT_NEAR(in / out, 1.0, 0.2);
+    ArtOptions bp = black_lines_on_white(3, true);
+    bp.crease_px = 3;
+    const auto ink = ink_inside_outside(test::make_sphere({0, 0, 0}, 1.0f, 5), bp);
+    EXPECT_GT(ink[1], 100.0);
+    EXPECT_NEAR(ink[0] / ink[1], 1.0, 0.2);
 }
