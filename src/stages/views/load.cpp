@@ -25,9 +25,9 @@ namespace {
 // A view whose manifest entry gives a mask: white (or alpha, where the mask has alpha
 // that separates something) is the object, grey its fractional coverage. The mask stands
 // for the drawing's segmentation; it must have the drawing's size.
-SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image) {
+SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image, int svg_size) {
     ImageInfo info;
-    const Image m = read_image(mv.mask, &info);
+    const Image m = read_image(mv.mask, &info, false, svg_size);
     if (m.width != image.width || m.height != image.height)
         throw Error("mask \"" + mv.mask.string() + "\" is " + std::to_string(m.width) + "x" + std::to_string(m.height) +
                     " but image \"" + mv.image.string() + "\" is " + std::to_string(image.width) + "x" +
@@ -122,7 +122,9 @@ bool check_camera_kinds(const Manifest& man) {
 // (reading, extracting), from the workers; the notes go into `stats` in the views' order.
 void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, LoadViewsStats& stats,
                 const Progress& progress) {
-    SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
+    PanelSearch search;
+    search.svg_size = opt.svg_size;
+    SheetViews sheets = split_sheets(man, search); // the panels of turnaround sheets, each a view's drawing
     stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
     std::vector<std::vector<EnclosedRegion>> regions(man.views.size());
@@ -138,13 +140,14 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
             v.name = mv.key;
             v.source = mv.image;
             ImageInfo info = sheets.infos[i];
-            v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true);
+            v.image =
+                sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true, opt.svg_size);
             v.width = v.image.width;
             v.height = v.image.height;
             step();
             const SilhouetteOptions so = silhouette_options(mv, opt);
-            SilhouetteResult s =
-                mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
+            SilhouetteResult s = mv.mask.empty() ? extract_silhouette(v.image, info, so)
+                                                 : silhouette_from_mask(mv, v.image, opt.svg_size);
             v.coverage = std::move(s.coverage);
             if (const std::string note = segmentation_note(s, so); !note.empty())
                 notes[i] = "view \"" + v.name + "\": " + note;
@@ -248,6 +251,9 @@ void LoadViewsOptions::declare(ParamBinder& b) {
                                  "how far a view's outline may grow to keep what another view draws beyond it (an "
                                  "axis drawn longer, a part drawn wider), a ratio of the silhouette's longest side; "
                                  "a larger disagreement is carved and reported"));
+    b.add(svg_size, ParamSpec::Int("svg_size", kDefaultSvgSize, 64, 16384, "px",
+                                   "the longer side at which SVG drawings are drawn (by librsvg, on white paper): "
+                                   "at least 4 times the hull's resolution keeps the outline finer than the grid"));
     b.add(stretch, ParamSpec::Enum("stretch", "uniform", {"uniform", "axes"},
                                    "how a reconciled view may scale: uniform keeps each drawing's proportions (one "
                                    "scale, turned and bent); axes scales its two image axes apart, so that views "
