@@ -164,11 +164,13 @@ public:
                 any = true;
             }
         for (const EnclosedRegion& g : regions) (g.hole ? res.holes_kept : res.regions_filled)++;
-        // The closed candidates' pixels, for the opposite view to confirm (see
+        // The closed candidates' and witnesses' pixels, for the opposite view to confirm (see
         // open_confirmed_holes); in this image's indices, moved to the whole image's later.
         for (std::size_t i = 0; i < n_; ++i)
-            if (lab[i] >= 0 && regions[std::size_t(lab[i])].candidate && !regions[std::size_t(lab[i])].hole)
-                regions[std::size_t(lab[i])].pixels.push_back(std::uint32_t(i));
+            if (lab[i] >= 0) {
+                EnclosedRegion& g = regions[std::size_t(lab[i])];
+                if ((g.candidate || g.witness) && !g.hole) g.pixels.push_back(std::uint32_t(i));
+            }
         if (any && ink) give_back_barrier_rim(*ink, hole);
         res.regions = std::move(regions);
     }
