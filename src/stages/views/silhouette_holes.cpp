@@ -349,6 +349,18 @@ std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const st
     return out;
 }
 
+void open_regions_at(std::vector<EnclosedRegion>& regions, const std::vector<int>& lab, int w, int h, int ox, int oy,
+                     const std::vector<std::pair<int, int>>& at) {
+    for (const auto& [x, y] : at) {
+        const int lx = x - ox, ly = y - oy;
+        if (lx < 0 || ly < 0 || lx >= w || ly >= h) continue;
+        const int r = lab[std::size_t(ly) * w + lx];
+        if (r < 0) continue;
+        regions[std::size_t(r)].hole = true;
+        regions[std::size_t(r)].why = "line art, shown by the opposite view";
+    }
+}
+
 std::vector<EnclosedRegion> judge_all_regions(const RegionEvidence& e, bool hole, const std::string& why) {
     std::vector<EnclosedRegion> out = region_records(e);
     for (EnclosedRegion& g : out) {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cm {
@@ -68,6 +69,11 @@ std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::s
 /// itself, but it confirms a candidate of the opposite view drawn at the same place.
 std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const std::vector<char>& nested,
                                                std::size_t min_area, bool open_candidates);
+
+/// Marks as holes the regions of `lab` (w x h, at (ox, oy) in the image) that hold the image
+/// points `at`: the openings the opposite view confirmed (see open_confirmed_holes).
+void open_regions_at(std::vector<EnclosedRegion>& regions, const std::vector<int>& lab, int w, int h, int ox, int oy,
+                     const std::vector<std::pair<int, int>>& at);
 
 /// Every region judged alike (holes: keep or fill), `why` the reason given.
 std::vector<EnclosedRegion> judge_all_regions(const RegionEvidence& e, bool hole, const std::string& why);

@@ -165,3 +165,23 @@ TEST(LineGaps, OpeningBetweenPartsOnOneSideIsConfirmedByTheSameLoopOnTheOther) {
     // The far parts' outlines seen through the front's opening are the object.
     EXPECT_GT(loaded.value.views[0].coverage.at(84, 95), 0.5f);
 }
+
+TEST(LineGaps, OpeningConfirmedByTheOppositeViewReachesTheStrokesCentreLine) {
+    // An opening both sides confirm is drawn as the outline is: its edge at the centre line of
+    // the stroke around it, exactly as under holes: keep, not at the stroke's inner edge
+    // (half a stroke and the gap closing short all round).
+    test::TempDir dir("line_gaps_centre");
+    write_three(dir, outline([](double x, double y) { return figure(x, y, false); }),
+                outline([](double x, double y) { return figure(x, y, true); }), outline(side_band));
+    test::write_text(dir / "keep.yaml", "views:\n  front: { image: front.png, holes: keep }\n  right: right.png\n");
+    const std::vector<float> confirmed = load_views(dir / "both.yaml", {}).value.views[0].coverage.full();
+    const std::vector<float> kept = load_views(dir / "keep.yaml", {}).value.views[0].coverage.full();
+    ASSERT_EQ(confirmed.size(), kept.size());
+    double differ = 0, gap = 0;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        differ += std::abs(confirmed[i] - kept[i]);
+        gap += kept[i] < 0.5f && i % 200 > 100 && i % 200 < 130 && i / 200 > 40 && i / 200 < 140;
+    }
+    EXPECT_GT(gap, 1000); // the gap is open under keep: about 1500 px
+    EXPECT_LT(differ, 1.0);
+}
