@@ -117,6 +117,23 @@ bool check_camera_kinds(const Manifest& man) {
     return perspective != 0;
 }
 
+// The views holding openings the opposite view confirmed, extracted again with those regions
+// opened as holes: their edge then goes to the strokes' centre line as the outline's does
+// (open_confirmed_holes opens the blank region alone, half a stroke short all round).
+void extract_with_confirmed_holes(const Manifest& man, const LoadViewsOptions& opt, Views& views,
+                                  const std::vector<std::vector<EnclosedRegion>>& regions,
+                                  const std::vector<ImageInfo>& infos) {
+    tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
+        View& v = views.views[i];
+        SilhouetteOptions so = silhouette_options(man.views[i], opt);
+        for (const EnclosedRegion& g : regions[i]) // a confirmed region keeps its pixels
+            if (g.hole && !g.pixels.empty())
+                so.open_at.emplace_back(int(g.pixels[0] % std::uint32_t(v.width)),
+                                        int(g.pixels[0] / std::uint32_t(v.width)));
+        if (!so.open_at.empty()) v.coverage = extract_silhouette(v.image, infos[i], so).coverage;
+    });
+}
+
 // Views read side by side, one view's image the chunk: its drawing (or its panel of a
 // sheet), silhouette and camera. A stop is looked for per view and per step of a view
 // (reading, extracting), from the workers; the notes go into `stats` in the views' order.
@@ -128,6 +145,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
     stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
     std::vector<std::vector<EnclosedRegion>> regions(man.views.size());
+    std::vector<ImageInfo> infos(man.views.size());
     std::atomic<std::size_t> steps{0};
     auto step = [&] {
         if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
@@ -139,7 +157,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         try {
             v.name = mv.key;
             v.source = mv.image;
-            ImageInfo info = sheets.infos[i];
+            ImageInfo& info = infos[i] = sheets.infos[i];
             v.image =
                 sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true, opt.svg_size);
             v.width = v.image.width;
@@ -163,7 +181,9 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         if (!e.empty()) throw Error(e);
     for (const auto& n : notes)
         if (!n.empty()) stats.notes.push_back(n);
-    for (auto& n : open_confirmed_holes(views.views, regions)) stats.notes.push_back(std::move(n));
+    const std::vector<std::string> confirmed = open_confirmed_holes(views.views, regions);
+    stats.notes.insert(stats.notes.end(), confirmed.begin(), confirmed.end());
+    if (!confirmed.empty()) extract_with_confirmed_holes(man, opt, views, regions, infos);
 }
 
 // Calibrated views keep the manifest's box; drawn views are aligned into the output frame.
