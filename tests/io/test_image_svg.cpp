@@ -13,16 +13,17 @@ using test::error_of;
 namespace {
 
 // A rectangle in red lines 2 units wide, in a 200 x 150 viewBox.
-const char* kRect = R"(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 150">
-  <rect x="40" y="30" width="120" height="90" fill="none" stroke="#c02020" stroke-width="2"/>
-</svg>
-)";
+void write_rect(const std::filesystem::path& file) {
+    test::write_svg(file, "viewBox=\"0 0 200 150\"",
+                    "<rect x=\"40\" y=\"30\" width=\"120\" height=\"90\" fill=\"none\" stroke=\"#c02020\" "
+                    "stroke-width=\"2\"/>");
+}
 
 } // namespace
 
 TEST(ImageSvg, DrawnOnWhitePaperAtTheAskedSize) {
     test::TempDir dir("image_svg");
-    test::write_text(dir / "face.svg", kRect);
+    write_rect(dir / "face.svg");
     ImageInfo info;
     const Image img = read_image(dir / "face.svg", &info, false, 400);
     auto px = [&](int x, int y) { return img.rgba(std::size_t(y) * std::size_t(img.width) + std::size_t(x)); };
@@ -42,7 +43,7 @@ TEST(ImageSvg, DrawnOnWhitePaperAtTheAskedSize) {
     EXPECT_NE(e.find("nosize.svg"), std::string::npos) << e;
     EXPECT_NE(e.find("no size"), std::string::npos) << e;
     // An SVG by its content whatever its name.
-    test::write_text(dir / "drawing.txt", kRect);
+    write_rect(dir / "drawing.txt");
     EXPECT_TRUE(is_svg_file(dir / "drawing.txt"));
     EXPECT_EQ(read_image(dir / "drawing.txt", nullptr, false, 200).width, 200);
 }

@@ -14,23 +14,26 @@ using test::error_of;
 namespace {
 
 // A box's face in thin red lines with a circle drawn on it (detail, not a hole), in SVG
-// units of a 200 x 150 viewBox.
-const char* kFace = R"(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 150">
-  <rect x="40" y="30" width="120" height="90" fill="none" stroke="#c02020" stroke-width="1"/>
-  <circle cx="100" cy="75" r="20" fill="none" stroke="#c02020" stroke-width="1"/>
-</svg>
-)";
-const char* kTop = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 200 200">
-  <rect x="40" y="40" width="120" height="120" fill="none" stroke="#c02020" stroke-width="1"/>
-</svg>
-)";
+// units of a 200 x 150 viewBox, and its top (200 x 200, sized in millimetres).
+const char* kLines = "fill=\"none\" stroke=\"#c02020\" stroke-width=\"1\"";
+
+void write_face(const std::filesystem::path& file) {
+    test::write_svg(file, "viewBox=\"0 0 200 150\"",
+                    std::string("<rect x=\"40\" y=\"30\" width=\"120\" height=\"90\" ") + kLines +
+                        "/>\n<circle cx=\"100\" cy=\"75\" r=\"20\" " + kLines + "/>");
+}
+
+void write_top(const std::filesystem::path& file) {
+    test::write_svg(file, "width=\"100mm\" height=\"100mm\" viewBox=\"0 0 200 200\"",
+                    std::string("<rect x=\"40\" y=\"40\" width=\"120\" height=\"120\" ") + kLines + "/>");
+}
 
 } // namespace
 
 TEST(ViewsSvg, ALineArtBoxWithACircleIsAWholeFace) {
     test::TempDir dir("views_svg");
-    test::write_text(dir / "face.svg", kFace);
-    test::write_text(dir / "top.svg", kTop);
+    write_face(dir / "face.svg");
+    write_top(dir / "top.svg");
     test::write_text(dir / "views.yaml", "views:\n  front: face.svg\n  right: face.svg\n  top: top.svg\n");
     LoadViewsOptions opt;
     opt.svg_size = 1000; // 5 px per SVG unit
@@ -58,7 +61,7 @@ TEST(ViewsSvg, ALineArtBoxWithACircleIsAWholeFace) {
 
 TEST(ViewsSvg, ABrokenSvgNamesTheViewAndTheFile) {
     test::TempDir dir("views_svg_broken");
-    test::write_text(dir / "face.svg", kFace);
+    write_face(dir / "face.svg");
     test::write_text(dir / "broken.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\"><rect");
     test::write_text(dir / "views.yaml", "views:\n  front: face.svg\n  right: broken.svg\n");
     const std::string e = error_of([&] { load_views(dir / "views.yaml", {}); });
