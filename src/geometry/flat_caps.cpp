@@ -98,7 +98,9 @@ private:
     std::unordered_map<std::uint64_t, std::uint32_t> edges_; // directed edge -> its face
 };
 
-std::vector<std::uint32_t> caps_of(const Mesh& m) {
+} // namespace
+
+std::vector<std::uint32_t> find_flat_caps(const Mesh& m) {
     std::vector<std::uint32_t> caps;
     for (std::uint32_t f = 0; f < m.triangles.size(); ++f) {
         const Tri& t = m.triangles[f];
@@ -107,11 +109,10 @@ std::vector<std::uint32_t> caps_of(const Mesh& m) {
     return caps;
 }
 
-} // namespace
+FlatCaps flip_flat_caps(Mesh& mesh) { return flip_flat_caps(mesh, find_flat_caps(mesh)); }
 
-FlatCaps flip_flat_caps(Mesh& mesh) {
+FlatCaps flip_flat_caps(Mesh& mesh, std::vector<std::uint32_t> caps) {
     FlatCaps r;
-    std::vector<std::uint32_t> caps = caps_of(mesh);
     r.found = caps.size();
     if (caps.empty()) return r;
     Flipper flipper(mesh);
@@ -124,13 +125,16 @@ FlatCaps flip_flat_caps(Mesh& mesh) {
             if (flipper.flip(f)) ++r.flipped;
             else left.push_back(f);
         }
-        if (left.size() == caps.size()) break;
+        const bool stuck = left.size() == caps.size();
         caps.swap(left);
+        if (stuck) break;
     }
-    r.left = caps_of(mesh).size();
+    // A flip never makes a cap (both new faces are checked), so what is left is in `caps`.
+    r.left = std::size_t(std::count_if(caps.begin(), caps.end(), [&](std::uint32_t f) {
+        const Tri& t = mesh.triangles[f];
+        return flat(mesh, t[0], t[1], t[2]);
+    }));
     return r;
 }
-
-std::size_t count_flat_caps(const Mesh& mesh) { return caps_of(mesh).size(); }
 
 } // namespace cm

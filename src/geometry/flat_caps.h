@@ -6,6 +6,8 @@
 // surface as it was: the two new faces cover what the two old ones did.
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "core/mesh.h"
 
@@ -30,7 +32,14 @@ inline constexpr double kFlatCapHeight = 1e-5;
 /// too. Faces repeating a vertex are not caps (they are left for the mesh check to name).
 FlatCaps flip_flat_caps(Mesh& mesh);
 
-/// @brief How many faces of `mesh` are flat caps (as flip_flat_caps() finds them).
-std::size_t count_flat_caps(const Mesh& mesh);
+/// @brief The same, for the caps `find_flat_caps(mesh)` gave: a caller that finds none
+/// need not copy the mesh to flip nothing.
+FlatCaps flip_flat_caps(Mesh& mesh, std::vector<std::uint32_t> caps);
+
+/// @brief The faces of `mesh` that are flat caps (as flip_flat_caps() finds them), in order.
+std::vector<std::uint32_t> find_flat_caps(const Mesh& mesh);
+
+/// @brief How many faces of `mesh` are flat caps.
+inline std::size_t count_flat_caps(const Mesh& mesh) { return find_flat_caps(mesh).size(); }
 
 } // namespace cm

@@ -66,7 +66,8 @@ MeshFile::MeshFile(const Mesh& mesh, const MeshFileOptions& opt) : input_(mesh) 
     // Flat caps (a corner on the opposite edge, where a row of vertices lies on a straight
     // crease) are flipped away: sized to metres or rounded to the file's digits they would be
     // faces of no area, which importers and the check take for broken ones.
-    if (count_flat_caps(this->mesh())) stats_.caps = flip_flat_caps(changed_ ? *changed_ : changed_.emplace(mesh));
+    std::vector<std::uint32_t> caps = find_flat_caps(this->mesh());
+    if (!caps.empty()) stats_.caps = flip_flat_caps(changed_ ? *changed_ : changed_.emplace(mesh), std::move(caps));
 }
 
 void MeshFile::write(const std::filesystem::path& file, const std::filesystem::path& path,
