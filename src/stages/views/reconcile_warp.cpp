@@ -96,8 +96,55 @@ std::vector<NeedPixel> need_pixels(const std::vector<char>& in, const std::vecto
     return needs;
 }
 
+// Pixels to cover that bend together: a connected group's bend spreads over a few times its
+// farthest pixel's distance (a small disagreement bends a short stretch of outline, a large
+// one a long stretch), at most `widest` a spacing. Where two groups' bends overlap, their
+// displacements add (a sum of smooth fields is smooth).
+struct NeedGroup {
+    std::vector<NeedPixel> needs;
+    double far = 0, h = 0;
+    std::array<double, 4> box{1e300, 1e300, -1e300, -1e300}; // where its bend reaches
+    void settle(double widest) {
+        far = 0;
+        std::array<double, 4> b{1e300, 1e300, -1e300, -1e300};
+        for (const NeedPixel& p : needs)
+            far = std::max(far, p.dist), b = {std::min(b[0], p.x - p.dist), std::min(b[1], p.y - p.dist),
+                                              std::max(b[2], p.x + 1 + p.dist), std::max(b[3], p.y + 1 + p.dist)};
+        h = std::max(4.0, std::min(widest, 3 * (far + 1)));
+        box = {b[0] - 3 * h, b[1] - 3 * h, b[2] + 3 * h, b[3] + 3 * h};
+    }
+};
+
+std::vector<NeedGroup> group_needs(const std::vector<NeedPixel>& needs, int W, int H, double widest) {
+    std::vector<int> at(std::size_t(W) * H, -1), group(needs.size(), -1);
+    for (std::size_t i = 0; i < needs.size(); ++i) at[std::size_t(needs[i].y) * W + needs[i].x] = int(i);
+    std::vector<NeedGroup> out;
+    for (std::size_t s = 0; s < needs.size(); ++s) {
+        if (group[s] >= 0) continue;
+        NeedGroup g;
+        std::vector<std::size_t> todo{s};
+        group[s] = int(out.size());
+        while (!todo.empty()) {
+            const NeedPixel& p = needs[todo.back()];
+            todo.pop_back();
+            g.needs.push_back(p);
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = p.x + dx, y = p.y + dy;
+                    if (x < 0 || y < 0 || x >= W || y >= H) continue;
+                    const int k = at[std::size_t(y) * W + x];
+                    if (k >= 0 && group[std::size_t(k)] < 0)
+                        group[std::size_t(k)] = int(out.size()), todo.push_back(std::size_t(k));
+                }
+        }
+        g.settle(widest);
+        out.push_back(std::move(g));
+    }
+    return out;
+}
+
 // The field that covers the pixels to cover (Reconciler::warp), on a lattice of spacing h.
-WarpField fit_bend(const std::vector<NeedPixel>& needs, const std::vector<char>& in, const std::vector<char>& need,
+WarpField fit_bend(const std::vector<NeedPixel>& needs, const std::vector<char>& in, const std::vector<float>& to_need,
                    const Coverage& cov, double h, double cap) {
     const int W = cov.width(), H = cov.height();
     double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
@@ -121,7 +168,6 @@ WarpField fit_bend(const std::vector<NeedPixel>& needs, const std::vector<char>&
     }
     // The outline away from the pixels to cover (beyond two spacings, half a B-spline's
     // span) stays where it is.
-    const std::vector<float> to_need = squared_edt(need, W, H);
     const auto sup = field.support();
     std::map<std::pair<int, int>, bool> anchored;
     for (int y = std::max(1, int(sup[1])); y < std::min(H - 1, int(sup[3]) + 1); ++y)
@@ -197,12 +243,15 @@ double Reconciler::warp(Member& m, const std::vector<std::array<double, 4>>& rec
                 need[std::size_t(y) * W + x] = !in[std::size_t(y) * W + x];
     const std::vector<NeedPixel> needs = need_pixels(in, need, v.coverage, W, H, cap);
     if (needs.empty()) return 0.0;
-    // The lattice: a spacing of a twenty-fourth of the silhouette's longest side; a cubic
-    // B-spline spans four spacings, so a bend spreads over about a sixth of the silhouette.
+    // Each group of them bends on a lattice a few times its farthest distance, at most a
+    // twenty-fourth of the silhouette's longest side (a cubic B-spline spans four spacings:
+    // a bend spreads over at most a sixth of the silhouette).
     const Coverage::Box& ib = v.coverage.inside_box();
-    const double h = std::max(4.0, std::max(ib.x1 - ib.x0 + 1, ib.y1 - ib.y0 + 1) / 24.0);
-    const WarpField field = fit_bend(needs, in, need, v.coverage, h, cap);
-    const auto sup = field.support();
+    const double widest = std::max(4.0, std::max(ib.x1 - ib.x0 + 1, ib.y1 - ib.y0 + 1) / 24.0);
+    const std::vector<float> to_need = squared_edt(need, W, H);
+    std::vector<WarpField> fields;
+    for (const NeedGroup& g : group_needs(needs, W, H, widest))
+        fields.push_back(fit_bend(g.needs, in, to_need, v.coverage, g.h, cap));
     // Resampled through the field where it is not zero.
     std::vector<float> out = cov;
     const bool colour = v.image.width == W && v.image.height == H;
@@ -212,12 +261,27 @@ double Reconciler::warp(Member& m, const std::vector<std::array<double, 4>>& rec
             const auto c = v.image.rgba(i);
             std::copy(c.begin(), c.end(), img.pixels.begin() + std::ptrdiff_t(i * 4));
         }
+    // The sum of the groups' fields, over the box they reach.
+    std::array<double, 4> reach{1e300, 1e300, -1e300, -1e300};
+    for (const WarpField& f : fields) {
+        const auto b = f.support();
+        reach = {std::min(reach[0], b[0]), std::min(reach[1], b[1]), std::max(reach[2], b[2]),
+                 std::max(reach[3], b[3])};
+    }
     std::vector<double> row_max(std::size_t(H), 0.0);
-    const int ya = std::max(0, int(sup[1])), yb = std::min(H, int(std::ceil(sup[3])) + 1);
-    const int xa = std::max(0, int(sup[0])), xb = std::min(W, int(std::ceil(sup[2])) + 1);
+    const int ya = std::max(0, int(reach[1])), yb = std::min(H, int(std::ceil(reach[3])) + 1);
+    const int xa = std::max(0, int(reach[0])), xb = std::min(W, int(std::ceil(reach[2])) + 1);
     tbb::parallel_for(ya, std::max(ya, yb), [&](int y) {
+        std::vector<const WarpField*> here;
+        for (const WarpField& f : fields)
+            if (const auto b = f.support(); b[1] <= y + 0.5 && y + 0.5 <= b[3]) here.push_back(&f);
         for (int x = xa; x < xb; ++x) {
-            const Vec2d d = clamp_length(field(x + 0.5, y + 0.5), cap);
+            Vec2d d{0, 0};
+            for (const WarpField* f : here) {
+                const Vec2d e = (*f)(x + 0.5, y + 0.5);
+                d.x += e.x, d.y += e.y;
+            }
+            d = clamp_length(d, cap);
             const double n = std::hypot(d.x, d.y);
             row_max[std::size_t(y)] = std::max(row_max[std::size_t(y)], n);
             if (n < 1e-3) continue;
@@ -230,9 +294,10 @@ double Reconciler::warp(Member& m, const std::vector<std::array<double, 4>>& rec
             for (std::size_t k = 0; k < 4; ++k) img.pixels[i * 4 + k] = c[k];
         }
     });
+    const double most = *std::max_element(row_max.begin(), row_max.end());
     v.coverage = Coverage(out, W, H);
     if (colour) v.image = std::move(img);
-    return *std::max_element(row_max.begin(), row_max.end());
+    return most;
 }
 
 } // namespace cm::reconcile_detail
