@@ -10,6 +10,7 @@ pkgs=(cmake g++ ninja-build ccache pkg-config
       libmeshoptimizer-dev libpng-dev libmimalloc-dev
       libssl-dev libjs-three)
 pkgs+=(libeigen3-dev) # the 3x3 QEF of extract.dual_marching_cubes
+pkgs+=(librsvg2-dev)  # SVG drawings, rasterised by librsvg
 # The Python module (python/, docs/python.md) and its tests; python3-openvdb gives Volume.grid().
 pkgs+=(pybind11-dev python3-dev python3-numpy python3-pytest python3-openvdb)
 missing=()

@@ -40,7 +40,7 @@ echo "$list" | while read -r name file up front; do
             python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["mean_pct"])')
         xor=$(python3 -c 'import json,sys
 r = json.load(open(sys.argv[1]))
-print("%.3f" % [n for n in r["nodes"] if n["id"] == "error"][0]["metrics"]["xor_pct"])' "$out.json")
+print("%.3f" % [n for n in r["nodes"] if n["id"] == "score"][0]["metrics"]["xor_pct"])' "$out.json")
         if "$cm" check "$out.obj" > /dev/null 2>&1; then clean=yes; else clean=no; fi
         echo "$name $p $tag $res $err $xor $clean $secs"
     done

@@ -48,7 +48,7 @@ echo "$list" | while read -r name file up front; do
             python3 -c 'import json,sys; print("%.3f" % json.load(sys.stdin)["xor_pct"])')
         set -- $(python3 -c 'import json,sys
 r = json.load(open(sys.argv[1]))
-print("%.3f %.2f" % ([n for n in r["nodes"] if n["id"] == "error"][0]["metrics"]["xor_pct"], r["cpu_seconds"]))' "$out.json")
+print("%.3f %.2f" % ([n for n in r["nodes"] if n["id"] == "score"][0]["metrics"]["xor_pct"], r["cpu_seconds"]))' "$out.json")
         if "$cm" check "$out.obj" > /dev/null 2>&1; then clean=yes; else clean=no; fi
         echo "$name $p $tag $res $err $1 $unseen_xor $clean $2"
     done

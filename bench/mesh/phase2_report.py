@@ -44,7 +44,7 @@ for n in names:
     angle = p["reduce"]["params"]["max_angle_deg"]
     mc_faces = p["surface"]["metrics"]["faces"]
     faces = p["reduce"]["metrics"]["faces"]
-    xor = p["error"]["metrics"]["xor_pct"]
+    xor = p["score"]["metrics"]["xor_pct"]
     e = evals[n]
     # The same chain evaluated by phase2_eval at this angle (checks it adds).
     row = next((s for s in e["sweep"] if abs(s["max_angle_deg"] - angle) < 1e-9), None)

@@ -42,9 +42,9 @@ cpu = float(t["User time (seconds)"]) + float(t["System time (seconds)"])
 print("| %s | %s | %s | %s | %s | %.2f | %.2f | %.0f | %s -> %s | %.3f |" % (
     sys.argv[3], sys.argv[4], sys.argv[5],
     " | ".join(cell(k) for k in ("views", "hull", "refine", "surface", "smooth", "reduce")),
-    cell("write", "preview", "error"), wall, cpu, float(t["Maximum resident set size (kbytes)"]) / 1024,
+    cell("write", "preview", "score"), wall, cpu, float(t["Maximum resident set size (kbytes)"]) / 1024,
     format(int(n["surface"]["metrics"]["faces"]), ","), format(int(n["reduce"]["metrics"]["faces"]), ","),
-    n["error"]["metrics"]["xor_pct"]))
+    n["score"]["metrics"]["xor_pct"]))
 PY
         i=$((i + 1))
     done

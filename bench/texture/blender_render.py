@@ -1,6 +1,7 @@
 # Renders a glTF binary as Blender imports it (headless, Cycles on the CPU, a three-quarter
 # view from the front right, one sun and a grey sky): the picture a TD gets in Blender.
-#   blender -b --factory-startup --python bench/texture/blender_render.py -- FILE.glb OUT.png [SIZE]
+#   blender -b --factory-startup --python bench/texture/blender_render.py -- FILE.glb OUT.png [SIZE] [SKY]
+# SKY: the sky's grey (0.8 by default; darker for a white, untextured model).
 import math
 import sys
 
@@ -14,6 +15,7 @@ from mathutils import Vector
 args = sys.argv[sys.argv.index("--") + 1:]
 path, out_png = args[0], args[1]
 size = int(args[2]) if len(args) > 2 else 480
+sky = float(args[3]) if len(args) > 3 else 0.8
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.import_scene.gltf(filepath=path)
 scene = bpy.context.scene
@@ -31,7 +33,7 @@ scene.render.resolution_x = scene.render.resolution_y = size
 scene.render.filepath = out_png
 scene.world = bpy.data.worlds.new("sky")
 scene.world.use_nodes = True
-scene.world.node_tree.nodes["Background"].inputs[0].default_value = (0.8, 0.8, 0.8, 1)
+scene.world.node_tree.nodes["Background"].inputs[0].default_value = (sky, sky, sky, 1)
 
 camera = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
 scene.collection.objects.link(camera)

@@ -1,6 +1,7 @@
 // Decoded pixels as a reader gives them, and the table of the reader for the formats other
 // than PNG: OpenImageIO, in a library of its own (oiio/) opened on first use, so a process
-// that reads and writes only PNG never loads it and the hundreds of libraries it pulls in.
+// that reads and writes only PNG never loads it and the hundreds of libraries it pulls in;
+// likewise librsvg for vector drawings (svg/).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -46,7 +47,20 @@ struct ImageBackend {
 
 constexpr int kImageBackendAbi = 2;
 
+/// The rasteriser of vector drawings (SVG), through librsvg: a library of its own (svg/),
+/// opened on the first SVG file.
+struct VectorBackend {
+    int abi;
+    /// Draws the file onto white paper, its longer side `longest` pixels, as 8-bit RGB;
+    /// refuses more than `max_pixels` (0: no limit).
+    bool (*rasterise)(const std::string& file, int longest, std::uint64_t max_pixels, RawImage& out, std::string& why);
+};
+
+constexpr int kVectorBackendAbi = 1;
+
 } // namespace cm
 
 /// The entry point of the backend library.
 extern "C" const cm::ImageBackend* conceptmesh_image_backend();
+/// The entry point of the vector backend library.
+extern "C" const cm::VectorBackend* conceptmesh_vector_backend();

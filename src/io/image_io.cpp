@@ -2,8 +2,11 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -20,38 +23,48 @@ namespace cm {
 
 namespace {
 
+template <typename Backend>
 struct Loaded {
-    const ImageBackend* backend = nullptr;
+    const Backend* backend = nullptr;
     std::string why;
 };
 
-// OpenImageIO's library, beside this one (the build tree and an installed tree alike), else
-// wherever the dynamic loader finds it. Opened once, on the first image that is not PNG.
-Loaded load_backend() {
-    constexpr const char* name = "libconceptmesh_image_oiio.so";
-    Loaded l;
+// A backend library of conceptmesh, beside this one (the build tree and an installed tree
+// alike), else wherever the dynamic loader finds it. Opened once, on the first image that
+// needs it. `what` names it in the error ("OpenImageIO", "librsvg").
+template <typename Backend>
+Loaded<Backend> load_backend(const char* name, const char* entry_name, int abi, const char* what) {
+    Loaded<Backend> l;
     Dl_info self{};
     void* h = nullptr;
-    if (::dladdr(reinterpret_cast<void*>(&load_backend), &self) && self.dli_fname)
+    if (::dladdr(reinterpret_cast<void*>(&is_svg_file), &self) && self.dli_fname)
         h = ::dlopen((fs::path(self.dli_fname).parent_path() / name).c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     if (!h) h = ::dlopen(name, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     if (!h) {
         const char* e = ::dlerror();
-        l.why = std::string("the OpenImageIO library of conceptmesh (") + name + ") cannot be opened: " + (e ? e : "");
+        l.why = std::string("the ") + what + " library of conceptmesh (" + name + ") cannot be opened: " + (e ? e : "");
         return l;
     }
-    using Entry = const ImageBackend* (*)();
-    auto entry = reinterpret_cast<Entry>(::dlsym(h, "conceptmesh_image_backend"));
-    const ImageBackend* b = entry ? entry() : nullptr;
-    if (!b || b->abi != kImageBackendAbi) l.why = std::string(name) + " is not the one this conceptmesh was built with";
+    using Entry = const Backend* (*)();
+    auto entry = reinterpret_cast<Entry>(::dlsym(h, entry_name));
+    const Backend* b = entry ? entry() : nullptr;
+    if (!b || b->abi != abi) l.why = std::string(name) + " is not the one this conceptmesh was built with";
     else l.backend = b;
     return l;
 }
 
 // Throws `prefix` + why when the backend is missing.
 const ImageBackend& backend(const std::string& prefix) {
-    static const Loaded loaded = load_backend();
+    static const auto loaded = load_backend<ImageBackend>("libconceptmesh_image_oiio.so", "conceptmesh_image_backend",
+                                                          kImageBackendAbi, "OpenImageIO");
     if (!loaded.backend) throw Error(prefix + loaded.why);
+    return *loaded.backend;
+}
+
+const VectorBackend& vector_backend(const std::string& prefix) {
+    static const auto loaded = load_backend<VectorBackend>("libconceptmesh_image_svg.so", "conceptmesh_vector_backend",
+                                                           kVectorBackendAbi, "librsvg");
+    if (!loaded.backend) throw Error(prefix + loaded.why + " (SVG drawings need librsvg: Debian's librsvg2-dev)");
     return *loaded.backend;
 }
 
@@ -136,17 +149,29 @@ Image grey_bytes(RawImage&& raw) { return Image{raw.width, raw.height, 1, {}, st
 
 } // namespace
 
-Image read_image(const fs::path& file, ImageInfo* info, bool keep_bytes) {
+bool is_svg_file(const fs::path& file) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".svg" || ext == ".svgz") return true;
+    std::ifstream in(file, std::ios::binary);
+    char head[1024] = {};
+    in.read(head, sizeof head);
+    const std::string text(head, std::size_t(in.gcount()));
+    return text.find("<svg") != std::string::npos;
+}
+
+Image read_image(const fs::path& file, ImageInfo* info, bool keep_bytes, int svg_size) {
     std::error_code ec;
     const std::string prefix = "cannot read image \"" + file.string() + "\": ";
     if (!fs::exists(file, ec)) throw Error(prefix + "no such file");
     const std::uint64_t limit = resource_limits().max_image_pixels;
     RawImage raw;
     std::string why;
-    // PNG by its signature (whatever the extension says) through libpng; the rest through
-    // OpenImageIO, loaded for it.
+    // PNG by its signature (whatever the extension says) through libpng; SVG drawn by
+    // librsvg; the rest through OpenImageIO. The last two are loaded for it.
     const bool ok = png::is_png_file(file.string()) ? png::read(file.string(), nullptr, 0, limit, raw, why)
-                                                    : backend(prefix).read(file.string(), limit, raw, why);
+                    : is_svg_file(file) ? vector_backend(prefix).rasterise(file.string(), svg_size, limit, raw, why)
+                                        : backend(prefix).read(file.string(), limit, raw, why);
     if (!ok) throw Error(prefix + why);
     const bool grey = raw.channels == 1 && raw.alpha < 0;
     Image img = keep_bytes && raw.bits == 8 ? (grey ? grey_bytes(std::move(raw)) : to_rgba_bytes(raw)) : to_rgba(raw);
@@ -189,7 +214,7 @@ Image decode_image(const unsigned char* data, std::size_t size, const std::strin
 bool image_size(const fs::path& file, int& width, int& height) {
     if (png::size(file.string(), width, height)) return true;
     std::error_code ec;
-    if (!fs::exists(file, ec)) return false;
+    if (!fs::exists(file, ec) || is_svg_file(file)) return false; // an SVG's size is the reader's choice
     try {
         return backend("").size(file.string(), width, height);
     } catch (const Error&) {

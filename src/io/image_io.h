@@ -1,5 +1,6 @@
-// Reading and writing images: PNG through libpng, every other format OpenImageIO reads
-// through OpenImageIO, whose library is opened on the first such image.
+// Reading and writing images: PNG through libpng, SVG drawings rasterised by librsvg, every
+// other format OpenImageIO reads through OpenImageIO; each library opened on the first image
+// that needs it.
 #pragma once
 #include <algorithm>
 #include <cstdint>
@@ -16,12 +17,22 @@ struct ImageInfo {
     int bits = 8;           ///< bits per channel in the file
 };
 
+/// The longer side, in pixels, at which read_image() draws an SVG file unless told.
+inline constexpr int kDefaultSvgSize = 2048;
+
+/// True for an SVG file: by its extension (.svg, .svgz, any case) or, whatever the
+/// extension, an `<svg` element in its first kilobyte.
+bool is_svg_file(const std::filesystem::path& file);
+
 /// Reads any format OpenImageIO reads into float RGBA in [0,1] (grey is
 /// replicated; missing alpha becomes 1). Throws cm::Error naming the file.
 /// `keep_bytes`: an 8-bit file is kept as bytes (Image::bytes, a quarter of the memory):
 /// RGBA, or one channel for grey without alpha (a sixteenth; Image::rgba and Image::at give
 /// the same values as for its RGBA expansion).
-Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr, bool keep_bytes = false);
+/// An SVG file (is_svg_file()) is drawn by librsvg onto white paper, its longer side
+/// `svg_size` pixels, as 8-bit RGB with no alpha.
+Image read_image(const std::filesystem::path& file, ImageInfo* info = nullptr, bool keep_bytes = false,
+                 int svg_size = kDefaultSvgSize);
 
 /// Writes an image (1, 3 or 4 channels, float in [0,1], or 8-bit); the format follows the
 /// extension (.png is 8-bit; .tif/.exr keep more). Writes exactly to `file`.

@@ -80,7 +80,7 @@ def test_views_volume_and_chained_pipeline(cm, tmp_path):
              | cm.stage("hull.marching_intersections", id="refine")
              | cm.stage("extract.marching_cubes", id="surface", check="off")
              | cm.stage("mesh.laplacian_smooth", id="smooth", iterations=10, constrain="hull")
-             | cm.stage("mesh.reduce", id="reduce", max_angle_deg=20, constrain="silhouette"))
+             | cm.stage("mesh.reduce", id="reduce", max_angle_deg=20, crease_straightness=2, constrain="silhouette"))
     assert [n["inputs"] for n in chain.nodes][2] == {"volume": "hull", "views": "views"}
     built = chain.run()
     np.testing.assert_array_equal(built.outputs["reduce"].vertices, loaded.outputs["reduce"].vertices)

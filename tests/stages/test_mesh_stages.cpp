@@ -8,6 +8,7 @@
 #include "core/mesh.h"
 #include "core/stage.h"
 #include "geometry/mesh_check.h"
+#include "io/mesh_io.h"
 #include "support/shapes.h"
 #include "support/stage_harness.h"
 #include "support/test_support.h"
@@ -121,6 +122,15 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     h.input("mesh", flat);
     EXPECT_THROW(h.run<FileOutput>(), Error);
     EXPECT_FALSE(std::filesystem::exists(dir / "flat.ply"));
+
+    // A flat cap (a corner on the opposite edge: no area) is flipped away, not refused.
+    h.param("path", dir / "cap.ply");
+    h.input("mesh", test::make_box_with_flat_cap({0, 0, 0}, {1, 1, 1}));
+    h.run<FileOutput>();
+    EXPECT_EQ(std::stod(h.metrics().at("degenerate_faces")), 0.0);
+    EXPECT_EQ(std::stod(h.metrics().at("flat_caps_flipped")), 1.0);
+    EXPECT_TRUE(h.warnings().empty());
+    EXPECT_EQ(check_mesh(read_mesh(dir / "cap.ply")).degenerate_faces, 0u);
 
     h.param("path", dir / "crossing.ply");
     h.input("mesh", two);

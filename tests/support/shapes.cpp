@@ -104,6 +104,17 @@ Mesh make_crossing_boxes() {
     return m;
 }
 
+Mesh make_box_with_flat_cap(Vec3f lo, Vec3f hi) {
+    Mesh m = make_box(lo, hi);
+    const auto [p, q, r] = m.triangles[0];
+    const auto mid = std::uint32_t(m.positions.size());
+    m.positions.push_back((m.positions[p] + m.positions[q]) * 0.5f);
+    m.triangles[0] = {p, mid, r};
+    m.triangles.push_back({mid, q, r});
+    m.triangles.push_back({p, q, mid});
+    return m;
+}
+
 Mesh make_lopsided() {
     Mesh m = make_sphere({0, 0, 0}, 1.0f, 4);
     append_mesh(m, make_box({0.5f, 0.5f, -0.2f}, {1.4f, 1.1f, 0.4f}));

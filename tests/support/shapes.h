@@ -23,6 +23,10 @@ Mesh make_sphere(Vec3f centre, float radius, int subdivisions = 4); ///< icosphe
 void append_mesh(Mesh& into, const Mesh& part, bool flip = false);
 /// Two boxes that overlap: closed and 2-manifold, but their faces cross.
 Mesh make_crossing_boxes();
+/// make_box(lo, hi) with a flat cap: triangle 0's first edge (p, q) split at its middle M
+/// into (p, M, r) and (M, q, r), and the face (p, q, M) of no area closing it: closed and
+/// 2-manifold, one face with its corners on a line (the last face).
+Mesh make_box_with_flat_cap(Vec3f lo, Vec3f hi);
 /// A sphere with a box on its shoulder: lopsided, so a wrong axis or a mirror shows.
 Mesh make_lopsided();
 

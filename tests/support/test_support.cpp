@@ -62,6 +62,10 @@ void write_text(const fs::path& file, const std::string& text) {
     out << text;
 }
 
+void write_svg(const fs::path& file, const std::string& attributes, const std::string& shapes) {
+    write_text(file, "<svg xmlns=\"http://www.w3.org/2000/svg\" " + attributes + ">\n" + shapes + "\n</svg>\n");
+}
+
 std::string read_text(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
     std::stringstream ss;

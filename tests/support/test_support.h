@@ -31,6 +31,9 @@ CommandResult run_cli(const std::string& args, const std::filesystem::path& cwd 
 std::string error_of(const std::function<void()>& f);
 
 void write_text(const std::filesystem::path& file, const std::string& text);
+/// Writes an SVG drawing: the <svg> element's `attributes` (its size, its viewBox) around
+/// `shapes`.
+void write_svg(const std::filesystem::path& file, const std::string& attributes, const std::string& shapes);
 std::string read_text(const std::filesystem::path& file);
 
 /// Every file and folder below `dir`, as paths relative to it, sorted.

@@ -17,11 +17,19 @@ namespace cm {
 
 namespace decimate {
 
+// A collapse along a crease makes long faces beside it: no thinner than this (the quadric
+// decimation's default), or where two sides of a thin part lie close, long faces of one
+// cross the other.
+constexpr double kCreaseAspect = 20.0;
+
 std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
                          float stop_key, const Progress& progress, StartScores* start, bool sweep) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
-    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) { return importance(c, v, limit, key); };
+    const double straight = opt.crease_straightness_deg * kPi / 180.0;
+    auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) {
+        return importance(c, v, limit, straight, key);
+    };
     // The target: among the neighbours whose collapse passes the geometric guards, the one
     // that turns the faces least (then the nearest); topology (and the outline guard, when
     // given) is checked in that order.
@@ -41,36 +49,46 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
     auto passes = [&](std::uint32_t v, std::uint32_t x, const std::vector<std::uint32_t>& rv) {
         return c.topology_ok(v, x, rv) && (!opt.outline || opt.outline->keeps(c, v, x, &*samples));
     };
-    auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& rv, std::uint32_t& w, float&) {
+    std::vector<std::uint32_t> along; // a crease vertex's two targets along its crease
+    auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring, std::uint32_t& w, float&) {
+        // A vertex in the middle of a straight crease goes along it only (into either end of
+        // its crease edges): into any other neighbour it would bend the crease.
+        Crease crease;
+        const bool on_crease = straight_crease(c, v, limit, straight, crease);
+        if (on_crease) along.assign({crease.a, crease.b});
+        const std::vector<std::uint32_t>& targets = on_crease ? along : ring;
+        const double aspect = !on_crease                 ? opt.max_aspect_ratio
+                              : opt.max_aspect_ratio > 0 ? std::min(opt.max_aspect_ratio, kCreaseAspect)
+                                                         : kCreaseAspect;
         const Vec3d p(c.point(v));
         c.old_faces(v, old);
         // The best target first, on its own: a target whose faces turn more than the best
         // found so far is given up at the first face that shows it. Most of the time the
         // best passes the topology and the outline guard, and it is the one taken.
         Option best{-2.0, 0.0, kNone};
-        for (auto x : rv) {
+        for (auto x : targets) {
             double mc;
-            if (!c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old,
-                                               best.w == kNone ? -2.0 : best.cos - kTie))
+            if (!c.usable(x) ||
+                !c.geometry_ok(v, x, cos_limit, aspect, mc, old, best.w == kNone ? -2.0 : best.cos - kTie))
                 continue;
             const Option o{mc, length(Vec3d(c.point(x)) - p), x};
             if (best.w == kNone || before(o, best)) best = o;
         }
         if (best.w == kNone) return false;
-        if (passes(v, best.w, rv)) {
+        if (passes(v, best.w, ring)) {
             w = best.w;
             return true;
         }
         // Otherwise every other valid target, in order.
         options.clear();
-        for (auto x : rv) {
+        for (auto x : targets) {
             double mc;
-            if (x == best.w || !c.usable(x) || !c.geometry_ok(v, x, cos_limit, opt.max_aspect_ratio, mc, old)) continue;
+            if (x == best.w || !c.usable(x) || !c.geometry_ok(v, x, cos_limit, aspect, mc, old)) continue;
             options.push_back({mc, length(Vec3d(c.point(x)) - p), x});
         }
         std::sort(options.begin(), options.end(), before);
         for (const auto& o : options)
-            if (passes(v, o.w, rv)) {
+            if (passes(v, o.w, ring)) {
                 w = o.w;
                 return true;
             }
@@ -192,6 +210,11 @@ void ReduceOptions::declare_angle(ParamBinder& b) {
     b.add(max_angle_deg, ParamSpec::Float("max_angle_deg", 15.0, 0.1, 89.0, "deg",
                                           "largest angle between the face normals around a removable vertex (the "
                                           "paper: 5 to 40; larger reduces more)"));
+    b.add(crease_straightness_deg,
+          ParamSpec::Float("crease_straightness", 0.0, 0.0, 30.0, "deg",
+                           "a vertex in the middle of a straight crease (two sides, each flat within max_angle_deg, "
+                           "meeting along two edges that continue each other within this) is removed along the "
+                           "crease, which stays where it is; 0: off, as in the paper"));
 }
 
 void ReduceOptions::declare_limits(ParamBinder& b) {

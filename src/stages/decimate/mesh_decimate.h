@@ -25,6 +25,9 @@ struct ReduceOptions {
     /// faces is under this (the paper: 5 to 40 degrees); a collapse may not turn a
     /// face by more than this either.
     double max_angle_deg;
+    /// A vertex in the middle of a crease whose two edges continue each other within this
+    /// (degrees) is a candidate too, and goes along the crease; 0: off (the paper).
+    double crease_straightness_deg;
     double max_aspect_ratio; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
     bool no_crossings;       ///< see DecimateStats::restarts
     /// Silhouette: the stage guards the outline in each of its views (`outline`), within

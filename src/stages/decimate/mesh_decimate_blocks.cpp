@@ -91,7 +91,8 @@ public:
           frozen_(frozen),
           local_ids_(local_ids),
           nv_(mesh.positions.size()),
-          limit_(opt.max_angle_deg * kPi / 180.0) {}
+          limit_(opt.max_angle_deg * kPi / 180.0),
+          straight_(opt.crease_straightness_deg * kPi / 180.0) {}
 
     /// 1. The blocks: the faces by cell of the grid (block_cells), shifted by `shift` cells.
     void cut(float shift);
@@ -132,7 +133,7 @@ private:
     std::vector<char>* frozen_;
     LocalIds& local_ids_;
     const std::size_t nv_;
-    const double limit_;
+    const double limit_, straight_;
     std::vector<std::uint32_t> start_, faces_; ///< the faces by cell (CSR over the cells)
     std::vector<std::uint32_t> blocks_;        ///< the cells holding faces
     std::vector<std::unique_ptr<Block>> parts_;
@@ -187,8 +188,9 @@ void BlockRound::let_go(Block& blk) {
 
 void BlockRound::score(Block& blk) const {
     const Collapser& c = *blk.collapser;
-    blk.start = start_scores(c, blk.input.size(),
-                             [&](std::uint32_t v, auto&, float& key) { return importance(c, v, limit_, key); });
+    blk.start = start_scores(c, blk.input.size(), [&](std::uint32_t v, auto&, float& key) {
+        return importance(c, v, limit_, straight_, key);
+    });
 }
 
 float BlockRound::stop_key(double q) {

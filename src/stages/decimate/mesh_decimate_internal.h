@@ -264,10 +264,69 @@ std::size_t run_sweep(Collapser& c, const StartScores& start, float stop_key, Sc
     return collapses;
 }
 
+// A vertex in the middle of a straight crease: its faces split into two sides, each flat
+// within `limit` though the two are not, meeting along exactly two of its edges that continue
+// each other within `straight` radians (a, v, b on one line). Such a vertex can go into a or
+// b without moving the crease or either side's plane; its importance is its sides' flatness.
+struct Crease {
+    std::uint32_t a = 0, b = 0;
+    double theta = 0; ///< the largest angle between two face normals of one side
+};
+inline bool straight_crease(const Collapser& c, std::uint32_t v, double limit, double straight, Crease& out) {
+    constexpr int kMax = 64;
+    if (!(straight > 0)) return false;
+    Vec3f normals[kMax];
+    std::uint32_t next[kMax], prev[kMax];
+    int n = 0;
+    bool many = false;
+    c.for_faces(v, [&](std::uint32_t f) {
+        if (n == kMax) {
+            many = true;
+            return;
+        }
+        const auto& t = c.tri(f);
+        const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        normals[n] = c.normal(f);
+        next[n] = t[std::size_t((k + 1) % 3)];
+        prev[n] = t[std::size_t((k + 2) % 3)];
+        ++n;
+    });
+    if (many || n < 4) return false;
+    // The two sides: each face with the nearer of the two normals furthest apart.
+    int fi = 0, fj = 0;
+    float min_dot = 1.0f;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            if (const float d = dot(normals[i], normals[j]); d < min_dot) min_dot = d, fi = i, fj = j;
+    if (double(min_dot) > std::cos(limit)) return false; // flat: the paper's candidate
+    int side[kMax];
+    for (int i = 0; i < n; ++i) side[i] = dot(normals[i], normals[fi]) >= dot(normals[i], normals[fj]) ? 0 : 1;
+    float flat = 1.0f;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            if (side[i] == side[j]) flat = std::min(flat, dot(normals[i], normals[j]));
+    out.theta = std::acos(std::clamp(double(flat), -1.0, 1.0));
+    if (!(out.theta < limit)) return false;
+    // The crease: the edges whose two faces lie on different sides.
+    int edges = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            if (prev[j] == next[i] && side[i] != side[j]) {
+                if (++edges > 2) return false;
+                (edges == 1 ? out.a : out.b) = next[i];
+            }
+    if (edges != 2) return false;
+    const Vec3f p = c.point(v), ea = c.point(out.a) - p, eb = c.point(out.b) - p;
+    const double la = length(ea), lb = length(eb);
+    return la > 0 && lb > 0 && -double(dot(ea, eb)) >= std::cos(straight) * la * lb;
+}
+
 // The paper's candidate test and importance of vertex v: theta = the largest angle between
 // two face normals around v, under `limit`; I = theta * sum_j |V_j - V|. A small multiple of
-// the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first.
-inline bool importance(const Collapser& c, std::uint32_t v, double limit, float& key) {
+// the perimeter orders the exactly flat vertices (theta = 0) shortest-edges first. With
+// `straight` (radians, 0: off), a vertex in the middle of a straight crease is a candidate
+// too, theta its sides' flatness (straight_crease).
+inline bool importance(const Collapser& c, std::uint32_t v, double limit, double straight, float& key) {
     constexpr int kMax = 64;
     // Raw storage: an array of Vec3f would be zeroed (768 bytes) on every call.
     float normals[kMax][3];
@@ -295,8 +354,12 @@ inline bool importance(const Collapser& c, std::uint32_t v, double limit, float&
         for (int j = i + 1; j < n; ++j)
             min_dot = std::min(
                 min_dot, normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2]);
-    const double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
-    if (!(theta < limit)) return false;
+    double theta = std::acos(std::clamp(double(min_dot), -1.0, 1.0));
+    if (!(theta < limit)) {
+        Crease crease;
+        if (!straight_crease(c, v, limit, straight, crease)) return false;
+        theta = crease.theta;
+    }
     key = float(theta * L + 1e-4 * L);
     return true;
 }

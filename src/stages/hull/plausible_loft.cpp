@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 
 namespace cm::plausible {
@@ -78,11 +79,14 @@ class Lofter {
 public:
     Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) {
         for (int k = 0; k < 3; ++k) project(vox, k);
+        mark_inside(vox);
+        for (auto& P : proj_) tabulate(P);
     }
 
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
-    // section taken there is.
-    LoftValue value(const Coord& p) const {
+    // section taken there is; `found` false where no axis has a section through p (p projects
+    // outside the hull along two axes).
+    LoftValue value(const Coord& p, bool* found = nullptr) const {
         double best_key = 1e300, square = 0.0, fitted = 0.0;
         Interval sb, sc;
         int best_a = -1;
@@ -103,6 +107,7 @@ public:
             sb = ib;
             sc = ic;
         }
+        if (found) *found = best_a >= 0;
         if (best_a < 0) return {};
         const int b = (best_a + 1) % 3, c = (best_a + 2) % 3;
         const double hb = sb.half(), hc = sc.half();
@@ -127,13 +132,44 @@ private:
         P.v0 = vox.box.min()[P.v];
         P.nu = vox.box.dim()[P.u];
         P.nv = vox.box.dim()[P.v];
-        const std::size_t n = std::size_t(P.nu) * std::size_t(P.nv);
-        P.in.assign(n, 0);
-        for (std::size_t l = 0; l < vox.nleaf; ++l)
-            for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
-                const Coord c = it.getCoord();
-                P.in[P.index(c[P.u], c[P.v])] = 1;
+        P.in.assign(std::size_t(P.nu) * std::size_t(P.nv), 0);
+    }
+
+    // The three projections' inside pixels, in parallel over leaves: each leaf's voxels are
+    // projected into an 8 x 8 mask per axis first, so the arrays see one store per pixel.
+    void mark_inside(const HullVoxels& vox) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t l = r.begin(); l != r.end(); ++l) {
+                const LeafT& leaf = vox.leaves.leaf(l);
+                const auto& mask = leaf.getValueMask();
+                std::array<std::uint64_t, 3> local{};
+                for (openvdb::Index w = 0; w < LeafT::SIZE / 64; ++w)
+                    for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1) {
+                        const unsigned o = w * 64 + unsigned(__builtin_ctzll(word));
+                        const std::array<unsigned, 3> c{o >> 6, (o >> 3) & 7u, o & 7u};
+                        for (std::size_t k = 0; k < 3; ++k) {
+                            const Projection& P = proj_[k];
+                            local[k] |= std::uint64_t(1) << (c[std::size_t(P.u)] * 8 + c[std::size_t(P.v)]);
+                        }
+                    }
+                const Coord origin = leaf.origin();
+                for (std::size_t k = 0; k < 3; ++k) {
+                    Projection& P = proj_[k];
+                    for (std::uint64_t bits = local[k]; bits; bits &= bits - 1) {
+                        const int b = __builtin_ctzll(bits);
+                        // Leaves side by side along the axis share the pixel: relaxed stores of
+                        // the same value.
+                        std::atomic_ref<std::uint8_t>(P.in[P.index(origin[P.u] + b / 8, origin[P.v] + b % 8)])
+                            .store(1, std::memory_order_relaxed);
+                    }
+                }
             }
+        });
+    }
+
+    // The runs along u and v through each inside pixel, and the summed-area table.
+    static void tabulate(Projection& P) {
+        const std::size_t n = P.in.size();
         P.lo_u.assign(n, 0);
         P.hi_u.assign(n, -1);
         P.lo_v.assign(n, 0);
@@ -227,12 +263,146 @@ private:
     std::array<Projection, 3> proj_;
 };
 
+// The prior on the grid points that are multiples of the stride, for one leaf at a time:
+// the points around the leaf's voxels are taken, then interpolated trilinearly over the leaf
+// one axis at a time. Points with no section get no weight (the others' weights are
+// renormalised).
+class CoarseLeaf {
+public:
+    CoarseLeaf(const Lofter& lofter, int stride) : lofter_(lofter), s_(stride) {}
+
+    // The prior at every voxel of `leaf`, in the leaf's order.
+    void fill(const LeafT& leaf, std::vector<LoftValue>& out) {
+        const Coord origin = leaf.origin();
+        m_ = 0;
+        for (int k = 0; k < 3; ++k) {
+            q0_[std::size_t(k)] = floor_div(origin[k], s_);
+            m_ = std::max(m_, floor_div(origin[k] + kDim - 1, s_) - q0_[std::size_t(k)] + 2);
+            for (int i = 0; i < kDim; ++i) {
+                const int q = floor_div(origin[k] + i, s_);
+                cell_[std::size_t(k)][std::size_t(i)] = q - q0_[std::size_t(k)];
+                t_[std::size_t(k)][std::size_t(i)] = float(origin[k] + i - q * s_) / float(s_);
+            }
+        }
+        take_points(leaf);
+        interpolate();
+        out.clear();
+        for (auto it = leaf.cbeginValueOn(); it; ++it) {
+            const float* d = &dense_[std::size_t(it.pos()) * 4];
+            out.push_back(d[3] > 0 ? LoftValue{d[0] / d[3], d[1] / d[3], d[2] / d[3]} : lofter_.value(it.getCoord()));
+        }
+    }
+
+private:
+    static constexpr int kDim = int(LeafT::DIM);
+    static int floor_div(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+    std::size_t at(int a, int b, int c) const { return std::size_t((a * m_ + b) * m_ + c); }
+
+    // The coarse points the leaf's voxels need (the corners of their cells with a weight), as
+    // (field, square, fit, 1) times 1 where there is a section, zeros elsewhere.
+    void take_points(const LeafT& leaf) {
+        const std::size_t mm = std::size_t(m_ * m_ * m_);
+        need_.assign(mm, 0);
+        for (auto it = leaf.cbeginValueOn(); it; ++it) {
+            const openvdb::Index o = it.pos();
+            const std::array<int, 3> l{int(o >> 6), int((o >> 3) & 7u), int(o & 7u)};
+            std::array<int, 3> q{}, up{};
+            for (std::size_t k = 0; k < 3; ++k) {
+                q[k] = cell_[k][std::size_t(l[k])];
+                up[k] = t_[k][std::size_t(l[k])] > 0 ? 1 : 0;
+            }
+            for (int a = 0; a <= up[0]; ++a)
+                for (int b = 0; b <= up[1]; ++b)
+                    for (int c = 0; c <= up[2]; ++c) need_[at(q[0] + a, q[1] + b, q[2] + c)] = 1;
+        }
+        coarse_.assign(mm * 4, 0.0f);
+        for (int a = 0; a < m_; ++a)
+            for (int b = 0; b < m_; ++b)
+                for (int c = 0; c < m_; ++c) {
+                    const std::size_t i = at(a, b, c);
+                    if (!need_[i]) continue;
+                    bool found = false;
+                    const Coord p((q0_[0] + a) * s_, (q0_[1] + b) * s_, (q0_[2] + c) * s_);
+                    const LoftValue v = lofter_.value(p, &found);
+                    if (!found) continue;
+                    float* d = &coarse_[i * 4];
+                    d[0] = v.field;
+                    d[1] = v.square;
+                    d[2] = v.fit;
+                    d[3] = 1.0f;
+                }
+    }
+
+    // One axis at a time: the coarse points along z, then y, then x.
+    void interpolate() {
+        const auto lerp4 = [](const float* lo, const float* hi, float t, float* out) {
+            for (int j = 0; j < 4; ++j) out[j] = lo[j] + t * (hi[j] - lo[j]);
+        };
+        const std::size_t m = std::size_t(m_), d = std::size_t(kDim);
+        along_z_.resize(m * m * d * 4);
+        for (std::size_t a = 0; a < m; ++a)
+            for (std::size_t b = 0; b < m; ++b)
+                for (std::size_t z = 0; z < d; ++z) {
+                    const std::size_t c = std::size_t(cell_[2][z]);
+                    lerp4(&coarse_[((a * m + b) * m + c) * 4], &coarse_[((a * m + b) * m + c + 1) * 4], t_[2][z],
+                          &along_z_[((a * m + b) * d + z) * 4]);
+                }
+        along_y_.resize(m * d * d * 4);
+        for (std::size_t a = 0; a < m; ++a)
+            for (std::size_t y = 0; y < d; ++y) {
+                const std::size_t b = std::size_t(cell_[1][y]);
+                for (std::size_t z = 0; z < d; ++z)
+                    lerp4(&along_z_[((a * m + b) * d + z) * 4], &along_z_[((a * m + b + 1) * d + z) * 4], t_[1][y],
+                          &along_y_[((a * d + y) * d + z) * 4]);
+            }
+        dense_.resize(d * d * d * 4);
+        for (std::size_t x = 0; x < d; ++x) {
+            const std::size_t a = std::size_t(cell_[0][x]);
+            for (std::size_t y = 0; y < d; ++y)
+                for (std::size_t z = 0; z < d; ++z)
+                    lerp4(&along_y_[((a * d + y) * d + z) * 4], &along_y_[(((a + 1) * d + y) * d + z) * 4], t_[0][x],
+                          &dense_[((x * d + y) * d + z) * 4]);
+        }
+    }
+
+    const Lofter& lofter_;
+    const int s_;
+    std::array<int, 3> q0_{};
+    int m_ = 0;
+    // Per axis and voxel offset in the leaf: the coarse cell (from q0_) and the weight of its
+    // upper point.
+    std::array<std::array<int, kDim>, 3> cell_{};
+    std::array<std::array<float, kDim>, 3> t_{};
+    std::vector<std::uint8_t> need_;
+    std::vector<float> coarse_, along_z_, along_y_, dense_;
+};
+
 } // namespace
 
-std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
+void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, const LoftLeafBody& body) {
     const Lofter lofter(vox, round_exponent);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<LoftValue> values;
+        values.reserve(LeafT::SIZE);
+        CoarseLeaf coarse(lofter, std::max(stride, 1));
+        for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            const LeafT& leaf = vox.leaves.leaf(l);
+            if (stride > 1) {
+                coarse.fill(leaf, values);
+            } else {
+                values.clear();
+                for (auto it = leaf.cbeginValueOn(); it; ++it) values.push_back(lofter.value(it.getCoord()));
+            }
+            body(vox.base[l], values.data(), values.size());
+        }
+    });
+}
+
+std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
     std::vector<LoftValue> out(vox.n);
-    vox.for_voxels([&](std::size_t i, const Coord& c) { out[i] = lofter.value(c); });
+    loft_by_leaf(vox, round_exponent, 1, [&](std::size_t first, const LoftValue* values, std::size_t count) {
+        std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
+    });
     return out;
 }
 

@@ -4,6 +4,8 @@
 // smallest (the most section-like), made square where the walls are straight and the view
 // along the axis shows the box's sides as its outline.
 #pragma once
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "plausible_state.h"
@@ -21,5 +23,13 @@ struct LoftValue {
 /// about the distance to the section's outline in cells). `round_exponent` is the exponent of
 /// a rounded section (2: an ellipse).
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
+
+/// body(first, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
+/// leaf's voxels (indices first .. first + count - 1). With `stride` > 1 the prior is taken
+/// on the grid points whose coordinates are multiples of `stride` and interpolated
+/// trilinearly between them (stride^3 fewer evaluations; for a field that is smoothed over
+/// more than `stride` cells afterwards).
+using LoftLeafBody = std::function<void(std::size_t first, const LoftValue* values, std::size_t count)>;
+void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, const LoftLeafBody& body);
 
 } // namespace cm::plausible

@@ -110,6 +110,42 @@ std::vector<std::pair<std::size_t, float>> thin_ridge(const std::vector<float>& 
     return ridge;
 }
 
+// Cores the thin-part rule raised where the pull left nothing, in pieces (4-connected)
+// under four strokes squared: the outer corner of a stroke turning a sharp convex corner,
+// whose distance ridge starts thin at the tip, not a part (a box drawn in thick lines got a
+// speck or a knob at each corner). A part thinner than two strokes is long against them.
+// They go back to what the pull left, with the raised fringe around them. Returns how many.
+std::size_t drop_stray_cores(std::vector<float>& out, const std::vector<float>& pulled, float stroke, int w, int h) {
+    const std::size_t n = std::size_t(w) * h;
+    std::vector<char> mask(n);
+    for (std::size_t i = 0; i < n; ++i) mask[i] = out[i] >= 0.5f && pulled[i] < 0.5f;
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int nc = mask_components(mask, w, h, false, lab, sizes);
+    std::vector<char> stray(std::size_t(nc), 0);
+    std::size_t dropped = 0;
+    for (int c = 0; c < nc; ++c) {
+        stray[std::size_t(c)] = double(sizes[std::size_t(c)]) < 4.0 * stroke * stroke;
+        dropped += stray[std::size_t(c)] != 0;
+    }
+    if (!dropped) return 0;
+    std::vector<char> gone(n, 0);
+    for (std::size_t i = 0; i < n; ++i) gone[i] = lab[i] >= 0 && stray[std::size_t(lab[i])];
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (out[i] <= pulled[i]) continue;
+            bool near_gone = gone[i] != 0;
+            for (int dy = -1; dy <= 1 && !near_gone; ++dy)
+                for (int dx = -1; dx <= 1 && !near_gone; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    near_gone = xx >= 0 && yy >= 0 && xx < w && yy < h && gone[std::size_t(yy) * w + xx];
+                }
+            if (near_gone) out[i] = pulled[i];
+        }
+    return dropped;
+}
+
 // Pockets of blank paper outside the outline that gap closing shut (the wedge where two
 // strokes meet at a concave corner): blank object pixels beside the background whose blank
 // piece (4-connected) lies within `reach` of it everywhere and is no larger than a square
@@ -235,6 +271,7 @@ StrokeCentre pull_to_stroke_centre(std::vector<float>& coverage, const std::vect
             out[i] = std::min(coverage[i], std::clamp(depth[i] + shift - half[i] + 0.5f, 0.0f, 1.0f));
     // A part thinner than two strokes keeps a core of a quarter stroke each side of its
     // middle (all of it when thinner still): at least half a stroke thick, never cut away.
+    const std::vector<float> pulled = out;
     for (const auto& [q, r] : thin_ridge(to_bg2, bg, reach, w, h)) {
         const float hq = half[q], m = std::min(0.5f * hq, r);
         if (r >= hq + 0.5f * hq) continue; // the pull leaves more than the core
@@ -252,6 +289,7 @@ StrokeCentre pull_to_stroke_centre(std::vector<float>& coverage, const std::vect
                 }
             }
     }
+    res.corners_dropped = drop_stray_cores(out, pulled, median, w, h);
     for (std::size_t i = 0; i < n; ++i) res.pulled_px += coverage_in[i] - out[i];
     coverage = std::move(out);
     return res;

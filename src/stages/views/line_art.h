@@ -16,11 +16,12 @@ void give_back_barrier_rim(std::vector<char>& bg, const std::vector<char>& ink, 
 
 /// What pull_to_stroke_centre measured and did.
 struct StrokeCentre {
-    double stroke_width = 0;        ///< the outline stroke's width, median over the outline (px); 0: none measured
-    std::size_t samples = 0;        ///< outline pixels the width was measured at
-    double pulled_px = 0;           ///< coverage taken off the silhouette (pixels)
-    std::size_t thin_held = 0;      ///< pixels of parts thinner than two strokes kept by their core
-    std::size_t pockets_opened = 0; ///< pixels of paper outside the outline the gap closing had shut
+    double stroke_width = 0;         ///< the outline stroke's width, median over the outline (px); 0: none measured
+    std::size_t samples = 0;         ///< outline pixels the width was measured at
+    double pulled_px = 0;            ///< coverage taken off the silhouette (pixels)
+    std::size_t thin_held = 0;       ///< pixels of parts thinner than two strokes kept by their core
+    std::size_t pockets_opened = 0;  ///< pixels of paper outside the outline the gap closing had shut
+    std::size_t corners_dropped = 0; ///< stray cores at the outer corner of a stroke turning a sharp corner
 };
 
 /// @brief Moves the silhouette of a line drawing from its strokes' outer edge to their

@@ -25,9 +25,9 @@ namespace {
 // A view whose manifest entry gives a mask: white (or alpha, where the mask has alpha
 // that separates something) is the object, grey its fractional coverage. The mask stands
 // for the drawing's segmentation; it must have the drawing's size.
-SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image) {
+SilhouetteResult silhouette_from_mask(const ManifestView& mv, const Image& image, int svg_size) {
     ImageInfo info;
-    const Image m = read_image(mv.mask, &info);
+    const Image m = read_image(mv.mask, &info, false, svg_size);
     if (m.width != image.width || m.height != image.height)
         throw Error("mask \"" + mv.mask.string() + "\" is " + std::to_string(m.width) + "x" + std::to_string(m.height) +
                     " but image \"" + mv.image.string() + "\" is " + std::to_string(image.width) + "x" +
@@ -117,15 +117,35 @@ bool check_camera_kinds(const Manifest& man) {
     return perspective != 0;
 }
 
+// The views holding openings the opposite view confirmed, extracted again with those regions
+// opened as holes: their edge then goes to the strokes' centre line as the outline's does
+// (open_confirmed_holes opens the blank region alone, half a stroke short all round).
+void extract_with_confirmed_holes(const Manifest& man, const LoadViewsOptions& opt, Views& views,
+                                  const std::vector<std::vector<EnclosedRegion>>& regions,
+                                  const std::vector<ImageInfo>& infos) {
+    tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
+        View& v = views.views[i];
+        SilhouetteOptions so = silhouette_options(man.views[i], opt);
+        for (const EnclosedRegion& g : regions[i]) // a confirmed region keeps its pixels
+            if (g.hole && !g.pixels.empty())
+                so.open_at.emplace_back(int(g.pixels[0] % std::uint32_t(v.width)),
+                                        int(g.pixels[0] / std::uint32_t(v.width)));
+        if (!so.open_at.empty()) v.coverage = extract_silhouette(v.image, infos[i], so).coverage;
+    });
+}
+
 // Views read side by side, one view's image the chunk: its drawing (or its panel of a
 // sheet), silhouette and camera. A stop is looked for per view and per step of a view
 // (reading, extracting), from the workers; the notes go into `stats` in the views' order.
 void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, LoadViewsStats& stats,
                 const Progress& progress) {
-    SheetViews sheets = split_sheets(man); // the panels of turnaround sheets, each a view's drawing
+    PanelSearch search;
+    search.svg_size = opt.svg_size;
+    SheetViews sheets = split_sheets(man, search); // the panels of turnaround sheets, each a view's drawing
     stats.notes.insert(stats.notes.end(), sheets.notes.begin(), sheets.notes.end());
     std::vector<std::string> errors(man.views.size()), notes(man.views.size());
     std::vector<std::vector<EnclosedRegion>> regions(man.views.size());
+    std::vector<ImageInfo> infos(man.views.size());
     std::atomic<std::size_t> steps{0};
     auto step = [&] {
         if (progress) progress(0.8 * double(steps++) / double(2 * man.views.size()));
@@ -137,14 +157,15 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         try {
             v.name = mv.key;
             v.source = mv.image;
-            ImageInfo info = sheets.infos[i];
-            v.image = sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true);
+            ImageInfo& info = infos[i] = sheets.infos[i];
+            v.image =
+                sheets.on_sheet(i) ? std::move(sheets.images[i]) : read_image(mv.image, &info, true, opt.svg_size);
             v.width = v.image.width;
             v.height = v.image.height;
             step();
             const SilhouetteOptions so = silhouette_options(mv, opt);
-            SilhouetteResult s =
-                mv.mask.empty() ? extract_silhouette(v.image, info, so) : silhouette_from_mask(mv, v.image);
+            SilhouetteResult s = mv.mask.empty() ? extract_silhouette(v.image, info, so)
+                                                 : silhouette_from_mask(mv, v.image, opt.svg_size);
             v.coverage = std::move(s.coverage);
             if (const std::string note = segmentation_note(s, so); !note.empty())
                 notes[i] = "view \"" + v.name + "\": " + note;
@@ -160,7 +181,9 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
         if (!e.empty()) throw Error(e);
     for (const auto& n : notes)
         if (!n.empty()) stats.notes.push_back(n);
-    for (auto& n : open_confirmed_holes(views.views, regions)) stats.notes.push_back(std::move(n));
+    const std::vector<std::string> confirmed = open_confirmed_holes(views.views, regions);
+    stats.notes.insert(stats.notes.end(), confirmed.begin(), confirmed.end());
+    if (!confirmed.empty()) extract_with_confirmed_holes(man, opt, views, regions, infos);
 }
 
 // Calibrated views keep the manifest's box; drawn views are aligned into the output frame.
@@ -248,6 +271,9 @@ void LoadViewsOptions::declare(ParamBinder& b) {
                                  "how far a view's outline may grow to keep what another view draws beyond it (an "
                                  "axis drawn longer, a part drawn wider), a ratio of the silhouette's longest side; "
                                  "a larger disagreement is carved and reported"));
+    b.add(svg_size, ParamSpec::Int("svg_size", kDefaultSvgSize, 64, 16384, "px",
+                                   "the longer side at which SVG drawings are drawn (by librsvg, on white paper): "
+                                   "at least 4 times the hull's resolution keeps the outline finer than the grid"));
     b.add(stretch, ParamSpec::Enum("stretch", "uniform", {"uniform", "axes"},
                                    "how a reconciled view may scale: uniform keeps each drawing's proportions (one "
                                    "scale, turned and bent); axes scales its two image axes apart, so that views "

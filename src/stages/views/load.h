@@ -20,9 +20,10 @@ struct LoadViewsOptions {
     std::string opposite;   ///< union | intersect | primary: views seeing along one line of sight
     double bend;            ///< the largest bend, a ratio of the silhouette's longest side
     std::string stretch;    ///< uniform | axes: how a reconciled view may scale
+    int svg_size;           ///< the longer side, in pixels, at which SVG drawings are drawn
 
     LoadViewsOptions() { set_declared_defaults(*this); }
-    /// `keep`, `align_tolerance`, `reconcile`, `opposite`, `bend` and `stretch`.
+    /// `keep`, `align_tolerance`, `reconcile`, `opposite`, `bend`, `svg_size` and `stretch`.
     void declare(ParamBinder& b);
 };
 

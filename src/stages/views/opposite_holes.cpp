@@ -42,18 +42,20 @@ std::vector<std::string> open_confirmed_holes(std::vector<View>& views,
             const double rr = dot(ca.r, cb.r), uu = dot(ca.u, cb.u);
             if (std::abs(rr) < 0.99 || std::abs(uu) < 0.99) continue; // image axes turned
             for (EnclosedRegion& ga : regions[a]) {
-                if (!ga.candidate || ga.hole) continue;
+                if (!(ga.candidate || ga.witness) || ga.hole) continue;
                 Placed pa = place(views[a], ga);
                 if (rr < 0) pa.u = 1 - pa.u;
                 if (uu < 0) pa.v = 1 - pa.v;
                 for (EnclosedRegion& gb : regions[b]) {
-                    if (!gb.candidate || gb.hole) continue;
+                    // A witness confirms a candidate; two witnesses are the inside twice.
+                    if (!(gb.candidate || gb.witness) || gb.hole || !(ga.candidate || gb.candidate)) continue;
                     const Placed pb = place(views[b], gb);
                     const double ratio = pa.area / std::max(1e-12, pb.area);
                     // A gap between parts is bounded by the silhouette's own outline, which
                     // both views draw alike: it must match closely (2 % of the box, areas
-                    // within 15 %); a nested loop is drawn by each view's own lines.
-                    const bool outline = ga.between_parts || gb.between_parts;
+                    // within 15 %); so must a witness, the region's own outline seen from
+                    // the other side. A nested loop is drawn by each view's own lines.
+                    const bool outline = ga.between_parts || gb.between_parts || ga.witness || gb.witness;
                     const double near = outline ? 0.02 : 0.1, spread = outline ? 1.15 : 2.0;
                     if (std::hypot(pa.u - pb.u, pa.v - pb.v) > near || ratio > spread || ratio * spread < 1) continue;
                     ga.hole = gb.hole = true;

@@ -201,6 +201,52 @@ double colour_evidence(const Frame& f, const ColourModels& m, std::size_t i) {
     return std::clamp((squared(c, b.mean) - squared(c, m.object.mean)) / (2 * var), -4.0, 4.0);
 }
 
+// The object's rim among the backdrop-coloured seeds: a band of them joined to the object's
+// own seeds along its length, as much as it borders what is not a seed, and thin (no pixel
+// deeper than kRimDepth from a pixel kept). A fold of cloth is lit along its middle and
+// borders darker cloth on both sides, the object at its ends at most; a wall seen between
+// two parts is joined to them all round but wide. Returns 1 for each pixel of such a band.
+constexpr double kRimDepth = 4.0, kRimJoined = 0.5;
+std::vector<char> rim_bands(const Frame& f, const std::vector<char>& seed, const std::vector<char>& candidate,
+                            const std::vector<char>& keep, const std::vector<float>& inside) {
+    std::vector<char> rim(f.n, 0), taken(f.n, 0);
+    std::vector<int> band;
+    for (std::size_t s = 0; s < f.n; ++s) {
+        if (!candidate[s] || taken[s]) continue;
+        band.clear();
+        taken[s] = 1;
+        std::size_t joined = 0, open = 0;
+        bool thick = false;
+        grow_piece_8(
+            int(s), f.w, f.h,
+            [&](int q) {
+                if (!candidate[std::size_t(q)] || taken[std::size_t(q)]) return false;
+                taken[std::size_t(q)] = 1;
+                return true;
+            },
+            [&](int p) {
+                band.push_back(p);
+                const std::size_t i = std::size_t(p);
+                const int x = p % f.w, y = p / f.w;
+                bool to_object = false, to_open = false;
+                const int next[4] = {x > 0 ? p - 1 : -1, x + 1 < f.w ? p + 1 : -1, y > 0 ? p - f.w : -1,
+                                     y + 1 < f.h ? p + f.w : -1};
+                for (int q : next) {
+                    if (q < 0) continue;
+                    const std::size_t j = std::size_t(q);
+                    to_object = to_object || (seed[j] && keep[j]);
+                    to_open = to_open || !seed[j];
+                }
+                joined += to_object ? 1 : 0;
+                open += to_open ? 1 : 0;
+                thick = thick || inside[i] > float(kRimDepth * kRimDepth);
+            });
+        if (!thick && double(joined) >= kRimJoined * double(open))
+            for (int p : band) rim[std::size_t(p)] = 1;
+    }
+    return rim;
+}
+
 // Seeds whose colour is clearly a backdrop's (a fold of a dark cloth catching the light, a
 // wall beside the cloth, far from the backdrop the border's field gives them but of its
 // chromaticity, not the object's): not seeds; the cut decides them with the other weak
@@ -249,8 +295,9 @@ std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::ve
     // colour where they make patches at least kBand px across (a fold, a wall: the opening of
     // those pixels by a disc of that diameter). A thinner band is the object's rim against the
     // backdrop (its shadowed underside, where it reaches the frame), its colours mixed, and
-    // stays. Elsewhere a seed stays: a small dark piece of the object may well look like the
-    // backdrop.
+    // stays; so does a wider one that runs along the object (rim_bands: the blurred, fringed
+    // edge of a dark part against a dark stand). Elsewhere a seed stays: a small dark piece of
+    // the object may well look like the backdrop.
     std::vector<char> keep(f.n, 1), backdrop_piece(f.n, 0);
     for (std::size_t i = 0; i < f.n; ++i) {
         if (!seed[i] || evidence[i] > kBackdropEvidence || !at_border[std::size_t(comp[i])]) continue;
@@ -262,9 +309,12 @@ std::size_t demote_backdrop_seeds(const Frame& f, const ColourModels& m, std::ve
     std::vector<char> core(f.n, 0);
     for (std::size_t i = 0; i < f.n; ++i) core[i] = !keep[i] && inside[i] > r2;
     const std::vector<float> to_core = squared_edt(core, f.w, f.h);
+    std::vector<char> candidate(f.n, 0);
+    for (std::size_t i = 0; i < f.n; ++i) candidate[i] = seed[i] && !keep[i] && !backdrop_piece[i];
+    const std::vector<char> rim = rim_bands(f, seed, candidate, keep, inside);
     std::vector<std::size_t> out;
     for (std::size_t i = 0; i < f.n; ++i)
-        if (backdrop_piece[i] || (!keep[i] && to_core[i] <= r2)) out.push_back(i);
+        if (backdrop_piece[i] || (!keep[i] && !rim[i] && to_core[i] <= r2)) out.push_back(i);
     for (std::size_t i : out) seed[i] = grows[i] = 0;
     return out.size();
 }

@@ -327,7 +327,7 @@ SheetViews split_sheets(const Manifest& m, const PanelSearch& opt) {
         PanelsFound found;
         int frames = 0;
         try {
-            img = read_image(sh.image, &info, true);
+            img = read_image(sh.image, &info, true, opt.svg_size);
             SilhouetteOptions so; // the sheet's options; every mark kept, so panels are whole
             so.background = first.background;
             so.threshold = first.threshold.value_or(-1.0);

@@ -33,6 +33,8 @@ struct PanelSearch {
     /// of the sheet's largest piece is text (a title, a number), not a drawing: its pieces
     /// are marks.
     double text_fraction = 0.06;
+    /// The longer side, in pixels, at which an SVG sheet is drawn (views.load's `svg_size`).
+    int svg_size = kDefaultSvgSize;
 };
 
 struct PanelsFound {

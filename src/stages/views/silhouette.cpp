@@ -108,7 +108,7 @@ public:
     // judge_filled_regions, judge_line_regions) under `auto`; `fill` opens none, `keep`
     // every region of a filled drawing and the nested ones of a line drawing. The holes
     // become background.
-    void open_holes(const std::string& mode, SilhouetteResult& res) {
+    void open_holes(const std::string& mode, const std::vector<std::pair<int, int>>& at, SilhouetteResult& res) {
         std::vector<char> enclosed(n_, 0);
         std::size_t ink = 0;
         for (std::size_t i = 0; i < n_; ++i) {
@@ -124,7 +124,7 @@ public:
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         line_drawing_ = ink <= blank;
-        if (mode != "fill" && line_drawing_) return open_nested_holes(mode, res);
+        if (mode != "fill" && line_drawing_) return open_nested_holes(mode, at, res);
         std::vector<char> dark;
         const std::vector<float> lum = luminance(dark);
         const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
@@ -135,8 +135,9 @@ public:
     }
 
     // The holes of a line drawing: blank regions behind an even number of strokes (see
-    // nested_holes) are candidates, opened under `keep`; their barrier rim goes back to them.
-    void open_nested_holes(const std::string& mode, SilhouetteResult& res) {
+    // nested_holes) are candidates, opened under `keep` or where `at` says (the openings the
+    // opposite view confirmed); their barrier rim goes back to them.
+    void open_nested_holes(const std::string& mode, const std::vector<std::pair<int, int>>& at, SilhouetteResult& res) {
         std::vector<char> blank(n_, 0), ink(n_, 0);
         for (std::size_t i = 0; i < n_; ++i) {
             blank[i] = !bg_[i] && !closed_[i];
@@ -149,7 +150,9 @@ public:
         std::vector<char> dark;
         const std::vector<float> lum = luminance(dark);
         const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
-        record(judge_line_regions(ev, nested, 9, mode == "keep"), lab, &ink, res);
+        std::vector<EnclosedRegion> regions = judge_line_regions(ev, nested, 9, mode == "keep");
+        open_regions_at(regions, lab, w_, h_, bgc_.ox, bgc_.oy, at);
+        record(std::move(regions), lab, &ink, res);
     }
 
     // The judged regions into `res` and the background (holes opened; with `ink`, their
@@ -164,11 +167,13 @@ public:
                 any = true;
             }
         for (const EnclosedRegion& g : regions) (g.hole ? res.holes_kept : res.regions_filled)++;
-        // The closed candidates' pixels, for the opposite view to confirm (see
+        // The closed candidates' and witnesses' pixels, for the opposite view to confirm (see
         // open_confirmed_holes); in this image's indices, moved to the whole image's later.
         for (std::size_t i = 0; i < n_; ++i)
-            if (lab[i] >= 0 && regions[std::size_t(lab[i])].candidate && !regions[std::size_t(lab[i])].hole)
-                regions[std::size_t(lab[i])].pixels.push_back(std::uint32_t(i));
+            if (lab[i] >= 0) {
+                EnclosedRegion& g = regions[std::size_t(lab[i])];
+                if ((g.candidate || g.witness) && !g.hole) g.pixels.push_back(std::uint32_t(i));
+            }
         if (any && ink) give_back_barrier_rim(*ink, hole);
         res.regions = std::move(regions);
     }
@@ -411,7 +416,7 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     auto analyse = [&](BackgroundCut& cut, std::vector<float>& coverage) {
         cut.flood_from_border(res.close_gaps);
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
-        cut.open_holes(opt.holes, res);
+        cut.open_holes(opt.holes, opt.open_at, res);
         res.spurs_removed = cut.remove_spurs(res.close_gaps);
         cut.coverage(coverage);
         cut.pull_to_stroke_centre(coverage, res);

@@ -1,6 +1,7 @@
 // From a drawing to a silhouette (coverage in [0,1], anti-aliased edges kept).
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/views.h"
@@ -35,6 +36,9 @@ struct SilhouetteOptions {
     /// step reaches), when that is at most half the image; false: always the whole image.
     /// The answers are the same (a test holds them side by side).
     bool window = true;
+    /// Line art: the enclosed regions holding these image points (x, y) are holes whatever
+    /// the drawing alone says (views.load: the openings the opposite view confirmed).
+    std::vector<std::pair<int, int>> open_at;
 };
 
 struct SilhouetteResult {

@@ -325,11 +325,18 @@ std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const st
     for (const char o : *e.outside) body += !o;
     for (std::size_t r = 0; r < out.size(); ++r) {
         EnclosedRegion& g = out[r];
-        if (nested[r] == kNestedInside) g.why = "the inside";
-        else if (g.area < min_area) g.why = "a gap between strokes";
-        else if (depth[r] <= 2) g.why = "paper between strokes";
-        else if (!open_candidates && double(g.area) < 0.0025 * double(body)) g.why = "too small for an opening";
-        else {
+        const bool inside = nested[r] == kNestedInside;
+        if (g.area < min_area) g.why = inside ? "the inside" : "a gap between strokes";
+        else if (depth[r] <= 2) g.why = inside ? "the inside" : "paper between strokes";
+        else if (!open_candidates && double(g.area) < 0.0025 * double(body))
+            g.why = inside ? "the inside" : "too small for an opening";
+        else if (inside) {
+            // Seen from one side, a through-opening may lie within one part's outline (the
+            // camel's hind legs from behind, with the tail hanging between them): the view
+            // from the other side, which sees it between parts, is the evidence.
+            g.why = "the inside";
+            g.witness = !open_candidates;
+        } else {
             const bool between = nested[r] == kBetweenParts;
             g.candidate = true;
             g.between_parts = between;
@@ -340,6 +347,18 @@ std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const st
         }
     }
     return out;
+}
+
+void open_regions_at(std::vector<EnclosedRegion>& regions, const std::vector<int>& lab, int w, int h, int ox, int oy,
+                     const std::vector<std::pair<int, int>>& at) {
+    for (const auto& [x, y] : at) {
+        const int lx = x - ox, ly = y - oy;
+        if (lx < 0 || ly < 0 || lx >= w || ly >= h) continue;
+        const int r = lab[std::size_t(ly) * w + lx];
+        if (r < 0) continue;
+        regions[std::size_t(r)].hole = true;
+        regions[std::size_t(r)].why = "line art, shown by the opposite view";
+    }
 }
 
 std::vector<EnclosedRegion> judge_all_regions(const RegionEvidence& e, bool hole, const std::string& why) {

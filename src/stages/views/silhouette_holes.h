@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cm {
@@ -16,6 +17,7 @@ struct EnclosedRegion {
     bool hole = false;                 ///< opened: background
     bool candidate = false;            ///< line art: a hole by nesting, opened only on further evidence
     bool between_parts = false;        ///< a candidate bounded by the outlines of parts (see nested_holes)
+    bool witness = false;              ///< line art: the inside, of an opening's size (see judge_line_regions)
     std::string why;                   ///< what decided it, in a few words
     std::vector<std::uint32_t> pixels; ///< candidates: the region's pixels (row-major image indices)
 };
@@ -62,9 +64,16 @@ std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::s
 /// least `min_area` pixels (and, unless `open_candidates`, 0.25 % of the drawing, as a
 /// filled drawing's openings) and not slivers, are candidates; a candidate is a hole only when
 /// `open_candidates` (holes: keep) or when the opposite view shows it too (see
-/// open_confirmed_holes); every other region is the object's inside or surface detail.
+/// open_confirmed_holes); every other region is the object's inside or surface detail. A
+/// region of the inside that would pass every test but nesting is a witness: it cannot open
+/// itself, but it confirms a candidate of the opposite view drawn at the same place.
 std::vector<EnclosedRegion> judge_line_regions(const RegionEvidence& e, const std::vector<char>& nested,
                                                std::size_t min_area, bool open_candidates);
+
+/// Marks as holes the regions of `lab` (w x h, at (ox, oy) in the image) that hold the image
+/// points `at`: the openings the opposite view confirmed (see open_confirmed_holes).
+void open_regions_at(std::vector<EnclosedRegion>& regions, const std::vector<int>& lab, int w, int h, int ox, int oy,
+                     const std::vector<std::pair<int, int>>& at);
 
 /// Every region judged alike (holes: keep or fill), `why` the reason given.
 std::vector<EnclosedRegion> judge_all_regions(const RegionEvidence& e, bool hole, const std::string& why);

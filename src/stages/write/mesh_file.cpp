@@ -29,6 +29,10 @@ void MeshFileStats::report(Metrics& m) const {
     m.count("vertices", vertices);
     m.metric("path", path);
     m.metric("bytes", double(bytes));
+    if (caps.found) {
+        m.count("flat_caps_flipped", caps.flipped);
+        m.count("flat_caps_left", caps.left);
+    }
     if (!check) return;
     // The output rules, measured on what is written; broken rules become one warning.
     const MeshCheck& c = check->mesh;
@@ -59,6 +63,10 @@ MeshFile::MeshFile(const Mesh& mesh, const MeshFileOptions& opt) : input_(mesh) 
         for (auto& p : changed.positions) p = Vec3f(Vec3d(p) * scale);
         if (normals && changed.normals.size() != changed.positions.size()) changed.compute_normals();
     }
+    // Flat caps (a corner on the opposite edge, where a row of vertices lies on a straight
+    // crease) are flipped away: sized to metres or rounded to the file's digits they would be
+    // faces of no area, which importers and the check take for broken ones.
+    if (count_flat_caps(this->mesh())) stats_.caps = flip_flat_caps(changed_ ? *changed_ : changed_.emplace(mesh));
 }
 
 void MeshFile::write(const std::filesystem::path& file, const std::filesystem::path& path,

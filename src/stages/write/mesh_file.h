@@ -10,6 +10,7 @@
 
 #include "core/algorithm.h"
 #include "core/mesh.h"
+#include "geometry/flat_caps.h"
 #include "geometry/mesh_check.h"
 #include "io/mesh_io.h"
 
@@ -37,7 +38,9 @@ struct MeshFileStats {
     std::string path;                 ///< the name the file goes by
     std::uintmax_t bytes = 0;         ///< its size
     std::optional<OutputCheck> check; ///< the output rules, when they were checked
-    /// The scale (when not 1), height, faces, vertices, path and bytes; with the check its
+    FlatCaps caps;                    ///< the flat caps flipped away before writing (geometry/flat_caps.h)
+    /// The scale (when not 1), height, faces, vertices, path and bytes; flat_caps_flipped and
+    /// flat_caps_left when it had flat caps; with the check its
     /// figures (boundary_edges, nonmanifold_edges, degenerate_faces, self_intersections,
     /// volume) and one warning naming the rules the mesh breaks.
     void report(Metrics& m) const;
@@ -50,7 +53,7 @@ class MeshFile {
 public:
     /// Sizes `mesh` (which must outlive this) for the file: scaled to `opt.height` or by
     /// `opt.unit_scale`, with normals computed when `opt.format.normals` asks for them and it
-    /// has none (a copy only then). @throw cm::Error for a mesh of no height to scale to.
+    /// has none, its flat caps flipped away (a copy only for one of these). @throw cm::Error for a mesh of no height to scale to.
     MeshFile(const Mesh& mesh, const MeshFileOptions& opt);
     /// The mesh as the file holds it.
     const Mesh& mesh() const { return changed_ ? *changed_ : input_; }

@@ -60,14 +60,26 @@ bool figure(double x, double y, bool mirror) {
 
 bool side_band(double x, double y) { return x > 80 && x < 120 && y > 30 && y < 180; }
 
+// Writes front.png, back.png and right.png into `dir`, and both.yaml naming the three.
+void write_three(const test::TempDir& dir, const Image& front, const Image& back, const Image& right) {
+    write_image(front, dir / "front.png");
+    write_image(back, dir / "back.png");
+    write_image(right, dir / "right.png");
+    test::write_text(dir / "both.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+}
+
+// Whether the notes of views.load say that two opposite views opened an opening.
+bool says_opened(const std::vector<std::string>& notes) {
+    return std::any_of(notes.begin(), notes.end(),
+                       [](const std::string& n) { return n.find("both show an opening") != std::string::npos; });
+}
+
 } // namespace
 
 TEST(LineGaps, GapBetweenArmAndBodyOpensWhenTheOppositeViewShowsIt) {
     test::TempDir dir("line_gaps_arm");
-    write_image(outline([](double x, double y) { return figure(x, y, false); }), dir / "front.png");
-    write_image(outline([](double x, double y) { return figure(x, y, true); }), dir / "back.png");
-    write_image(outline(side_band), dir / "right.png");
-    test::write_text(dir / "both.yaml", "views:\n  front: front.png\n  back: back.png\n  right: right.png\n");
+    write_three(dir, outline([](double x, double y) { return figure(x, y, false); }),
+                outline([](double x, double y) { return figure(x, y, true); }), outline(side_band));
     test::write_text(dir / "one.yaml", "views:\n  front: front.png\n  right: right.png\n");
     test::write_text(dir / "keep.yaml", "views:\n  front: { image: front.png, holes: keep }\n  right: right.png\n");
     // The gap, seen from both sides, is opened (and said so); the body and the arm stay.
@@ -77,9 +89,7 @@ TEST(LineGaps, GapBetweenArmAndBodyOpensWhenTheOppositeViewShowsIt) {
     EXPECT_GT(both[0].coverage.at(140, 80), 0.5f);
     EXPECT_LT(both[0].coverage.at(106, 80), 0.5f);
     EXPECT_LT(both[1].coverage.at(94, 80), 0.5f);
-    const std::vector<std::string>& notes = loaded.stats.notes;
-    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(),
-                            [](const std::string& n) { return n.find("both show an opening") != std::string::npos; }));
+    EXPECT_TRUE(says_opened(loaded.stats.notes));
     // From one side only, line art cannot tell the gap from a panel: it stays closed,
     // unless the manifest says holes: keep.
     EXPECT_GT(load_views(dir / "one.yaml", {}).value.views[0].coverage.at(106, 80), 0.5f);
@@ -110,4 +120,68 @@ TEST(LineGaps, CircleOnABoxFaceIsNoHole) {
         EXPECT_GT(v.views[0].coverage.at(100, 100), 0.5f) << m;
         EXPECT_GT(v.views[1].coverage.at(100, 100), 0.5f) << m;
     }
+}
+
+namespace {
+
+// The half-width of a lens from (100, 60) to (100, 130), `wide` at its middle.
+double lens(double y, double wide) {
+    return y < 60 || y > 130 ? -1 : wide * std::sin(3.14159265358979 * (y - 60) / 70);
+}
+
+// A box (a body) with an opening drawn as a lens joined to its bottom edge by a line 30 px
+// long (where the legs cross), too far for the lens to meet the outside there: seen through the gap between the near parts, the far parts' outlines
+// (`far`) run beside the opening, a wider lens pinched to it at both tips.
+Inside lens_lines(bool far) {
+    return [far](double x, double y) {
+        const double d = std::abs(x - 100);
+        const bool opening = lens(y, 12) >= 0 && std::abs(d - lens(y, 12)) < 0.8;
+        const bool beside = far && lens(y, 20) >= 0 && std::abs(d - lens(y, 20)) < 0.8;
+        return opening || beside || (d < 0.8 && y >= 130 && y < 160);
+    };
+}
+
+} // namespace
+
+TEST(LineGaps, OpeningBetweenPartsOnOneSideIsConfirmedByTheSameLoopOnTheOther) {
+    // The camel's legs: from the front the opening between the legs lies between the hind
+    // legs' outlines seen through it (a gap between parts); from the back the same opening
+    // is a loop within the legs' outline, which alone would be detail. The back's loop,
+    // drawn at the same place with the same area, confirms the front's gap: both open.
+    test::TempDir dir("line_gaps_witness");
+    const Inside box = [](double x, double y) { return x > 40 && x < 160 && y > 40 && y < 160; };
+    write_three(dir, outline(box, lens_lines(true)), outline(box, lens_lines(false)), outline(box));
+    test::write_text(dir / "backs.yaml", "views:\n  front: back.png\n  back: back.png\n  right: right.png\n");
+    const auto loaded = load_views(dir / "both.yaml", {});
+    EXPECT_TRUE(says_opened(loaded.stats.notes));
+    const std::vector<View> loops = load_views(dir / "backs.yaml", {}).value.views;
+    for (int v : {0, 1}) {
+        const Coverage& c = loaded.value.views[std::size_t(v)].coverage;
+        EXPECT_LT(c.at(100, 95), 0.5f) << "opened, view " << v;
+        EXPECT_GT(c.at(60, 100), 0.5f) << "the box, view " << v;
+        // The loop on both sides, with no gap between parts on either, stays detail.
+        EXPECT_GT(loops[std::size_t(v)].coverage.at(100, 95), 0.5f) << "loops, view " << v;
+    }
+    // The far parts' outlines seen through the front's opening are the object.
+    EXPECT_GT(loaded.value.views[0].coverage.at(84, 95), 0.5f);
+}
+
+TEST(LineGaps, OpeningConfirmedByTheOppositeViewReachesTheStrokesCentreLine) {
+    // An opening both sides confirm is drawn as the outline is: its edge at the centre line of
+    // the stroke around it, exactly as under holes: keep, not at the stroke's inner edge
+    // (half a stroke and the gap closing short all round).
+    test::TempDir dir("line_gaps_centre");
+    write_three(dir, outline([](double x, double y) { return figure(x, y, false); }),
+                outline([](double x, double y) { return figure(x, y, true); }), outline(side_band));
+    test::write_text(dir / "keep.yaml", "views:\n  front: { image: front.png, holes: keep }\n  right: right.png\n");
+    const std::vector<float> confirmed = load_views(dir / "both.yaml", {}).value.views[0].coverage.full();
+    const std::vector<float> kept = load_views(dir / "keep.yaml", {}).value.views[0].coverage.full();
+    ASSERT_EQ(confirmed.size(), kept.size());
+    double differ = 0, gap = 0;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        differ += std::abs(confirmed[i] - kept[i]);
+        gap += kept[i] < 0.5f && i % 200 > 100 && i % 200 < 130 && i / 200 > 40 && i / 200 < 140;
+    }
+    EXPECT_GT(gap, 1000); // the gap is open under keep: about 1500 px
+    EXPECT_LT(differ, 1.0);
 }
