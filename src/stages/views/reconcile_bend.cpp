@@ -51,14 +51,23 @@ void Reconciler::bend() {
             if (!miss[cell] || !gm[own].in[cell]) continue; // intersect leaves that out on purpose
             std::array<int, 3> idx{0, 0, 0};
             idx[std::size_t(mk.a)] = int(cell % std::size_t(na)), idx[std::size_t(mk.b)] = int(cell / std::size_t(na));
-            double best = 1e300;
+            // The depth the line of sight passes at: of those within the tolerance in every
+            // view, the one that grows the views least (the pixels each must grow, what an
+            // earlier line already grew counting nothing), so that each bend moves no more
+            // outline than it must; if none is within, the nearest (refused, below).
+            double best = 1e300, best_area = 1e300;
             int best_k = 0;
             for (int z = 0; z < g.n[std::size_t(c)]; ++z) {
                 idx[std::size_t(c)] = z;
-                double cost = 0;
-                for (std::size_t q = 0; q < groups_.size(); ++q)
-                    if (q != own) cost = std::max(cost, dist[q][cell_of(gm[q], idx)] * px[q] / tol[q]);
-                if (cost < best) best = cost, best_k = z;
+                double cost = 0, area = 0;
+                for (std::size_t q = 0; q < groups_.size(); ++q) {
+                    if (q == own) continue;
+                    const std::size_t at = cell_of(gm[q], idx);
+                    cost = std::max(cost, dist[q][at] * px[q] / tol[q]);
+                    area += add[q].in[at] ? 0.0 : dist[q][at] * px[q];
+                }
+                if (cost <= 1.0 ? best > 1.0 || area < best_area : best > 1.0 && cost < best)
+                    best = cost, best_area = area, best_k = z;
             }
             idx[std::size_t(c)] = best_k;
             for (std::size_t q = 0; q < groups_.size(); ++q) {

@@ -96,10 +96,11 @@ std::vector<NeedPixel> need_pixels(const std::vector<char>& in, const std::vecto
     return needs;
 }
 
-// Pixels to cover that bend together: a connected group's bend spreads over a few times its
-// farthest pixel's distance (a small disagreement bends a short stretch of outline, a large
-// one a long stretch), at most `widest` a spacing. Where two groups' bends overlap, their
-// displacements add (a sum of smooth fields is smooth).
+// Pixels to cover that bend together: a connected group bends on a lattice of half its
+// farthest pixel's distance, at least 5 px (a cubic B-spline spans four spacings, so the
+// bend spreads over about twice the distance it moves the outline: no further than it must,
+// and its slope along the outline stays under about one pixel per pixel), at most `widest`.
+// Where two groups' bends overlap, their displacements add (a sum of smooth fields is smooth).
 struct NeedGroup {
     std::vector<NeedPixel> needs;
     double far = 0, h = 0;
@@ -110,7 +111,7 @@ struct NeedGroup {
         for (const NeedPixel& p : needs)
             far = std::max(far, p.dist), b = {std::min(b[0], p.x - p.dist), std::min(b[1], p.y - p.dist),
                                               std::max(b[2], p.x + 1 + p.dist), std::max(b[3], p.y + 1 + p.dist)};
-        h = std::max(4.0, std::min(widest, 3 * (far + 1)));
+        h = std::max(5.0, std::min(widest, 0.5 * (far + 1)));
         box = {b[0] - 3 * h, b[1] - 3 * h, b[2] + 3 * h, b[3] + 3 * h};
     }
 };
@@ -166,15 +167,15 @@ WarpField fit_bend(const std::vector<NeedPixel>& needs, const std::vector<char>&
         else if (p.dist > needs[wish_need[it->second]].dist)
             wishes[it->second] = {at, clamp_length(want, cap), 1.0}, wish_need[it->second] = i;
     }
-    // The outline away from the pixels to cover (beyond two spacings, half a B-spline's
-    // span) stays where it is.
+    // The outline away from the pixels to cover (beyond one spacing) stays where it is: the
+    // bulge is held to the stretch of outline that must move.
     const auto sup = field.support();
     std::map<std::pair<int, int>, bool> anchored;
     for (int y = std::max(1, int(sup[1])); y < std::min(H - 1, int(sup[3]) + 1); ++y)
         for (int x = std::max(1, int(sup[0])); x < std::min(W - 1, int(sup[2]) + 1); ++x) {
             const std::size_t i = std::size_t(y) * W + x;
             if (!in[i] || (in[i - 1] && in[i + 1] && in[i - std::size_t(W)] && in[i + std::size_t(W)])) continue;
-            if (to_need[i] <= 4 * h * h || !anchored.try_emplace(bucket(x, y), true).second) continue;
+            if (to_need[i] <= h * h || !anchored.try_emplace(bucket(x, y), true).second) continue;
             wishes.push_back({{x + 0.5, y + 0.5}, {0, 0}, 0.5});
         }
     auto shown = [&](double x, double y, const WarpField& f) {
@@ -243,7 +244,7 @@ double Reconciler::warp(Member& m, const std::vector<std::array<double, 4>>& rec
                 need[std::size_t(y) * W + x] = !in[std::size_t(y) * W + x];
     const std::vector<NeedPixel> needs = need_pixels(in, need, v.coverage, W, H, cap);
     if (needs.empty()) return 0.0;
-    // Each group of them bends on a lattice a few times its farthest distance, at most a
+    // Each group of them bends on a lattice of half its farthest distance, at most a
     // twenty-fourth of the silhouette's longest side (a cubic B-spline spans four spacings:
     // a bend spreads over at most a sixth of the silhouette).
     const Coverage::Box& ib = v.coverage.inside_box();
