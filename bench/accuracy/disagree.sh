@@ -36,8 +36,8 @@ score() {
     "$bin/score_drawings" "$1" "${2%.ply}-r/views.yaml"
 }
 
-echo "| model | seed | reconcile: off, missing % (front / right / top) | reconcile: on, missing % | on, extra % | on, worst missing |"
-echo "|---|---:|---|---|---|---:|"
+echo "| model | seed | reconcile: off, missing % (front / right / top) | reconcile: on, missing % | on, extra % | on, worst missing | off, missing + extra % | on, missing + extra % |"
+echo "|---|---:|---|---|---|---:|---|---|"
 echo "$list" | while read -r name file up front; do
     [ -z "$wanted" ] || case ",$wanted," in *",$name,"*) ;; *) continue ;; esac
     views=$work/$name
@@ -55,7 +55,11 @@ echo "$list" | while read -r name file up front; do
         on=$(awk '{ printf "%s%.2f", (NR > 1 ? " / " : ""), $2 }' "$p/on.txt")
         extra=$(awk '{ printf "%s%.2f", (NR > 1 ? " / " : ""), $3 }' "$p/on.txt")
         worst=$(awk 'BEGIN { w = 0 } { if ($2 > w) w = $2 } END { printf "%.2f", w }' "$p/on.txt")
-        echo "| $name | $s | $off | $on | $extra | $worst |"
+        # The artist's whole error per drawing: what it draws and the model lacks, plus what
+        # the model adds beyond it (the bar: on no worse than off, drawing by drawing).
+        xoff=$(awk '{ printf "%s%.2f", (NR > 1 ? " / " : ""), $2 + $3 }' "$p/off.txt")
+        xon=$(awk '{ printf "%s%.2f", (NR > 1 ? " / " : ""), $2 + $3 }' "$p/on.txt")
+        echo "| $name | $s | $off | $on | $extra | $worst | $xoff | $xon |"
     done
 done
 

@@ -25,7 +25,7 @@ struct ViewReconciliation {
     std::string name;
     double scale_x = 1, scale_y = 1; ///< stretch of the image axes
     double turn_deg = 0;             ///< turn in the image plane (counter-clockwise on the drawing)
-    double warp_px = 0;              ///< the largest bend applied
+    double warp_px = 0;              ///< the bend's largest displacement (its warp field's)
     double missing_pct = 0;          ///< share of the drawing the views' hull does not cover, after
     bool reconciled = false;         ///< false: an oblique view, left as drawn
 };
@@ -33,8 +33,8 @@ struct ViewReconciliation {
 /// @brief Reconciles aligned, drawn orthographic views (no fixed camera): fits per-axis
 /// scales and a turn for every axis view but the primary, resamples the silhouettes (and
 /// drawings) into the reconciled frame, merges views with one line of sight as
-/// `opt.opposite` says, grows each view within `opt.bend` where another draws beyond it (so
-/// that the model keeps what every drawing shows), and sets the box to what the views span
+/// `opt.opposite` says, bends each view by a smooth warp within `opt.bend` where another
+/// draws beyond it (so that the model keeps what every drawing shows), and sets the box to what the views span
 /// and the cameras' placement. Views that already agree are left untouched, bit for bit.
 /// Appends one warning per view moved more than `opt.tolerance`, and one per view whose
 /// disagreement would need a bend beyond the tolerance (refused).

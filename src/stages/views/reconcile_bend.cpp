@@ -11,7 +11,8 @@ namespace cm::reconcile_detail {
 
 // What the views still disagree on, once reconciled: a drawing's line of sight the others
 // cut away entirely. Where the others' silhouettes come within the tolerance of letting it
-// through, they are bent (grown) there; beyond it the bend is refused and the user told.
+// through, they are bent there (the cells each must cover, reconcile_warp.cpp bends it
+// over them); beyond it the bend is refused and the user told.
 void Reconciler::bend() {
     const ReconcileGrid g = grid(fine_cells_);
     const std::vector<AxisMask> m = member_masks(g), gm = group_masks(m, "union");
@@ -50,14 +51,23 @@ void Reconciler::bend() {
             if (!miss[cell] || !gm[own].in[cell]) continue; // intersect leaves that out on purpose
             std::array<int, 3> idx{0, 0, 0};
             idx[std::size_t(mk.a)] = int(cell % std::size_t(na)), idx[std::size_t(mk.b)] = int(cell / std::size_t(na));
-            double best = 1e300;
+            // The depth the line of sight passes at: of those within the tolerance in every
+            // view, the one that grows the views least (the pixels each must grow, what an
+            // earlier line already grew counting nothing), so that each bend moves no more
+            // outline than it must; if none is within, the nearest (refused, below).
+            double best = 1e300, best_area = 1e300;
             int best_k = 0;
             for (int z = 0; z < g.n[std::size_t(c)]; ++z) {
                 idx[std::size_t(c)] = z;
-                double cost = 0;
-                for (std::size_t q = 0; q < groups_.size(); ++q)
-                    if (q != own) cost = std::max(cost, dist[q][cell_of(gm[q], idx)] * px[q] / tol[q]);
-                if (cost < best) best = cost, best_k = z;
+                double cost = 0, area = 0;
+                for (std::size_t q = 0; q < groups_.size(); ++q) {
+                    if (q == own) continue;
+                    const std::size_t at = cell_of(gm[q], idx);
+                    cost = std::max(cost, dist[q][at] * px[q] / tol[q]);
+                    area += add[q].in[at] ? 0.0 : dist[q][at] * px[q];
+                }
+                if (cost <= 1.0 ? best > 1.0 || area < best_area : best > 1.0 && cost < best)
+                    best = cost, best_area = area, best_k = z;
             }
             idx[std::size_t(c)] = best_k;
             for (std::size_t q = 0; q < groups_.size(); ++q) {
@@ -65,7 +75,6 @@ void Reconciler::bend() {
                 const double d = dist[q][cell_of(gm[q], idx)] * px[q];
                 if (best <= 1.0) {
                     if (d > 0) add[q].in[cell_of(gm[q], idx)] = 1;
-                    for (std::size_t j : groups_[q]) warp_px_[j] = std::max(warp_px_[j], d);
                 } else if (d > tol[q]) {
                     ++refused[q];
                     refused_px[q] = std::max(refused_px[q], d);
@@ -83,7 +92,7 @@ void Reconciler::bend() {
             warnings_.push_back(os.str());
         }
     }
-    // The bends: each added cell covered in every view of its line of sight.
+    // The bends: each added cell covered, by a smooth warp, in every view of its line of sight.
     for (std::size_t q = 0; q < groups_.size(); ++q)
         for (std::size_t k : groups_[q]) {
             const int a = add[q].a, b = add[q].b, na = g.n[std::size_t(a)];
@@ -100,28 +109,8 @@ void Reconciler::bend() {
                 }
                 rects.push_back(r);
             }
-            paint(members_[k], rects);
+            warp_px_[k] = std::max(warp_px_[k], warp(members_[k], rects, tol[q]));
         }
-}
-
-// The bend's cells painted into a view's silhouette; where they reach beyond the drawing's
-// canvas (a drawing cropped close to what it draws), the canvas grows first.
-void Reconciler::paint(Member& m, const std::vector<std::array<double, 4>>& rects) {
-    if (rects.empty()) return;
-    View& v = views_.views[m.index];
-    double x0 = 0, y0 = 0, x1 = v.width, y1 = v.height;
-    for (const auto& r : rects)
-        x0 = std::min(x0, r[0]), y0 = std::min(y0, r[1]), x1 = std::max(x1, r[2]), y1 = std::max(y1, r[3]);
-    // Rects were projected by the camera before the canvas grew: they move with it.
-    const int left = int(std::ceil(-x0)), top = int(std::ceil(-y0));
-    grow_canvas(m, left, top, int(std::ceil(x1)) - v.width, int(std::ceil(y1)) - v.height);
-    std::vector<float> cov = v.coverage.full();
-    for (const auto& r : rects)
-        for (int y = std::max(0, int(std::floor(r[1])) + top); y < std::min(v.height, int(std::ceil(r[3])) + top); ++y)
-            for (int x = std::max(0, int(std::floor(r[0])) + left); x < std::min(v.width, int(std::ceil(r[2])) + left);
-                 ++x)
-                cov[std::size_t(y) * v.width + x] = 1.0f;
-    v.coverage = Coverage(cov, v.width, v.height);
 }
 
 // One line per view moved beyond the tolerance: stretched one axis against the other

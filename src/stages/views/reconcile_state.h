@@ -84,8 +84,10 @@ private:
     void resample(Member& m);
     void merge_opposites();
     void bend();
-    /// Paints pixel rects (x0, y0, x1, y1) into a member's silhouette, growing its canvas.
-    void paint(Member& m, const std::vector<std::array<double, 4>>& rects);
+    /// Bends a member's silhouette and drawing by a smooth warp (reconcile_warp.cpp) until
+    /// they cover the pixel rects (x0, y0, x1, y1), its displacement at most `cap` pixels,
+    /// growing its canvas; returns the warp's largest displacement.
+    double warp(Member& m, const std::vector<std::array<double, 4>>& rects, double cap);
     /// Grows a member's canvas by the given pixels on each side (none where not positive),
     /// moving its camera with the drawing; the new paper repeats the drawing's edge.
     void grow_canvas(Member& m, int left, int top, int right, int bottom);

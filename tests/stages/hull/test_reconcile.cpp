@@ -261,3 +261,60 @@ TEST(Reconcile, OffIsTheAlignmentAlone) {
     EXPECT_EQ(off->views[1].height, 460);
     EXPECT_NE(on->views[1].coverage.full(), off->views[1].coverage.full());
 }
+
+// An egg drawn front, right and top at 1000 px, the top drawing its width 8 % longer: the
+// front grows at both ends of its width to let the top's lines of sight through. The bend is
+// a smooth warp, not whole cells of the reconciliation's grid (2 px each here): along the
+// front's outline its growth, measured along the outline's normal from every point of the
+// drawn ellipse a pixel from the next, changes by less than a pixel from one point to the
+// next, and nothing of any drawing is left out.
+TEST(Reconcile, BendIsASmoothWarpOfTheOutline) {
+    test::TempDir dir("rc_smooth");
+    const double a = 250, b = 375; // the front's half width and half height
+    auto ellipse = [](double cx, double cy, double rx, double ry) {
+        return [=](double x, double y) { return std::pow((x - cx) / rx, 2) + std::pow((y - cy) / ry, 2) <= 1; };
+    };
+    draw(dir / "front.png", 1000, 1000, ellipse(500, 500, a, b));
+    draw(dir / "right.png", 1000, 1000, ellipse(500, 500, 190, b));
+    draw(dir / "top.png", 1000, 1000, ellipse(500, 500, a * 1.08, 190));
+    test::write_text(dir / "views.yaml", "views:\n  front: front.png\n  right: right.png\n  top: top.png\n");
+    LoadViewsStats stats;
+    const auto on = load(dir / "views.yaml", "on", "union", nullptr, &stats);
+    const auto off = load(dir / "views.yaml", "off", "union");
+    ASSERT_EQ(stats.reconciled.size(), 3u);
+    for (const auto& r : stats.reconciled) EXPECT_LT(r.missing_pct, 0.5) << r.name;
+    // The front stays as drawn (the primary) on its own paper: its pixels are the drawing's.
+    const View& v = on->views[0];
+    ASSERT_EQ(v.width, 1000);
+    ASSERT_EQ(v.height, 1000);
+    // How far the silhouette reaches beyond point p of the drawn outline along its normal n.
+    // (Coverage bilinear between pixel centres, so that a pixel's staircase counts a fraction.)
+    auto reach = [](const Coverage& c, double px, double py, double nx, double ny) {
+        auto at = [&](double x, double y) {
+            const int i = int(std::floor(x - 0.5)), j = int(std::floor(y - 0.5));
+            const double u = x - 0.5 - i, w = y - 0.5 - j;
+            return (1 - w) * ((1 - u) * c.at(i, j) + u * c.at(i + 1, j)) +
+                   w * ((1 - u) * c.at(i, j + 1) + u * c.at(i + 1, j + 1));
+        };
+        double t = -3;
+        while (t < 60 && at(px + t * nx, py + t * ny) >= 0.5) t += 0.05;
+        return t;
+    };
+    const int n = 2000; // about one point per pixel of the outline
+    std::vector<double> grown(n);
+    for (int i = 0; i < n; ++i) {
+        const double t = 2 * kPi * i / n, px = 500 + a * std::cos(t), py = 500 + b * std::sin(t);
+        const double nx = std::cos(t) / a, ny = std::sin(t) / b, len = std::hypot(nx, ny);
+        grown[std::size_t(i)] =
+            reach(v.coverage, px, py, nx / len, ny / len) - reach(off->views[0].coverage, px, py, nx / len, ny / len);
+    }
+    double most = 0, step = 0;
+    for (int i = 0; i < n; ++i) {
+        most = std::max(most, grown[std::size_t(i)]);
+        step = std::max(step, std::abs(grown[std::size_t(i)] - grown[std::size_t((i + 1) % n)]));
+    }
+    EXPECT_GT(most, 3.0);
+    EXPECT_LE(stats.reconciled[0].warp_px, 1.5 * most + 2);
+    EXPECT_GE(stats.reconciled[0].warp_px, most - 1);
+    EXPECT_LT(step, 1.0) << "the outline grows by " << most << " px at most";
+}
