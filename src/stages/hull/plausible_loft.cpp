@@ -14,6 +14,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 namespace cm::plausible {
 
@@ -75,6 +76,19 @@ double jaccard(const Interval& a, const Interval& b) {
     return i > 0 ? double(i) / double(u) : 0.0;
 }
 
+// What a section's box across axis a at station p[a] gives whatever p's other coordinates:
+// whether the view along a shows the box's four sides as its outline, and how well it covers
+// the box (Lofter::fit). The voxels of a leaf share a few boxes per station.
+struct BoxFacts {
+    int station = std::numeric_limits<int>::min();
+    Interval ib, ic;
+    bool sides = false;
+    double fit = 0.0;
+};
+
+/// The last box facts per axis and station (modulo a leaf's side) of one thread's voxels.
+using BoxMemo = std::array<std::array<BoxFacts, 8>, 3>;
+
 class Lofter {
 public:
     Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) {
@@ -86,7 +100,8 @@ public:
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is; `found` false where no axis has a section through p (p projects
     // outside the hull along two axes).
-    LoftValue value(const Coord& p, bool* found = nullptr) const {
+    // `memo` (optional, one thread's) keeps what the boxes of voxels just taken gave.
+    LoftValue value(const Coord& p, bool* found = nullptr, BoxMemo* memo = nullptr) const {
         double best_key = 1e300, square = 0.0, fitted = 0.0;
         Interval sb, sc;
         int best_a = -1;
@@ -95,8 +110,9 @@ public:
             // The section's box: along b from the projection along c, along c from the one along b.
             const Interval ib = run(c, b, p), ic = run(b, c, p);
             if (ib.empty() || ic.empty()) continue;
-            const double w = squareness(a, b, c, p, ib, ic);
-            const double f = fit(a, b, ib, ic);
+            const BoxFacts facts = box_facts(a, b, c, p, ib, ic, memo);
+            const double w = facts.sides ? squareness(a, b, c, p, ib, ic) : 0.0;
+            const double f = facts.fit;
             // Sections the view along their axis does not confirm count larger (up to 3x).
             const double key = ib.half() * ic.half() * (1.0 - 0.9 * w) * (3.0 - 2.0 * std::max(f, w));
             if (key >= best_key) continue;
@@ -226,26 +242,39 @@ private:
         return along == P.u ? Interval{P.lo_u[i], P.hi_u[i]} : Interval{P.lo_v[i], P.hi_v[i]};
     }
 
-    // How square the section across axis a at p is, in [0, 1]: its box must stay the same
-    // along a over the box's own half-width (the walls are straight: a prism along a), and the
-    // view along a must show the box's four sides as its outline (a straight edge of that
-    // view, not a part hidden inside it). Then that view is the section (a box, the disc of a
-    // standing cylinder, the triangle of a wedge) and the prior leaves the hull alone there.
-    double squareness(int a, int b, int c, const Coord& p, const Interval& ib, const Interval& ic) const {
+    // The facts of the box (ib, ic) across axis a at p, from `memo` when it holds them.
+    BoxFacts box_facts(int a, int b, int c, const Coord& p, const Interval& ib, const Interval& ic,
+                       BoxMemo* memo) const {
+        BoxFacts* slot = memo ? &(*memo)[std::size_t(a)][std::size_t(p[a] & 7)] : nullptr;
+        if (slot && slot->station == p[a] && slot->ib.lo == ib.lo && slot->ib.hi == ib.hi && slot->ic.lo == ic.lo &&
+            slot->ic.hi == ic.hi)
+            return *slot;
         const Projection& A = proj_[std::size_t(a)];
         const int mb = int(std::lround(ib.mid())), mc = int(std::lround(ic.mid()));
-        int sides = 0;
         const auto outside = [&](int vb, int vc) {
             Coord q = p;
             q[b] = vb;
             q[c] = vc;
             return !A.inside(q[A.u], q[A.v]);
         };
-        sides += outside(ib.lo - 2, mc);
-        sides += outside(ib.hi + 2, mc);
-        sides += outside(mb, ic.lo - 2);
-        sides += outside(mb, ic.hi + 2);
-        if (sides < 4) return 0.0;
+        BoxFacts facts;
+        facts.station = p[a];
+        facts.ib = ib;
+        facts.ic = ic;
+        facts.sides =
+            outside(ib.lo - 2, mc) && outside(ib.hi + 2, mc) && outside(mb, ic.lo - 2) && outside(mb, ic.hi + 2);
+        facts.fit = fit(a, b, ib, ic);
+        if (slot) *slot = facts;
+        return facts;
+    }
+
+    // How square the section across axis a at p is, in [0, 1], where the view along a shows
+    // the box's four sides as its outline (a straight edge of that view, not a part hidden
+    // inside it; box_facts): its box must stay the same along a over the box's own half-width
+    // (the walls are straight: a prism along a). Then that view is the section (a box, the
+    // disc of a standing cylinder, the triangle of a wedge) and the prior leaves the hull
+    // alone there.
+    double squareness(int a, int b, int c, const Coord& p, const Interval& ib, const Interval& ic) const {
         // The extent along a: where both runs along a through p hold.
         const Interval ab = run(c, a, p), ac = run(b, a, p);
         const Interval along{std::max(ab.lo, ac.lo), std::min(ab.hi, ac.hi)};
@@ -289,7 +318,8 @@ public:
         out.clear();
         for (auto it = leaf.cbeginValueOn(); it; ++it) {
             const float* d = &dense_[std::size_t(it.pos()) * 4];
-            out.push_back(d[3] > 0 ? LoftValue{d[0] / d[3], d[1] / d[3], d[2] / d[3]} : lofter_.value(it.getCoord()));
+            out.push_back(d[3] > 0 ? LoftValue{d[0] / d[3], d[1] / d[3], d[2] / d[3]}
+                                   : lofter_.value(it.getCoord(), nullptr, &memo_));
         }
     }
 
@@ -323,7 +353,7 @@ private:
                     if (!need_[i]) continue;
                     bool found = false;
                     const Coord p((q0_[0] + a) * s_, (q0_[1] + b) * s_, (q0_[2] + c) * s_);
-                    const LoftValue v = lofter_.value(p, &found);
+                    const LoftValue v = lofter_.value(p, &found, &memo_);
                     if (!found) continue;
                     float* d = &coarse_[i * 4];
                     d[0] = v.field;
@@ -367,6 +397,7 @@ private:
 
     const Lofter& lofter_;
     const int s_;
+    BoxMemo memo_;
     std::array<int, 3> q0_{};
     int m_ = 0;
     // Per axis and voxel offset in the leaf: the coarse cell (from q0_) and the weight of its
@@ -385,13 +416,15 @@ void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, cons
         std::vector<LoftValue> values;
         values.reserve(LeafT::SIZE);
         CoarseLeaf coarse(lofter, std::max(stride, 1));
+        BoxMemo memo;
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             const LeafT& leaf = vox.leaves.leaf(l);
             if (stride > 1) {
                 coarse.fill(leaf, values);
             } else {
                 values.clear();
-                for (auto it = leaf.cbeginValueOn(); it; ++it) values.push_back(lofter.value(it.getCoord()));
+                for (auto it = leaf.cbeginValueOn(); it; ++it)
+                    values.push_back(lofter.value(it.getCoord(), nullptr, &memo));
             }
             body(vox.base[l], values.data(), values.size());
         }
