@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/renamed_params.h"
 
 namespace fs = std::filesystem;
 
@@ -25,7 +26,12 @@ ParamSet resolve_params(const StageInfo& info, const std::map<std::string, RawPa
             if (r.from_set()) throw UsageError(where(r.line) + text);
             throw Error(where(r.line) + text);
         };
-        if (!spec) fail("unknown parameter \"" + key + "\"" + src + " (parameters: " + param_names(info.params) + ")");
+        if (!spec) {
+            // A former name gets the parameter to write instead; any other the declared names.
+            const std::string hint = renamed_param_hint(info.name, key);
+            fail("unknown parameter \"" + key + "\"" + src +
+                 (hint.empty() ? " (parameters: " + param_names(info.params) + ")" : hint));
+        }
         if (spec->is_optional && !raw.from_set() && raw.is_null()) continue; // null: left unset
         ParamValue v;
         try {

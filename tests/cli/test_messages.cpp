@@ -95,6 +95,28 @@ TEST(Messages, BadSetSyntaxUnknownNodeParameterAndValueExit2) {
     EXPECT_HAS(r.err, "bad.yaml:15: node \"hull\" (hull.carve): resolution must be an integer");
 }
 
+TEST(Messages, AParameterThatWasRenamedNamesItsNewName) {
+    // texture.project's boolean strip_lines became the choice strokes: a pipeline written
+    // before is told, on one line naming the node, what to write instead.
+    test::TempDir dir("messages-renamed");
+    const std::string p = (test::source_dir() / "pipelines" / "textured.yaml").string();
+    std::string yaml = test::read_text(p);
+    const std::string params = "params: { texture_size: 2048, padding: 4 }";
+    ASSERT_NE(yaml.find(params), std::string::npos);
+    yaml.replace(yaml.find(params), params.size(), "params: { texture_size: 2048, strip_lines: false }");
+    test::write_text(dir / "old.yaml", yaml);
+    const auto r = test::run_cli("validate old.yaml", dir.path());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_HAS(r.err,
+               "old.yaml:34: node \"texture\" (texture.project): unknown parameter \"strip_lines\": it is "
+               "now \"strokes\" (strip_lines: false is strokes: keep, true is strokes: strip)");
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    expect_usage_errors({{"validate " + p + " --set texture.strip_lines=false",
+                          "node \"texture\" (texture.project): unknown parameter \"strip_lines\" (from --set): it "
+                          "is now \"strokes\""}},
+                        dir.path());
+}
+
 TEST(Messages, OpenVdbArithmeticErrorIsSaidInTheProjectsWords) {
     test::TempDir dir("messages-vdb");
     test::write_text(dir / "p.yaml", "nodes:\n  - {id: grid, stage: test.fail, params: {raise: openvdb_arithmetic}}\n");

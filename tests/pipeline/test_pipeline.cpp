@@ -8,6 +8,7 @@
 #include "fixtures/testkit_stages.h"
 #include "io/mesh_io.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/renamed_params.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
 
@@ -140,6 +141,27 @@ TEST(Pipeline, RejectsUnknownParameter) {
     const auto m = rejection("nodes:\n  - id: box\n    stage: test.box\n    params:\n      size: 2\n      sise: 3\n");
     EXPECT_HAS(m, "p.yaml:6: node \"box\" (test.box): unknown parameter \"sise\"");
     EXPECT_HAS(m, "parameters: size, copies, shape");
+}
+
+TEST(Pipeline, AFormerParameterNameIsAnsweredWithItsNewName) {
+    const auto m = rejection(
+        "nodes:\n  - id: box\n    stage: test.box\n  - id: texture\n    stage: texture.project\n"
+        "    inputs: {mesh: box}\n    params: {strip_lines: false}\n");
+    EXPECT_HAS(m,
+               "p.yaml:7: node \"texture\" (texture.project): unknown parameter \"strip_lines\": it is now "
+               "\"strokes\" (strip_lines: false is strokes: keep, true is strokes: strip)");
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    // Only that stage's former name: elsewhere the name is just unknown.
+    EXPECT_EQ(renamed_param_hint("mesh.write", "strip_lines"), "");
+    EXPECT_EQ(renamed_param_hint("texture.project", "strokes"), "");
+}
+
+TEST(Pipeline, ARenamingNamesAParameterItsStageDeclaresInsteadOfTheOldOne) {
+    const RenamedParam* r = find_renamed_param("texture.project", "strip_lines");
+    ASSERT_NE(r, nullptr);
+    const StageInfo info = registry().create(r->stage)->info();
+    EXPECT_NE(find_param(info.params, r->new_name), nullptr) << r->new_name;
+    EXPECT_EQ(find_param(info.params, r->old_name), nullptr) << r->old_name;
 }
 
 TEST(Pipeline, RejectsWrongType) {

@@ -1,6 +1,8 @@
 // The mesh stages through their Stage interface: parameters, ports and errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 
@@ -87,6 +89,8 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     h.run<FileOutput>();
     EXPECT_EQ(std::stod(h.metrics().at("self_intersections")), 0.0);
     EXPECT_EQ(std::stod(h.metrics().at("boundary_edges")), 0.0);
+    EXPECT_EQ(h.metric("components"), 1.0);
+    EXPECT_EQ(h.metric("genus"), 0.0);
     EXPECT_TRUE(h.warnings().empty());
 
     // A broken rule that a file can hold is a warning: an open box.
@@ -96,6 +100,7 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     h.input("mesh", open);
     h.run<FileOutput>();
     EXPECT_GT(std::stod(h.metrics().at("boundary_edges")), 0.0);
+    EXPECT_EQ(h.metrics().count("genus"), 0u); // an open mesh has no genus to report
     ASSERT_EQ(h.warnings().size(), 1u);
     EXPECT_NE(h.warnings()[0].find("boundary edges"), std::string::npos) << h.warnings()[0];
     EXPECT_NE(h.warnings()[0].find("open.ply"), std::string::npos) << h.warnings()[0];
@@ -137,5 +142,48 @@ TEST(MeshStages, WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken) {
     h.params("{check: false}");
     h.run<FileOutput>();
     EXPECT_EQ(h.metrics().count("self_intersections"), 0u);
+    EXPECT_TRUE(h.warnings().empty());
+}
+
+namespace {
+
+// A torus around the Y axis as a closed grid of quads (two triangles each), outward: genus 1.
+Mesh torus(float major, float minor, int around, int across, Vec3f centre) {
+    Mesh m;
+    const float two_pi = 6.2831853f;
+    for (int i = 0; i < around; ++i)
+        for (int j = 0; j < across; ++j) {
+            const float u = two_pi * float(i) / float(around), v = two_pi * float(j) / float(across);
+            const float r = major + minor * std::cos(v);
+            m.positions.push_back(centre + Vec3f(r * std::cos(u), minor * std::sin(v), r * std::sin(u)));
+        }
+    auto at = [&](int i, int j) { return std::uint32_t((i % around) * across + j % across); };
+    for (int i = 0; i < around; ++i)
+        for (int j = 0; j < across; ++j) {
+            m.triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j)});
+            m.triangles.push_back({at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)});
+        }
+    return m;
+}
+
+} // namespace
+
+TEST(MeshStages, WriteReportsTheComponentsAndTunnelsOfWhatItWrites) {
+    // A ring beside a box: two components, one tunnel between them (the box alone: 1 and 0,
+    // WriteReportsTheOutputRulesAndWarnsWhenOneIsBroken).
+    test::TempDir dir("mesh_write_genus");
+    test::StageHarness h("mesh.write");
+    Mesh both = torus(2.0f, 0.5f, 24, 12, {5, 0, 0});
+    const Mesh box = test::make_box({0, 0, 0}, {1, 1, 1});
+    const auto first = std::uint32_t(both.positions.size());
+    both.positions.insert(both.positions.end(), box.positions.begin(), box.positions.end());
+    for (auto t : box.triangles) both.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+    ASSERT_TRUE(check_mesh(both).closed_manifold());
+    ASSERT_GT(check_mesh(both).signed_volume, 0.0);
+    h.param("path", dir / "ring.ply");
+    h.input("mesh", both);
+    h.run<FileOutput>();
+    EXPECT_EQ(h.metric("components"), 2.0);
+    EXPECT_EQ(h.metric("genus"), 1.0);
     EXPECT_TRUE(h.warnings().empty());
 }

@@ -108,7 +108,7 @@ public:
         mesh_.corner_uvs.clear();
         mesh_.texture.reset();
         st_.textured = opt.texture;
-        st_.lines_stripped = opt.clean.strip_lines;
+        st_.lines_stripped = opt.clean.strokes == CleanOptions::Strokes::Strip;
         st_.balanced = opt.balance_rounds > 0;
     }
 

@@ -31,7 +31,7 @@ struct TextureOptions {
 
 struct TextureStats {
     bool textured = false;       ///< an atlas was asked for (TextureOptions::texture)
-    bool lines_stripped = false; ///< ink was looked for (CleanOptions::strip_lines)
+    bool lines_stripped = false; ///< ink was looked for (CleanOptions::strokes is Strip)
     bool balanced = false;       ///< the views were weighted (balance_rounds > 0)
     std::size_t charts = 0;
     double texels_per_unit = 0;

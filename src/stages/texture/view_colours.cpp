@@ -11,15 +11,20 @@
 namespace cm {
 
 void CleanOptions::declare(ParamBinder& b) {
-    b.add(strip_lines, ParamSpec::Bool("strip_lines", true,
-                                       "leave out ink strokes (outlines, hatching: thin, dark, high-contrast) and fill "
-                                       "them from the neighbouring fill colour"));
-    b.add(line_width, ParamSpec::Float("line_width", 4, 1, 64, "px", "the widest stroke taken for ink (strip_lines)"));
+    b.add(strokes,
+          ParamSpec::Enum("strokes", "strip", {"strip", "keep"},
+                          "the drawing's strokes: strip leaves out ink (outlines, hatching: thin, dark, "
+                          "high-contrast) and the paper between marker strokes, and fills them from the "
+                          "neighbouring fill colour; keep takes the drawing's pixels as drawn, for a hand-drawn look "
+                          "(was strip_lines: false)"),
+          {Strokes::Strip, Strokes::Keep});
+    b.add(line_width,
+          ParamSpec::Float("line_width", 4, 1, 64, "px", "the widest stroke taken for ink (strokes: strip)"));
     b.add(line_contrast, ParamSpec::Float("line_contrast", 0.12, 0.01, 1, "",
                                           "how much darker (luminance, 0-1) than the fill around it a stroke is"));
     b.add(paper_slivers,
           ParamSpec::Bool("paper_slivers", true,
-                          "with strip_lines, also leave out the paper showing between marker or hatching strokes "
+                          "with strokes: strip, also leave out the paper showing between marker or hatching strokes "
                           "(thin, lighter than around them by line_contrast, near the paper's colour), so the fill "
                           "does not come out paler than drawn"));
     b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
@@ -141,7 +146,7 @@ ViewColours clean_view_colours(const View& view, const DepthImage* depth, double
     for (std::size_t i = 0; i < n; ++i) valid[i] = inside[i] && d_out[i] > opt.erode_px * opt.erode_px;
     std::vector<char> drawn = valid;
     std::vector<std::array<float, 3>> fill;
-    if (opt.strip_lines) strip_strokes(img, inside, opt, vc, valid, drawn, fill);
+    if (opt.strokes == CleanOptions::Strokes::Strip) strip_strokes(img, inside, opt, vc, valid, drawn, fill);
     // The say ramps up from the eroded border and from occlusion edges.
     for (std::size_t i = 0; i < n; ++i) weak[i] = !inside[i] || d_out[i] <= opt.erode_px * opt.erode_px;
     // Occlusion edges of the mesh in this view: a surface behind another one ends there,

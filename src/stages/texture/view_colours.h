@@ -14,10 +14,13 @@
 
 namespace cm {
 
-/// The parameters of a drawing's cleaning (texture.project's strip_lines, line_width,
+/// The parameters of a drawing's cleaning (texture.project's strokes, line_width,
 /// line_contrast, paper_slivers, ink_chroma, fill_smooth, erode and blend).
 struct CleanOptions {
-    bool strip_lines;    ///< find ink strokes and fill them from the neighbouring fill
+    /// What becomes of the drawing's strokes: left out and filled from the neighbouring
+    /// fill, or kept in the colours for a hand-drawn look.
+    enum class Strokes { Strip, Keep };
+    Strokes strokes;     ///< Strip: find ink strokes and fill them from the neighbouring fill
     float line_width;    ///< widest stroke taken for ink, px
     float line_contrast; ///< a stroke is this much darker (luminance) than the fill around it
     bool paper_slivers;  ///< also leave out the paper showing between strokes (thin, light, paper-coloured)

@@ -1,5 +1,6 @@
 #include "mesh_file.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "core/error.h"
@@ -41,6 +42,10 @@ void MeshFileStats::report(Metrics& m) const {
     m.count("degenerate_faces", c.degenerate_faces);
     m.count("self_intersections", check->crossings.size());
     m.metric("volume", c.signed_volume);
+    m.count("components", c.components);
+    // A closed 2-manifold's tunnels: each component's Euler characteristic is 2 - 2 genus,
+    // so the mesh's V - E + F = 2 components - 2 genus (genus summed over its components).
+    if (c.closed_manifold()) m.count("genus", std::size_t(std::max(0L, 2 * long(c.components) - c.euler) / 2));
     const std::vector<std::string> broken = check->broken();
     if (broken.empty()) return;
     std::string text = "\"" + path + "\" is not a clean closed mesh: ";

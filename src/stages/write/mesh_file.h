@@ -42,7 +42,8 @@ struct MeshFileStats {
     /// The scale (when not 1), height, faces, vertices, path and bytes; flat_caps_flipped and
     /// flat_caps_left when it had flat caps; with the check its
     /// figures (boundary_edges, nonmanifold_edges, degenerate_faces, self_intersections,
-    /// volume) and one warning naming the rules the mesh breaks.
+    /// volume, components, and genus when it is a closed 2-manifold: the tunnels through it,
+    /// summed over its components) and one warning naming the rules the mesh breaks.
     void report(Metrics& m) const;
 };
 

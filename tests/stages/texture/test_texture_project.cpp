@@ -143,7 +143,7 @@ TEST(TextureProject, InkOutlinesAndStrokesLeaveNoDarkTexelsOnAFlatColouredDrawin
             worst = std::max(worst, delta_e76({t.at(x, y, 0), t.at(x, y, 1), t.at(x, y, 2)}, orange));
     EXPECT_LT(worst, 3.0);
     // The same drawings taken as they are: the ink shows up in the texture.
-    const auto inked = texture(sphere, views, "{texture_size: 256, padding: 2, strip_lines: false}");
+    const auto inked = texture(sphere, views, "{texture_size: 256, padding: 2, strokes: keep}");
     EXPECT_GT(dark_texels(*inked), 50u);
 }
 
