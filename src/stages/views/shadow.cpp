@@ -5,6 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "geometry/distance_transform.h"
+
 namespace cm {
 
 namespace {
@@ -19,6 +21,17 @@ bool shadow_like(const float* p, const std::array<double, 3>& b) {
         if (std::abs(p[k] - s * b[std::size_t(k)]) > 0.06) return false;
     return true;
 }
+
+// The background's own colour (each channel within 0.06 of it): blank paper.
+bool paper_like(const float* p, const std::array<double, 3>& b) {
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(p[k] - b[std::size_t(k)]) > 0.06) return false;
+    return true;
+}
+
+// A stroke's core is at most this far (px) from its edge: a 5 px pen line, or two merged
+// side by side, with their anti-aliased fringe. A ground shadow is broader.
+constexpr float kStrokeCoreReach = 4.0f;
 
 struct Region {
     std::vector<int> pixels;
@@ -63,6 +76,33 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         }
     if (oymax < 0) return 0;
     const double oh = oymax - oymin + 1, ocentre = 0.5 * (oymin + oymax);
+    // A grey pencil line has the paper's hue and is darker: shadow-like. A line is thin, and
+    // line art's outline has the object's blank paper inside it, enclosed (not background)
+    // within a few pixels of the line's core; a ground shadow is broad, or has the object's
+    // own colours above it.
+    const std::vector<float> to_edge2 = squared_edt(
+        [&] {
+            std::vector<char> rim(n);
+            for (std::size_t i = 0; i < n; ++i) rim[i] = !core[i];
+            return rim;
+        }(),
+        w, h);
+    auto beside_blank = [&](int p) {
+        const int x = p % w, y = p / w, r = int(kStrokeCoreReach);
+        for (int dy = -r; dy <= r; ++dy)
+            for (int dx = -r; dx <= r; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const std::size_t j = std::size_t(yy) * w + xx;
+                if (!bg[j] && !like[j] && paper_like(img.rgba(j).data(), background.at(j))) return true;
+            }
+        return false;
+    };
+    auto is_line = [&](const Region& r) {
+        for (int p : r.pixels)
+            if (to_edge2[std::size_t(p)] > kStrokeCoreReach * kStrokeCoreReach) return false;
+        return std::any_of(r.pixels.begin(), r.pixels.end(), beside_blank);
+    };
     std::vector<char> seen(n, 0), shadow(n, 0);
     std::vector<int> stack;
     for (std::size_t start = 0; start < n; ++start) {
@@ -92,7 +132,7 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         const double centre = r.ysum / double(r.pixels.size());
         const bool under =
             r.touches_bg && r.ymax >= oymax - 1 && centre > ocentre && double(r.ymax - r.ymin + 1) <= 0.5 * oh;
-        if (under)
+        if (under && !is_line(r))
             for (int p : r.pixels) shadow[std::size_t(p)] = 1;
     }
     // The shadow's soft rim: shadow-like pixels up to 2 px from it.
