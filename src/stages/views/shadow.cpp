@@ -5,8 +5,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include "geometry/distance_transform.h"
-
 namespace cm {
 
 namespace {
@@ -29,9 +27,9 @@ bool paper_like(const float* p, const std::array<double, 3>& b) {
     return true;
 }
 
-// A stroke's core is at most this far (px) from its edge: a 5 px pen line, or two merged
-// side by side, with their anti-aliased fringe. A ground shadow is broader.
-constexpr float kStrokeCoreReach = 4.0f;
+// How far (px) from blank paper a pencil line's core lies at most: half a 5 px line, or of
+// lines merged side by side with slivers of paper between them, and the anti-aliased fringe.
+constexpr int kStrokeCoreReach = 4;
 
 struct Region {
     std::vector<int> pixels;
@@ -76,19 +74,12 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         }
     if (oymax < 0) return 0;
     const double oh = oymax - oymin + 1, ocentre = 0.5 * (oymin + oymax);
-    // A grey pencil line has the paper's hue and is darker: shadow-like. A line is thin, and
-    // line art's outline has the object's blank paper inside it, enclosed (not background)
-    // within a few pixels of the line's core; a ground shadow is broad, or has the object's
-    // own colours above it.
-    const std::vector<float> to_edge2 = squared_edt(
-        [&] {
-            std::vector<char> rim(n);
-            for (std::size_t i = 0; i < n; ++i) rim[i] = !core[i];
-            return rim;
-        }(),
-        w, h);
+    // A grey pencil line has the paper's hue and is darker: shadow-like. Line art's lines
+    // have the object's blank paper (enclosed, not background) within a few pixels of most of
+    // their core, inside the outline or between merged lines; a ground shadow has it, if at
+    // all, along its upper rim only, beyond the outline's stroke.
     auto beside_blank = [&](int p) {
-        const int x = p % w, y = p / w, r = int(kStrokeCoreReach);
+        const int x = p % w, y = p / w, r = kStrokeCoreReach;
         for (int dy = -r; dy <= r; ++dy)
             for (int dx = -r; dx <= r; ++dx) {
                 const int xx = x + dx, yy = y + dy;
@@ -99,9 +90,8 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         return false;
     };
     auto is_line = [&](const Region& r) {
-        for (int p : r.pixels)
-            if (to_edge2[std::size_t(p)] > kStrokeCoreReach * kStrokeCoreReach) return false;
-        return std::any_of(r.pixels.begin(), r.pixels.end(), beside_blank);
+        const auto near = std::count_if(r.pixels.begin(), r.pixels.end(), beside_blank);
+        return 2 * std::size_t(near) >= r.pixels.size();
     };
     std::vector<char> seen(n, 0), shadow(n, 0);
     std::vector<int> stack;
