@@ -6,6 +6,7 @@
 #   - the reconstruction (pipelines/paper.yaml) and its genus against the model's (conceptmesh
 #     check: genus = components - euler / 2 of a closed mesh).
 # Usage: bench/views/blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE]
+#                                    [PAPER] [GRAIN] [RECONSTRUCT]
 #   MODELS: names from bench/models.txt, comma-separated (default: all)
 #   VIEWS: render-views --views (default front,right,top; six views let opposite views
 #   confirm the openings of line art)
@@ -15,8 +16,12 @@
 #   user_keep below); keep: `holes: keep` on every view
 #   STYLE: blueprint (default); mask: the true silhouettes (render-views --style mask), for
 #   the genus of the visual hull itself
+#   PAPER, GRAIN: render-views --paper and --grain (default white, 0; #f2ead8 and 0.03 for a
+#   scan of cream paper)
+#   RECONSTRUCT: yes (default) runs pipelines/paper.yaml for the genus; no prints the
+#   silhouette errors alone ("-" in the genus columns)
 set -euo pipefail
-build=${1:?usage: blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE]}
+build=${1:?usage: blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE] [PAPER] [GRAIN] [RECONSTRUCT]}
 size=${2:-1024}
 wanted=${3:-all}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -29,6 +34,9 @@ colour=${6:-#1f3f8f}
 width=${7:-1.5}
 holes=${8:-rule}
 style=${9:-blueprint}
+paper=${10:-white}
+grain=${11:-0}
+reconstruct=${12:-yes}
 [[ "$holes" == rule || "$holes" == user || "$holes" == keep ]] || {
     echo "blueprint_bar.sh: HOLES must be rule, user or keep, not '$holes'" >&2
     exit 2
@@ -74,7 +82,7 @@ grep -v '^#' "$here/../models.txt" | tr -s ' ' | while read -r name file up fron
     [[ "$wanted" == all || ",$wanted," == *",$name,"* ]] || continue
     d="$work/$name"
     "$exe" render-views "$models/$file" -o "$d" --style "$style" --line-colour "$colour" --line-width "$width" \
-        --size "$size" --views "$views" --up "$up" --front "$front" -q
+        --paper "$paper" --grain "$grain" --size "$size" --views "$views" --up "$up" --front "$front" -q
     kept=()
     if [[ "$holes" == keep ]]; then
         IFS=, read -r -a kept <<<"$views"
@@ -87,6 +95,10 @@ grep -v '^#' "$here/../models.txt" | tr -s ' ' | while read -r name file up fron
     xor=$("$exe" compare "$models/$file" "$d/views.yaml" --fit bbox --up "$up" --front "$front" --json 2>/dev/null |
         python3 -c 'import json,sys; d=json.load(sys.stdin); print(" ".join("%.2f" % v["xor_pct"] for v in d["views"]))')
     worst=$(echo "$xor" | tr ' ' '\n' | sort -g | tail -1)
+    if [[ "$reconstruct" == no ]]; then
+        echo "| $name | ${xor// / \/ } | $worst | - | - | ${kept[*]:--} |"
+        continue
+    fi
     "$exe" run "$repo/pipelines/paper.yaml" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj" \
         --set preview.path="$d/preview.png" >/dev/null 2>&1 ||
         "$exe" run "$repo/pipelines/paper.yaml" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj"

@@ -26,10 +26,14 @@ struct RenderViewsOptions {
     unsigned seed = 1;
     std::string line_colour = "#1f3f8f"; ///< blueprint style
     double line_width = 1.5;             ///< blueprint style, pixels
+    std::string paper = "white";         ///< blueprint style
+    double grain = 0;                    ///< blueprint style: the paper's grain, +- this on each channel
 };
 
-// "#rrggbb" or a name (black, blue, red, grey) as RGB in [0, 1].
-std::array<float, 3> parse_line_colour(const std::string& s) {
+// "#rrggbb" or a name (white, black, blue, red, grey) as RGB in [0, 1]; a bad one is an
+// error naming `flag`.
+std::array<float, 3> parse_colour(const std::string& s, const std::string& flag) {
+    if (s == "white") return {1.0f, 1.0f, 1.0f};
     if (s == "black") return {0.05f, 0.05f, 0.06f};
     if (s == "blue") return {0.12f, 0.25f, 0.56f};
     if (s == "red") return {0.75f, 0.12f, 0.1f};
@@ -40,21 +44,22 @@ std::array<float, 3> parse_line_colour(const std::string& s) {
             c[std::size_t(k)] = float(std::stoi(s.substr(1 + 2 * std::size_t(k), 2), nullptr, 16)) / 255.0f;
         return c;
     }
-    throw Error("--line-colour must be #rrggbb, black, blue, red or grey, got \"" + s + "\"");
+    throw Error(flag + " must be #rrggbb, white, black, blue, red or grey, got \"" + s + "\"");
 }
 
 // The drawing options of a style: art as it was; blueprint: lines only (the outline and
-// every crease and inner contour) in the line colour and width on white paper, no fill.
+// every crease and inner contour) in the line colour and width on the paper (white unless
+// told, with grain as a scan of paper has it), no fill.
 ArtOptions style_options(const RenderViewsOptions& o) {
     ArtOptions art;
     art.seed = o.seed;
     if (o.style != "blueprint") return art;
-    art.paper = {1.0f, 1.0f, 1.0f};
+    art.paper = parse_colour(o.paper, "--paper");
     art.fill = art.paper;
     art.shade = false;
-    art.grain = 0;
+    art.grain = float(o.grain);
     art.vignette = 0;
-    art.ink = parse_line_colour(o.line_colour);
+    art.ink = parse_colour(o.line_colour, "--line-colour");
     art.outline_px = float(o.line_width);
     art.outline_centred = true; // inked on the edge, as drawn by hand or by a CAD program
     art.crease_px = float(o.line_width);
@@ -146,7 +151,7 @@ int run_render_views(const RenderViewsOptions& o, const GlobalOptions& g) {
     // Bytes per pixel at the peak, measured at 4096 px: 9 for masks, 50 for art (the
     // shading keeps depth, normals and float colour per pixel).
     const double per_pixel = o.style == "mask" ? 10 : 52;
-    if (o.style == "blueprint") parse_line_colour(o.line_colour); // a bad colour before any work
+    if (o.style == "blueprint") style_options(o); // a bad colour before any work
     check_memory_estimate(std::uint64_t(per_pixel * double(o.size) * double(o.size)),
                           "render-views at " + std::to_string(o.size) + " px (" + o.style + ")", "lower --size");
     const Mesh mesh = load_oriented(o.mesh, orient);
@@ -185,7 +190,7 @@ void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int
         ->check(CLI::Range(16, 16384));
     cmd->add_option("--style", o->style,
                     "mask: binary silhouettes; art: shaded drawing with outlines on paper; blueprint: line art "
-                    "(outline, creases, part boundaries) in --line-colour and --line-width on white")
+                    "(outline, creases, part boundaries) in --line-colour and --line-width on --paper")
         ->capture_default_str()
         ->check(CLI::IsMember({"mask", "art", "blueprint"}));
     cmd->add_option("--line-colour", o->line_colour, "Blueprint style: line colour, #rrggbb or black, blue, red, grey")
@@ -193,6 +198,12 @@ void add_render_views_command(CLI::App& app, GlobalOptions& g, std::function<int
     cmd->add_option("--line-width", o->line_width, "Blueprint style: line width in pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.5, 16.0));
+    cmd->add_option("--paper", o->paper,
+                    "Blueprint style: paper colour, #rrggbb or white (#f2ead8: scanned cream paper)")
+        ->capture_default_str();
+    cmd->add_option("--grain", o->grain, "Blueprint style: paper grain, uniform +- this on each channel (0: none)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.2));
     o->axes.add_to(cmd, "The model's own up axis (+X -X +Y -Y +Z -Z)", "The model's own front axis (the way it faces)");
     cmd->add_option("--seed", o->seed, "Paper grain pattern (art style)")->capture_default_str();
     cmd->add_flag("-q,--quiet", g.quiet, "Only errors and warnings");

@@ -20,6 +20,17 @@ bool shadow_like(const float* p, const std::array<double, 3>& b) {
     return true;
 }
 
+// The background's own colour (each channel within 0.06 of it): blank paper.
+bool paper_like(const float* p, const std::array<double, 3>& b) {
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(p[k] - b[std::size_t(k)]) > 0.06) return false;
+    return true;
+}
+
+// How far (px) from blank paper a pencil line's core lies at most: half a 5 px line, or of
+// lines merged side by side with slivers of paper between them, and the anti-aliased fringe.
+constexpr int kStrokeCoreReach = 4;
+
 struct Region {
     std::vector<int> pixels;
     int ymin = 1 << 30, ymax = -1;
@@ -63,6 +74,25 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         }
     if (oymax < 0) return 0;
     const double oh = oymax - oymin + 1, ocentre = 0.5 * (oymin + oymax);
+    // A grey pencil line has the paper's hue and is darker: shadow-like. Line art's lines
+    // have the object's blank paper (enclosed, not background) within a few pixels of most of
+    // their core, inside the outline or between merged lines; a ground shadow has it, if at
+    // all, along its upper rim only, beyond the outline's stroke.
+    auto beside_blank = [&](int p) {
+        const int x = p % w, y = p / w, r = kStrokeCoreReach;
+        for (int dy = -r; dy <= r; ++dy)
+            for (int dx = -r; dx <= r; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const std::size_t j = std::size_t(yy) * w + xx;
+                if (!bg[j] && !like[j] && paper_like(img.rgba(j).data(), background.at(j))) return true;
+            }
+        return false;
+    };
+    auto is_line = [&](const Region& r) {
+        const auto near = std::count_if(r.pixels.begin(), r.pixels.end(), beside_blank);
+        return 2 * std::size_t(near) >= r.pixels.size();
+    };
     std::vector<char> seen(n, 0), shadow(n, 0);
     std::vector<int> stack;
     for (std::size_t start = 0; start < n; ++start) {
@@ -92,7 +122,7 @@ std::size_t remove_ground_shadow(const Image& img, const BackgroundField& backgr
         const double centre = r.ysum / double(r.pixels.size());
         const bool under =
             r.touches_bg && r.ymax >= oymax - 1 && centre > ocentre && double(r.ymax - r.ymin + 1) <= 0.5 * oh;
-        if (under)
+        if (under && !is_line(r))
             for (int p : r.pixels) shadow[std::size_t(p)] = 1;
     }
     // The shadow's soft rim: shadow-like pixels up to 2 px from it.

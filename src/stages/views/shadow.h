@@ -16,7 +16,10 @@ namespace cm {
 /// background colour), and not next to anything else of the object. A connected region of
 /// them touching the background is a ground shadow when it lies under the object: its
 /// lowest row at or below the object's, its centre below the object's centre, and at most
-/// half the object's height. Returns the number of pixels made background.
+/// half the object's height. A region with blank paper of the object (enclosed, the
+/// background's colour) within 4 px of at least half its pixels is grey pencil line art
+/// (lines, or lines merged with slivers of paper between them), not a shadow, and stays.
+/// Returns the number of pixels made background.
 std::size_t remove_ground_shadow(const Image& img, const BackgroundField& background, std::vector<char>& bg);
 
 } // namespace cm
