@@ -13,8 +13,10 @@
 #include "io/image_io.h"
 #include "io/manifest.h"
 #include "opposite_holes.h"
+#include "pockets.h"
 #include "sheet.h"
 #include "silhouette.h"
+#include "silhouette_holes.h"
 
 namespace fs = std::filesystem;
 
@@ -60,6 +62,24 @@ SilhouetteOptions silhouette_options(const ManifestView& mv, const LoadViewsOpti
     so.shadow = mv.shadow;
     so.photo = mv.photo != "auto" ? mv.photo : mv.matrix ? "on" : "auto";
     return so;
+}
+
+// Drawn views get their pockets filled (pockets.h); photographs and views keeping every
+// hole (`holes: keep`) keep theirs.
+bool fills_pockets(const ManifestView& mv, const LoadViewsOptions& opt) {
+    const SilhouetteOptions so = silhouette_options(mv, opt);
+    return so.photo != "on" && so.holes != "keep";
+}
+
+// The pockets of every drawn view filled, counted per view into `filled`: once the
+// silhouettes are extracted, and again once reconciliation has resampled them (a turn or
+// a bend can make new ones).
+void fill_drawn_pockets(const Manifest& man, const LoadViewsOptions& opt, Views& views,
+                        std::vector<std::size_t>& filled) {
+    filled.resize(man.views.size(), 0);
+    tbb::parallel_for(std::size_t(0), man.views.size(), [&](std::size_t i) {
+        if (fills_pockets(man.views[i], opt)) filled[i] += fill_pockets(views.views[i].coverage);
+    });
 }
 
 // What the user should hear of a view's segmentation (marks dropped, a photograph's growth,
@@ -184,6 +204,7 @@ void read_views(const Manifest& man, const LoadViewsOptions& opt, Views& views, 
     const std::vector<std::string> confirmed = open_confirmed_holes(views.views, regions);
     stats.notes.insert(stats.notes.end(), confirmed.begin(), confirmed.end());
     if (!confirmed.empty()) extract_with_confirmed_holes(man, opt, views, regions, infos);
+    fill_drawn_pockets(man, opt, views, stats.pockets_filled);
 }
 
 // Calibrated views keep the manifest's box; drawn views are aligned into the output frame.
@@ -283,6 +304,9 @@ void LoadViewsOptions::declare(ParamBinder& b) {
 void LoadViewsStats::report(Metrics& m) const {
     for (const auto& w : warnings) m.warn(w);
     m.count("views", names.size());
+    std::size_t pockets = 0;
+    for (std::size_t p : pockets_filled) pockets += p;
+    m.count("pockets_filled", pockets);
     for (std::size_t i = 0; i < names.size(); ++i) m.metric("silhouette_area_px." + names[i], silhouette_area_px[i]);
     for (const auto& r : reconciled) {
         if (!r.reconciled) continue;
@@ -316,6 +340,12 @@ Result<Views, LoadViewsStats> load_views(const fs::path& manifest, const LoadVie
                         ") has an empty silhouette: no object was found in it");
     }
     place_views(man, opt, views, stats);
+    if (!views.calibrated) fill_drawn_pockets(man, opt, views, stats.pockets_filled);
+    for (std::size_t i = 0; i < views.views.size(); ++i)
+        if (stats.pockets_filled[i])
+            stats.notes.push_back("view \"" + views.views[i].name + "\": " + std::to_string(stats.pockets_filled[i]) +
+                                  " enclosed pocket(s) of partial coverage (under " + std::to_string(kStrokeGapArea) +
+                                  " px of paper each) filled as paper between strokes");
     for (const auto& v : views.views) {
         stats.names.push_back(v.name);
         stats.silhouette_area_px.push_back(silhouette_area(v.coverage));

@@ -34,7 +34,9 @@ struct LoadViewsStats {
     std::vector<double> silhouette_area_px;     ///< per view: its coverage summed, in pixels
     std::optional<Vec3d> bounds_size;           ///< the size of the views' box, when they have one
     std::vector<ViewReconciliation> reconciled; ///< per view, when reconciliation ran
-    /// The warnings, then `views` (their number), `silhouette_area_px.<view>` and, with a
+    std::vector<std::size_t> pockets_filled;    ///< per view: pockets of partial coverage filled (pockets.h)
+    /// The warnings, then `views` (their number), `pockets_filled` (all views'),
+    /// `silhouette_area_px.<view>` and, with a
     /// box, `bounds_size`; after reconciliation `reconcile.<view>.{scale_x, scale_y,
     /// turn_deg, warp_px, missing_pct}`; not the notes.
     void report(Metrics& m) const;

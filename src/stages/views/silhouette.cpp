@@ -118,9 +118,9 @@ public:
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
         const int nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
-        // Under `auto`, enclosed regions under 9 px are gaps between strokes, not holes;
-        // `keep` keeps every enclosed region, however small.
-        const std::size_t min_hole = mode == "keep" ? 1 : 9;
+        // Under `auto`, enclosed regions under kStrokeGapArea are gaps between strokes, not
+        // holes; `keep` keeps every enclosed region, however small.
+        const std::size_t min_hole = mode == "keep" ? 1 : kStrokeGapArea;
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         line_drawing_ = ink <= blank;
@@ -150,7 +150,7 @@ public:
         std::vector<char> dark;
         const std::vector<float> lum = luminance(dark);
         const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
-        std::vector<EnclosedRegion> regions = judge_line_regions(ev, nested, 9, mode == "keep");
+        std::vector<EnclosedRegion> regions = judge_line_regions(ev, nested, kStrokeGapArea, mode == "keep");
         open_regions_at(regions, lab, w_, h_, bgc_.ox, bgc_.oy, at);
         record(std::move(regions), lab, &ink, res);
     }

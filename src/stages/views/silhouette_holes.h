@@ -10,6 +10,11 @@
 
 namespace cm {
 
+/// Enclosed regions of a drawing under this many pixels are gaps between strokes, never
+/// holes (unless every region is kept, `holes: keep`); pockets.h fills the partly covered
+/// ones.
+inline constexpr std::size_t kStrokeGapArea = 9;
+
 /// One blank region a drawing encloses, and what was made of it.
 struct EnclosedRegion {
     std::size_t area = 0;              ///< pixels
