@@ -2,7 +2,8 @@
 # The drawings of ../shared/data/drawings (docs/results/real-drawings.md, "Drawings by
 # people"): no manifest comes with them, so this script writes one per drawing set into WORK
 # (which image is which view, decided by looking at them), runs pipelines/paper.yaml with a
-# preview sheet, and prints per set the holes views.load took and the faces written.
+# preview sheet, and prints per set the holes views.load took, the faces written, the written
+# mesh's genus and components, and each view's silhouette error (xor %).
 # Usage: bench/views/shared_drawings.sh BUILD_DIR WORK
 set -euo pipefail
 build=${1:?usage: shared_drawings.sh BUILD_DIR WORK}
@@ -39,5 +40,10 @@ d = json.load(open(sys.argv[1]))
 for n in d["nodes"]:
     m = n.get("metrics", {})
     if n["id"] in ("surface", "reduce"):
-        print("%s: %s faces" % (n["id"], m.get("faces", m.get("faces_out", "?"))))' "$work/$set.json"
+        print("%s: %s faces" % (n["id"], m.get("faces", m.get("faces_out", "?"))))
+    if n["id"] == "write":
+        print("written: genus %s, %s component(s)" % (m.get("genus", "?"), m.get("components", "?")))
+    if n["id"] == "score":
+        xs = sorted((k[len("xor_pct."):], v) for k, v in m.items() if k.startswith("xor_pct."))
+        print("xor %%: %s" % ", ".join("%s %.2f" % kv for kv in xs))' "$work/$set.json"
 done
