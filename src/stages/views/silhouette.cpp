@@ -22,6 +22,7 @@
 #include "shadow.h"
 #include "sheet.h"
 #include "silhouette_holes.h"
+#include "thin_outline.h"
 
 namespace cm {
 
@@ -209,12 +210,14 @@ public:
         return removed;
     }
 
-    // Line art's outline at its strokes' centre line (see pull_to_stroke_centre).
+    // Line art's outline at its strokes' centre line (see pull_to_stroke_centre; thin lines:
+    // place_thin_outline).
     void pull_to_stroke_centre(std::vector<float>& cov, SilhouetteResult& res) const {
         if (!line_drawing_) return;
         std::vector<char> ink(n_);
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
         res.stroke = cm::pull_to_stroke_centre(cov, bg_, ink, res.close_gaps, w_, h_);
+        place_thin_outline(cov, bg_, d_, t_, w_, h_, res.stroke);
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
