@@ -24,6 +24,29 @@ struct Best {
     std::vector<float> ink, cov;
 };
 
+// Where the outline stroke entered at k ends when another line runs into it from inside:
+// `e` becomes the first valley of the ink after k, within kLongest (a pixel under half the
+// stroke's peak and no more than the next pixel's), and `shared` its ink. False when there
+// is none, or the background lies within kAfter + 1 beyond it (a thin part).
+template <typename At>
+bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, int k, int& e,
+                  float& shared) {
+    float peak = ink[at(k)];
+    for (int j = k + 1; j + 1 < count && j <= k + kLongest; ++j) {
+        const float a = ink[at(j)];
+        if (bg[at(j)] || a <= 0) return false; // the blank inside: a single stroke
+        if (a < 0.5f * peak && a <= ink[at(j + 1)]) {
+            for (int m = j + 1; m <= j + kAfter + 1; ++m)
+                if (m >= count || bg[at(m)]) return false;
+            e = j;
+            shared = a;
+            return true;
+        }
+        peak = std::max(peak, a);
+    }
+    return false;
+}
+
 // The crossings of one line of pixels (a row or a column, either way): `at(k)` is the index
 // of its k-th pixel. A crossing enters from the background into the object at k and runs
 // over ink (fraction `ink`) to the object's blank inside.
@@ -36,16 +59,20 @@ void cross_line(int count, At at, const std::vector<char>& bg, const std::vector
         while (s > 0 && k - s < kFringe && bg[at(s - 1)] && ink[at(s - 1)] > 0) --s;
         int e = k;
         while (e < count && !bg[at(e)] && ink[at(e)] > 0 && e - s < kLongest) ++e;
+        if (e == k || e >= count || bg[at(e)]) continue;
         // A single stroke between the background and the blank inside: no more ink after it.
-        if (e == k || e >= count || bg[at(e)] || ink[at(e)] > 0) continue;
-        float total = 0;
+        // Or the outline stroke run together with a line just inside it: it ends at the first
+        // valley of the ink, whose ink is shared half and half.
+        float shared = 0;
+        if (!first_stroke(count, at, bg, ink, k, e, shared) && ink[at(e)] > 0) continue;
+        float total = 0.5f * shared;
         for (int j = s; j < e; ++j) total += ink[at(j)];
         widths.push_back(total);
         float passed = 0;
         for (int j = s; j < std::min(count, e + kAfter); ++j) {
             const std::size_t i = at(j);
             if (j >= e && bg[i]) break;
-            const float a = j < e ? ink[i] : 0.0f;
+            const float a = j < e ? ink[i] : j == e ? 0.5f * shared : 0.0f;
             // The ink up to the pixel's centre against half the stroke's.
             const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * total, 0.0f, 1.0f);
             passed += a;

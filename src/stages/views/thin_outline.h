@@ -23,11 +23,12 @@ namespace cm {
 /// the ink up to its centre (from the background) is at least half the stroke's.
 ///
 /// A crossing counts when it is a single stroke from the background to the object's blank
-/// inside (a part drawn as one stroke, two outlines merged, or a junction with an inner line
-/// is left to pull_to_stroke_centre); each pixel takes the crossing, along its row or its
-/// column, that passes the stroke most squarely (the least ink). Only strokes up to 1.3 px
-/// wide by their ink (the lower quartile of the crossings) are placed so: wider ones are
-/// measured well by their thresholded shape.
+/// inside, or the outline stroke with a line just inside it run into it (the stroke then
+/// ends at the first valley of the ink: under half its peak, rising after); a part drawn as
+/// one stroke or two outlines merged is left to pull_to_stroke_centre. Each pixel takes the
+/// crossing, along its row or its column, that passes the stroke most squarely (the least
+/// ink). Only strokes up to 1.3 px wide by their ink (the lower quartile of the crossings)
+/// are placed so: wider ones are measured well by their thresholded shape.
 void place_thin_outline(std::vector<float>& coverage, const std::vector<char>& bg, const std::vector<double>& dist,
                         double t, int w, int h, StrokeCentre& stroke);
 
