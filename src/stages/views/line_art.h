@@ -22,6 +22,8 @@ struct StrokeCentre {
     std::size_t thin_held = 0;       ///< pixels of parts thinner than two strokes kept by their core
     std::size_t pockets_opened = 0;  ///< pixels of paper outside the outline the gap closing had shut
     std::size_t corners_dropped = 0; ///< stray cores at the outer corner of a stroke turning a sharp corner
+    double ink_width = 0;            ///< thin lines: the width measured from the ink (px); 0: not measured
+    std::size_t ink_placed = 0;      ///< thin lines: pixels placed from the ink (see place_thin_outline)
 };
 
 /// @brief Moves the silhouette of a line drawing from its strokes' outer edge to their

@@ -96,9 +96,14 @@ std::string segmentation_note(const SilhouetteResult& s, const SilhouetteOptions
                 " enclosed region(s) filled (photo: off segments it as a drawing)";
     } else if (s.stroke.samples) {
         if (!note.empty()) note += "; ";
-        char width[96];
-        std::snprintf(width, sizeof width, "line art: outline at its strokes' centre (stroke %.1f px)",
-                      s.stroke.stroke_width);
+        char width[128];
+        if (s.stroke.ink_placed)
+            std::snprintf(width, sizeof width,
+                          "line art: outline at its strokes' centre (stroke %.1f px; %.1f px by its ink, placed by it)",
+                          s.stroke.stroke_width, s.stroke.ink_width);
+        else
+            std::snprintf(width, sizeof width, "line art: outline at its strokes' centre (stroke %.1f px)",
+                          s.stroke.stroke_width);
         note += width;
     }
     if (const std::string holes = s.photo ? "" : describe_regions(s.regions); !holes.empty()) {

@@ -3,20 +3,17 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <sstream>
 
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "background_model.h"
 #include "border_clusters.h"
 #include "components.h"
 #include "core/error.h"
 #include "gaps.h"
+#include "ink_window.h"
 #include "io/manifest.h"
 #include "line_art.h"
 #include "line_holes.h"
@@ -25,6 +22,7 @@
 #include "shadow.h"
 #include "sheet.h"
 #include "silhouette_holes.h"
+#include "thin_outline.h"
 
 namespace cm {
 
@@ -212,12 +210,14 @@ public:
         return removed;
     }
 
-    // Line art's outline at its strokes' centre line (see pull_to_stroke_centre).
+    // Line art's outline at its strokes' centre line (see pull_to_stroke_centre; thin lines:
+    // place_thin_outline).
     void pull_to_stroke_centre(std::vector<float>& cov, SilhouetteResult& res) const {
         if (!line_drawing_) return;
         std::vector<char> ink(n_);
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
         res.stroke = cm::pull_to_stroke_centre(cov, bg_, ink, res.close_gaps, w_, h_);
+        place_thin_outline(cov, bg_, d_, t_, w_, h_, res.stroke);
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
@@ -329,54 +329,6 @@ private:
     std::vector<char> closed_; ///< the ink with its gaps closed (see close_ink)
     std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
-
-// A window of an image: the rectangle sheets cut their panels by (sheet.h).
-using Window = SheetPanel;
-
-// The window the analysis of a drawing can be confined to: the box of its ink (pixels the
-// background's colour does not explain) grown by `margin`, within the image; none when the
-// drawing has no ink. Every step of the analysis reaches less than the margin beyond the
-// ink (gap closing its radius, the coverage of the outline two pixels), so beyond the
-// window every pixel is background reached from the border, and the steps give the same
-// answers on the window as on the whole image, at a fraction of the pixels.
-std::optional<Window> ink_window(const Image& img, const BackgroundModel& model, double t, int margin) {
-    BackgroundField field;
-    field.model = model;
-    field.w = img.width;
-    field.h = img.height;
-    struct Box {
-        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
-    };
-    tbb::enumerable_thread_specific<std::vector<double>> rows;
-    const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, img.height, 16), Box{},
-        [&](const tbb::blocked_range<int>& r, Box b) {
-            std::vector<double>& d = rows.local();
-            d.resize(std::size_t(img.width));
-            for (int y = r.begin(); y != r.end(); ++y) {
-                field.model_distance_row(img, y, d.data()); // the distances BackgroundCut computes
-                int first = -1, last = -1;
-                for (int x = 0; x < img.width; ++x)
-                    if (d[std::size_t(x)] >= t) {
-                        if (first < 0) first = x;
-                        last = x;
-                    }
-                if (first < 0) continue;
-                b = {std::min(b.x0, first), std::min(b.y0, y), std::max(b.x1, last), std::max(b.y1, y)};
-            }
-            return b;
-        },
-        [](const Box& a, const Box& b) {
-            return Box{std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
-        });
-    if (box.x1 < 0) return std::nullopt;
-    Window win;
-    win.x0 = std::max(0, box.x0 - margin);
-    win.y0 = std::max(0, box.y0 - margin);
-    win.width = std::min(img.width, box.x1 + margin + 1) - win.x0;
-    win.height = std::min(img.height, box.y1 + margin + 1) - win.y0;
-    return win;
-}
 
 // The coverage of a drawing without meaningful alpha, from its background colour: into
 // `whole` (the image's size, zero on entry) when the whole image was analysed, and returns

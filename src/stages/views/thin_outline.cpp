@@ -1,0 +1,136 @@
+#include "thin_outline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cm {
+
+namespace {
+
+// Strokes up to this wide by their ink (px) are placed from it.
+constexpr float kThinWidth = 1.3f;
+// Ink below the threshold outside the first object pixel taken into a crossing (px).
+constexpr int kFringe = 2;
+// The longest crossing of a single thin stroke (px, its fringe included).
+constexpr int kLongest = 5;
+// Blank pixels after a stroke whose coverage the crossing sets (pull_to_stroke_centre may
+// have pulled them in by half a stroke measured too wide).
+constexpr int kAfter = 2;
+
+// Per pixel, the crossing that passes its stroke most squarely: its ink and the coverage it
+// gives the pixel.
+struct Best {
+    std::vector<float> ink, cov;
+};
+
+// Where the outline stroke entered at k ends when another line runs into it from inside:
+// `e` becomes the first valley of the ink after k, within kLongest (a pixel under half the
+// stroke's peak and no more than the next pixel's), and `shared` its ink. False when there
+// is none, or the background lies within kAfter + 1 beyond it (a thin part).
+template <typename At>
+bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, int k, int& e,
+                  float& shared) {
+    float peak = ink[at(k)];
+    for (int j = k + 1; j + 1 < count && j <= k + kLongest; ++j) {
+        const float a = ink[at(j)];
+        if (bg[at(j)] || a <= 0) return false; // the blank inside: a single stroke
+        if (a < 0.5f * peak && a <= ink[at(j + 1)]) {
+            for (int m = j + 1; m <= j + kAfter + 1; ++m)
+                if (m >= count || bg[at(m)]) return false;
+            e = j;
+            shared = a;
+            return true;
+        }
+        peak = std::max(peak, a);
+    }
+    return false;
+}
+
+// The crossings of one line of pixels (a row or a column, either way): `at(k)` is the index
+// of its k-th pixel. A crossing enters from the background into the object at k and runs
+// over ink (fraction `ink`) to the object's blank inside.
+template <typename At>
+void cross_line(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, Best& best,
+                std::vector<float>& widths) {
+    for (int k = 1; k < count; ++k) {
+        if (!bg[at(k - 1)] || bg[at(k)]) continue;
+        int s = k;
+        while (s > 0 && k - s < kFringe && bg[at(s - 1)] && ink[at(s - 1)] > 0) --s;
+        int e = k;
+        while (e < count && !bg[at(e)] && ink[at(e)] > 0 && e - s < kLongest) ++e;
+        if (e == k || e >= count || bg[at(e)]) continue;
+        // A single stroke between the background and the blank inside: no more ink after it.
+        // Or the outline stroke run together with a line just inside it: it ends at the first
+        // valley of the ink, whose ink is shared half and half.
+        float shared = 0;
+        if (!first_stroke(count, at, bg, ink, k, e, shared) && ink[at(e)] > 0) continue;
+        float total = 0.5f * shared;
+        for (int j = s; j < e; ++j) total += ink[at(j)];
+        widths.push_back(total);
+        float passed = 0;
+        for (int j = s; j < std::min(count, e + kAfter); ++j) {
+            const std::size_t i = at(j);
+            if (j >= e && bg[i]) break;
+            const float a = j < e ? ink[i] : j == e ? 0.5f * shared : 0.0f;
+            // The ink up to the pixel's centre against half the stroke's.
+            const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * total, 0.0f, 1.0f);
+            passed += a;
+            if (total < best.ink[i]) {
+                best.ink[i] = total;
+                best.cov[i] = c;
+            }
+        }
+    }
+}
+
+// Each pixel's ink fraction: its distance to the paper over the full ink's (the 95th
+// percentile over the object's ink), 0 under half the threshold (the paper's own grain).
+std::vector<float> ink_fraction(const std::vector<char>& bg, const std::vector<double>& dist, double t) {
+    std::vector<double> strong;
+    for (std::size_t i = 0; i < dist.size(); ++i)
+        if (!bg[i] && dist[i] >= t) strong.push_back(dist[i]);
+    std::vector<float> ink(dist.size(), 0.0f);
+    if (strong.empty()) return ink;
+    const auto q = strong.begin() + std::ptrdiff_t(0.95 * double(strong.size() - 1));
+    std::nth_element(strong.begin(), q, strong.end());
+    const double full = *q;
+    for (std::size_t i = 0; i < dist.size(); ++i)
+        if (dist[i] >= 0.5 * t) ink[i] = float(std::min(1.0, dist[i] / full));
+    return ink;
+}
+
+} // namespace
+
+void place_thin_outline(std::vector<float>& coverage, const std::vector<char>& bg, const std::vector<double>& dist,
+                        double t, int w, int h, StrokeCentre& stroke) {
+    const std::size_t n = std::size_t(w) * h;
+    const std::vector<float> ink = ink_fraction(bg, dist, t);
+    Best best{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<float>(n, 0.0f)};
+    std::vector<float> widths;
+    for (int y = 0; y < h; ++y) {
+        const std::size_t row = std::size_t(y) * w;
+        cross_line(
+            w, [&](int k) { return row + std::size_t(k); }, bg, ink, best, widths);
+        cross_line(
+            w, [&](int k) { return row + std::size_t(w - 1 - k); }, bg, ink, best, widths);
+    }
+    for (int x = 0; x < w; ++x) {
+        cross_line(
+            h, [&](int k) { return std::size_t(k) * w + x; }, bg, ink, best, widths);
+        cross_line(
+            h, [&](int k) { return std::size_t(h - 1 - k) * w + x; }, bg, ink, best, widths);
+    }
+    if (widths.empty()) return;
+    const auto q = widths.begin() + std::ptrdiff_t(widths.size() / 4);
+    std::nth_element(widths.begin(), q, widths.end());
+    stroke.ink_width = *q;
+    if (stroke.ink_width > kThinWidth) return;
+    for (std::size_t i = 0; i < n; ++i)
+        if (best.ink[i] < std::numeric_limits<float>::infinity()) {
+            coverage[i] = best.cov[i];
+            ++stroke.ink_placed;
+        }
+}
+
+} // namespace cm
