@@ -131,37 +131,70 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
     st_.hull_voxels = vox_.n;
     phi_.assign(vox_.n, soft_ ? 0.0f : -std::numeric_limits<float>::infinity());
     thin_.assign(vox_.n, 0);
+    // On grids finer than 256 the field is smoothed afterwards (smooth()) over more cells than
+    // the trilinear interpolation spans: it is taken every `stride` cells (every cell at 256,
+    // every other one at 512, an eighth of the evaluations) and interpolated.
+    const double sigma = opt_.smooth_cells * double(vox_.maxdim) / 256.0;
+    const int stride = std::clamp(int(std::lround(sigma / 2.5)), 1, 8);
+    if (stride > 1) {
+        coarse_ = std::make_unique<const CoarseLattice>(vox_.leaves, vox_.base, stride);
+        const auto& exact = coarse_->exact();
+        tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
+            std::size_t i = vox_.base[l];
+            const auto& mask = vox_.leaves.leaf(l).getValueMask();
+            for (openvdb::Index w = 0; w < 8; ++w)
+                for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
+                    if (exact[l][w] >> __builtin_ctzll(word) & 1) thin_[i] |= kExact;
+        });
+    }
 }
 
 // The lofted prior blended in. A square section (where the hull is the section) keeps the
 // lofted field, which leaves the hull there, whatever the share: the profiles would round a
-// box's edges.
+// box's edges. On grids finer than 256 it is taken where the views' fields are (fill_in()
+// interpolates the blend).
 void Plausible::loft() {
     const float share = float(opt_.loft);
-    // On grids finer than 256 the field is smoothed afterwards (smooth()) over more cells than
-    // the trilinear interpolation spans: the prior is taken every `stride` cells (every cell
-    // at 256, every other one at 512, an eighth of the evaluations) and interpolated.
-    const double sigma = opt_.smooth_cells * double(vox_.maxdim) / 256.0;
-    const int stride = std::max(1, int(std::lround(sigma / 2.5)));
+    const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> squares{0};
-    loft_by_leaf(vox_, opt_.profile_exponent, stride, [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
-        std::size_t sq = 0;
-        for (std::size_t k = 0; k < cnt; ++k) {
-            const LoftValue& v = lofted[k];
-            // A section the view along its axis does not confirm (ghost volume between limbs)
-            // leaves the say to the profiles.
-            const float own = v.square + (1.0f - v.square) * share * v.fit;
-            float& phi = phi_[first + k];
-            phi = own * v.field + (1.0f - own) * phi;
-            sq += v.square >= 0.5f;
-        }
-        squares += sq;
+    loft_by_leaf(vox_, opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
+                 [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
+                     std::size_t sq = 0;
+                     for (std::size_t k = 0; k < cnt; ++k) {
+                         if (coarse && !(thin_[first + k] & kExact)) continue;
+                         const LoftValue& v = lofted[k];
+                         // A section the view along its axis does not confirm (ghost volume
+                         // between limbs) leaves the say to the profiles.
+                         const float own = v.square + (1.0f - v.square) * share * v.fit;
+                         float& phi = phi_[first + k];
+                         phi = own * v.field + (1.0f - own) * phi;
+                         sq += v.square >= 0.5f;
+                         if (v.square >= 0.5f) thin_[first + k] |= kSquare;
+                     }
+                     squares += sq;
+                 });
+    st_.square_voxels = squares;
+}
+
+void Plausible::fill_in() {
+    if (!coarse_) return;
+    const bool lofted = opt_.loft > 0;
+    coarse_->interpolate(phi_, lofted ? &thin_ : nullptr, kSquare);
+    if (!lofted) return;
+    std::atomic<std::size_t> squares{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::size_t k = 0;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) k += (thin_[i] & kSquare) != 0;
+        squares += k;
     });
     st_.square_voxels = squares;
 }
 
 void Plausible::remove() {
-    removed_.assign(vox_.n, 0);
+    // (thin_'s buffer, every value written: no new pages to clear.)
+    removed_.swap(thin_);
+    removed_.resize(vox_.n);
+    thin_ = {};
     std::atomic<std::size_t> count{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n), [&](const tbb::blocked_range<std::size_t>& r) {
         std::size_t k = 0;
@@ -211,6 +244,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     }
     p.join_views();
     if (opt.loft > 0) p.loft();
+    p.fill_in();
     // 3. The field smoothed; thin parts kept.
     p.smooth();
     progress(0.55);

@@ -61,7 +61,11 @@ std::vector<std::uint32_t> nearest_covered(const RayRaster& R, const std::vector
 
 void Plausible::cover_lines_of_sight() {
     keep_ = std::uint32_t(std::max(1, opt_.ray_keep));
-    cur_ = phi_;
+    // The field is lowered in place; the few leaves the swelling reaches keep their values
+    // before it (phi_at()), so no second copy of the whole field is made.
+    cur_.swap(phi_);
+    saved_at_.assign(vox_.nleaf, kNotSaved);
+    saved_.clear();
     find_short_lines();
     swell();            // (a)
     drop_loose();       // (b)
@@ -71,6 +75,8 @@ void Plausible::cover_lines_of_sight() {
     groups_ = {};
     orders_ = {};
     starts_ = {};
+    saved_at_ = {};
+    saved_ = {};
 }
 
 // Per view, the voxels of its lines of sight the profiles leave short, by line of sight (the
@@ -187,17 +193,30 @@ void Plausible::swell() {
 
 // The field lowered by the swelling's last rise (only where the profiles object).
 void Plausible::lower_by(const SwellField& field) {
+    // The leaves the rise reaches; those reached for the first time keep their values first.
+    std::vector<char> raised(vox_.nleaf, 0);
+    tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
+        raised[l] = field.raised_in(openvdb::CoordBBox::createCube(vox_.leaves.leaf(l).origin(), LeafT::DIM));
+    });
+    for (std::size_t l = 0; l < vox_.nleaf; ++l)
+        if (raised[l] && saved_at_[l] == kNotSaved) {
+            saved_at_[l] = saved_.size();
+            saved_.insert(saved_.end(), cur_.begin() + std::ptrdiff_t(vox_.base[l]),
+                          cur_.begin() + std::ptrdiff_t(vox_.base[l + 1]));
+        }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            if (!raised[l]) continue;
             const auto& leaf = vox_.leaves.leaf(l);
-            if (!field.raised_in(openvdb::CoordBBox::createCube(leaf.origin(), LeafT::DIM))) continue;
             const SwellField::Block block(field, leaf.origin());
+            const float* phi = saved_.data() + saved_at_[l];
             std::size_t i = vox_.base[l];
             for (openvdb::Index w = 0; w < 8; ++w)
-                for (std::uint64_t bits = leaf.getValueMask().getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i) {
-                    if (!(phi_[i] > 0)) continue;
+                for (std::uint64_t bits = leaf.getValueMask().getWord<std::uint64_t>(w); bits;
+                     bits &= bits - 1, ++i, ++phi) {
+                    if (!(*phi > 0)) continue;
                     const int b = __builtin_ctzll(bits);
-                    cur_[i] = std::min(cur_[i], phi_[i] - block.at(int(w), b >> 3, b & 7));
+                    cur_[i] = std::min(cur_[i], *phi - block.at(int(w), b >> 3, b & 7));
                 }
         }
     });
@@ -215,7 +234,8 @@ void Plausible::drop_loose() {
             std::uint64_t m = 0, a = 0;
             for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i) {
                 const std::uint64_t bit = bits & (~bits + 1);
-                if (phi_[i] <= 0) a |= bit;
+                const float phi = phi_at(l, i);
+                if (phi <= 0) a |= bit;
                 else if (cur_[i] <= 0) m |= bit;
             }
             member[l][w] = m, anchor[l][w] = a;
@@ -235,7 +255,7 @@ void Plausible::drop_loose() {
                 for (openvdb::Index w = 0; w < 8; ++w) {
                     const std::uint64_t loose = member[l][w] & ~joined[l][w];
                     for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i)
-                        if (loose & bits & (~bits + 1)) cur_[i] = phi_[i], ++dropped;
+                        if (loose & bits & (~bits + 1)) cur_[i] = phi_at(l, i), ++dropped;
                 }
             }
             return dropped;

@@ -292,139 +292,22 @@ private:
     std::array<Projection, 3> proj_;
 };
 
-// The prior on the grid points that are multiples of the stride, for one leaf at a time:
-// the points around the leaf's voxels are taken, then interpolated trilinearly over the leaf
-// one axis at a time. Points with no section get no weight (the others' weights are
-// renormalised).
-class CoarseLeaf {
-public:
-    CoarseLeaf(const Lofter& lofter, int stride) : lofter_(lofter), s_(stride) {}
-
-    // The prior at every voxel of `leaf`, in the leaf's order.
-    void fill(const LeafT& leaf, std::vector<LoftValue>& out) {
-        const Coord origin = leaf.origin();
-        m_ = 0;
-        for (int k = 0; k < 3; ++k) {
-            q0_[std::size_t(k)] = floor_div(origin[k], s_);
-            m_ = std::max(m_, floor_div(origin[k] + kDim - 1, s_) - q0_[std::size_t(k)] + 2);
-            for (int i = 0; i < kDim; ++i) {
-                const int q = floor_div(origin[k] + i, s_);
-                cell_[std::size_t(k)][std::size_t(i)] = q - q0_[std::size_t(k)];
-                t_[std::size_t(k)][std::size_t(i)] = float(origin[k] + i - q * s_) / float(s_);
-            }
-        }
-        take_points(leaf);
-        interpolate();
-        out.clear();
-        for (auto it = leaf.cbeginValueOn(); it; ++it) {
-            const float* d = &dense_[std::size_t(it.pos()) * 4];
-            out.push_back(d[3] > 0 ? LoftValue{d[0] / d[3], d[1] / d[3], d[2] / d[3]}
-                                   : lofter_.value(it.getCoord(), nullptr, &memo_));
-        }
-    }
-
-private:
-    static constexpr int kDim = int(LeafT::DIM);
-    static int floor_div(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-    std::size_t at(int a, int b, int c) const { return std::size_t((a * m_ + b) * m_ + c); }
-
-    // The coarse points the leaf's voxels need (the corners of their cells with a weight), as
-    // (field, square, fit, 1) times 1 where there is a section, zeros elsewhere.
-    void take_points(const LeafT& leaf) {
-        const std::size_t mm = std::size_t(m_ * m_ * m_);
-        need_.assign(mm, 0);
-        for (auto it = leaf.cbeginValueOn(); it; ++it) {
-            const openvdb::Index o = it.pos();
-            const std::array<int, 3> l{int(o >> 6), int((o >> 3) & 7u), int(o & 7u)};
-            std::array<int, 3> q{}, up{};
-            for (std::size_t k = 0; k < 3; ++k) {
-                q[k] = cell_[k][std::size_t(l[k])];
-                up[k] = t_[k][std::size_t(l[k])] > 0 ? 1 : 0;
-            }
-            for (int a = 0; a <= up[0]; ++a)
-                for (int b = 0; b <= up[1]; ++b)
-                    for (int c = 0; c <= up[2]; ++c) need_[at(q[0] + a, q[1] + b, q[2] + c)] = 1;
-        }
-        coarse_.assign(mm * 4, 0.0f);
-        for (int a = 0; a < m_; ++a)
-            for (int b = 0; b < m_; ++b)
-                for (int c = 0; c < m_; ++c) {
-                    const std::size_t i = at(a, b, c);
-                    if (!need_[i]) continue;
-                    bool found = false;
-                    const Coord p((q0_[0] + a) * s_, (q0_[1] + b) * s_, (q0_[2] + c) * s_);
-                    const LoftValue v = lofter_.value(p, &found, &memo_);
-                    if (!found) continue;
-                    float* d = &coarse_[i * 4];
-                    d[0] = v.field;
-                    d[1] = v.square;
-                    d[2] = v.fit;
-                    d[3] = 1.0f;
-                }
-    }
-
-    // One axis at a time: the coarse points along z, then y, then x.
-    void interpolate() {
-        const auto lerp4 = [](const float* lo, const float* hi, float t, float* out) {
-            for (int j = 0; j < 4; ++j) out[j] = lo[j] + t * (hi[j] - lo[j]);
-        };
-        const std::size_t m = std::size_t(m_), d = std::size_t(kDim);
-        along_z_.resize(m * m * d * 4);
-        for (std::size_t a = 0; a < m; ++a)
-            for (std::size_t b = 0; b < m; ++b)
-                for (std::size_t z = 0; z < d; ++z) {
-                    const std::size_t c = std::size_t(cell_[2][z]);
-                    lerp4(&coarse_[((a * m + b) * m + c) * 4], &coarse_[((a * m + b) * m + c + 1) * 4], t_[2][z],
-                          &along_z_[((a * m + b) * d + z) * 4]);
-                }
-        along_y_.resize(m * d * d * 4);
-        for (std::size_t a = 0; a < m; ++a)
-            for (std::size_t y = 0; y < d; ++y) {
-                const std::size_t b = std::size_t(cell_[1][y]);
-                for (std::size_t z = 0; z < d; ++z)
-                    lerp4(&along_z_[((a * m + b) * d + z) * 4], &along_z_[((a * m + b + 1) * d + z) * 4], t_[1][y],
-                          &along_y_[((a * d + y) * d + z) * 4]);
-            }
-        dense_.resize(d * d * d * 4);
-        for (std::size_t x = 0; x < d; ++x) {
-            const std::size_t a = std::size_t(cell_[0][x]);
-            for (std::size_t y = 0; y < d; ++y)
-                for (std::size_t z = 0; z < d; ++z)
-                    lerp4(&along_y_[((a * d + y) * d + z) * 4], &along_y_[(((a + 1) * d + y) * d + z) * 4], t_[0][x],
-                          &dense_[((x * d + y) * d + z) * 4]);
-        }
-    }
-
-    const Lofter& lofter_;
-    const int s_;
-    BoxMemo memo_;
-    std::array<int, 3> q0_{};
-    int m_ = 0;
-    // Per axis and voxel offset in the leaf: the coarse cell (from q0_) and the weight of its
-    // upper point.
-    std::array<std::array<int, kDim>, 3> cell_{};
-    std::array<std::array<float, kDim>, 3> t_{};
-    std::vector<std::uint8_t> need_;
-    std::vector<float> coarse_, along_z_, along_y_, dense_;
-};
-
 } // namespace
 
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, const LoftLeafBody& body) {
+void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
+                  const LoftLeafBody& body) {
     const Lofter lofter(vox, round_exponent);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<LoftValue> values;
         values.reserve(LeafT::SIZE);
-        CoarseLeaf coarse(lofter, std::max(stride, 1));
         BoxMemo memo;
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             const LeafT& leaf = vox.leaves.leaf(l);
-            if (stride > 1) {
-                coarse.fill(leaf, values);
-            } else {
-                values.clear();
-                for (auto it = leaf.cbeginValueOn(); it; ++it)
-                    values.push_back(lofter.value(it.getCoord(), nullptr, &memo));
+            values.clear();
+            for (auto it = leaf.cbeginValueOn(); it; ++it) {
+                const openvdb::Index o = it.pos();
+                const bool wanted = !only || ((*only)[l][o >> 6] >> (o & 63) & 1);
+                values.push_back(wanted ? lofter.value(it.getCoord(), nullptr, &memo) : LoftValue{});
             }
             body(vox.base[l], values.data(), values.size());
         }
@@ -433,7 +316,7 @@ void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, cons
 
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
     std::vector<LoftValue> out(vox.n);
-    loft_by_leaf(vox, round_exponent, 1, [&](std::size_t first, const LoftValue* values, std::size_t count) {
+    loft_by_leaf(vox, round_exponent, nullptr, [&](std::size_t first, const LoftValue* values, std::size_t count) {
         std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
     });
     return out;

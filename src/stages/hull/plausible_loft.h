@@ -25,11 +25,10 @@ struct LoftValue {
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
 
 /// body(first, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
-/// leaf's voxels (indices first .. first + count - 1). With `stride` > 1 the prior is taken
-/// on the grid points whose coordinates are multiples of `stride` and interpolated
-/// trilinearly between them (stride^3 fewer evaluations; for a field that is smoothed over
-/// more than `stride` cells afterwards).
+/// leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
+/// order) just the voxels in it are taken; the others' values are left at zero.
 using LoftLeafBody = std::function<void(std::size_t first, const LoftValue* values, std::size_t count)>;
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, int stride, const LoftLeafBody& body);
+void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
+                  const LoftLeafBody& body);
 
 } // namespace cm::plausible

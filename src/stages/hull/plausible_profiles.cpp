@@ -160,7 +160,7 @@ void Plausible::score_view(std::size_t v, const Profile& p, const std::vector<st
 // they step by more than `gap` cells.
 void Plausible::score_line(const Profile& p, double gap, std::uint32_t c, const std::uint32_t* idx, const double* dep,
                            std::size_t cnt) {
-    const bool soft = soft_;
+    const bool soft = soft_, coarse = coarse_ != nullptr;
     const float blend = blend_, deep = deep_;
     const double frac =
         profile_fraction(p.radius[c] > 0 ? p.dist[c] / p.radius[c] : 0.0, opt_.profile_exponent, opt_.roundness);
@@ -180,12 +180,15 @@ void Plausible::score_line(const Profile& p, double gap, std::uint32_t c, const 
         const double allow = std::max(frac * half, std::min(half, inflated));
         const bool is_thin = thin_part && re - rb <= std::size_t(opt_.thin_cells);
         for (std::size_t k = rb; k != re; ++k) {
+            std::uint8_t& flags = thin_[idx[k]];
+            if (is_thin) flags |= kThin;
+            // Between the lattice points of a finer grid the field is interpolated (fill_in()).
+            if (coarse && !(flags & kExact)) continue;
             const float sv = float(std::abs(dep[k] - mid) - allow);
             // (Deep inside the allowance, the common case, the clamped value's exponential
             // is a constant.)
             if (soft) phi_[idx[k]] += sv <= -kClamp ? deep : std::exp(std::clamp(sv, -kClamp, kClamp) / blend);
             else phi_[idx[k]] = std::max(phi_[idx[k]], sv);
-            if (is_thin) thin_[idx[k]] = 1;
         }
         rb = re;
     }
@@ -202,7 +205,9 @@ void Plausible::join_views() {
     float all_deep = 0.0f;
     for (std::size_t v = 0; v < nv_; ++v) all_deep += deep_;
     const float deep_value = blend * std::log(all_deep / float(nv_));
+    const bool coarse = coarse_ != nullptr;
     tbb::parallel_for(std::size_t(0), vox_.n, [&](std::size_t i) {
+        if (coarse && !(thin_[i] & kExact)) return;
         phi_[i] = phi_[i] == all_deep ? deep_value : blend * std::log(phi_[i] / float(nv_));
     });
 }
@@ -225,7 +230,7 @@ void Plausible::keep_thin() {
         std::size_t k = 0, c = 0;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             if (!(phi_[i] > 0)) continue;
-            if (thin_[i]) {
+            if (thin_[i] & kThin) {
                 ++k;
                 phi_[i] = -0.5f;
             } else {
@@ -237,7 +242,6 @@ void Plausible::keep_thin() {
     });
     st_.thin_kept = kept;
     st_.candidates = cand;
-    thin_ = {};
 }
 
 } // namespace cm::plausible

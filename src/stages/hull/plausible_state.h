@@ -17,6 +17,7 @@
 #include <tbb/parallel_for.h>
 
 #include "plausible.h"
+#include "plausible_coarse.h"
 #include "plausible_fields.h"
 #include "plausible_rays.h"
 
@@ -74,6 +75,9 @@ public:
     void join_views();
     /// 2, with the lofted prior in place of the views' profiles (plausible_loft.h).
     void loft();
+    /// 2. On grids finer than 256, the field between the lattice points where it was taken
+    /// (plausible_coarse.h); nothing at 256.
+    void fill_in();
     /// 3. The field smoothed over the hull's voxels; thin parts keep their voxels.
     void smooth();
     /// 4. Every line of sight keeps min(ray_keep, its voxels) voxels with field <= 0.
@@ -108,6 +112,10 @@ private:
     std::vector<Vox> kept_voxels_of(std::size_t v, const std::vector<char>& want) const;
     void swell();
     void lower_by(const SwellField& field);
+    /// The field before step 4 at voxel i of leaf l.
+    float phi_at(std::size_t l, std::size_t i) const {
+        return saved_at_[l] == kNotSaved ? cur_[i] : saved_[saved_at_[l] + (i - vox_.base[l])];
+    }
     void drop_loose();
     void reach_with_balls();
     void balls_for_view(std::size_t v, BallField& balls, double coarse);
@@ -130,6 +138,9 @@ private:
     static constexpr float kBlend = 1.5f;
     // The views' values are clamped at 20 cells (far enough for any decision) to stay in range.
     static constexpr float kClamp = 20.0f;
+    // Bits of thin_: in a short run of a thin part; the field is taken there, not interpolated
+    // (every voxel at 256); the voxel's lofted section is square.
+    static constexpr std::uint8_t kThin = 1, kExact = 2, kSquare = 4;
 
     const Volume& in_;
     const Views& views_;
@@ -146,9 +157,12 @@ private:
     const bool soft_;
     const float deep_;
     // phi_: how far (cells, along the ray) a voxel lies outside the views' allowance; thin_:
-    // in a short run of a thin part of some drawing; cur_: phi_ lowered (step 4).
+    // in a short run of a thin part of some drawing; cur_: phi_ lowered (step 4: it takes
+    // phi_'s buffer).
     std::vector<float> phi_, cur_;
     std::vector<std::uint8_t> thin_;
+    // On grids finer than 256 the lattice the field is taken on (null: every voxel).
+    std::unique_ptr<const CoarseLattice> coarse_;
     std::vector<RayRaster> rasters_;
     // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).
     std::vector<std::vector<std::uint32_t>> orders_, starts_;
@@ -159,6 +173,11 @@ private:
     std::vector<std::vector<Vox>> lists_;
     std::vector<std::vector<std::size_t>> groups_;
     std::vector<std::uint8_t> removed_;
+    // Step 4 lowers the field in place (cur_); the leaves it lowers keep their values before
+    // it in saved_ from saved_at_[leaf] (kNotSaved: unchanged, cur_ holds them).
+    static constexpr std::size_t kNotSaved = ~std::size_t(0);
+    std::vector<std::size_t> saved_at_;
+    std::vector<float> saved_;
 };
 
 template <typename Body>
