@@ -17,6 +17,7 @@
 #include "components.h"
 #include "core/error.h"
 #include "gaps.h"
+#include "ink.h"
 #include "io/manifest.h"
 #include "line_art.h"
 #include "line_holes.h"
@@ -82,6 +83,9 @@ public:
             }
         });
     }
+
+    // Faint ink 8-connected to clear ink is ink (see raise_weak_ink).
+    std::size_t raise_weak_ink(double weak) { return cm::raise_weak_ink(d_, t_, weak, w_, h_); }
 
     // Background: background-coloured pixels 4-connected to the border (so a line drawn
     // with 8-connected pixels closes a region). The ink closed over gaps up to `gap` px
@@ -333,51 +337,6 @@ private:
 // A window of an image: the rectangle sheets cut their panels by (sheet.h).
 using Window = SheetPanel;
 
-// The window the analysis of a drawing can be confined to: the box of its ink (pixels the
-// background's colour does not explain) grown by `margin`, within the image; none when the
-// drawing has no ink. Every step of the analysis reaches less than the margin beyond the
-// ink (gap closing its radius, the coverage of the outline two pixels), so beyond the
-// window every pixel is background reached from the border, and the steps give the same
-// answers on the window as on the whole image, at a fraction of the pixels.
-std::optional<Window> ink_window(const Image& img, const BackgroundModel& model, double t, int margin) {
-    BackgroundField field;
-    field.model = model;
-    field.w = img.width;
-    field.h = img.height;
-    struct Box {
-        int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
-    };
-    tbb::enumerable_thread_specific<std::vector<double>> rows;
-    const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, img.height, 16), Box{},
-        [&](const tbb::blocked_range<int>& r, Box b) {
-            std::vector<double>& d = rows.local();
-            d.resize(std::size_t(img.width));
-            for (int y = r.begin(); y != r.end(); ++y) {
-                field.model_distance_row(img, y, d.data()); // the distances BackgroundCut computes
-                int first = -1, last = -1;
-                for (int x = 0; x < img.width; ++x)
-                    if (d[std::size_t(x)] >= t) {
-                        if (first < 0) first = x;
-                        last = x;
-                    }
-                if (first < 0) continue;
-                b = {std::min(b.x0, first), std::min(b.y0, y), std::max(b.x1, last), std::max(b.y1, y)};
-            }
-            return b;
-        },
-        [](const Box& a, const Box& b) {
-            return Box{std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
-        });
-    if (box.x1 < 0) return std::nullopt;
-    Window win;
-    win.x0 = std::max(0, box.x0 - margin);
-    win.y0 = std::max(0, box.y0 - margin);
-    win.width = std::min(img.width, box.x1 + margin + 1) - win.x0;
-    win.height = std::min(img.height, box.y1 + margin + 1) - win.y0;
-    return win;
-}
-
 // The coverage of a drawing without meaningful alpha, from its background colour: into
 // `whole` (the image's size, zero on entry) when the whole image was analysed, and returns
 // nothing; or the window's coverage into `part` (zero beyond the window), and returns the
@@ -393,6 +352,7 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     res.noise = noise;
     const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
     res.threshold = t;
+    const double weak = opt.threshold > 0 ? t : weak_ink_threshold(t, noise);
     std::vector<BorderCluster> more;
     if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
     res.border_colours = 1 + int(more.size());
@@ -414,6 +374,8 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     }
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
     auto analyse = [&](BackgroundCut& cut, std::vector<float>& coverage) {
+        res.weak_threshold = weak;
+        res.weak_ink = cut.raise_weak_ink(weak);
         cut.flood_from_border(res.close_gaps);
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
         cut.open_holes(opt.holes, opt.open_at, res);
