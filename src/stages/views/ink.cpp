@@ -50,9 +50,7 @@ std::optional<SheetPanel> ink_window(const Image& img, const BackgroundModel& mo
     return win;
 }
 
-double weak_ink_threshold(double t, double noise) {
-    return std::min(t, std::max(0.1 - 2.0 * noise, 4.0 * noise));
-}
+double weak_ink_threshold(double t, double noise) { return std::min(t, std::max(0.1 - 2.0 * noise, 4.0 * noise)); }
 
 std::size_t raise_weak_ink(std::vector<double>& d, double t, double weak, int w, int h) {
     if (!(weak < t)) return 0;
