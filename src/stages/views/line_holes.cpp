@@ -143,7 +143,10 @@ std::vector<char> touch_outside(const std::vector<int>& region, const std::vecto
 // strokes alone within four strokes' width and 4 px (where two parts touch or nearly touch:
 // the hand at the hip) or lie between two or more regions of some size (a twentieth of their
 // own area, 9 px at least: the paper where two strokes cross is no part), as between a
-// camel's legs closed by the belly above and the crossing knees below. A closed loop of
+// camel's legs closed by the belly above and the crossing knees below. The sizes compared
+// are to the strokes' centre lines (a region's blank area and half a stroke along its rim),
+// as the drawing means them: wide strokes take the same width from every region's edge,
+// and a narrow part (a leg seen through the gap) would lose most of its area to them. A closed loop of
 // detail lies within one region, which keeps it from the outside even when a line joins it
 // to the outline; the inside of a part faces the outside along its outline.
 void mark_gaps_between_parts(const std::vector<int>& region, int count, const std::vector<char>& barrier,
@@ -155,14 +158,21 @@ void mark_gaps_between_parts(const std::vector<int>& region, int count, const st
     std::size_t body = 0; // the drawing's area: what the outside does not reach
     for (const char b : bg) body += !b;
     const RegionLinks links = link_regions(region, count, barrier, bg, w, h);
+    const double stroke = stroke_width(barrier, bg, w, h);
+    std::vector<double> centred(std::size_t(count), 0.0); // the area to the strokes' centre lines
+    for (std::size_t r = 0; r < std::size_t(count); ++r) {
+        std::size_t rim = links.outside[r];
+        for (const auto& [b, length] : links.beside[r]) rim += length;
+        centred[r] = double(area[r]) + 0.5 * stroke * double(rim);
+    }
     std::vector<int> unsure; // bounded so, beside one part: do they come to the outside?
     for (std::size_t r = 0; r < std::size_t(count); ++r) {
         if (depth[r] != 1 || 400 * area[r] < body) continue;
-        const std::size_t least = std::max<std::size_t>(9, area[r] / 20);
+        const double least = std::max(9.0, centred[r] / 20);
         int parts = 0;
         std::size_t rim = links.outside[r];
         for (const auto& [b, length] : links.beside[r]) {
-            parts += area[std::size_t(b)] >= least;
+            parts += centred[std::size_t(b)] >= least;
             rim += length;
         }
         if (rim == 0 || 10 * links.outside[r] > rim) continue;
@@ -170,7 +180,7 @@ void mark_gaps_between_parts(const std::vector<int>& region, int count, const st
         else unsure.push_back(int(r));
     }
     if (unsure.empty()) return;
-    const int limit = int(std::lround(4 * stroke_width(barrier, bg, w, h))) + 4;
+    const int limit = int(std::lround(4 * stroke)) + 4;
     const std::vector<char> touches = touch_outside(region, unsure, barrier, bg, w, h, limit);
     for (std::size_t k = 0; k < unsure.size(); ++k)
         if (touches[k]) kind[std::size_t(unsure[k])] = kBetweenParts;

@@ -13,7 +13,7 @@
 #include "components.h"
 #include "core/error.h"
 #include "gaps.h"
-#include "ink_window.h"
+#include "ink.h"
 #include "io/manifest.h"
 #include "line_art.h"
 #include "line_holes.h"
@@ -80,6 +80,9 @@ public:
             }
         });
     }
+
+    // Faint ink 8-connected to clear ink is ink (see raise_weak_ink).
+    std::size_t raise_weak_ink(double weak) { return cm::raise_weak_ink(d_, t_, weak, w_, h_); }
 
     // Background: background-coloured pixels 4-connected to the border (so a line drawn
     // with 8-connected pixels closes a region). The ink closed over gaps up to `gap` px
@@ -330,6 +333,9 @@ private:
     std::vector<char> forced_; ///< background against its colour (spurs, shadow); empty: none
 };
 
+// A window of an image: the rectangle sheets cut their panels by (sheet.h).
+using Window = SheetPanel;
+
 // The coverage of a drawing without meaningful alpha, from its background colour: into
 // `whole` (the image's size, zero on entry) when the whole image was analysed, and returns
 // nothing; or the window's coverage into `part` (zero beyond the window), and returns the
@@ -345,6 +351,7 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     res.noise = noise;
     const double t = opt.threshold > 0 ? opt.threshold : std::clamp(0.1 + 5.0 * noise, 0.1, 0.5);
     res.threshold = t;
+    const double weak = opt.threshold > 0 ? t : weak_ink_threshold(t, noise);
     std::vector<BorderCluster> more;
     if (opt.background == "auto") more = cluster_border(outliers, total, t, model.at(0, 0));
     res.border_colours = 1 + int(more.size());
@@ -366,6 +373,8 @@ std::optional<Window> coverage_from_background(const Image& img, const Silhouett
     }
     res.close_gaps = opt.close_gaps >= 0 ? opt.close_gaps : default_close_gaps(img.width, img.height);
     auto analyse = [&](BackgroundCut& cut, std::vector<float>& coverage) {
+        res.weak_threshold = weak;
+        res.weak_ink = cut.raise_weak_ink(weak);
         cut.flood_from_border(res.close_gaps);
         if (opt.shadow == "auto") res.shadow_removed = cut.remove_shadow();
         cut.open_holes(opt.holes, opt.open_at, res);

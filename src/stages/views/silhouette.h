@@ -53,7 +53,9 @@ struct SilhouetteResult {
     std::size_t shadow_removed = 0;         ///< ground-shadow pixels made background
     std::size_t spurs_removed = 0;          ///< overshooting-stroke pixels made background
     bool photo = false;                     ///< segmented as a photograph
-    double weak_threshold = 0;              ///< photograph: the colour distance growth needs
+    double weak_threshold = 0;              ///< photograph: the colour distance growth needs;
+                                            ///< drawing: the one faint ink along clear ink needs
+    std::size_t weak_ink = 0;               ///< drawing: faint pixels read as ink (raise_weak_ink)
     std::size_t grown = 0;                  ///< photograph: pixels joined to the seeds by growth
     std::size_t analysed_pixels = 0;        ///< pixels the analysis went over (the window, or all)
     std::vector<EnclosedRegion> regions;    ///< the enclosed blank regions, judged (drawings)

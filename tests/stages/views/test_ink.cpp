@@ -159,3 +159,39 @@ TEST(Ink, OnePixelOutlineLiesWhereHalfTheStrokesInkIsPassed) {
             EXPECT_LT(wrong_pixels(r, 260, 240, [&](double x, double y) { return sdf(x, y) <= 0; }), 40u) << pen[0];
         }
 }
+
+TEST(Ink, FaintOnePixelPencilOnGrainyPaperIsReadWhole) {
+    // Light pencil #a0a0a0 at 1 px on cream paper with grain of +-0.03: the grain raises the
+    // ink threshold (0.1 + 5 x its noise) above a 1 px line's anti-aliased pixels, half ink
+    // each where the line runs between two pixels, so the outline broke and the paper
+    // flooded in. Ink along clear ink is read at a weaker threshold, above the grain.
+    const Rgb3 pencil{0.627f, 0.627f, 0.627f};
+    auto disc = [](double x, double y) { return std::hypot(x - 120, y - 110) - 80; };
+    const std::function<bool(double, double)> drawn[] = {
+        [](double x, double y) { return box_lines(x, y, 1.0); },
+        [&](double x, double y) { return std::abs(disc(x, y)) <= 0.5; }};
+    const std::function<bool(double, double)> truth[] = {in_box, [&](double x, double y) { return disc(x, y) <= 0; }};
+    for (int k = 0; k < 2; ++k) {
+        const SilhouetteResult s = extract(draw(240, 220, drawn[k], kScanPaper, pencil, 0.03f));
+        EXPECT_GT(s.threshold, s.weak_threshold) << k;
+        // About 500 px of outline: under one pixel in four of it wrong (the box: 3, the
+        // disc: 113; thousands before, the paper flooding in).
+        EXPECT_LT(wrong_pixels(s, 240, 220, truth[k]), 125u) << k;
+    }
+}
+
+TEST(Ink, GrainAloneIsNotInkAlongTheLines) {
+    // The same box in clear dark ink, 1.5 px, on the grainy paper: the weaker threshold takes
+    // the lines' anti-aliased fringe but no grain beside them (the box comes out as on clean
+    // paper), and on clean paper it is the threshold itself (nothing changes there).
+    const Rgb3 ink{0.1f, 0.1f, 0.12f};
+    const Image grainy = draw(
+        240, 220, [](double x, double y) { return box_lines(x, y, 1.5); }, kScanPaper, ink, 0.03f);
+    const Image clean = draw(
+        240, 220, [](double x, double y) { return box_lines(x, y, 1.5); }, kWhite, ink, 0.0f);
+    const SilhouetteResult g = extract(grainy), c = extract(clean);
+    EXPECT_EQ(c.weak_ink, 0u);
+    EXPECT_NEAR(c.weak_threshold, c.threshold, 1e-6);
+    EXPECT_LT(g.weak_ink, 300u); // the lines' anti-aliased fringe at most, no grain
+    EXPECT_LE(wrong_pixels(g, 240, 220, in_box), wrong_pixels(c, 240, 220, in_box) + 20);
+}
