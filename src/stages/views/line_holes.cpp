@@ -159,22 +159,20 @@ void mark_gaps_between_parts(const std::vector<int>& region, int count, const st
     for (const char b : bg) body += !b;
     const RegionLinks links = link_regions(region, count, barrier, bg, w, h);
     const double stroke = stroke_width(barrier, bg, w, h);
+    std::vector<std::size_t> rims(std::size_t(count), 0); // each region's rim: outside and beside others
     std::vector<double> centred(std::size_t(count), 0.0); // the area to the strokes' centre lines
     for (std::size_t r = 0; r < std::size_t(count); ++r) {
-        std::size_t rim = links.outside[r];
-        for (const auto& [b, length] : links.beside[r]) rim += length;
-        centred[r] = double(area[r]) + 0.5 * stroke * double(rim);
+        rims[r] = links.outside[r];
+        for (const auto& [b, length] : links.beside[r]) rims[r] += length;
+        centred[r] = double(area[r]) + 0.5 * stroke * double(rims[r]);
     }
     std::vector<int> unsure; // bounded so, beside one part: do they come to the outside?
     for (std::size_t r = 0; r < std::size_t(count); ++r) {
         if (depth[r] != 1 || 400 * area[r] < body) continue;
         const double least = std::max(9.0, centred[r] / 20);
         int parts = 0;
-        std::size_t rim = links.outside[r];
-        for (const auto& [b, length] : links.beside[r]) {
-            parts += centred[std::size_t(b)] >= least;
-            rim += length;
-        }
+        for (const auto& link : links.beside[r]) parts += centred[std::size_t(link.first)] >= least;
+        const std::size_t rim = rims[r];
         if (rim == 0 || 10 * links.outside[r] > rim) continue;
         if (links.outside[r] > 0 || parts >= 2) kind[r] = kBetweenParts;
         else unsure.push_back(int(r));

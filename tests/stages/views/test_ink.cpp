@@ -68,6 +68,18 @@ std::size_t wrong_pixels(const SilhouetteResult& s, int w, int h, const std::fun
 constexpr Rgb3 kWhite{1.0f, 1.0f, 1.0f};
 constexpr Rgb3 kScanPaper{0.949f, 0.918f, 0.847f}; // #f2ead8
 
+// The signed distances of a box turned 20 degrees about (cx, cy), half-sides hx and hy, and
+// of a disc of radius r about (dx, dy): outlines at every slant against the pixel grid.
+using Sdf = std::function<double(double, double)>;
+std::array<Sdf, 2> turned_box_and_disc(double cx, double cy, double hx, double hy, double dx, double dy, double r) {
+    const double c = std::cos(0.35), s = std::sin(0.35);
+    return {Sdf([=](double x, double y) {
+                const double u = c * (x - cx) + s * (y - cy), v = -s * (x - cx) + c * (y - cy);
+                return std::max(std::abs(u) - hx, std::abs(v) - hy);
+            }),
+            Sdf([=](double x, double y) { return std::hypot(x - dx, y - dy) - r; })};
+}
+
 } // namespace
 
 TEST(Ink, GreyOnePixelLineArtBoxIsTheWholeBox) {
@@ -120,14 +132,7 @@ TEST(Ink, OnePixelLinesAtAnySlantAreMeasuredAtTheirCentre) {
     // 1 px line is spread over two pixels, neither of them full ink, and its thresholded
     // width is lattice distances (1, 1.41, 2): the outline still lands within a pixel of the
     // line's centre nearly everywhere.
-    const double c = std::cos(0.35), s = std::sin(0.35);
-    auto turned = [&](double x, double y) {
-        const double u = c * (x - 130) + s * (y - 120), v = -s * (x - 130) + c * (y - 120);
-        return std::max(std::abs(u) - 80, std::abs(v) - 60);
-    };
-    auto disc = [](double x, double y) { return std::hypot(x - 130, y - 120) - 85; };
-    for (const auto& sdf :
-         {std::function<double(double, double)>(turned), std::function<double(double, double)>(disc)}) {
+    for (const Sdf& sdf : turned_box_and_disc(130, 120, 80, 60, 130, 120, 85)) {
         const Image img = draw(
             260, 240, [&](double x, double y) { return std::abs(sdf(x, y)) <= 0.5; }, kWhite, Rgb3{0.12f, 0.25f, 0.56f},
             0.0f);
@@ -142,15 +147,8 @@ TEST(Ink, OnePixelOutlineLiesWhereHalfTheStrokesInkIsPassed) {
     // thresholded line is 1 or 2 px wide by turns, so an outline taken half that width in
     // from its outer edge falls a pixel in or out by turns (the man's front view at 1 px);
     // the ink across the stroke does not jitter. In blue and in grey.
-    const double c = std::cos(0.35), s = std::sin(0.35);
-    auto turned = [&](double x, double y) {
-        const double u = c * (x - 130.3) + s * (y - 120.6), v = -s * (x - 130.3) + c * (y - 120.6);
-        return std::max(std::abs(u) - 80.2, std::abs(v) - 60.4);
-    };
-    auto disc = [](double x, double y) { return std::hypot(x - 130.25, y - 119.6) - 85.3; };
     for (const Rgb3 pen : {Rgb3{0.12f, 0.25f, 0.56f}, Rgb3{0.439f, 0.439f, 0.439f}})
-        for (const auto& sdf :
-             {std::function<double(double, double)>(turned), std::function<double(double, double)>(disc)}) {
+        for (const Sdf& sdf : turned_box_and_disc(130.3, 120.6, 80.2, 60.4, 130.25, 119.6, 85.3)) {
             const Image img = draw(
                 260, 240, [&](double x, double y) { return std::abs(sdf(x, y)) <= 0.5; }, kWhite, pen, 0.0f);
             const SilhouetteResult r = extract(img);
