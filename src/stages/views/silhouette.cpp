@@ -17,6 +17,7 @@
 #include "io/manifest.h"
 #include "line_art.h"
 #include "line_holes.h"
+#include "opening_parts.h"
 #include "photo.h"
 #include "pixel_flood.h"
 #include "shadow.h"
@@ -152,6 +153,14 @@ public:
         const std::vector<float> lum = luminance(dark);
         const RegionEvidence ev{&lab, nreg, &sizes, &bg_, &d_, &lum, &dark, t_, w_, h_};
         std::vector<EnclosedRegion> regions = judge_line_regions(ev, nested, kStrokeGapArea, mode == "keep");
+        if (mode == "keep") { // `keep` opens the daylight, not the parts seen through it
+            const std::vector<char> parts = parts_seen_through(lab, nreg, nested, closed_, bg_, w_, h_);
+            for (std::size_t r = 0; r < regions.size(); ++r)
+                if (parts[r] && regions[r].hole) {
+                    regions[r].hole = false;
+                    regions[r].why = "line art, a part seen through an opening";
+                }
+        }
         open_regions_at(regions, lab, w_, h_, bgc_.ox, bgc_.oy, at);
         record(std::move(regions), lab, &ink, res);
     }
@@ -175,7 +184,12 @@ public:
                 EnclosedRegion& g = regions[std::size_t(lab[i])];
                 if ((g.candidate || g.witness) && !g.hole) g.pixels.push_back(std::uint32_t(i));
             }
-        if (any && ink) give_back_barrier_rim(*ink, hole);
+        if (any && ink) {
+            std::vector<char> opened(regions.size(), 0);
+            for (std::size_t r = 0; r < regions.size(); ++r) opened[r] = regions[r].hole;
+            open_hole_tips(bg_, *ink, closed_, lab, opened, w_, h_);
+            give_back_barrier_rim(*ink, hole);
+        }
         res.regions = std::move(regions);
     }
 
