@@ -185,3 +185,47 @@ TEST(LineGaps, OpeningConfirmedByTheOppositeViewReachesTheStrokesCentreLine) {
     EXPECT_GT(gap, 1000); // the gap is open under keep: about 1500 px
     EXPECT_LT(differ, 1.0);
 }
+
+namespace {
+
+// The half-width of the opening between a camel's legs seen from the front: a lens from
+// (100, 60) to (100, 110), then a slit 30 px long whose lines converge to where the knees
+// cross at (100, 140), no wider than 4.4 px of paper; its lines run together from y 125 on. A gap closing of
+// 5 px (as at 1250 px, or a sketchier hand) shuts it.
+double opening_with_slit(double y) {
+    if (y < 60 || y > 140) return -1;
+    const double slit = 3 * (140 - y) / 30;
+    return y < 110 ? std::max(12 * std::sin(3.14159265358979 * (y - 60) / 50), slit) : slit;
+}
+
+// That opening's lines, the hind legs' outlines seen through it (a wider lens from y 60 to
+// 130, pinched to it at both ends) and the line down to the box's bottom edge.
+bool legs_from_the_front(double x, double y) {
+    const double d = std::abs(x - 100), o = opening_with_slit(y);
+    const bool opening = o >= 0 && std::abs(d - o) < 0.8;
+    const bool beside = lens(y, 20) >= 0 && std::abs(d - lens(y, 20)) < 0.8;
+    return opening || beside || (d < 0.8 && y >= 140 && y < 160);
+}
+
+} // namespace
+
+TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
+    // holes: keep on the view that shows the opening, with no opposite view: the daylight
+    // between the legs opens, down the narrow slit to where the knees cross, while the hind
+    // legs seen through it (the two regions between the opening's lines and theirs, beside
+    // the opening across one line each) stay the object.
+    test::TempDir dir("line_gaps_seen_through");
+    const Inside box = [](double x, double y) { return x > 40 && x < 160 && y > 40 && y < 160; };
+    write_image(outline(box, legs_from_the_front), dir / "front.png");
+    write_image(outline(box), dir / "right.png");
+    test::write_text(dir / "keep.yaml",
+                     "views:\n  front: { image: front.png, holes: keep, close_gaps: 5 }\n  right: right.png\n");
+    const Views v = load_views(dir / "keep.yaml", {}).value;
+    const Coverage& c = v.views[0].coverage;
+    EXPECT_LT(c.at(100, 85), 0.5f) << "the opening";
+    EXPECT_GT(c.at(84, 95), 0.5f) << "the left leg seen through it";
+    EXPECT_GT(c.at(116, 95), 0.5f) << "the right leg seen through it";
+    int slit = 0;
+    for (int y = 108; y <= 122; ++y) slit += c.at(100, y) < 0.5f;
+    EXPECT_GE(slit, 11) << "of 15 px down the slit's middle, to where its lines run together";
+}
