@@ -184,7 +184,15 @@ public:
                 EnclosedRegion& g = regions[std::size_t(lab[i])];
                 if ((g.candidate || g.witness) && !g.hole) g.pixels.push_back(std::uint32_t(i));
             }
-        if (any && ink) give_back_barrier_rim(*ink, hole);
+        if (any && ink) {
+            std::vector<char> opened(regions.size(), 0), judged(regions.size(), 0);
+            for (std::size_t r = 0; r < regions.size(); ++r) {
+                opened[r] = regions[r].hole;
+                judged[r] = regions[r].candidate || regions[r].witness;
+            }
+            open_hole_tips(bg_, *ink, closed_, lab, opened, judged, w_, h_);
+            give_back_barrier_rim(*ink, hole);
+        }
         res.regions = std::move(regions);
     }
 

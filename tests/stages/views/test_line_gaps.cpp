@@ -191,7 +191,7 @@ namespace {
 // The half-width of the opening between a camel's legs seen from the front: a lens from
 // (100, 60) to (100, 110), then a slit 30 px long whose lines converge to where the knees
 // cross at (100, 140), no wider than 4.4 px of paper; its lines run together from y 125 on. A gap closing of
-// 5 px (as at 1250 px, or a sketchier hand) shuts it, and it stays shut.
+// 5 px (as at 1250 px, or a sketchier hand) shuts it.
 double opening_with_slit(double y) {
     if (y < 60 || y > 140) return -1;
     const double slit = 3 * (140 - y) / 30;
@@ -211,9 +211,9 @@ bool legs_from_the_front(double x, double y) {
 
 TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
     // holes: keep on the view that shows the opening, with no opposite view: the daylight
-    // between the legs opens, while the hind legs seen through it (the two regions between
-    // the opening's lines and theirs, beside the opening across one line each) stay the
-    // object.
+    // between the legs opens, down the narrow slit to where the knees cross, while the hind
+    // legs seen through it (the two regions between the opening's lines and theirs, beside
+    // the opening across one line each) stay the object.
     test::TempDir dir("line_gaps_seen_through");
     const Inside box = [](double x, double y) { return x > 40 && x < 160 && y > 40 && y < 160; };
     write_image(outline(box, legs_from_the_front), dir / "front.png");
@@ -225,4 +225,7 @@ TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
     EXPECT_LT(c.at(100, 85), 0.5f) << "the opening";
     EXPECT_GT(c.at(84, 95), 0.5f) << "the left leg seen through it";
     EXPECT_GT(c.at(116, 95), 0.5f) << "the right leg seen through it";
+    int slit = 0;
+    for (int y = 108; y <= 122; ++y) slit += c.at(100, y) < 0.5f;
+    EXPECT_GE(slit, 11) << "of 15 px down the slit's middle, to where its lines run together";
 }
