@@ -133,11 +133,16 @@ void place_thin_outline(std::vector<float>& coverage, const std::vector<char>& b
     };
     cross_all(std::numeric_limits<float>::infinity());
     if (widths.empty()) return;
+    const auto m = widths.begin() + std::ptrdiff_t(widths.size() / 2);
+    std::nth_element(widths.begin(), m, widths.end());
+    const float median = *m;
     const auto q = widths.begin() + std::ptrdiff_t(widths.size() / 4);
-    std::nth_element(widths.begin(), q, widths.end());
+    std::nth_element(widths.begin(), q, m);
     stroke.ink_width = *q;
     if (stroke.ink_width > kThinWidth) return;
-    cross_all(float(stroke.ink_width));
+    // Bands of lines run together only where at least half the crossings are single strokes
+    // (a wide stroke drawn with thin ones about it is not a band of thin ones).
+    if (median <= kMerged * stroke.ink_width) cross_all(float(stroke.ink_width));
     for (std::size_t i = 0; i < n; ++i)
         if (best.ink[i] < std::numeric_limits<float>::infinity()) {
             coverage[i] = best.cov[i];
