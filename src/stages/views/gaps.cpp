@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "components.h"
 #include "geometry/distance_transform.h"
 #include "pixel_flood.h"
 
@@ -118,6 +119,86 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
         removed += piece.size();
     }
     return removed;
+}
+
+} // namespace cm
+
+namespace cm {
+
+namespace {
+
+// Of the strokes along a slit, the share that has the object's paper behind it (nearer
+// than the background) for the slit to be drawn between two parts: the strokes of doubled
+// lines have the background behind the outer one, about half of them.
+constexpr double kSlitBacked = 0.75;
+
+} // namespace
+
+std::size_t open_drawn_slits(std::vector<char>& bg, const std::vector<char>& ink, const std::vector<char>& closed,
+                             int w, int h) {
+    const std::size_t n = std::size_t(w) * h;
+    std::vector<char> bridged(n);
+    for (std::size_t i = 0; i < n; ++i) bridged[i] = !bg[i] && !ink[i] && closed[i];
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int count = mask_components(bridged, w, h, false, lab, sizes);
+    if (count == 0) return 0;
+    // Per piece of bridged paper: beside the background (8-connected), beside paper the
+    // closing left open (4-connected: the border's flood would reach it through the piece).
+    std::vector<char> beside_bg(std::size_t(count), 0), beside_open(std::size_t(count), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (lab[i] < 0) continue;
+            const std::size_t k = std::size_t(lab[i]);
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if ((dx == 0 && dy == 0) || xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const std::size_t j = std::size_t(yy) * w + xx;
+                    beside_bg[k] = beside_bg[k] || bg[j];
+                    if (dx == 0 || dy == 0) beside_open[k] = beside_open[k] || (!bg[j] && !ink[j] && !closed[j]);
+                }
+        }
+    std::vector<char> slit(std::size_t(count), 0);
+    bool any = false;
+    for (std::size_t k = 0; k < slit.size(); ++k) {
+        slit[k] = beside_bg[k] && !beside_open[k];
+        any = any || slit[k];
+    }
+    if (!any) return 0;
+    // What lies behind the strokes along each slit: the object's paper (other than the
+    // slits) or the background, whichever is nearer.
+    std::vector<char> paper(n);
+    for (std::size_t i = 0; i < n; ++i) paper[i] = !bg[i] && !ink[i] && !(lab[i] >= 0 && slit[std::size_t(lab[i])]);
+    const std::vector<float> to_paper2 = squared_edt(paper, w, h);
+    const std::vector<float> to_bg2 = squared_edt(bg, w, h);
+    std::vector<std::size_t> along(slit.size(), 0), backed(slit.size(), 0);
+    std::vector<int> seen(n, -1); // the last piece each stroke pixel was counted for
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (lab[i] < 0 || !slit[std::size_t(lab[i])]) continue;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const std::size_t j = std::size_t(yy) * w + xx;
+                    if (!ink[j] || seen[j] == lab[i]) continue;
+                    seen[j] = lab[i];
+                    ++along[std::size_t(lab[i])];
+                    backed[std::size_t(lab[i])] += to_paper2[j] < to_bg2[j];
+                }
+        }
+    std::size_t opened = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (lab[i] < 0) continue;
+        const std::size_t k = std::size_t(lab[i]);
+        if (!slit[k] || along[k] == 0 || double(backed[k]) < kSlitBacked * double(along[k])) continue;
+        bg[i] = 1;
+        ++opened;
+    }
+    return opened;
 }
 
 } // namespace cm

@@ -25,4 +25,15 @@ std::vector<char> close_ink(const std::vector<char>& ink, int w, int h, double g
 /// number of pixels removed.
 std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& ink, int w, int h, double gap);
 
+/// @brief A slit the artist drew as two lines stays open: the paper the gap closing bridged
+/// between two strokes (`closed` but not `ink`, w x h, row-major) where it comes to the
+/// background (`bg` true) without reaching any enclosed paper the closing left open, and
+/// where the strokes along it have the object's paper behind them (both sides outlines of
+/// parts, as between a foot and a shin or between toes), becomes background. A break in an
+/// outline is not such a slit (its bridge reaches the inside behind it), nor the paper
+/// between doubled strokes (the outer stroke has the background behind it). Returns the
+/// number of pixels opened.
+std::size_t open_drawn_slits(std::vector<char>& bg, const std::vector<char>& ink, const std::vector<char>& closed,
+                             int w, int h);
+
 } // namespace cm

@@ -119,13 +119,18 @@ public:
         }
         std::vector<int> lab;
         std::vector<std::size_t> sizes;
-        const int nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
+        int nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
         // Under `auto`, enclosed regions under kStrokeGapArea are gaps between strokes, not
         // holes; `keep` keeps every enclosed region, however small.
         const std::size_t min_hole = mode == "keep" ? 1 : kStrokeGapArea;
         std::size_t blank = 0;
         for (auto s : sizes) blank += s >= min_hole ? s : 0;
         line_drawing_ = ink <= blank;
+        // Line art: the slits drawn between parts that the gap closing shut are outside.
+        if (line_drawing_ && (res.slits_opened = open_drawn_slits(bg_, ink_mask(), closed_, w_, h_)) != 0) {
+            for (std::size_t i = 0; i < n_; ++i) enclosed[i] = !bg_[i] && d_[i] < t_;
+            nreg = mask_components(enclosed, w_, h_, false, lab, sizes);
+        }
         if (mode != "fill" && line_drawing_) return open_nested_holes(mode, at, res);
         std::vector<char> dark;
         const std::vector<float> lum = luminance(dark);
@@ -269,6 +274,13 @@ public:
     }
 
 private:
+    // The ink: pixels at least the threshold from the background.
+    std::vector<char> ink_mask() const {
+        std::vector<char> ink(n_);
+        for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        return ink;
+    }
+
     // The pixels with a neighbour (8-connected) on the other side of the background's edge.
     std::vector<char> boundary() const {
         const int w = w_, h = h_;

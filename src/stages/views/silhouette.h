@@ -52,6 +52,7 @@ struct SilhouetteResult {
     int border_colours = 0;                 ///< background colours found along the border
     std::size_t shadow_removed = 0;         ///< ground-shadow pixels made background
     std::size_t spurs_removed = 0;          ///< overshooting-stroke pixels made background
+    std::size_t slits_opened = 0;           ///< line art: pixels of slits between parts kept open
     bool photo = false;                     ///< segmented as a photograph
     double weak_threshold = 0;              ///< photograph: the colour distance growth needs;
                                             ///< drawing: the one faint ink along clear ink needs

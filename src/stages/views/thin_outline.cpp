@@ -14,6 +14,10 @@ constexpr float kThinWidth = 1.3f;
 constexpr int kFringe = 2;
 // The longest crossing of a single thin stroke (px, its fringe included).
 constexpr int kLongest = 5;
+// A crossing holding more ink than this many of the drawing's strokes runs over the outline
+// and lines beside it run together (no valley between them): the outline is its outermost
+// stroke, placed by one stroke's ink.
+constexpr float kMerged = 2.0f;
 // Blank pixels after a stroke whose coverage the crossing sets (pull_to_stroke_centre may
 // have pulled them in by half a stroke measured too wide).
 constexpr int kAfter = 2;
@@ -49,9 +53,10 @@ bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vect
 
 // The crossings of one line of pixels (a row or a column, either way): `at(k)` is the index
 // of its k-th pixel. A crossing enters from the background into the object at k and runs
-// over ink (fraction `ink`) to the object's blank inside.
+// over ink (fraction `ink`) to the object's blank inside. `stroke`: one stroke's ink (px;
+// infinite while it is being measured).
 template <typename At>
-void cross_line(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, Best& best,
+void cross_line(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, float stroke, Best& best,
                 std::vector<float>& widths) {
     for (int k = 1; k < count; ++k) {
         if (!bg[at(k - 1)] || bg[at(k)]) continue;
@@ -68,13 +73,14 @@ void cross_line(int count, At at, const std::vector<char>& bg, const std::vector
         float total = 0.5f * shared;
         for (int j = s; j < e; ++j) total += ink[at(j)];
         widths.push_back(total);
+        const float placed = total > kMerged * stroke ? stroke : total; // the outermost stroke's
         float passed = 0;
         for (int j = s; j < std::min(count, e + kAfter); ++j) {
             const std::size_t i = at(j);
             if (j >= e && bg[i]) break;
             const float a = j < e ? ink[i] : j == e ? 0.5f * shared : 0.0f;
             // The ink up to the pixel's centre against half the stroke's.
-            const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * total, 0.0f, 1.0f);
+            const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * placed, 0.0f, 1.0f);
             passed += a;
             if (total < best.ink[i]) {
                 best.ink[i] = total;
@@ -106,26 +112,37 @@ void place_thin_outline(std::vector<float>& coverage, const std::vector<char>& b
                         double t, int w, int h, StrokeCentre& stroke) {
     const std::size_t n = std::size_t(w) * h;
     const std::vector<float> ink = ink_fraction(bg, dist, t);
-    Best best{std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<float>(n, 0.0f)};
+    Best best;
     std::vector<float> widths;
-    for (int y = 0; y < h; ++y) {
-        const std::size_t row = std::size_t(y) * w;
-        cross_line(
-            w, [&](int k) { return row + std::size_t(k); }, bg, ink, best, widths);
-        cross_line(
-            w, [&](int k) { return row + std::size_t(w - 1 - k); }, bg, ink, best, widths);
-    }
-    for (int x = 0; x < w; ++x) {
-        cross_line(
-            h, [&](int k) { return std::size_t(k) * w + x; }, bg, ink, best, widths);
-        cross_line(
-            h, [&](int k) { return std::size_t(h - 1 - k) * w + x; }, bg, ink, best, widths);
-    }
+    // Every row and column crossed both ways; the first time to measure the strokes.
+    auto cross_all = [&](float one) {
+        best = {std::vector<float>(n, std::numeric_limits<float>::infinity()), std::vector<float>(n, 0.0f)};
+        for (int y = 0; y < h; ++y) {
+            const std::size_t row = std::size_t(y) * w;
+            cross_line(
+                w, [&](int k) { return row + std::size_t(k); }, bg, ink, one, best, widths);
+            cross_line(
+                w, [&](int k) { return row + std::size_t(w - 1 - k); }, bg, ink, one, best, widths);
+        }
+        for (int x = 0; x < w; ++x) {
+            cross_line(
+                h, [&](int k) { return std::size_t(k) * w + x; }, bg, ink, one, best, widths);
+            cross_line(
+                h, [&](int k) { return std::size_t(h - 1 - k) * w + x; }, bg, ink, one, best, widths);
+        }
+    };
+    cross_all(std::numeric_limits<float>::infinity());
     if (widths.empty()) return;
+    const auto m = widths.begin() + std::ptrdiff_t(widths.size() / 2);
+    std::nth_element(widths.begin(), m, widths.end());
+    const float median = *m;
     const auto q = widths.begin() + std::ptrdiff_t(widths.size() / 4);
-    std::nth_element(widths.begin(), q, widths.end());
+    std::nth_element(widths.begin(), q, m);
     stroke.ink_width = *q;
     if (stroke.ink_width > kThinWidth) return;
+    // Bands of lines run together only where at least half the crossings are single strokes
+    // (a wide stroke drawn with thin ones about it is not a band of thin ones).
+    if (median <= kMerged * stroke.ink_width) cross_all(float(stroke.ink_width));
     for (std::size_t i = 0; i < n; ++i)
         if (best.ink[i] < std::numeric_limits<float>::infinity()) {
             coverage[i] = best.cov[i];
