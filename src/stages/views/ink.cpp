@@ -1,7 +1,6 @@
 #include "ink.h"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -55,55 +54,27 @@ double weak_ink_threshold(double t, double noise) { return std::min(t, std::max(
 
 namespace {
 
-// Faint ink across no more than this many pixels of full ink is a thin line's (px).
-constexpr double kThinLine = 1.5;
 // A drawing whose strokes are no wider than this by their ink (px) is in thin lines.
 constexpr double kThinDrawing = 1.75;
-// How far the ink across a pixel is summed (px of full ink): beyond it a stroke is wide.
-constexpr double kWideInk = 8.0;
-
-// The ink of the run of pixels at `weak` or more through pixel (x, y) along a row (dx = 1) or
-// a column (dy = 1): each its distance over the full ink's (at most 1), up to kWideInk.
-double ink_across(const std::vector<double>& d, double weak, double full, int w, int h, int x, int y, int dx, int dy) {
-    double sum = std::min(1.0, d[std::size_t(y) * w + x] / full);
-    for (const int s : {-1, 1})
-        for (int xx = x + s * dx, yy = y + s * dy; xx >= 0 && yy >= 0 && xx < w && yy < h && sum < kWideInk;
-             xx += s * dx, yy += s * dy) {
-            const double v = d[std::size_t(yy) * w + xx];
-            if (v < weak) break;
-            sum += std::min(1.0, v / full);
-        }
-    return sum;
-}
-
-// The width of the stroke through pixel (x, y) by its ink: from the ink across it along its
-// row (w / |sin a| for a straight stroke at angle a) and its column (w / |cos a|).
-double stroke_ink_width(const std::vector<double>& d, double weak, double full, int w, int h, int x, int y) {
-    const double across_row = ink_across(d, weak, full, w, h, x, y, 1, 0);
-    const double across_column = ink_across(d, weak, full, w, h, x, y, 0, 1);
-    return 1.0 / std::sqrt(1.0 / (across_row * across_row) + 1.0 / (across_column * across_column));
-}
 
 // The width of the drawing's strokes by their ink: the lower quartile of the ink across them
-// (the runs of pixels at `weak` or more along the rows and the columns that hold clear ink,
-// each pixel its distance over the full ink's, at most 1). A straight stroke w px wide at
+// (the runs of pixels at `weak` or more along the rows and the columns, each pixel its
+// distance over the full ink's, at most 1; a faint 1 px line split between two pixels holds
+// no clear ink where it is crossed). A straight stroke w px wide at
 // angle a is crossed by w / |sin a| along the rows and w / |cos a| along the columns; runs
 // along a stroke, through junctions and across strokes run together are the longer ones.
-double drawing_ink_width(const std::vector<double>& d, double t, double weak, double full, int w, int h) {
+double drawing_ink_width(const std::vector<double>& d, double weak, double full, int w, int h) {
     std::vector<double> runs;
     auto cross = [&](int count, auto at) {
         double sum = 0;
-        bool clear = false;
         for (int k = 0; k <= count; ++k) {
             const double v = k < count ? d[at(k)] : 0.0;
             if (v >= weak) {
                 sum += std::min(1.0, v / full);
-                clear = clear || v >= t;
                 continue;
             }
-            if (clear) runs.push_back(sum);
+            if (sum > 0) runs.push_back(sum);
             sum = 0;
-            clear = false;
         }
     };
     for (int y = 0; y < h; ++y) cross(w, [&](int k) { return std::size_t(y) * w + k; });
@@ -127,31 +98,26 @@ std::size_t raise_weak_ink(std::vector<double>& d, double t, double weak, int w,
     const auto q = strong.begin() + std::ptrdiff_t(0.95 * double(strong.size() - 1));
     std::nth_element(strong.begin(), q, strong.end());
     const double full = *q;
-    // A drawing in thin lines takes every faint pixel along its strokes: there lines run
-    // together or crossing measure wide by the pixel, and their faint pixels are theirs.
-    const bool thin_lines = drawing_ink_width(d, t, weak, full, w, h) <= kThinDrawing;
+    // Only a drawing in thin lines: wider strokes are whole by their clear ink, and their
+    // faint pixels are their anti-aliased fringe, which would widen them.
+    if (drawing_ink_width(d, weak, full, w, h) > kThinDrawing) return 0;
     std::vector<char> done(n, 0);
     std::vector<int> stack;
-    std::vector<std::size_t> raised; // set after the fills: the widths read the distances as drawn
-    // Clear ink, and faint ink of a thin line (the fringe of a wide stroke is not taken) or
-    // of a drawing in thin lines.
-    auto open = [&](int p) {
-        const std::size_t i = std::size_t(p);
-        if (done[i] || d[i] < weak) return false;
-        return d[i] >= t || thin_lines ||
-               stroke_ink_width(d, weak, full, w, h, int(i % std::size_t(w)), int(i / std::size_t(w))) <= kThinLine;
-    };
+    std::size_t raised = 0;
+    auto open = [&](int p) { return !done[std::size_t(p)] && d[std::size_t(p)] >= weak; };
     auto take = [&](int row, int l, int r) {
         for (int x = l; x <= r; ++x) {
             const std::size_t i = std::size_t(row + x);
             done[i] = 1;
-            if (d[i] < t) raised.push_back(i);
+            if (d[i] < t) {
+                d[i] = t;
+                ++raised;
+            }
         }
     };
     for (std::size_t i = 0; i < n; ++i)
         if (d[i] >= t && !done[i]) scanline_fill(w, h, int(i), true, stack, open, take);
-    for (const std::size_t i : raised) d[i] = t;
-    return raised.size();
+    return raised;
 }
 
 } // namespace cm
