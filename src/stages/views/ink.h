@@ -1,5 +1,5 @@
 // The ink of a drawing as its colour distance to the paper shows it: the window it lies in,
-// and faint ink along strokes (hysteresis), so a thin pencil line on grainy paper, whose
+// and faint ink along thin lines (hysteresis), so a thin pencil line on grainy paper, whose
 // anti-aliased pixels the grain's threshold misses in part, is read whole.
 #pragma once
 #include <cstddef>
@@ -31,7 +31,13 @@ double weak_ink_threshold(double t, double noise);
 /// more that are 8-connected to a pixel at `t` or more through such pixels are ink too: their
 /// distance is raised to `t`. Grain alone stays under `weak`; a faint 1 px line's pixels
 /// (each some of the line, none all of it) lie between the two thresholds along stretches and
-/// reach clear ink at both ends. Returns how many pixels were raised.
+/// reach clear ink at both ends. Only in a drawing in thin lines: the width of its strokes
+/// by their ink (the lower quartile of the runs of pixels at `weak` or more across them along
+/// the rows and the columns, each pixel its distance over the full ink's, the 95th percentile
+/// of the clear ink) at most 1.75 px; 1 px lines measure 0.7-1.6 so (more where lines run
+/// together), 2 px lines 1.9-2.2. Wider strokes and filled shapes are whole by their clear
+/// ink, and their faint pixels are their anti-aliased fringe: taken, they would widen them,
+/// and nothing is raised. Returns how many pixels were raised.
 std::size_t raise_weak_ink(std::vector<double>& d, double t, double weak, int w, int h);
 
 } // namespace cm

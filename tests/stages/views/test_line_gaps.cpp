@@ -207,6 +207,25 @@ bool legs_from_the_front(double x, double y) {
     return opening || beside || (d < 0.8 && y >= 140 && y < 160);
 }
 
+// Whether (x, y) lies in the box [x0, x1) x [y0, y1).
+bool in_box(double x, double y, double x0, double x1, double y0, double y1) {
+    return x >= x0 && x < x1 && y >= y0 && y < y1;
+}
+
+// The camel's front in 5 px strokes: a body above a divider, and below it an opening
+// (40 x 80 px of paper) whose strokes are the near legs' outlines, with the far legs'
+// outlines seen through it 6 px further out on each side and below. The wide strokes all
+// but fill the two strips between (1 px of paper each, about 110 px, split at the bottom),
+// so by their paper the strips are under a twentieth of the opening; to the strokes' centre
+// lines they are parts, and the opening lies between them and the body.
+bool legs_in_wide_strokes(double x, double y) {
+    return in_box(x, y, 15, 185, 70, 75)                                          // the divider
+           || in_box(x, y, 75, 80, 70, 160) || in_box(x, y, 120, 125, 70, 160)    // the opening's sides
+           || in_box(x, y, 75, 125, 155, 160)                                     // and its bottom
+           || in_box(x, y, 69, 74, 70, 166) || in_box(x, y, 126, 131, 70, 166)    // the far legs
+           || in_box(x, y, 69, 131, 161, 166) || in_box(x, y, 98, 102, 160, 161); // crossing below
+}
+
 } // namespace
 
 TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
@@ -228,4 +247,22 @@ TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
     int slit = 0;
     for (int y = 108; y <= 122; ++y) slit += c.at(100, y) < 0.5f;
     EXPECT_GE(slit, 11) << "of 15 px down the slit's middle, to where its lines run together";
+}
+
+TEST(LineGaps, OpeningBesideStripsAllButFilledByWideStrokesIsAGapBetweenParts) {
+    // Compared by their paper alone, the strips beside the opening (109 px each against the
+    // opening's 3200) were no parts: the opening lay beside the body only and was taken for
+    // the inside, left closed under holes: keep (the camel's front at 5 px, 4.2 %). No gap
+    // closing here: the strips are the point.
+    test::TempDir dir("line_gaps_wide");
+    const Inside box = [](double x, double y) { return x > 15 && x < 185 && y > 15 && y < 185; };
+    write_image(outline(box, legs_in_wide_strokes), dir / "front.png");
+    write_image(outline(box), dir / "right.png");
+    test::write_text(dir / "keep.yaml",
+                     "views:\n  front: { image: front.png, holes: keep, close_gaps: 0 }\n  right: right.png\n");
+    const Views v = load_views(dir / "keep.yaml", {}).value;
+    const Coverage& c = v.views[0].coverage;
+    EXPECT_LT(c.at(100, 115), 0.5f) << "the opening";
+    EXPECT_GT(c.at(100, 40), 0.5f) << "the body";
+    EXPECT_GT(c.at(40, 120), 0.5f) << "the far legs";
 }
