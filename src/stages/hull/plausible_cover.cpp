@@ -66,6 +66,9 @@ void Plausible::cover_lines_of_sight() {
     cur_.swap(phi_);
     saved_at_.assign(vox_.nleaf, kNotSaved);
     saved_.clear();
+    // Room for every leaf, taken up front: growing it leaf by leaf would copy the values saved
+    // so far and fault fresh pages at each step; only the pages written are ever touched.
+    saved_.reserve(vox_.n);
     find_short_lines();
     swell();            // (a)
     drop_loose();       // (b)
@@ -123,6 +126,9 @@ void Plausible::find_short_lines() {
             kept_mask.empty() ? nullptr : &kept_mask);
         auto& list = lists_[v];
         auto& group = groups_[v];
+        std::size_t total = 0;
+        for (const auto& f : found) total += f.size();
+        list.reserve(total);
         for (auto& f : found) list.insert(list.end(), f.begin(), f.end());
         for (std::size_t k = 0; k < list.size(); ++k)
             if (k == 0 || list[k].cell != list[k - 1].cell) group.push_back(k);

@@ -67,6 +67,14 @@ std::vector<float> local_inscribed_radius(const std::vector<float>& dist, int w,
 
 namespace cm::plausible {
 
+namespace {
+
+// A short run well inside the drawing is a thin part seen face-on (an ear, a fin); near the
+// outline short runs are the rim of any body.
+bool thin_cell(float dist, float radius, int thin_cells) { return dist >= 1.5f && radius <= 2.0f * float(thin_cells); }
+
+} // namespace
+
 void Plausible::view_field(std::size_t v) {
     std::vector<std::uint32_t> key;
     std::vector<std::uint32_t> count = lay_out_rays(v, key);
@@ -140,12 +148,25 @@ void Plausible::score_view(std::size_t v, const Profile& p, const std::vector<st
     const double gap = R.gap_keys * R.dq / voxel_;
     tbb::enumerable_thread_specific<std::vector<double>> depths;
     if (R.axis_aligned) {
-        columns_.for_columns(R.axis,
-                             [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
-                                 auto& dep = depths.local();
-                                 dep.assign(along, along + cnt);
-                                 score_line(p, gap, R.cell(first), idx, dep.data(), cnt);
-                             });
+        auto line = [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+            auto& dep = depths.local();
+            dep.assign(along, along + cnt);
+            score_line(p, gap, R.cell(first), idx, dep.data(), cnt);
+        };
+        if (!coarse_) {
+            columns_.for_columns(R.axis, line);
+            return;
+        }
+        // On grids finer than 256 a line of sight has work only where it holds a voxel whose
+        // value is taken, or crosses a thin part of the drawing (whose short runs are marked):
+        // the others (three in four at 512) are not dealt.
+        columns_.for_columns_wanted(
+            R.axis, coarse_->exact(),
+            [&](const Coord& c) {
+                const std::uint32_t cell = R.cell(c);
+                return thin_cell(p.dist[cell], p.radius[cell], opt_.thin_cells);
+            },
+            line);
         return;
     }
     for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&&) {
@@ -167,9 +188,7 @@ void Plausible::score_line(const Profile& p, double gap, std::uint32_t c, const 
     // The inflated cross-section's own half-depth (radius R), so a round drawing is a
     // round solid even where the run is long.
     const double inflated = frac * double(p.radius[c]);
-    // A short run well inside the drawing is a thin part seen face-on (an ear, a fin);
-    // near the outline short runs are the rim of any body.
-    const bool thin_part = p.dist[c] >= 1.5f && p.radius[c] <= 2.0f * float(opt_.thin_cells);
+    const bool thin_part = thin_cell(p.dist[c], p.radius[c], opt_.thin_cells);
     for (std::size_t rb = 0; rb != cnt;) {
         std::size_t re = rb + 1;
         while (re != cnt && std::abs(dep[re] - dep[re - 1]) <= gap) ++re;

@@ -102,6 +102,11 @@ public:
     /// only: stacks whose columns all hold one are not dealt at all.
     template <typename Body>
     void for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const;
+    /// The same for the columns holding a voxel of `want` (per leaf, in LeafManager order), and
+    /// the others for which `also(a grid point of the column)` holds: stacks with no such
+    /// column are not dealt at all.
+    template <typename Also, typename Body>
+    void for_columns_wanted(int axis, const std::vector<Mask>& want, Also&& also, Body&& body) const;
     /// body(a grid point of the column) for every non-empty column along `axis`, from the
     /// leaves' masks alone (no voxel dealt), in parallel over leaf stacks.
     template <typename Body>
@@ -112,6 +117,9 @@ public:
 
 private:
     void stacks_along(int axis) const;
+    /// for_columns() over the columns `wanted(stack)` gives (a column mask as column_bits()).
+    template <typename Wanted, typename Body>
+    void deal_columns(int axis, Wanted&& wanted_of, Body&& body) const;
     struct Scratch {
         std::vector<std::uint32_t> idx;
         std::vector<int> along;
@@ -147,22 +155,57 @@ void LeafColumns::for_column_points(int axis, Body&& body) const {
 
 template <typename Body>
 void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& body) const {
+    const auto& order = order_[std::size_t(axis)];
+    deal_columns(
+        axis,
+        [&](std::size_t b, std::size_t e) {
+            if (!skip) return ~std::uint64_t(0);
+            std::uint64_t have = 0, skipped = 0;
+            for (std::size_t k = b; k < e; ++k) {
+                const std::uint32_t l = order[k];
+                have |= column_bits(leaf_mask(leaves_.leaf(l)), axis);
+                skipped |= column_bits((*skip)[l], axis);
+            }
+            return have & ~skipped;
+        },
+        std::forward<Body>(body));
+}
+
+template <typename Also, typename Body>
+void LeafColumns::for_columns_wanted(int axis, const std::vector<Mask>& want, Also&& also, Body&& body) const {
+    const auto& order = order_[std::size_t(axis)];
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    deal_columns(
+        axis,
+        [&](std::size_t b, std::size_t e) {
+            std::uint64_t have = 0, wanted = 0;
+            for (std::size_t k = b; k < e; ++k) {
+                const std::uint32_t l = order[k];
+                have |= column_bits(leaf_mask(leaves_.leaf(l)), axis);
+                wanted |= column_bits(want[l], axis);
+            }
+            const Coord origin = leaves_.leaf(order[b]).origin();
+            for (std::uint64_t rest = have & ~wanted; rest; rest &= rest - 1) {
+                const int col = __builtin_ctzll(rest);
+                Coord c = origin;
+                c[a1] += col >> 3;
+                c[a2] += col & 7;
+                if (also(c)) wanted |= std::uint64_t(1) << col;
+            }
+            return wanted & have;
+        },
+        std::forward<Body>(body));
+}
+
+template <typename Wanted, typename Body>
+void LeafColumns::deal_columns(int axis, Wanted&& wanted_of, Body&& body) const {
     stacks_along(axis);
     const auto& order = order_[std::size_t(axis)];
     const auto& stack = stack_[std::size_t(axis)];
     const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     tbb::parallel_for(std::size_t(0), stack.size() - 1, [&](std::size_t s) {
-        std::uint64_t wanted = ~std::uint64_t(0);
-        if (skip) {
-            std::uint64_t have = 0, skipped = 0;
-            for (std::size_t k = stack[s]; k < stack[s + 1]; ++k) {
-                const std::uint32_t l = order[k];
-                have |= column_bits(leaf_mask(leaves_.leaf(l)), axis);
-                skipped |= column_bits((*skip)[l], axis);
-            }
-            wanted = have & ~skipped;
-            if (!wanted) return;
-        }
+        const std::uint64_t wanted = wanted_of(stack[s], stack[s + 1]);
+        if (!wanted) return;
         // The stack's voxels dealt into its 64 columns: a leaf's on voxels in offset order
         // come in order along every axis, and their ranks one after another.
         const std::size_t cap = (stack[s + 1] - stack[s]) * 8;

@@ -27,6 +27,12 @@ struct OnLeaf {
     const LeafT* leaf = nullptr;
     bool all = false;
     bool on(openvdb::Index off) const { return leaf ? leaf->isValueOn(off) : all; }
+    LeafMask mask() const {
+        LeafMask m;
+        if (leaf) m = leaf_mask(*leaf);
+        else m.fill(all ? ~std::uint64_t(0) : 0);
+        return m;
+    }
 };
 
 OnLeaf on_leaf(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAccessor& acc, const Coord& origin) {
@@ -416,7 +422,22 @@ std::size_t OutputVolume::recross(CrossLeaf& leaf, const FieldAt& field_at, cons
         nw[a + 1] = on_leaf(*vox_.occ, now, o);
         wa[a + 1] = on_leaf(*in_.occupancy, was, o);
     }
+    // The points with an edge whose ends differ now (inside one, outside the other); every
+    // other point's edges have no crossing.
+    LeafMask differ{};
+    {
+        const LeafMask own = nw[0].mask();
+        for (int a = 0; a < 3; ++a) {
+            const LeafMask next = nw[a + 1].mask();
+            const LeafMask above = neighbour_in(own, &next, 2 * a + 1);
+            for (openvdb::Index w = 0; w < 8; ++w) differ[w] |= own[w] ^ above[w];
+        }
+    }
     for (openvdb::Index off = 0; off < CrossLeaf::SIZE; ++off) {
+        if (!(differ[off >> 6] >> (off & 63) & 1)) {
+            leaf.setValueOff(off, openvdb::Vec3f(-1.0f));
+            continue;
+        }
         const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
         const bool ig = nw[0].on(off), rg = !ig && wa[0].on(off);
         openvdb::Vec3f val = leaf.getValue(off);
