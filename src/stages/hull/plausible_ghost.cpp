@@ -127,7 +127,7 @@ Projection project(const HullVoxels& vox, int k) {
 // and D: the voxels of a leaf share a few per station.
 struct Hidden {
     int station = std::numeric_limits<int>::min();
-    Interval T, D;
+    Interval T, D, O; ///< O: the wider part's run along T's axis
     double weight = 0.0;
 };
 // Per axis a and thin axis (b or c), the last answers per station modulo 8, one thread's.
@@ -156,8 +156,12 @@ public:
                 // T along t from the projection along d, D along d from the one along t.
                 const Interval T = proj_[std::size_t(d)].run(t, p), D = proj_[std::size_t(t)].run(d, p);
                 if (T.empty() || D.empty() || double(T.size()) >= kThinHigh * double(D.size())) continue;
-                const double w = hidden(a, side, t, d, p, T, D, memo);
+                const Hidden& h0 = hidden(a, side, t, d, p, T, D, memo);
+                const double w = h0.weight;
                 if (w <= best.weight) continue;
+                // Hidden here: the wider part lies at this voxel's depth, in front of or
+                // behind it along t (a plate reaching beyond it is not hidden there).
+                if (!behind(a, t, d, p, h0.O)) continue;
                 // The part's place along d: the view along a's run through p, within D.
                 const Interval R = proj_[std::size_t(a)].run(d, p);
                 const Interval in{std::max(R.lo, D.lo), std::min(R.hi, D.hi)};
@@ -172,13 +176,18 @@ public:
     }
 
 private:
-    double hidden(int a, int side, int t, int d, const Coord& p, const Interval& T, const Interval& D,
-                  HiddenMemo& memo) const {
+    bool behind(int a, int t, int d, const Coord& p, const Interval& O) const {
+        const Projection& A = proj_[std::size_t(a)];
+        return (t == A.u ? A.count(O.lo, O.hi, p[d], p[d]) : A.count(p[d], p[d], O.lo, O.hi)) > 0;
+    }
+    const Hidden& hidden(int a, int side, int t, int d, const Coord& p, const Interval& T, const Interval& D,
+                         HiddenMemo& memo) const {
         Hidden& slot = memo[std::size_t(a)][std::size_t(side)][std::size_t(p[a] & 7)];
         if (slot.station == p[a] && slot.T.lo == T.lo && slot.T.hi == T.hi && slot.D.lo == D.lo && slot.D.hi == D.hi)
-            return slot.weight;
+            return slot;
         const double thin = 1.0 - smoothstep(double(T.size()) / double(D.size()), kThinLow, kThinHigh);
         double wide = 0.0;
+        Interval best;
         // The other runs along t on the line of the projection along d at this station.
         const Projection& P = proj_[std::size_t(d)];
         const Projection& A = proj_[std::size_t(a)];
@@ -195,10 +204,11 @@ private:
             if (O.lo == T.lo) continue;
             const double share = smoothstep(double(O.size()) / double(D.size()), kWideLow, kWideHigh);
             if (share <= wide) continue;
-            wide = std::max(wide, share * smoothstep(span(A, t, O, D), kSpanLow, kSpanHigh));
+            const double w = share * smoothstep(span(A, t, O, D), kSpanLow, kSpanHigh);
+            if (w > wide) wide = w, best = O;
         }
-        slot = {p[a], T, D, thin * wide};
-        return slot.weight;
+        slot = {p[a], T, D, best, thin * wide};
+        return slot;
     }
 
     std::array<Projection, 3> proj_;
