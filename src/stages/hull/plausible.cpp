@@ -53,6 +53,10 @@ void PlausibleOptions::declare(ParamBinder& b) {
                            "weight of the hard-surface detection: where every view's outline runs mostly along "
                            "straight lines (a machined part), roundness and loft are scaled down by this times the "
                            "detected hardness, keeping the hull; 0 never"));
+    b.add(ghost, ParamSpec::Float("ghost", 0.0, 0.0, 1.0, "",
+                                  "weight of the hidden-depth prior: a part thin in one view whose depth the other "
+                                  "views hide behind a wider part (an arm before the torso) gets a round section "
+                                  "as deep as it is wide; 0 never"));
 }
 
 void PlausibleStats::report(Metrics& m) const {
@@ -71,6 +75,7 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("pieces_joined", pieces_joined);
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);
+    m.count("ghost_voxels", ghost_voxels);
     m.metric("cell_px", cell_px);
     m.metric("hardness", hardness);
     m.metric("straight_pct", straight_pct);
@@ -232,6 +237,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
         st.straight_pct = 100.0 * *std::min_element(shares.begin(), shares.end());
         opt.roundness *= 1.0 - st.hardness;
         opt.loft *= 1.0 - st.hardness;
+        opt.ghost *= 1.0 - st.hardness;
     }
     // 1. The hull's voxels.
     plausible::Plausible p(in, *views, opt, st);
@@ -244,6 +250,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     }
     p.join_views();
     if (opt.loft > 0) p.loft();
+    if (opt.ghost > 0) p.ghost();
     p.fill_in();
     // 3. The field smoothed; thin parts kept.
     p.smooth();

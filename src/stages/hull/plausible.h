@@ -49,6 +49,10 @@ struct PlausibleOptions {
     /// mostly along straight lines (a machined part), the rounding and the lofted prior are
     /// scaled down by this times the detected hardness, so the hull stays; 0 never.
     double hard_surface;
+    /// Weight of the hidden-depth prior (plausible_ghost.h): a part thin in one view whose depth
+    /// the other views hide behind a wider part gets a round section as deep as it is wide;
+    /// 0 never.
+    double ghost;
 
     PlausibleOptions() { set_declared_defaults(*this); }
     /// Every parameter.
@@ -70,6 +74,7 @@ struct PlausibleStats {
     std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     std::size_t square_voxels = 0;   ///< voxels whose lofted section is square (the hull kept; loft > 0)
+    std::size_t ghost_voxels = 0;    ///< voxels outside a hidden part's round section (ghost > 0)
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
     double hardness = 0;             ///< detected hard-surface weight in [0, 1] (hard_surface > 0)
     double straight_pct = 0;         ///< the least straight view's share of straight outline, %

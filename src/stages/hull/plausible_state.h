@@ -75,6 +75,9 @@ public:
     void join_views();
     /// 2, with the lofted prior in place of the views' profiles (plausible_loft.h).
     void loft();
+    /// 2. Hidden depth: thin parts whose depth a wider part hides get a round section
+    /// (plausible_ghost.h).
+    void ghost();
     /// 2. On grids finer than 256, the field between the lattice points where it was taken
     /// (plausible_coarse.h); nothing at 256.
     void fill_in();

@@ -1,0 +1,265 @@
+// The hidden-depth prior of hull.plausible (`ghost`; plausible_ghost.h). At each station along
+// a grid axis a, the hull's section is a union of boxes, each pairing a run along b (from the
+// hull's projection along c) with a run along c (from the projection along b). Where a run T
+// along one of them is thin against the run D along the other, and D is the depth of another,
+// wider part at the same station (a run T' on the same line of the projection along D's axis,
+// about as wide as D, whose box the view along a covers), the thin part's depth is hidden behind
+// the wider one: D is that part's, not the thin one's. The thin part then gets a round section
+// as deep as it is wide, centred where the view along a puts it (the middle of that view's run
+// through the voxel, within D).
+#include "plausible_ghost.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace cm::plausible {
+
+namespace {
+
+// A thin run: at most kThinLow of the depth has the whole say, from kThinHigh on none.
+constexpr double kThinLow = 0.3, kThinHigh = 0.45;
+// The wider part: its run along the thin one's axis at least this share of the depth (a smooth
+// step), and the view along the slicing axis showing it over at least this share of the depth.
+constexpr double kWideLow = 0.5, kWideHigh = 0.7;
+constexpr double kSpanLow = 0.7, kSpanHigh = 0.9;
+
+double smoothstep(double x, double a, double b) {
+    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+struct Interval {
+    int lo = 0, hi = -1;
+    bool empty() const { return hi < lo; }
+    int size() const { return hi - lo + 1; }
+    double half() const { return 0.5 * double(size()); }
+    double mid() const { return 0.5 * double(lo + hi); }
+};
+
+// The hull projected along grid axis k: inside pixels over the other two axes (u the lower, v
+// the higher), the run along u and along v through each, and a summed-area table.
+struct Projection {
+    int k = 0, u = 0, v = 0, u0 = 0, v0 = 0, nu = 0, nv = 0;
+    std::vector<std::uint8_t> in;
+    std::vector<std::int32_t> lo_u, hi_u, lo_v, hi_v, sat;
+
+    std::size_t index(int iu, int iv) const { return std::size_t(iu - u0) * std::size_t(nv) + std::size_t(iv - v0); }
+    bool inside(const Coord& p) const {
+        const int iu = p[u], iv = p[v];
+        return iu >= u0 && iv >= v0 && iu < u0 + nu && iv < v0 + nv && in[index(iu, iv)] != 0;
+    }
+    // The run along axis `along` (u or v) through p's pixel; empty outside.
+    Interval run(int along, const Coord& p) const {
+        if (!inside(p)) return {};
+        const std::size_t i = index(p[u], p[v]);
+        return along == u ? Interval{lo_u[i], hi_u[i]} : Interval{lo_v[i], hi_v[i]};
+    }
+    // Inside pixels of the box [a0, a1] along u by [b0, b1] along v, clamped to the array.
+    double count(int a0, int a1, int b0, int b1) const {
+        a0 = std::max(a0 - u0, 0);
+        b0 = std::max(b0 - v0, 0);
+        a1 = std::min(a1 - u0, nu - 1);
+        b1 = std::min(b1 - v0, nv - 1);
+        if (a1 < a0 || b1 < b0) return 0.0;
+        const std::size_t w = std::size_t(nv) + 1;
+        const auto at = [&](int i, int j) { return double(sat[std::size_t(i) * w + std::size_t(j)]); };
+        return at(a1 + 1, b1 + 1) - at(a0, b1 + 1) - at(a1 + 1, b0) + at(a0, b0);
+    }
+};
+
+void runs(const std::vector<std::uint8_t>& in, std::size_t first, std::size_t stride, int count, int origin,
+          std::vector<std::int32_t>& lo, std::vector<std::int32_t>& hi) {
+    for (int i = 0; i < count;) {
+        if (!in[first + std::size_t(i) * stride]) {
+            ++i;
+            continue;
+        }
+        int j = i;
+        while (j + 1 < count && in[first + std::size_t(j + 1) * stride]) ++j;
+        for (int t = i; t <= j; ++t) {
+            lo[first + std::size_t(t) * stride] = origin + i;
+            hi[first + std::size_t(t) * stride] = origin + j;
+        }
+        i = j + 1;
+    }
+}
+
+Projection project(const HullVoxels& vox, int k) {
+    Projection P;
+    P.k = k;
+    P.u = k == 0 ? 1 : 0;
+    P.v = k == 2 ? 1 : 2;
+    P.u0 = vox.box.min()[P.u];
+    P.v0 = vox.box.min()[P.v];
+    P.nu = vox.box.dim()[P.u];
+    P.nv = vox.box.dim()[P.v];
+    const std::size_t n = std::size_t(P.nu) * std::size_t(P.nv);
+    P.in.assign(n, 0);
+    tbb::parallel_for(std::size_t(0), vox.nleaf, [&](std::size_t l) {
+        for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
+            const Coord c = it.getCoord();
+            std::atomic_ref<std::uint8_t>(P.in[P.index(c[P.u], c[P.v])]).store(1, std::memory_order_relaxed);
+        }
+    });
+    P.lo_u.assign(n, 0);
+    P.hi_u.assign(n, -1);
+    P.lo_v.assign(n, 0);
+    P.hi_v.assign(n, -1);
+    for (int iu = 0; iu < P.nu; ++iu) runs(P.in, std::size_t(iu) * P.nv, 1, P.nv, P.v0, P.lo_v, P.hi_v);
+    for (int iv = 0; iv < P.nv; ++iv) runs(P.in, std::size_t(iv), std::size_t(P.nv), P.nu, P.u0, P.lo_u, P.hi_u);
+    const std::size_t w = std::size_t(P.nv) + 1;
+    P.sat.assign((std::size_t(P.nu) + 1) * w, 0);
+    for (int iu = 0; iu < P.nu; ++iu)
+        for (int iv = 0; iv < P.nv; ++iv)
+            P.sat[std::size_t(iu + 1) * w + std::size_t(iv + 1)] =
+                P.sat[std::size_t(iu) * w + std::size_t(iv + 1)] + P.sat[std::size_t(iu + 1) * w + std::size_t(iv)] -
+                P.sat[std::size_t(iu) * w + std::size_t(iv)] + P.in[std::size_t(iu) * P.nv + std::size_t(iv)];
+    return P;
+}
+
+// How clearly the depth D of a thin run T across axis a is another part's, for a station, T
+// and D: the voxels of a leaf share a few per station.
+struct Hidden {
+    int station = std::numeric_limits<int>::min();
+    Interval T, D, O; ///< O: the wider part's run along T's axis
+    double weight = 0.0;
+};
+// Per axis a and thin axis (b or c), the last answers per station modulo 8, one thread's.
+using HiddenMemo = std::array<std::array<std::array<Hidden, 8>, 2>, 3>;
+
+// The share of the depth D the part over O spans in the projection A (along the slicing axis):
+// the positions along D where A has an inside pixel within O.
+double span(const Projection& A, int t, const Interval& O, const Interval& D) {
+    int hit = 0;
+    for (int x = D.lo; x <= D.hi; ++x) hit += (t == A.u ? A.count(O.lo, O.hi, x, x) : A.count(x, x, O.lo, O.hi)) > 0;
+    return double(hit) / double(D.size());
+}
+
+class GhostFinder {
+public:
+    explicit GhostFinder(const HullVoxels& vox) {
+        for (int k = 0; k < 3; ++k) proj_[std::size_t(k)] = project(vox, k);
+    }
+
+    GhostValue value(const Coord& p, HiddenMemo& memo) const {
+        GhostValue best;
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            for (int side = 0; side < 2; ++side) {
+                const int t = side == 0 ? b : c, d = side == 0 ? c : b;
+                // T along t from the projection along d, D along d from the one along t.
+                const Interval T = proj_[std::size_t(d)].run(t, p), D = proj_[std::size_t(t)].run(d, p);
+                if (T.empty() || D.empty() || double(T.size()) >= kThinHigh * double(D.size())) continue;
+                const Hidden& h0 = hidden(a, side, t, d, p, T, D, memo);
+                const double w = h0.weight;
+                if (w <= best.weight) continue;
+                // Hidden here: the wider part lies at this voxel's depth, in front of or
+                // behind it along t (a plate reaching beyond it is not hidden there).
+                if (!behind(a, t, d, p, h0.O)) continue;
+                // The part's place along d: the view along a's run through p, within D.
+                const Interval R = proj_[std::size_t(a)].run(d, p);
+                const Interval in{std::max(R.lo, D.lo), std::min(R.hi, D.hi)};
+                const double h = std::min(T.half(), in.empty() ? T.half() : in.half());
+                const double ut = std::abs(double(p[t]) - T.mid()) / T.half();
+                const double ud = std::abs(double(p[d]) - (in.empty() ? D.mid() : in.mid())) / h;
+                best.weight = float(w);
+                best.field = float((std::sqrt(ut * ut + ud * ud) - 1.0) * std::min(T.half(), h));
+            }
+        }
+        return best;
+    }
+
+private:
+    bool behind(int a, int t, int d, const Coord& p, const Interval& O) const {
+        const Projection& A = proj_[std::size_t(a)];
+        return (t == A.u ? A.count(O.lo, O.hi, p[d], p[d]) : A.count(p[d], p[d], O.lo, O.hi)) > 0;
+    }
+    const Hidden& hidden(int a, int side, int t, int d, const Coord& p, const Interval& T, const Interval& D,
+                         HiddenMemo& memo) const {
+        Hidden& slot = memo[std::size_t(a)][std::size_t(side)][std::size_t(p[a] & 7)];
+        if (slot.station == p[a] && slot.T.lo == T.lo && slot.T.hi == T.hi && slot.D.lo == D.lo && slot.D.hi == D.hi)
+            return slot;
+        const double thin = 1.0 - smoothstep(double(T.size()) / double(D.size()), kThinLow, kThinHigh);
+        double wide = 0.0;
+        Interval best;
+        // The other runs along t on the line of the projection along d at this station.
+        const Projection& P = proj_[std::size_t(d)];
+        const Projection& A = proj_[std::size_t(a)];
+        const int first = t == P.u ? P.u0 : P.v0, end = first + (t == P.u ? P.nu : P.nv);
+        Coord q = p;
+        for (int x = first; x < end;) {
+            q[t] = x;
+            const Interval O = P.run(t, q);
+            if (O.empty()) {
+                ++x;
+                continue;
+            }
+            x = O.hi + 1;
+            if (O.lo == T.lo) continue;
+            const double share = smoothstep(double(O.size()) / double(D.size()), kWideLow, kWideHigh);
+            if (share <= wide) continue;
+            const double w = share * smoothstep(span(A, t, O, D), kSpanLow, kSpanHigh);
+            if (w > wide) wide = w, best = O;
+        }
+        slot = {p[a], T, D, best, thin * wide};
+        return slot;
+    }
+
+    std::array<Projection, 3> proj_;
+};
+
+} // namespace
+
+void ghost_by_leaf(const HullVoxels& vox, const std::vector<LeafMask>* only, const GhostLeafBody& body) {
+    const GhostFinder finder(vox);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<GhostValue> values;
+        values.reserve(LeafT::SIZE);
+        HiddenMemo memo;
+        for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            values.clear();
+            for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
+                const openvdb::Index o = it.pos();
+                const bool wanted = !only || ((*only)[l][o >> 6] >> (o & 63) & 1);
+                values.push_back(wanted ? finder.value(it.getCoord(), memo) : GhostValue{});
+            }
+            body(vox.base[l], values.data(), values.size());
+        }
+    });
+}
+
+} // namespace cm::plausible
+
+namespace cm::plausible {
+
+// The hidden-depth prior raises the field (never lowers it) by its weight times `ghost`, where
+// the round section it gives a hidden part ends; a square section keeps the hull. On grids finer
+// than 256 it is taken where the views' fields are (fill_in() interpolates the result).
+void Plausible::ghost() {
+    const float share = float(opt_.ghost);
+    const bool coarse = coarse_ != nullptr;
+    std::atomic<std::size_t> hidden{0};
+    ghost_by_leaf(vox_, coarse ? &coarse_->exact() : nullptr,
+                  [&](std::size_t first, const GhostValue* values, std::size_t cnt) {
+                      std::size_t n = 0;
+                      for (std::size_t k = 0; k < cnt; ++k) {
+                          const std::uint8_t flags = thin_[first + k];
+                          if ((coarse && !(flags & kExact)) || (flags & kSquare)) continue;
+                          const float w = share * values[k].weight;
+                          if (w <= 0.0f) continue;
+                          float& phi = phi_[first + k];
+                          phi += w * std::max(0.0f, values[k].field - phi);
+                          n += w >= 0.5f && values[k].field > 0.0f;
+                      }
+                      hidden += n;
+                  });
+    st_.ghost_voxels = hidden;
+}
+
+} // namespace cm::plausible
