@@ -69,7 +69,12 @@ std::vector<EnclosedRegion> region_records(const RegionEvidence& e) {
     return out;
 }
 
-// The regions whose pixels come within `reach` steps of the outside through object pixels.
+// An eye on the edge of a head shares a long stretch of its rim with the outline; a gap
+// between an arm and the body comes near the outside only where the hand touches the hip.
+constexpr double kNearShare = 0.15;
+
+// The regions of which at least kNearShare of the rim comes within `reach` steps of the
+// outside through object pixels.
 std::vector<char> near_outside(const RegionEvidence& e, int reach) {
     const std::size_t n = std::size_t(e.w) * e.h;
     constexpr int kFar = 1 << 29;
@@ -79,13 +84,24 @@ std::vector<char> near_outside(const RegionEvidence& e, int reach) {
     // Steps through object pixels (not outside, no blank region); the region pixel beside
     // the last of them is one step further.
     bfs8(dist, e.w, e.h, reach, [&](int q) { return (*e.region)[std::size_t(q)] < 0; });
-    std::vector<char> near(std::size_t(e.count), 0);
+    // A rim pixel of a region is near when an object pixel beside it is within reach.
+    std::vector<std::size_t> rim(std::size_t(e.count), 0), close(std::size_t(e.count), 0);
     for (int y = 0; y < e.h; ++y)
         for (int x = 0; x < e.w; ++x) {
             const int r = (*e.region)[std::size_t(y) * e.w + x];
-            if (r < 0 || near[std::size_t(r)]) continue;
-            neighbours8(x, y, e.w, e.h, [&](std::size_t q) { near[std::size_t(r)] |= dist[q] < reach; });
+            if (r < 0) continue;
+            bool on_rim = false, near = false;
+            neighbours8(x, y, e.w, e.h, [&](std::size_t q) {
+                if ((*e.region)[q] == r) return;
+                on_rim = true;
+                near = near || dist[q] < reach;
+            });
+            rim[std::size_t(r)] += on_rim;
+            close[std::size_t(r)] += near;
         }
+    std::vector<char> near(std::size_t(e.count), 0);
+    for (std::size_t r = 0; r < near.size(); ++r)
+        near[r] = close[r] > 0 && double(close[r]) >= kNearShare * double(rim[r]);
     return near;
 }
 

@@ -456,3 +456,25 @@ TEST(SilhouetteHoles, DrawnFaceKeepsItsWhiteEyes) {
     EXPECT_EQ(p.holes_kept, 1);
     EXPECT_LT(p.coverage[std::size_t(150) * 230 + 110], 0.5f);
 }
+
+TEST(SilhouetteHoles, GapBetweenArmAndBodyInAMaskIsAHole) {
+    // A white-on-black mask (render-views --style mask) of a figure whose hand touches the
+    // hip: the gap between arm and body comes within a pixel of the outside only where the
+    // hand's one-pixel bridge closes it. It shows the background through the figure, so it
+    // is a hole; the rule that keeps an eye on the edge of a head (a long stretch of its rim
+    // beside the outline) does not take it.
+    const Shape figure = [](double x, double y) {
+        const bool body = x > 60 && x < 120 && y > 30 && y < 180;
+        const bool shoulder = x >= 120 && x < 150 && y > 40 && y < 55;
+        const bool arm = x >= 135 && x < 150 && y > 40 && y < 165;
+        const bool hand = x >= 120 && x < 135 && y >= 150 && y < 151;
+        return body || shoulder || arm || hand;
+    };
+    const Shape gap = [](double x, double y) { return x >= 120 && x < 135 && y >= 55 && y < 150; };
+    const Shape truth = [&](double x, double y) { return figure(x, y) && !gap(x, y); };
+    const Image img = draw(200, 210, figure, {1, 1, 1, 1}, {0, 0, 0, 1});
+    const SilhouetteResult s = extract(img);
+    EXPECT_EQ(s.holes_kept, 1);
+    EXPECT_LT(s.coverage[std::size_t(100) * 200 + 127], 0.5f) << "the gap between arm and body";
+    EXPECT_GT(iou(s.coverage, 200, 210, truth), 0.99);
+}
