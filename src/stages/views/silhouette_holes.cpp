@@ -69,13 +69,9 @@ std::vector<EnclosedRegion> region_records(const RegionEvidence& e) {
     return out;
 }
 
-// An eye on the edge of a head shares a long stretch of its rim with the outline; a gap
-// between an arm and the body comes near the outside only where the hand touches the hip.
-constexpr double kNearShare = 0.15;
-
-// The regions of which at least kNearShare of the rim comes within `reach` steps of the
-// outside through object pixels.
-std::vector<char> near_outside(const RegionEvidence& e, int reach) {
+// The regions that come within `reach` steps of the outside through object pixels: with
+// `share` 0 any pixel of the rim will do, else at least that share of the rim's pixels.
+std::vector<char> near_outside(const RegionEvidence& e, int reach, double share) {
     const std::size_t n = std::size_t(e.w) * e.h;
     constexpr int kFar = 1 << 29;
     std::vector<int> dist(n, kFar);
@@ -100,8 +96,7 @@ std::vector<char> near_outside(const RegionEvidence& e, int reach) {
             close[std::size_t(r)] += near;
         }
     std::vector<char> near(std::size_t(e.count), 0);
-    for (std::size_t r = 0; r < near.size(); ++r)
-        near[r] = close[r] > 0 && double(close[r]) >= kNearShare * double(rim[r]);
+    for (std::size_t r = 0; r < near.size(); ++r) near[r] = close[r] > 0 && double(close[r]) >= share * double(rim[r]);
     return near;
 }
 
@@ -296,7 +291,12 @@ std::vector<EnclosedRegion> judge_filled_regions(const RegionEvidence& e, std::s
     const double stroke = outline_width(e);
     const int sliver = std::max(2, int(std::lround(stroke)));
     const std::vector<int> depth = region_depths(e);
-    const std::vector<char> edge = near_outside(e, int(std::lround(stroke)) + 2);
+    // A region meeting an ink outline that also bounds the outside is a part (an eye on the
+    // edge of a head, paper between hatch strokes running into the outline). Without an
+    // outline (a flat fill, a mask) the fill bounds a region: it is a part only when a long
+    // stretch of its rim lies on the outside, not where a hand touching the hip closes the
+    // gap between an arm and the body with a bridge a pixel thick.
+    const std::vector<char> edge = near_outside(e, int(std::lround(stroke)) + 2, stroke > 0 ? 0.0 : 0.15);
     const std::vector<char> marks = holding_marks(e, min_area);
     const std::vector<double> tint = region_tints(e);
     const std::vector<char> in_mark = inside_marks(e);
