@@ -55,7 +55,9 @@ std::vector<int> region_depths(const RegionEvidence& e);
 ///   slivers or more): paper between strokes. Without hatching a sliver is a narrow gap
 ///   between parts (an ear beside a head), a hole;
 /// - it comes within the outline's width of the outside: its own outline is the body's
-///   (an eye on the edge of a head, a stripe across the body);
+///   (an eye on the edge of a head, a stripe across the body). Without an ink outline (a
+///   flat fill, a mask) at least 0.15 of its rim must lie there: a gap between an arm and
+///   the body, shut by a hand touching the hip, is a hole;
 /// - most of its rim is ink joined to the ink around the body (a shirt between drawn lapels);
 /// - it is under 0.25 % of the drawing's area (a highlight in a pupil): no opening that
 ///   small would survive the hull's resolution;
