@@ -9,6 +9,8 @@
 // through the voxel, within D).
 #include "plausible_ghost.h"
 
+#include "plausible_projection.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -34,95 +36,6 @@ double smoothstep(double x, double a, double b) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-struct Interval {
-    int lo = 0, hi = -1;
-    bool empty() const { return hi < lo; }
-    int size() const { return hi - lo + 1; }
-    double half() const { return 0.5 * double(size()); }
-    double mid() const { return 0.5 * double(lo + hi); }
-};
-
-// The hull projected along grid axis k: inside pixels over the other two axes (u the lower, v
-// the higher), the run along u and along v through each, and a summed-area table.
-struct Projection {
-    int k = 0, u = 0, v = 0, u0 = 0, v0 = 0, nu = 0, nv = 0;
-    std::vector<std::uint8_t> in;
-    std::vector<std::int32_t> lo_u, hi_u, lo_v, hi_v, sat;
-
-    std::size_t index(int iu, int iv) const { return std::size_t(iu - u0) * std::size_t(nv) + std::size_t(iv - v0); }
-    bool inside(const Coord& p) const {
-        const int iu = p[u], iv = p[v];
-        return iu >= u0 && iv >= v0 && iu < u0 + nu && iv < v0 + nv && in[index(iu, iv)] != 0;
-    }
-    // The run along axis `along` (u or v) through p's pixel; empty outside.
-    Interval run(int along, const Coord& p) const {
-        if (!inside(p)) return {};
-        const std::size_t i = index(p[u], p[v]);
-        return along == u ? Interval{lo_u[i], hi_u[i]} : Interval{lo_v[i], hi_v[i]};
-    }
-    // Inside pixels of the box [a0, a1] along u by [b0, b1] along v, clamped to the array.
-    double count(int a0, int a1, int b0, int b1) const {
-        a0 = std::max(a0 - u0, 0);
-        b0 = std::max(b0 - v0, 0);
-        a1 = std::min(a1 - u0, nu - 1);
-        b1 = std::min(b1 - v0, nv - 1);
-        if (a1 < a0 || b1 < b0) return 0.0;
-        const std::size_t w = std::size_t(nv) + 1;
-        const auto at = [&](int i, int j) { return double(sat[std::size_t(i) * w + std::size_t(j)]); };
-        return at(a1 + 1, b1 + 1) - at(a0, b1 + 1) - at(a1 + 1, b0) + at(a0, b0);
-    }
-};
-
-void runs(const std::vector<std::uint8_t>& in, std::size_t first, std::size_t stride, int count, int origin,
-          std::vector<std::int32_t>& lo, std::vector<std::int32_t>& hi) {
-    for (int i = 0; i < count;) {
-        if (!in[first + std::size_t(i) * stride]) {
-            ++i;
-            continue;
-        }
-        int j = i;
-        while (j + 1 < count && in[first + std::size_t(j + 1) * stride]) ++j;
-        for (int t = i; t <= j; ++t) {
-            lo[first + std::size_t(t) * stride] = origin + i;
-            hi[first + std::size_t(t) * stride] = origin + j;
-        }
-        i = j + 1;
-    }
-}
-
-Projection project(const HullVoxels& vox, int k) {
-    Projection P;
-    P.k = k;
-    P.u = k == 0 ? 1 : 0;
-    P.v = k == 2 ? 1 : 2;
-    P.u0 = vox.box.min()[P.u];
-    P.v0 = vox.box.min()[P.v];
-    P.nu = vox.box.dim()[P.u];
-    P.nv = vox.box.dim()[P.v];
-    const std::size_t n = std::size_t(P.nu) * std::size_t(P.nv);
-    P.in.assign(n, 0);
-    tbb::parallel_for(std::size_t(0), vox.nleaf, [&](std::size_t l) {
-        for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
-            const Coord c = it.getCoord();
-            std::atomic_ref<std::uint8_t>(P.in[P.index(c[P.u], c[P.v])]).store(1, std::memory_order_relaxed);
-        }
-    });
-    P.lo_u.assign(n, 0);
-    P.hi_u.assign(n, -1);
-    P.lo_v.assign(n, 0);
-    P.hi_v.assign(n, -1);
-    for (int iu = 0; iu < P.nu; ++iu) runs(P.in, std::size_t(iu) * P.nv, 1, P.nv, P.v0, P.lo_v, P.hi_v);
-    for (int iv = 0; iv < P.nv; ++iv) runs(P.in, std::size_t(iv), std::size_t(P.nv), P.nu, P.u0, P.lo_u, P.hi_u);
-    const std::size_t w = std::size_t(P.nv) + 1;
-    P.sat.assign((std::size_t(P.nu) + 1) * w, 0);
-    for (int iu = 0; iu < P.nu; ++iu)
-        for (int iv = 0; iv < P.nv; ++iv)
-            P.sat[std::size_t(iu + 1) * w + std::size_t(iv + 1)] =
-                P.sat[std::size_t(iu) * w + std::size_t(iv + 1)] + P.sat[std::size_t(iu + 1) * w + std::size_t(iv)] -
-                P.sat[std::size_t(iu) * w + std::size_t(iv)] + P.in[std::size_t(iu) * P.nv + std::size_t(iv)];
-    return P;
-}
-
 // How clearly the depth D of a thin run T across axis a is another part's, for a station, T
 // and D: the voxels of a leaf share a few per station.
 struct Hidden {
@@ -143,9 +56,7 @@ double span(const Projection& A, int t, const Interval& O, const Interval& D) {
 
 class GhostFinder {
 public:
-    explicit GhostFinder(const HullVoxels& vox) {
-        for (int k = 0; k < 3; ++k) proj_[std::size_t(k)] = project(vox, k);
-    }
+    explicit GhostFinder(const HullVoxels& vox) { proj_ = project_hull(vox); }
 
     GhostValue value(const Coord& p, HiddenMemo& memo) const {
         GhostValue best;

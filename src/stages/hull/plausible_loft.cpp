@@ -7,6 +7,8 @@
 // any set of views.
 #include "plausible_loft.h"
 
+#include "plausible_projection.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -33,42 +35,6 @@ double smoothstep(double x, double a, double b) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-// The hull projected along one grid axis k: a mask over the other two axes (u = the lower,
-// v = the higher), and per inside pixel the bounds of its run along u and along v.
-struct Projection {
-    int k = 0, u = 0, v = 0;
-    int u0 = 0, v0 = 0, nu = 0, nv = 0;
-    std::vector<std::uint8_t> in;
-    std::vector<std::int32_t> lo_u, hi_u, lo_v, hi_v;
-    // Summed-area table of `in`, (nu + 1) x (nv + 1): sat[(iu + 1, iv + 1)] counts the inside
-    // pixels up to and including (iu, iv) (local indices).
-    std::vector<std::int32_t> sat;
-
-    // Inside pixels in the box [u0, u1] x [v0, v1] (grid coordinates), clamped to the array.
-    double count(int a0, int a1, int b0, int b1) const {
-        a0 = std::max(a0 - u0, 0);
-        b0 = std::max(b0 - v0, 0);
-        a1 = std::min(a1 - u0, nu - 1);
-        b1 = std::min(b1 - v0, nv - 1);
-        if (a1 < a0 || b1 < b0) return 0.0;
-        const std::size_t w = std::size_t(nv) + 1;
-        const auto at = [&](int i, int j) { return double(sat[std::size_t(i) * w + std::size_t(j)]); };
-        return at(a1 + 1, b1 + 1) - at(a0, b1 + 1) - at(a1 + 1, b0) + at(a0, b0);
-    }
-
-    std::size_t index(int iu, int iv) const { return std::size_t(iu - u0) * std::size_t(nv) + std::size_t(iv - v0); }
-    bool inside(int iu, int iv) const {
-        return iu >= u0 && iv >= v0 && iu < u0 + nu && iv < v0 + nv && in[index(iu, iv)] != 0;
-    }
-};
-
-struct Interval {
-    int lo = 0, hi = -1;
-    bool empty() const { return hi < lo; }
-    double half() const { return 0.5 * double(hi - lo) + 0.5; } // the voxels' extent, cells
-    double mid() const { return 0.5 * double(lo + hi); }
-};
-
 double jaccard(const Interval& a, const Interval& b) {
     if (a.empty() || b.empty()) return 0.0;
     const int i = std::min(a.hi, b.hi) - std::max(a.lo, b.lo) + 1;
@@ -91,11 +57,7 @@ using BoxMemo = std::array<std::array<BoxFacts, 8>, 3>;
 
 class Lofter {
 public:
-    Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) {
-        for (int k = 0; k < 3; ++k) project(vox, k);
-        mark_inside(vox);
-        for (auto& P : proj_) tabulate(P);
-    }
+    Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) { proj_ = project_hull(vox); }
 
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is; `found` false where no axis has a section through p (p projects
@@ -139,71 +101,6 @@ public:
     }
 
 private:
-    void project(const HullVoxels& vox, int k) {
-        Projection& P = proj_[std::size_t(k)];
-        P.k = k;
-        P.u = k == 0 ? 1 : 0;
-        P.v = k == 2 ? 1 : 2;
-        P.u0 = vox.box.min()[P.u];
-        P.v0 = vox.box.min()[P.v];
-        P.nu = vox.box.dim()[P.u];
-        P.nv = vox.box.dim()[P.v];
-        P.in.assign(std::size_t(P.nu) * std::size_t(P.nv), 0);
-    }
-
-    // The three projections' inside pixels, in parallel over leaves: each leaf's voxels are
-    // projected into an 8 x 8 mask per axis first, so the arrays see one store per pixel.
-    void mark_inside(const HullVoxels& vox) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t l = r.begin(); l != r.end(); ++l) {
-                const LeafT& leaf = vox.leaves.leaf(l);
-                const auto& mask = leaf.getValueMask();
-                std::array<std::uint64_t, 3> local{};
-                for (openvdb::Index w = 0; w < LeafT::SIZE / 64; ++w)
-                    for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1) {
-                        const unsigned o = w * 64 + unsigned(__builtin_ctzll(word));
-                        const std::array<unsigned, 3> c{o >> 6, (o >> 3) & 7u, o & 7u};
-                        for (std::size_t k = 0; k < 3; ++k) {
-                            const Projection& P = proj_[k];
-                            local[k] |= std::uint64_t(1) << (c[std::size_t(P.u)] * 8 + c[std::size_t(P.v)]);
-                        }
-                    }
-                const Coord origin = leaf.origin();
-                for (std::size_t k = 0; k < 3; ++k) {
-                    Projection& P = proj_[k];
-                    for (std::uint64_t bits = local[k]; bits; bits &= bits - 1) {
-                        const int b = __builtin_ctzll(bits);
-                        // Leaves side by side along the axis share the pixel: relaxed stores of
-                        // the same value.
-                        std::atomic_ref<std::uint8_t>(P.in[P.index(origin[P.u] + b / 8, origin[P.v] + b % 8)])
-                            .store(1, std::memory_order_relaxed);
-                    }
-                }
-            }
-        });
-    }
-
-    // The runs along u and v through each inside pixel, and the summed-area table.
-    static void tabulate(Projection& P) {
-        const std::size_t n = P.in.size();
-        P.lo_u.assign(n, 0);
-        P.hi_u.assign(n, -1);
-        P.lo_v.assign(n, 0);
-        P.hi_v.assign(n, -1);
-        // Runs along v (rows of the array), then along u (its columns).
-        tbb::parallel_for(0, P.nu, [&](int iu) { runs(P, std::size_t(iu) * P.nv, 1, P.nv, P.v0, P.lo_v, P.hi_v); });
-        tbb::parallel_for(0, P.nv,
-                          [&](int iv) { runs(P, std::size_t(iv), std::size_t(P.nv), P.nu, P.u0, P.lo_u, P.hi_u); });
-        const std::size_t w = std::size_t(P.nv) + 1;
-        P.sat.assign((std::size_t(P.nu) + 1) * w, 0);
-        for (int iu = 0; iu < P.nu; ++iu)
-            for (int iv = 0; iv < P.nv; ++iv)
-                P.sat[std::size_t(iu + 1) * w + std::size_t(iv + 1)] =
-                    P.sat[std::size_t(iu) * w + std::size_t(iv + 1)] +
-                    P.sat[std::size_t(iu + 1) * w + std::size_t(iv)] - P.sat[std::size_t(iu) * w + std::size_t(iv)] +
-                    P.in[P.index(iu + P.u0, iv + P.v0)];
-    }
-
     // How well the section's box across axis a agrees with the view along a, in [0, 1]: the
     // share of the box that view covers. A section inscribed in the box covers pi/4 of it (an
     // ellipse), more where it is squarer; a box paired from runs of two views that the third
@@ -214,23 +111,6 @@ private:
         const double area = double(ib.hi - ib.lo + 1) * double(ic.hi - ic.lo + 1);
         const double cover = b == A.u ? A.count(ib.lo, ib.hi, ic.lo, ic.hi) : A.count(ic.lo, ic.hi, ib.lo, ib.hi);
         return smoothstep(cover / area, kFitLow, kFitHigh);
-    }
-
-    static void runs(const Projection& P, std::size_t first, std::size_t stride, int count, int origin,
-                     std::vector<std::int32_t>& lo, std::vector<std::int32_t>& hi) {
-        for (int i = 0; i < count;) {
-            if (!P.in[first + std::size_t(i) * stride]) {
-                ++i;
-                continue;
-            }
-            int j = i;
-            while (j + 1 < count && P.in[first + std::size_t(j + 1) * stride]) ++j;
-            for (int t = i; t <= j; ++t) {
-                lo[first + std::size_t(t) * stride] = origin + i;
-                hi[first + std::size_t(t) * stride] = origin + j;
-            }
-            i = j + 1;
-        }
     }
 
     // The run along axis `along` through p's projection along axis k (empty when p projects
