@@ -361,6 +361,25 @@ double crossing_volume(const Volume& v) {
     return (double(v.occupancy->tree().activeVoxelCount()) + corr) * h * h * h;
 }
 
+Image ink_drawing(int w, int h, const std::function<bool(double x, double y)>& ink, std::array<float, 3> pen,
+                  std::array<float, 3> paper) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = 3;
+    img.pixels.resize(std::size_t(w) * std::size_t(h) * 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int hits = 0;
+            for (int sy = 0; sy < 4; ++sy)
+                for (int sx = 0; sx < 4; ++sx) hits += ink(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
+            for (std::size_t k = 0; k < 3; ++k)
+                img.pixels[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 3 + k] =
+                    paper[k] + float(hits) / 16.0f * (pen[k] - paper[k]);
+        }
+    return img;
+}
+
 Image compose_sheet(const std::vector<Image>& drawings, int gap, int strip) {
     Image s;
     s.channels = 3;

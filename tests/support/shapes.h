@@ -87,6 +87,11 @@ View perspective_sphere_view(const std::string& name, const std::array<double, 1
 /// from eyes about 6 units away on different sides: front, right, above and behind-left.
 std::vector<View> perspective_sphere_ring(Vec3d c, double r, double f);
 
+/// A w x h RGB drawing: `pen` where `ink(x, y)`, `paper` elsewhere, each pixel the mean of
+/// 4 x 4 samples (anti-aliased, as a scan or a paint program gives it).
+Image ink_drawing(int w, int h, const std::function<bool(double x, double y)>& ink, std::array<float, 3> pen,
+                  std::array<float, 3> paper);
+
 // ---- Turnaround sheets --------------------------------------------------------------
 
 /// A turnaround sheet from separate drawings (RGB or RGBA, read as read_image() gives

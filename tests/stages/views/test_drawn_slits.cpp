@@ -11,6 +11,7 @@
 
 #include "io/image_io.h"
 #include "silhouette.h"
+#include "support/shapes.h"
 
 using namespace cm;
 
@@ -21,21 +22,7 @@ using Sdf = std::function<double(double, double)>;
 // A w x h drawing in blue (#1f3f8f) on white of the pixels where `ink(x, y)`, each pixel the
 // mean of 4 x 4 samples.
 Image draw(int w, int h, const std::function<bool(double, double)>& ink) {
-    const std::array<float, 3> pen{0.122f, 0.247f, 0.561f};
-    Image img;
-    img.width = w;
-    img.height = h;
-    img.channels = 3;
-    img.pixels.resize(std::size_t(w) * h * 3);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            int hits = 0;
-            for (int sy = 0; sy < 4; ++sy)
-                for (int sx = 0; sx < 4; ++sx) hits += ink(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
-            for (int k = 0; k < 3; ++k)
-                img.pixels[(std::size_t(y) * w + x) * 3 + k] = 1.0f + hits / 16.0f * (pen[std::size_t(k)] - 1.0f);
-        }
-    return img;
+    return test::ink_drawing(w, h, ink, {0.122f, 0.247f, 0.561f}, {1.0f, 1.0f, 1.0f});
 }
 
 SilhouetteResult extract(const Image& img) { return extract_silhouette(img, ImageInfo{}, SilhouetteOptions{}); }

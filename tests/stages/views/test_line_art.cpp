@@ -7,6 +7,7 @@
 
 #include "io/image_io.h"
 #include "silhouette.h"
+#include "support/shapes.h"
 
 using namespace cm;
 
@@ -17,21 +18,7 @@ using Sdf = std::function<double(double x, double y)>; // signed distance, px, p
 // A w x h drawing: ink where `ink(x, y)`, paper elsewhere; each pixel the mean of 4x4
 // samples (anti-aliased, as a scan or a paint program gives it).
 Image draw(int w, int h, const std::function<bool(double, double)>& ink) {
-    Image img;
-    img.width = w;
-    img.height = h;
-    img.channels = 3;
-    img.pixels.resize(std::size_t(w) * h * 3);
-    const float paper[3] = {0.97f, 0.96f, 0.93f}, pen[3] = {0.12f, 0.12f, 0.14f};
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            int hits = 0;
-            for (int sy = 0; sy < 4; ++sy)
-                for (int sx = 0; sx < 4; ++sx) hits += ink(x + (sx + 0.5) / 4, y + (sy + 0.5) / 4);
-            for (int k = 0; k < 3; ++k)
-                img.pixels[(std::size_t(y) * w + x) * 3 + k] = paper[k] + hits / 16.0f * (pen[k] - paper[k]);
-        }
-    return img;
+    return test::ink_drawing(w, h, ink, {0.12f, 0.12f, 0.14f}, {0.97f, 0.96f, 0.93f});
 }
 
 // The outline of `shape` drawn with a stroke of `width(x, y)` px centred on it.

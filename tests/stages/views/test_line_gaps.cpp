@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "io/image_io.h"
 #include "load.h"
@@ -226,6 +227,17 @@ bool legs_in_wide_strokes(double x, double y) {
            || in_box(x, y, 69, 131, 161, 166) || in_box(x, y, 98, 102, 160, 161); // crossing below
 }
 
+// The front view's coverage when a box's outline with `lines` inside it is drawn as the front,
+// under holes: keep with gap closing `close_gaps`, beside a plain right view.
+Coverage front_under_keep(const char* name, const Inside& box, const Inside& lines, int close_gaps) {
+    test::TempDir dir(name);
+    write_image(outline(box, lines), dir / "front.png");
+    write_image(outline(box), dir / "right.png");
+    test::write_text(dir / "keep.yaml", "views:\n  front: { image: front.png, holes: keep, close_gaps: " +
+                                            std::to_string(close_gaps) + " }\n  right: right.png\n");
+    return load_views(dir / "keep.yaml", {}).value.views[0].coverage;
+}
+
 } // namespace
 
 TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
@@ -233,14 +245,8 @@ TEST(LineGaps, KeepOpensTheDaylightNotThePartsSeenThroughIt) {
     // between the legs opens, down the narrow slit to where the knees cross, while the hind
     // legs seen through it (the two regions between the opening's lines and theirs, beside
     // the opening across one line each) stay the object.
-    test::TempDir dir("line_gaps_seen_through");
     const Inside box = [](double x, double y) { return x > 40 && x < 160 && y > 40 && y < 160; };
-    write_image(outline(box, legs_from_the_front), dir / "front.png");
-    write_image(outline(box), dir / "right.png");
-    test::write_text(dir / "keep.yaml",
-                     "views:\n  front: { image: front.png, holes: keep, close_gaps: 5 }\n  right: right.png\n");
-    const Views v = load_views(dir / "keep.yaml", {}).value;
-    const Coverage& c = v.views[0].coverage;
+    const Coverage c = front_under_keep("line_gaps_seen_through", box, legs_from_the_front, 5);
     EXPECT_LT(c.at(100, 85), 0.5f) << "the opening";
     EXPECT_GT(c.at(84, 95), 0.5f) << "the left leg seen through it";
     EXPECT_GT(c.at(116, 95), 0.5f) << "the right leg seen through it";
@@ -254,14 +260,8 @@ TEST(LineGaps, OpeningBesideStripsAllButFilledByWideStrokesIsAGapBetweenParts) {
     // opening's 3200) were no parts: the opening lay beside the body only and was taken for
     // the inside, left closed under holes: keep (the camel's front at 5 px, 4.2 %). No gap
     // closing here: the strips are the point.
-    test::TempDir dir("line_gaps_wide");
     const Inside box = [](double x, double y) { return x > 15 && x < 185 && y > 15 && y < 185; };
-    write_image(outline(box, legs_in_wide_strokes), dir / "front.png");
-    write_image(outline(box), dir / "right.png");
-    test::write_text(dir / "keep.yaml",
-                     "views:\n  front: { image: front.png, holes: keep, close_gaps: 0 }\n  right: right.png\n");
-    const Views v = load_views(dir / "keep.yaml", {}).value;
-    const Coverage& c = v.views[0].coverage;
+    const Coverage c = front_under_keep("line_gaps_wide", box, legs_in_wide_strokes, 0);
     EXPECT_LT(c.at(100, 115), 0.5f) << "the opening";
     EXPECT_GT(c.at(100, 40), 0.5f) << "the body";
     EXPECT_GT(c.at(40, 120), 0.5f) << "the far legs";
