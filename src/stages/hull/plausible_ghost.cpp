@@ -31,11 +31,6 @@ constexpr double kThinLow = 0.3, kThinHigh = 0.45;
 constexpr double kWideLow = 0.5, kWideHigh = 0.7;
 constexpr double kSpanLow = 0.7, kSpanHigh = 0.9;
 
-double smoothstep(double x, double a, double b) {
-    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
-}
-
 // How clearly the depth D of a thin run T across axis a is another part's, for a station, T
 // and D: the voxels of a leaf share a few per station.
 struct Hidden {

@@ -30,11 +30,6 @@ constexpr double kSquare = 32.0;
 // count (a smooth step between the two; an inscribed ellipse covers 0.785).
 constexpr double kFitLow = 0.5, kFitHigh = 0.7;
 
-double smoothstep(double x, double a, double b) {
-    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
-}
-
 double jaccard(const Interval& a, const Interval& b) {
     if (a.empty() || b.empty()) return 0.0;
     const int i = std::min(a.hi, b.hi) - std::max(a.lo, b.lo) + 1;

@@ -23,6 +23,12 @@
 
 namespace cm::plausible {
 
+/// Smooth step from 0 at a to 1 at b (3t^2 - 2t^3), clamped.
+inline double smoothstep(double x, double a, double b) {
+    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
 using BoolTree = openvdb::BoolTree;
 using LeafT = BoolTree::LeafNodeType;
 

@@ -121,10 +121,6 @@ std::size_t remove_thin_spurs(std::vector<char>& bg, const std::vector<char>& in
     return removed;
 }
 
-} // namespace cm
-
-namespace cm {
-
 namespace {
 
 // Of the strokes along a slit, the share that has the object's paper behind it (nearer
