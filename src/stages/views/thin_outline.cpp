@@ -22,6 +22,21 @@ constexpr float kMerged = 2.0f;
 // have pulled them in by half a stroke measured too wide).
 constexpr int kAfter = 2;
 
+// Differences of ink under this are rounding, not ink (px): one step of a byte is 1/255 of
+// full scale, more of the full ink.
+constexpr float kTie = 1e-5f;
+
+// How far the pixel's centre lies past the half-ink point of its crossing, in ink (px): the
+// ink `passed` before the pixel, half its own `a`, less half the stroke's `placed`. Summed
+// before the half pixel of coverage is added (0.5 + passed + a / 2 - placed / 2 rounds
+// 0.5 + a / 2 first, and gave a stroke on one pixel 0.5 less one float step in some inks,
+// 0.5 in others: a whole row of pixels in or out by the colour), and within kTie of the
+// point taken as on it.
+float beyond_half_ink(float passed, float a, float placed) {
+    const float off = passed + 0.5f * a - 0.5f * placed;
+    return std::abs(off) < kTie ? 0.0f : off;
+}
+
 // Per pixel, the crossing that passes its stroke most squarely: its ink and the coverage it
 // gives the pixel.
 struct Best {
@@ -79,8 +94,10 @@ void cross_line(int count, At at, const std::vector<char>& bg, const std::vector
             const std::size_t i = at(j);
             if (j >= e && bg[i]) break;
             const float a = j < e ? ink[i] : j == e ? 0.5f * shared : 0.0f;
-            // The ink up to the pixel's centre against half the stroke's.
-            const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * placed, 0.0f, 1.0f);
+            // The ink up to the pixel's centre against half the stroke's (the pixel's side of
+            // the half-ink point, px). At the half-ink point itself (a 1 px stroke on one pixel,
+            // the outline through its middle) the pixel is half inside, exactly, in any ink.
+            const float c = std::clamp(0.5f + beyond_half_ink(passed, a, placed), 0.0f, 1.0f);
             passed += a;
             if (total < best.ink[i]) {
                 best.ink[i] = total;
