@@ -25,6 +25,13 @@ constexpr int kAfter = 2;
 // Differences of ink under this are rounding, not ink (px): one step of a byte is 1/255 of
 // full scale, more of the full ink.
 constexpr float kTie = 1e-5f;
+// Ink fractions within this of each other are the same ink: each is read from bytes, a
+// pixel's colour to within half a step (0.002) on each channel, its fraction of the full ink
+// (at least 0.3 from the paper for the faintest pencil) to within 0.007, differently in each
+// ink colour. Comparisons of two pixels' ink (a valley against the stroke's peak) take
+// near-equal as equal, so that a valley of exactly half the peak (the renderer's 1/3 beside
+// 2/3, or 1/9 beside 2/9) is read alike in every ink.
+constexpr float kInkStep = 0.01f;
 
 // How far the pixel's centre lies past the half-ink point of its crossing, in ink (px): the
 // ink `passed` before the pixel, half its own `a`, less half the stroke's `placed`. Summed
@@ -45,8 +52,9 @@ struct Best {
 
 // Where the outline stroke entered at k ends when another line runs into it from inside:
 // `e` becomes the first valley of the ink after k, within kLongest (a pixel under half the
-// stroke's peak and no more than the next pixel's), and `shared` its ink. False when there
-// is none, or the background lies within kAfter + 1 beyond it (a thin part).
+// stroke's peak by more than kInkStep, and no more than the next pixel's give or take it),
+// and `shared` its ink. False when there is none, or the background lies within kAfter + 1
+// beyond it (a thin part).
 template <typename At>
 bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, int k, int& e,
                   float& shared) {
@@ -54,7 +62,7 @@ bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vect
     for (int j = k + 1; j + 1 < count && j <= k + kLongest; ++j) {
         const float a = ink[at(j)];
         if (bg[at(j)] || a <= 0) return false; // the blank inside: a single stroke
-        if (a < 0.5f * peak && a <= ink[at(j + 1)]) {
+        if (a < 0.5f * peak - kInkStep && a <= ink[at(j + 1)] + kInkStep) {
             for (int m = j + 1; m <= j + kAfter + 1; ++m)
                 if (m >= count || bg[at(m)]) return false;
             e = j;
