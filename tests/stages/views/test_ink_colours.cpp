@@ -43,6 +43,23 @@ Image box_in(std::array<int, 3> pen) {
     return img;
 }
 
+// The same box with a line drawn along the inside of its top edge, run into the outline:
+// across it 2/3 ink, 1/3 (the valley between the two lines, half the peak) and 2/3.
+Image box_with_inner_line_in(std::array<int, 3> pen) {
+    Image img = box_in(pen);
+    auto put = [&](int x, int y, double ink) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double v = 255.0 + ink * (pen[k] - 255.0);
+            img.pixels[(std::size_t(y) * kSize + std::size_t(x)) * 3 + k] = float(std::round(v) / 255.0);
+        }
+    };
+    for (int i = kLo + 1; i < kHi; ++i) {
+        put(i, kLo + 1, 1.0 / 3.0);
+        put(i, kLo + 2, 2.0 / 3.0);
+    }
+    return img;
+}
+
 std::vector<char> inside(const Image& img, int& area) {
     ImageInfo info;
     const SilhouetteResult s = extract_silhouette(img, info, SilhouetteOptions{});
@@ -83,6 +100,28 @@ TEST(InkColours, EveryInkOfTheIssueGivesOneSilhouette) {
     for (const auto& pen : pens) {
         int area = 0;
         const std::vector<char> in = inside(box_in(pen), area);
+        int differ = 0;
+        for (std::size_t i = 0; i < in.size(); ++i) differ += in[i] != blue[i];
+        EXPECT_LE(differ, 4) << "pen " << pen[0] << "," << pen[1] << "," << pen[2] << ": " << area
+                             << " px against blue's " << blue_area;
+    }
+}
+
+TEST(InkColours, AValleyOfHalfTheInkIsReadAlikeInEveryInk) {
+    // The valley between the outline and the line run into it holds exactly half the
+    // outline's ink: whether it ends the outline stroke is decided alike in every ink (before,
+    // by each colour's bytes: red and blue differed along the top edge).
+    int blue_area = 0;
+    const std::vector<char> blue = inside(box_with_inner_line_in({0x1f, 0x3f, 0x8f}), blue_area);
+    const std::array<std::array<int, 3>, 6> pens{{{0xbf, 0x1f, 0x1a},
+                                                  {0x2a, 0x7a, 0x2a},
+                                                  {0x70, 0x42, 0x14},
+                                                  {0xe0, 0x70, 0x20},
+                                                  {0x40, 0xa0, 0xc0},
+                                                  {0x0d, 0x0d, 0x0f}}};
+    for (const auto& pen : pens) {
+        int area = 0;
+        const std::vector<char> in = inside(box_with_inner_line_in(pen), area);
         int differ = 0;
         for (std::size_t i = 0; i < in.size(); ++i) differ += in[i] != blue[i];
         EXPECT_LE(differ, 4) << "pen " << pen[0] << "," << pen[1] << "," << pen[2] << ": " << area
