@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "plausible_hard.h"
 #include "plausible_loft.h"
+#include "plausible_projection.h"
 #include "plausible_state.h"
 
 namespace cm {
@@ -162,7 +163,7 @@ void Plausible::loft() {
     const float share = float(opt_.loft);
     const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> squares{0};
-    loft_by_leaf(vox_, opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
+    loft_by_leaf(vox_, projections(), opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
                  [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
                      std::size_t sq = 0;
                      for (std::size_t k = 0; k < cnt; ++k) {
@@ -181,7 +182,13 @@ void Plausible::loft() {
     st_.square_voxels = squares;
 }
 
+const std::array<Projection, 3>& Plausible::projections() {
+    if (!proj_) proj_ = std::make_shared<const std::array<Projection, 3>>(project_hull(vox_));
+    return *proj_;
+}
+
 void Plausible::fill_in() {
+    proj_.reset();
     if (!coarse_) return;
     const bool lofted = opt_.loft > 0;
     coarse_->interpolate(phi_, lofted ? &thin_ : nullptr, kSquare);

@@ -5,6 +5,7 @@
 // removal (plausible.cpp); 6-7 the output volume (plausible_volume.cpp).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -60,6 +61,8 @@ struct HullVoxels {
     }
 };
 
+struct Projection;
+
 /// A voxel of a line of sight: the line's cell, the voxel's index and its grid point.
 struct Vox {
     std::uint32_t cell, i;
@@ -84,6 +87,9 @@ public:
     /// 2. Hidden depth: thin parts whose depth a wider part hides get a round section
     /// (plausible_ghost.h).
     void ghost();
+    /// 2. The hull's projections along the grid axes, which the lofted and hidden-depth priors
+    /// share (plausible_projection.h): made at the first call, let go by fill_in().
+    const std::array<Projection, 3>& projections();
     /// 2. On grids finer than 256, the field between the lattice points where it was taken
     /// (plausible_coarse.h); nothing at 256.
     void fill_in();
@@ -170,6 +176,7 @@ private:
     // phi_'s buffer).
     std::vector<float> phi_, cur_;
     std::vector<std::uint8_t> thin_;
+    std::shared_ptr<const std::array<Projection, 3>> proj_;
     // On grids finer than 256 the lattice the field is taken on (null: every voxel).
     std::unique_ptr<const CoarseLattice> coarse_;
     std::vector<RayRaster> rasters_;
