@@ -135,8 +135,18 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
       soft_(blend_ > 0),
       deep_(soft_ ? std::exp(-kClamp / blend_) : 0.0f) {
     st_.hull_voxels = vox_.n;
-    phi_.assign(vox_.n, soft_ ? 0.0f : -std::numeric_limits<float>::infinity());
-    thin_.assign(vox_.n, 0);
+    // Written side by side: each thread's first write maps its own pages (a fill in one call
+    // would map all 4 + 1 bytes per voxel on one thread).
+    phi_.resize(vox_.n);
+    thin_.resize(vox_.n);
+    const float phi0 = soft_ ? 0.0f : -std::numeric_limits<float>::infinity();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::fill(phi_.begin() + std::ptrdiff_t(r.begin()), phi_.begin() + std::ptrdiff_t(r.end()),
+                                    phi0);
+                          std::fill(thin_.begin() + std::ptrdiff_t(r.begin()), thin_.begin() + std::ptrdiff_t(r.end()),
+                                    std::uint8_t(0));
+                      });
     // On grids finer than 256 the field is smoothed afterwards (smooth()) over more cells than
     // the trilinear interpolation spans: it is taken every `stride` cells (every cell at 256,
     // every other one at 512, an eighth of the evaluations) and interpolated.

@@ -46,7 +46,7 @@ OnLeaf on_leaf(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAcce
 class FieldAt {
 public:
     FieldAt(const std::vector<LeafMask>& hull_masks, const std::vector<Coord>& hull_origin,
-            const std::vector<std::size_t>& base, const std::vector<float>& field)
+            const std::vector<std::size_t>& base, const UninitVector<float>& field)
         : hull_masks_(hull_masks), base_(base), field_(field) {
         leaf_of_.reserve(hull_origin.size() * 2);
         for (std::size_t l = 0; l < hull_origin.size(); ++l)
@@ -67,7 +67,7 @@ public:
 private:
     const std::vector<LeafMask>& hull_masks_;
     const std::vector<std::size_t>& base_;
-    const std::vector<float>& field_;
+    const UninitVector<float>& field_;
     std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
 };
 
@@ -75,8 +75,8 @@ private:
 // the output's.
 class OutputVolume {
 public:
-    OutputVolume(const Volume& in, HullVoxels& vox, std::vector<std::uint8_t>& removed, const std::vector<float>& field,
-                 PlausibleStats& st)
+    OutputVolume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
+                 const UninitVector<float>& field, PlausibleStats& st)
         : in_(in), vox_(vox), removed_(removed), field_(field), st_(st), nleaf_(vox.nleaf) {}
 
     /// 6. The removed voxels off. The hull's voxels, as numbered, are kept first.
@@ -104,8 +104,8 @@ private:
 
     const Volume& in_;
     HullVoxels& vox_;
-    std::vector<std::uint8_t>& removed_;
-    const std::vector<float>& field_;
+    UninitVector<std::uint8_t>& removed_;
+    const UninitVector<float>& field_;
     PlausibleStats& st_;
     const std::size_t nleaf_;
     // The hull's voxels by leaf (leaves that come back full become tiles: their origins are
@@ -473,8 +473,8 @@ std::size_t OutputVolume::recross(CrossLeaf& leaf, const FieldAt& field_at, cons
 
 } // namespace
 
-std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, std::vector<std::uint8_t>& removed,
-                                         const std::vector<float>& field, PlausibleStats& st,
+std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
+                                         const UninitVector<float>& field, PlausibleStats& st,
                                          const Progress& progress) {
     OutputVolume out(in, vox, removed, field, st);
     // 6. The output occupancy.
