@@ -193,7 +193,7 @@ private:
     // it in saved_ from saved_at_[leaf] (kNotSaved: unchanged, cur_ holds them).
     static constexpr std::size_t kNotSaved = ~std::size_t(0);
     std::vector<std::size_t> saved_at_;
-    std::vector<float> saved_;
+    UninitVector<float> saved_;
 };
 
 template <typename Body>
