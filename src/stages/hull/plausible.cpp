@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "plausible_hard.h"
 #include "plausible_loft.h"
+#include "plausible_projection.h"
 #include "plausible_state.h"
 
 namespace cm {
@@ -134,8 +135,18 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
       soft_(blend_ > 0),
       deep_(soft_ ? std::exp(-kClamp / blend_) : 0.0f) {
     st_.hull_voxels = vox_.n;
-    phi_.assign(vox_.n, soft_ ? 0.0f : -std::numeric_limits<float>::infinity());
-    thin_.assign(vox_.n, 0);
+    // Written side by side: each thread's first write maps its own pages (a fill in one call
+    // would map all 4 + 1 bytes per voxel on one thread).
+    phi_.resize(vox_.n);
+    thin_.resize(vox_.n);
+    const float phi0 = soft_ ? 0.0f : -std::numeric_limits<float>::infinity();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::fill(phi_.begin() + std::ptrdiff_t(r.begin()), phi_.begin() + std::ptrdiff_t(r.end()),
+                                    phi0);
+                          std::fill(thin_.begin() + std::ptrdiff_t(r.begin()), thin_.begin() + std::ptrdiff_t(r.end()),
+                                    std::uint8_t(0));
+                      });
     // On grids finer than 256 the field is smoothed afterwards (smooth()) over more cells than
     // the trilinear interpolation spans: it is taken every `stride` cells (every cell at 256,
     // every other one at 512, an eighth of the evaluations) and interpolated.
@@ -162,7 +173,7 @@ void Plausible::loft() {
     const float share = float(opt_.loft);
     const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> squares{0};
-    loft_by_leaf(vox_, opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
+    loft_by_leaf(vox_, projections(), opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
                  [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
                      std::size_t sq = 0;
                      for (std::size_t k = 0; k < cnt; ++k) {
@@ -181,7 +192,13 @@ void Plausible::loft() {
     st_.square_voxels = squares;
 }
 
+const std::array<Projection, 3>& Plausible::projections() {
+    if (!proj_) proj_ = std::make_shared<const std::array<Projection, 3>>(project_hull(vox_));
+    return *proj_;
+}
+
 void Plausible::fill_in() {
+    proj_.reset();
     if (!coarse_) return;
     const bool lofted = opt_.loft > 0;
     coarse_->interpolate(phi_, lofted ? &thin_ : nullptr, kSquare);

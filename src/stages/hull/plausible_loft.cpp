@@ -52,7 +52,7 @@ using BoxMemo = std::array<std::array<BoxFacts, 8>, 3>;
 
 class Lofter {
 public:
-    Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) { proj_ = project_hull(vox); }
+    Lofter(const std::array<Projection, 3>& proj, double round_exponent) : round_(round_exponent), proj_(proj) {}
 
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is; `found` false where no axis has a section through p (p projects
@@ -164,14 +164,14 @@ private:
     }
 
     double round_;
-    std::array<Projection, 3> proj_;
+    const std::array<Projection, 3>& proj_;
 };
 
 } // namespace
 
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
-                  const LoftLeafBody& body) {
-    const Lofter lofter(vox, round_exponent);
+void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, double round_exponent,
+                  const std::vector<LeafMask>* only, const LoftLeafBody& body) {
+    const Lofter lofter(proj, round_exponent);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<LoftValue> values;
         values.reserve(LeafT::SIZE);
@@ -191,9 +191,10 @@ void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vecto
 
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
     std::vector<LoftValue> out(vox.n);
-    loft_by_leaf(vox, round_exponent, nullptr, [&](std::size_t first, const LoftValue* values, std::size_t count) {
-        std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
-    });
+    loft_by_leaf(vox, project_hull(vox), round_exponent, nullptr,
+                 [&](std::size_t first, const LoftValue* values, std::size_t count) {
+                     std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
+                 });
     return out;
 }
 

@@ -4,6 +4,7 @@
 // smallest (the most section-like), made square where the walls are straight and the view
 // along the axis shows the box's sides as its outline.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -27,8 +28,9 @@ std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
 /// body(first, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
 /// leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
 /// order) just the voxels in it are taken; the others' values are left at zero.
+/// `proj`: the hull's projections (project_hull(), plausible_projection.h).
 using LoftLeafBody = std::function<void(std::size_t first, const LoftValue* values, std::size_t count)>;
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
-                  const LoftLeafBody& body);
+void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, double round_exponent,
+                  const std::vector<LeafMask>* only, const LoftLeafBody& body);
 
 } // namespace cm::plausible

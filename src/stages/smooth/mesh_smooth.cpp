@@ -47,7 +47,9 @@ struct AskedViews {
 
     bool skip = true;
     std::atomic<std::size_t> skipping_steps{0};
-    // Per vertex: a bound on |hull distance| where the vertex is (infinity: none). The hull
+    // Per vertex: a bound on |hull distance| where the vertex is (infinity: none); for a
+    // vertex free inside the hull, a bound on its signed hull distance, which only has to
+    // stay below the tolerance. The hull
     // distance moves by at most `lip` per unit the vertex moves, so a step no longer than
     // (tol - bound) / lip keeps it within the tolerance: that step is taken whole, as asking
     // would have found, without a sample. 0 when some view's distance cannot be bounded so.
@@ -108,6 +110,9 @@ struct AskedViews {
         const double d = hull->distance(p, mask[v]);
         return d >= -tol ? d : (*hull)(p);
     }
+    // With a valid mask, the largest distance of the asked views at p (the hull distance when
+    // it is -tol or more; below -tol otherwise).
+    double masked(std::size_t v, const Vec3d& p) const { return hull->distance(p, mask[v]); }
     // With a valid mask, whether the hull distance at p is at most `limit` (>= -tol).
     bool at_most(std::size_t v, const Vec3d& p, double limit) const { return hull->distance(p, mask[v]) <= limit; }
     // With a valid mask, HullDistance::within (exact as distance()).
@@ -181,11 +186,21 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 return (target - h0) / (h1 - h0);
             };
             double h_end = std::numeric_limits<double>::infinity(); // |hull distance| at the end, when known
-            if (asked.valid(v, reach)) {
+            const bool is_free = free && (*free)[v];
+            if (is_free && asked.surely_within(v, reach)) {
+                // A free vertex whose hull distance is bounded far enough below the tolerance:
+                // the step is taken whole without a sample (the bound moves with it).
+                h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
+                if (asked.valid(v, reach)) {
+                    ++skipping;
+                    asked.moved(v, reach);
+                }
+            } else if (asked.valid(v, reach)) {
                 ++skipping;
-                if (free && (*free)[v]) {
-                    if (!asked.at_most(v, p0 + s, tol))
-                        lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
+                if (is_free) {
+                    const double d = asked.masked(v, p0 + s);
+                    if (d <= tol) h_end = std::max(d, -tol); // the skipped views lie below -tol
+                    else lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
                 } else if (asked.surely_within(v, reach)) {
                     h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
                 } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
@@ -202,7 +217,7 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             } else {
                 // Every view asked at the end of the step, and the mask made afresh there.
                 const double h1 = asked.ask_all(v, p0 + s, reach);
-                if (free && (*free)[v]) {
+                if (is_free) {
                     if (h1 > tol) lo = bisect([&](const Vec3d& x) { return (*hull)(x) <= tol; });
                 } else if (std::fabs(h1) > tol) {
                     const double h0 = (*hull)(p0), bound = std::max(tol, std::fabs(h0));
@@ -211,7 +226,7 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                         lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); },
                                     crossing(h0, h1, bound));
                 }
-                if (lo == 1) h_end = std::fabs(h1);
+                if (lo == 1) h_end = is_free ? h1 : std::fabs(h1);
                 asked.moved(v, reach * (1 - lo)); // the mask is about p0 + s
             }
             asked.now_at(v, lo == 1 ? h_end : std::numeric_limits<double>::infinity());
