@@ -77,6 +77,7 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);
     m.count("ghost_voxels", ghost_voxels);
+    m.count("unpaired_voxels", unpaired_voxels);
     m.metric("cell_px", cell_px);
     m.metric("hardness", hardness);
     m.metric("straight_pct", straight_pct);
@@ -172,24 +173,29 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
 void Plausible::loft() {
     const float share = float(opt_.loft);
     const bool coarse = coarse_ != nullptr;
-    std::atomic<std::size_t> squares{0};
+    std::atomic<std::size_t> squares{0}, unpaired{0};
     loft_by_leaf(vox_, projections(), opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
                  [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
-                     std::size_t sq = 0;
+                     std::size_t sq = 0, un = 0;
                      for (std::size_t k = 0; k < cnt; ++k) {
                          if (coarse && !(thin_[first + k] & kExact)) continue;
                          const LoftValue& v = lofted[k];
                          // A section the view along its axis does not confirm (ghost volume
                          // between limbs) leaves the say to the profiles.
-                         const float own = v.square + (1.0f - v.square) * share * v.fit;
+                         // A box the parts' tracks rule out (a ghost between two legs) is
+                         // the prior's alone: the profiles would fill it.
+                         const float own = std::max(v.drop, v.square + (1.0f - v.square) * share * v.fit);
                          float& phi = phi_[first + k];
                          phi = own * v.field + (1.0f - own) * phi;
                          sq += v.square >= 0.5f;
+                         un += v.drop > 0;
                          if (v.square >= 0.5f) thin_[first + k] |= kSquare;
                      }
                      squares += sq;
+                     unpaired += un;
                  });
     st_.square_voxels = squares;
+    st_.unpaired_voxels = unpaired;
 }
 
 const std::array<Projection, 3>& Plausible::projections() {

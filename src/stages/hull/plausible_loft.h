@@ -18,6 +18,7 @@ struct LoftValue {
     float field = 0;  ///< cells outside the lofted section (<= 0 inside)
     float square = 0; ///< how square the section is, in [0, 1] (1: the hull decides)
     float fit = 0;    ///< how well the view along the section's axis covers its box, in [0, 1]
+    float drop = 0;   ///< 1 in a box that pairs two parts' runs the evidence rules out (plausible_tracks.h)
 };
 
 /// @brief The lofted field of every voxel of `vox` (cells, <= 0 inside the lofted sections;
