@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/image_io.h"
 #include "silhouette.h"
@@ -87,19 +88,17 @@ TEST(InkColours, RedAndBlueOnePixelLinesGiveOneSilhouette) {
     for (const int area : {red_area, blue_area}) EXPECT_NEAR(area, truth, 2 * (kHi - kLo));
 }
 
-TEST(InkColours, EveryInkOfTheIssueGivesOneSilhouette) {
-    // Green, sepia, orange, light cyan, black and grey against blue.
+namespace {
+
+using Pen = std::array<int, 3>;
+
+// Each pen's drawing (made by `draw`) gives blue's silhouette within 4 px.
+void expect_like_blue(Image (*draw)(Pen), const std::vector<Pen>& pens) {
     int blue_area = 0;
-    const std::vector<char> blue = inside(box_in({0x1f, 0x3f, 0x8f}), blue_area);
-    const std::array<std::array<int, 3>, 6> pens{{{0x2a, 0x7a, 0x2a},
-                                                  {0x70, 0x42, 0x14},
-                                                  {0xe0, 0x70, 0x20},
-                                                  {0x40, 0xa0, 0xc0},
-                                                  {0x0d, 0x0d, 0x0f},
-                                                  {0x70, 0x70, 0x70}}};
+    const std::vector<char> blue = inside(draw({0x1f, 0x3f, 0x8f}), blue_area);
     for (const auto& pen : pens) {
         int area = 0;
-        const std::vector<char> in = inside(box_in(pen), area);
+        const std::vector<char> in = inside(draw(pen), area);
         int differ = 0;
         for (std::size_t i = 0; i < in.size(); ++i) differ += in[i] != blue[i];
         EXPECT_LE(differ, 4) << "pen " << pen[0] << "," << pen[1] << "," << pen[2] << ": " << area
@@ -107,24 +106,17 @@ TEST(InkColours, EveryInkOfTheIssueGivesOneSilhouette) {
     }
 }
 
+// Red, green, sepia, orange, light cyan, black and grey.
+const std::vector<Pen> kInks{{0xbf, 0x1f, 0x1a}, {0x2a, 0x7a, 0x2a}, {0x70, 0x42, 0x14}, {0xe0, 0x70, 0x20},
+                             {0x40, 0xa0, 0xc0}, {0x0d, 0x0d, 0x0f}, {0x70, 0x70, 0x70}};
+
+} // namespace
+
+TEST(InkColours, EveryInkOfTheIssueGivesOneSilhouette) { expect_like_blue(box_in, kInks); }
+
 TEST(InkColours, AValleyOfHalfTheInkIsReadAlikeInEveryInk) {
     // The valley between the outline and the line run into it holds exactly half the
     // outline's ink: whether it ends the outline stroke is decided alike in every ink (before,
     // by each colour's bytes: red and blue differed along the top edge).
-    int blue_area = 0;
-    const std::vector<char> blue = inside(box_with_inner_line_in({0x1f, 0x3f, 0x8f}), blue_area);
-    const std::array<std::array<int, 3>, 6> pens{{{0xbf, 0x1f, 0x1a},
-                                                  {0x2a, 0x7a, 0x2a},
-                                                  {0x70, 0x42, 0x14},
-                                                  {0xe0, 0x70, 0x20},
-                                                  {0x40, 0xa0, 0xc0},
-                                                  {0x0d, 0x0d, 0x0f}}};
-    for (const auto& pen : pens) {
-        int area = 0;
-        const std::vector<char> in = inside(box_with_inner_line_in(pen), area);
-        int differ = 0;
-        for (std::size_t i = 0; i < in.size(); ++i) differ += in[i] != blue[i];
-        EXPECT_LE(differ, 4) << "pen " << pen[0] << "," << pen[1] << "," << pen[2] << ": " << area
-                             << " px against blue's " << blue_area;
-    }
+    expect_like_blue(box_with_inner_line_in, kInks);
 }
