@@ -80,3 +80,47 @@ TEST(Reduce, BentCreasesKeepTheirVertices) {
     for (const auto& p : m.positions) after += on_bent(p);
     EXPECT_EQ(after, before);
 }
+
+namespace {
+
+// The area of the faces whose normal is within `deg` of one of the six axis directions.
+double axis_area(const Mesh& m, double deg) {
+    const double c = std::cos(deg * 3.14159265358979 / 180.0);
+    double a = 0;
+    for (const auto& t : m.triangles) {
+        const Vec3d p0(m.positions[t[0]]), p1(m.positions[t[1]]), p2(m.positions[t[2]]);
+        const Vec3d n = cross(p1 - p0, p2 - p0);
+        const double len = length(n);
+        if (len > 0 && std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) >= c * len) a += 0.5 * len;
+    }
+    return a;
+}
+
+} // namespace
+
+TEST(Reduce, KeepPlanesKeepsFlatSidesFlatBesideARoundedCrease) {
+    // The cube's four edges around its top rounded a little (their vertices pulled 0.02 in
+    // along both sides' normals): the faces beside them lean about 9 degrees, less than the
+    // 20 asked, so the vertices beside the crease are candidates, and a collapse of one of
+    // them away from the crease tilts the flat top's faces towards the lean.
+    Mesh m0 = test::make_grid_box(-1.0f, 1.0f, 16);
+    for (auto& p : m0.positions)
+        if (p.z > 1 - 1e-6f) {
+            if (std::fabs(std::fabs(p.x) - 1) < 1e-6f) p.x *= 0.98f, p.z = 0.98f;
+            if (std::fabs(std::fabs(p.y) - 1) < 1e-6f) p.y *= 0.98f, p.z = 0.98f;
+        }
+    const double flat0 = axis_area(m0, 1.0);
+    ReduceOptions o;
+    o.max_angle_deg = 20;
+    Mesh paper = m0;
+    reduce_mesh_in_place(paper, o);
+    o.keep_planes_deg = 1;
+    Mesh m = m0;
+    reduce_mesh_in_place(m, o);
+    const MeshCheck c = check_mesh(m);
+    EXPECT_TRUE(c.closed_manifold());
+    EXPECT_EQ(c.degenerate_faces, 0u);
+    EXPECT_LT(axis_area(paper, 1.0), 0.98 * flat0) << "the paper's collapses tilt flat faces";
+    EXPECT_GT(axis_area(m, 1.0), 0.995 * flat0) << "with keep_planes they keep their plane";
+    EXPECT_LT(m.face_count(), m0.face_count() / 2) << "and the flat sides are still reduced";
+}
