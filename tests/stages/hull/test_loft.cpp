@@ -295,9 +295,9 @@ std::map<std::string, Mesh> through_loft_yaml(const Known& k) {
 // back within 1 % of their diagonal (over the written mesh's area: the per-vertex mean of the
 // cone's reduced mesh is 1.03 %, its vertices kept at the apex and rim). The hard ones keep flat
 // faces: the volume (its Marching Cubes mesh) over 95 % of the area within 2 deg of the true
-// normal, and so the written box and wedge; the written cylinder is not (about 70 %): the
-// shared smoothing and the 20-degree reduction facet its side and tilt its caps' rim, as with
-// pipelines/paper.yaml, whose hull it keeps.
+// normal, and so the written box and wedge, and the written cylinder's flat caps (its side is
+// faceted by the 20-degree reduction): the smoothing holds their sharp creases (`creases`) and
+// the reduction removes crease vertices along their crease (`crease_straightness`).
 TEST(HullLoft, LoftYamlOnShapesWhoseAnswerIsKnown) {
     for (const auto& [name, k] : round_shapes()) {
         const auto m = through_loft_yaml(k);
