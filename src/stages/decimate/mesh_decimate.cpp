@@ -237,10 +237,11 @@ void ReduceOptions::declare_angle(ParamBinder& b) {
                                           "largest angle between the face normals around a removable vertex (the "
                                           "paper: 5 to 40; larger reduces more)"));
     b.add(crease_straightness_deg,
-          ParamSpec::Float("crease_straightness", 0.0, 0.0, 30.0, "deg",
-                           "a vertex in the middle of a straight crease (two sides, each flat within max_angle_deg, "
-                           "meeting along two edges that continue each other within this) is removed along the "
-                           "crease, which stays where it is; 0: off, as in the paper"));
+          ParamSpec::Float(
+              "crease_straightness", 0.0, 0.0, 30.0, "deg",
+              "a vertex in the middle of a crease (two sides, each flat within max_angle_deg, meeting along two "
+              "edges that continue each other within this) is removed along the crease, which stays where it "
+              "is when straight (a curved one is cut by a chord); 0: off, as in the paper"));
     b.add(keep_planes_deg,
           ParamSpec::Float("keep_planes", 0.0, 0.0, 30.0, "deg",
                            "refuse collapses that give a face a normal further than this from every normal the "
