@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
+#include "smooth_creases.h"
 #include "smooth_guard.h"
 #include "util/uninit_vector.h"
 
@@ -128,8 +129,9 @@ struct AskedViews {
 // With a hull, the step is shortened so that |hull distance| stays within the
 // tolerance (or does not grow, for a vertex that starts outside the band).
 // `free` (may be null): the vertices that only have to stay inside the hull (within tol).
+// `plane` (may be null): per vertex, the normal of the plane its step is kept in (zero: free).
 std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std::vector<Vec3f>& dst, double w,
-                  AskedViews& asked, const std::vector<char>* free) {
+                  AskedViews& asked, const std::vector<char>* free, const std::vector<Vec3f>* plane) {
     const HullDistance* hull = asked.hull;
     const double tol = asked.tol;
     const std::size_t nv = src.size();
@@ -147,7 +149,11 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             }
             Vec3f sum{0, 0, 0};
             for (std::uint32_t i = b; i < e; ++i) sum += src[adj.neighbours[i]];
-            const Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
+            Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
+            if (plane) {
+                const Vec3f n = (*plane)[v];
+                step -= n * dot(step, n);
+            }
             if (!hull) {
                 dst[v] = p + step;
                 continue;
@@ -279,7 +285,11 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
     {
         // The adjacency and the second buffer are let go before the guard, the largest user
         // of memory, builds its indices.
-        const VertexAdjacency adj = build_vertex_adjacency(in);
+        const VertexAdjacency ring = build_vertex_adjacency(in);
+        std::optional<CreaseHold> hold;
+        if (opt.crease_angle_deg > 0) hold.emplace(hold_creases(in, ring, opt.crease_angle_deg));
+        const VertexAdjacency& adj = hold ? hold->adj : ring;
+        const std::vector<Vec3f>* plane = hold ? &hold->plane : nullptr;
         std::vector<Vec3f> b(a.size());
         AskedViews asked(hull, tol, a.size(), opt.skip_far_views);
         // Vertices that start inside the hull, farther than the tolerance, move freely inside it.
@@ -293,15 +303,15 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
         for (int it = 0; it < opt.iterations; ++it) {
             if (opt.method == SmoothOptions::Method::Laplacian) {
-                stats.clamped_steps += relax(adj, a, b, opt.factor, asked, free);
+                stats.clamped_steps += relax(adj, a, b, opt.factor, asked, free, plane);
                 a.swap(b);
             } else {
-                stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free);
-                stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free);
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free, plane);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free, plane);
             }
             progress(double(it + 1) / opt.iterations);
         }
-        for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
+        for (std::size_t v = 0; v < used.size(); ++v) used[v] = ring.degree(std::uint32_t(v)) > 0;
         stats.skipping_steps = asked.skipping_steps.load();
     }
     if (opt.guard) guard_surface(in, a, stats);
@@ -337,6 +347,11 @@ void SmoothOptions::declare_common(ParamBinder& b) {
                                  "keep the surface valid: vertices of faces that would cross another face, turn "
                                  "over or collapse, and vertices drawn onto another vertex, are moved back towards "
                                  "their input positions"));
+    b.add(crease_angle_deg,
+          ParamSpec::Float("creases", 0.0, 0.0, 180.0, "deg",
+                           "hold sharp creases: a vertex on an edge whose two faces meet at more than this "
+                           "smooths along its crease only (and stays where creases end or meet), a vertex "
+                           "beside one stays in its plane; 0: off, as in the paper"));
 }
 
 void SmoothOptions::declare_laplacian(ParamBinder& b) {
