@@ -193,9 +193,10 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             };
             double h_end = std::numeric_limits<double>::infinity(); // |hull distance| at the end, when known
             const bool is_free = free && (*free)[v];
-            if (is_free && asked.surely_within(v, reach)) {
-                // A free vertex whose hull distance is bounded far enough below the tolerance:
-                // the step is taken whole without a sample (the bound moves with it).
+            if (asked.surely_within(v, reach) && (is_free || asked.valid(v, reach))) {
+                // The hull distance is bounded far enough within the tolerance: the step is
+                // taken whole without a sample (the bound moves with it). A free vertex's bound
+                // holds without the mask, which only has to stay below the tolerance.
                 h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
                 if (asked.valid(v, reach)) {
                     ++skipping;
@@ -207,8 +208,6 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                     const double d = asked.masked(v, p0 + s);
                     if (d <= tol) h_end = std::max(d, -tol); // the skipped views lie below -tol
                     else lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
-                } else if (asked.surely_within(v, reach)) {
-                    h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
                 } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
                     const double h0 = asked.distance(v, p0), bound = std::max(tol, std::fabs(h0));
                     std::size_t first = 0; // the view that refused the last point
