@@ -1,7 +1,7 @@
 // Steps 6 and 7 of hull.plausible (plausible_state.h): from the voxels the field removes to
 // the volume the extractors take. 6: the output occupancy (removed voxels off, plates one cell
 // thin put back, sealed pockets filled, pieces cut off bridged back to the body, full leaves
-// back to tiles); 7: the thin-part edges beside a removed grid point dropped, and the
+// back to tiles); 7: the thin parts that would float free dropped (plausible_thin.h), and the
 // crossings: the hull's own where an edge still runs to the outside of the hull, the field's
 // zero level on edges into the removed region.
 #include <openvdb/tools/Prune.h>
@@ -15,6 +15,7 @@
 
 #include "leaf_masks.h"
 #include "plausible_state.h"
+#include "plausible_thin.h"
 
 namespace cm::plausible {
 
@@ -262,7 +263,7 @@ void OutputVolume::join_pieces() {
     std::vector<LeafMask> kept(nleaf_);
     tbb::parallel_for(std::size_t(0), nleaf_, [&](std::size_t l) { kept[l] = leaf_mask(leaves.leaf(l)); });
     std::size_t joined = 0;
-    const std::vector<Coord> path = bridges(leaves, nbr_, hull_masks_, kept, std::max(8, vox_.maxdim / 16), &joined);
+    const std::vector<Coord> path = bridges(leaves, nbr_, hull_masks_, kept, std::max(8, vox_.maxdim / 8), &joined);
     // A path one voxel wide would be a strand a cell thin in the mesh: it is thickened by
     // its face neighbours within the hull.
     std::size_t added = 0;
@@ -315,59 +316,9 @@ std::shared_ptr<Volume> OutputVolume::output() {
     return out;
 }
 
-// Thin parts between grid points hang on the hull's surface next to them: where the removal
-// took any grid point around one, it would float free, so it goes.
+// Thin parts that would float free go (plausible_thin.h).
 void OutputVolume::drop_thin_parts(Volume& out) const {
-    auto enter = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in_.find_extra("thin_enter"));
-    auto leave = openvdb::GridBase::grid<openvdb::Vec3fGrid>(in_.find_extra("thin_leave"));
-    std::size_t dropped = 0;
-    for (const auto& g : in_.extra) {
-        if (g == enter || g == leave) continue;
-        out.extra.push_back(g);
-    }
-    if (enter && leave) {
-        auto e2 = enter->deepCopy(), l2 = leave->deepCopy();
-        auto was = in_.occupancy->getConstAccessor();
-        auto now = vox_.occ->getConstAccessor();
-        auto la = l2->getAccessor();
-        std::vector<Coord> off;
-        for (auto it = e2->beginValueOn(); it; ++it) {
-            const Coord p = it.getCoord();
-            openvdb::Vec3f te = *it, tl = la.getValue(p);
-            bool any = false;
-            for (int a = 0; a < 3; ++a) {
-                if (te[a] < 0) continue;
-                Coord q = p;
-                q[a] += 1;
-                bool cut = false;
-                for (int k = 0; k < 27 * 2 && !cut; ++k) {
-                    const Coord g = (k < 27 ? p : q).offsetBy(k % 27 / 9 - 1, k % 9 / 3 - 1, k % 3 - 1);
-                    cut = was.isValueOn(g) && !now.isValueOn(g);
-                }
-                if (cut) {
-                    te[a] = tl[a] = -1.0f;
-                    ++dropped;
-                } else {
-                    any = true;
-                }
-            }
-            if (any) {
-                it.setValue(te);
-                la.setValue(p, tl);
-            } else {
-                off.push_back(p);
-            }
-        }
-        for (const Coord& p : off) {
-            e2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
-            l2->tree().setValueOff(p, openvdb::Vec3f(-1.0f));
-        }
-        if (e2->activeVoxelCount() > 0) {
-            out.extra.push_back(e2);
-            out.extra.push_back(l2);
-        }
-    }
-    st_.thin_dropped = dropped;
+    st_.thin_dropped = keep_hanging_thin_parts(in_, *vox_.occ, out);
 }
 
 // The leaves of crossings to revisit: those holding removed voxels, and the ones just below in
