@@ -18,11 +18,21 @@ constexpr double kCoverOut = 0.3, kCoverIn = 0.55;
 // More stations per side than this many pairs are not weighed (a ragged outline).
 constexpr std::size_t kMaxRuns = 8;
 
+// A run shorter than a kSmall-th of a run it touches at the next station, or than 3 cells, is a
+// small part beside it (a toe or a claw splitting off a foot, a finger off a hand): the larger
+// run's track goes on through it.
+constexpr int kSmall = 3;
+
 bool overlap(const Interval& x, const Interval& y) { return x.lo <= y.hi && y.lo <= x.hi; }
 
+// Whether run y, touching run x at the next or the previous station, is a part of its own
+// beside x rather than a small part (kSmall).
+bool counts(const Interval& x, const Interval& y) { return y.size() * kSmall >= std::max(3 * kSmall, x.size()); }
+
+// The runs of `row` touching x that are not small beside it.
 std::size_t degree(const Interval& x, const std::vector<std::pair<Interval, std::int32_t>>& row) {
     std::size_t n = 0;
-    for (const auto& r : row) n += overlap(x, r.first);
+    for (const auto& r : row) n += overlap(x, r.first) && counts(x, r.first);
     return n;
 }
 
@@ -64,9 +74,13 @@ TrackMap trace_tracks(const Projection& P, int a) {
             if (s > 0) {
                 const auto& prev = T.runs[std::size_t(s - 1)];
                 up = degree(run.first, prev);
+                // The one run of the last station it touches (small ones aside), and it the one
+                // of this station that run touches: one part going on.
                 if (up == 1)
                     for (const auto& q : prev)
-                        if (overlap(run.first, q.first) && degree(q.first, row) == 1) t = q.second;
+                        if (overlap(run.first, q.first) && counts(run.first, q.first) && counts(q.first, run.first) &&
+                            degree(q.first, row) == 1)
+                            t = q.second;
             }
             if (t < 0) {
                 t = std::int32_t(T.tracks.size());
