@@ -287,7 +287,7 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const VertexAdjacency ring = build_vertex_adjacency(in);
         std::optional<CreaseHold> hold;
         if (opt.crease_angle_deg > 0) {
-            hold.emplace(hold_creases(in, ring, opt.crease_angle_deg, opt.crease_reach));
+            hold.emplace(hold_creases(in, ring, opt.crease_angle_deg, opt.crease_reach, opt.crease_views));
             stats.creases = true;
             stats.crease_vertices = hold->crease_vertices;
             stats.crease_held = hold->held_vertices;

@@ -6,7 +6,10 @@
 #pragma once
 #include <cstddef>
 
+#include <vector>
+
 #include "core/algorithm.h"
+#include "core/camera.h"
 #include "core/mesh.h"
 
 namespace cm {
@@ -43,6 +46,10 @@ struct SmoothOptions {
     /// lengths of the input (a carved hull's short steps and facets are smoothed); 0: every
     /// crease.
     double crease_reach;
+    /// With `crease_reach`: the views' cameras; a short crease's edges along a line of sight of
+    /// one of them (an outline's corner swept along it) are held. The stage sets them from its
+    /// views input. Not a parameter.
+    std::vector<Camera> crease_views;
     /// With a hull: a view that sees a vertex far inside its silhouette is not asked again
     /// until the vertex may have come near enough for its answer to matter (the same result
     /// either way, about a third of the samples with three views; false asks every view at

@@ -70,7 +70,18 @@ void join_across_gaps(const Mesh& in, const EdgeList& sharp_edges, std::vector<s
 // The sharp edges that belong to a crease reaching at least `reach` (the diagonal of the box
 // around its connected sharp edges, pieces continuing each other across `gap` joined); the
 // others dropped. Returns how many creases were dropped.
-std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reach, double gap) {
+// Whether the edge a-b runs along a line of sight of one of `views` (within 10 degrees): the
+// wall a view's outline sweeps has its corners along its lines of sight.
+bool along_a_view(const Mesh& in, std::uint32_t a, std::uint32_t b, const std::vector<Camera>& views) {
+    const Vec3d e = Vec3d(in.positions[b]) - Vec3d(in.positions[a]);
+    const double le = length(e);
+    return le > 0 && std::any_of(views.begin(), views.end(), [&](const Camera& c) {
+               return c.orthographic() && std::fabs(dot(e, c.d)) > 0.94 * le * length(c.d);
+           });
+}
+
+std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reach, double gap,
+                              const std::vector<Camera>& views) {
     std::vector<std::uint32_t> parent(in.positions.size());
     for (const auto& [a, b] : sharp_edges) parent[a] = a, parent[b] = b;
     for (const auto& [a, b] : sharp_edges) {
@@ -97,13 +108,16 @@ std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reac
             counted[r] = 1;
             ++dropped;
         }
-    std::erase_if(sharp_edges, [&](const auto& e) { return is_short(find(parent, e.first)); });
+    std::erase_if(sharp_edges, [&](const auto& e) {
+        return is_short(find(parent, e.first)) && !along_a_view(in, e.first, e.second, views);
+    });
     return dropped;
 }
 
 } // namespace
 
-CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach) {
+CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach,
+                        const std::vector<Camera>& views) {
     const std::size_t nv = in.positions.size(), nf = in.triangles.size();
     std::vector<Vec3d> normal(nf);
     for (std::size_t f = 0; f < nf; ++f) {
@@ -141,7 +155,7 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
     CreaseHold h;
     if (min_reach > 0 && edge_count > 0) {
         const double mean_edge = edge_length / double(edge_count);
-        h.short_creases = keep_long_creases(in, sharp_edges, min_reach * mean_edge, 3 * mean_edge);
+        h.short_creases = keep_long_creases(in, sharp_edges, min_reach * mean_edge, 3 * mean_edge, views);
     }
     std::vector<Sharp> sharp(nv);
     for (const auto& [a, b] : sharp_edges) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <vector>
 
+#include "core/camera.h"
 #include "core/mesh.h"
 #include "geometry/mesh_adjacency.h"
 
@@ -29,6 +30,10 @@ struct CreaseHold {
 /// the box around a crease's connected sharp edges): the short creases of a surface carved on
 /// a grid, a voxel's steps and the facets where many cameras' cones meet, are smoothed as any
 /// vertex, the long edges of a drawn corner are held.
-CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach = 0);
+/// A sharp edge of a short crease is held all the same where it runs along a line of sight of
+/// one of `views` (within 10 degrees): a corner of that view's outline, swept along its lines
+/// of sight.
+CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach = 0,
+                        const std::vector<Camera>& views = {});
 
 } // namespace cm
