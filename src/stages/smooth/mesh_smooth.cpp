@@ -360,8 +360,9 @@ void SmoothOptions::declare_common(ParamBinder& b) {
     b.add(crease_reach,
           ParamSpec::Float("crease_reach", 0.0, 0.0, 1e6, "edges",
                            "with creases: hold only a crease (connected sharp edges) whose box reaches at least "
-                           "this many mean edge lengths; shorter ones (the steps of a hull carved from many "
-                           "cameras) are smoothed; 0: every crease"));
+                           "this many mean edge lengths, and the edges of shorter ones along an orthographic "
+                           "view's direction; other short ones (the steps of a hull carved from many cameras) "
+                           "are smoothed; 0: every crease"));
 }
 
 void SmoothOptions::declare_laplacian(ParamBinder& b) {
