@@ -286,7 +286,13 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         // of memory, builds its indices.
         const VertexAdjacency ring = build_vertex_adjacency(in);
         std::optional<CreaseHold> hold;
-        if (opt.crease_angle_deg > 0) hold.emplace(hold_creases(in, ring, opt.crease_angle_deg));
+        if (opt.crease_angle_deg > 0) {
+            hold.emplace(hold_creases(in, ring, opt.crease_angle_deg, opt.crease_reach, opt.crease_views));
+            stats.creases = true;
+            stats.crease_vertices = hold->crease_vertices;
+            stats.crease_held = hold->held_vertices;
+            stats.short_creases = hold->short_creases;
+        }
         const VertexAdjacency& adj = hold ? hold->adj : ring;
         const std::vector<Vec3f>* plane = hold ? &hold->plane : nullptr;
         std::vector<Vec3f> b(a.size());
@@ -351,6 +357,12 @@ void SmoothOptions::declare_common(ParamBinder& b) {
                            "hold sharp creases: a vertex on an edge whose two faces meet at more than this "
                            "smooths along its crease only (and stays where creases end or meet), a vertex "
                            "beside one stays in its plane; 0: off, as in the paper"));
+    b.add(crease_reach,
+          ParamSpec::Float("crease_reach", 0.0, 0.0, 1e6, "edges",
+                           "with creases: hold only a crease (connected sharp edges) whose box reaches at least "
+                           "this many mean edge lengths, and the edges of shorter ones along an orthographic "
+                           "view's direction; other short ones (the steps of a hull carved from many cameras) "
+                           "are smoothed; 0: every crease"));
 }
 
 void SmoothOptions::declare_laplacian(ParamBinder& b) {
@@ -377,6 +389,11 @@ void SmoothStats::report(Metrics& m) const {
         if (unresolved)
             m.warn(std::to_string(unresolved) +
                    " faces of the input cross another face, turn over or collapse; smoothing left them as they were");
+    }
+    if (creases) {
+        m.count("crease_vertices", crease_vertices);
+        m.count("crease_held", crease_held);
+        m.count("short_creases", short_creases);
     }
     if (constrained) {
         m.count("clamped_steps", clamped_steps);

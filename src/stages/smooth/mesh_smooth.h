@@ -6,7 +6,10 @@
 #pragma once
 #include <cstddef>
 
+#include <vector>
+
 #include "core/algorithm.h"
+#include "core/camera.h"
 #include "core/mesh.h"
 
 namespace cm {
@@ -39,6 +42,14 @@ struct SmoothOptions {
     /// (degrees) smooths along its crease only (or stays, where creases end or meet), and a
     /// vertex beside one stays in its plane (smooth_creases.h); 0: off (the paper).
     double crease_angle_deg;
+    /// With `crease_angle_deg`: hold only the creases that reach at least this many mean edge
+    /// lengths of the input (a carved hull's short steps and facets are smoothed); 0: every
+    /// crease.
+    double crease_reach;
+    /// With `crease_reach`: the views' cameras; a short crease's edges along a line of sight of
+    /// one of them (an outline's corner swept along it) are held. The stage sets them from its
+    /// views input. Not a parameter.
+    std::vector<Camera> crease_views;
     /// With a hull: a view that sees a vertex far inside its silhouette is not asked again
     /// until the vertex may have come near enough for its answer to matter (the same result
     /// either way, about a third of the samples with three views; false asks every view at
@@ -52,7 +63,7 @@ struct SmoothOptions {
         declare_laplacian(b);
         declare_taubin(b);
     }
-    /// `iterations`, `constrain`, `tolerance`, `guard` and `creases`.
+    /// `iterations`, `constrain`, `tolerance`, `guard`, `creases` and `crease_reach`.
     void declare_common(ParamBinder& b);
     /// `factor`.
     void declare_laplacian(ParamBinder& b);
@@ -74,6 +85,10 @@ struct SmoothStats {
     std::size_t pulled_back = 0;                ///< guard: vertices moved back towards their input positions
     std::size_t guard_rounds = 0;               ///< guard: checks run (the first covers every face)
     std::size_t unresolved = 0;                 ///< guard: bad faces left (only when the input had them)
+    bool creases = false;                       ///< the crease hold ran
+    std::size_t crease_vertices = 0;            ///< creases: vertices moving along their crease only
+    std::size_t crease_held = 0;                ///< creases: vertices held (crease ends and meetings)
+    std::size_t short_creases = 0;              ///< creases: short creases smoothed (crease_reach)
     /// Vertices, faces, the volume before and after and its change, the guard's figures (and a
     /// warning for faces it could not mend) and the constraint's (max_hull_distance_px).
     void report(Metrics& m) const;

@@ -1,6 +1,7 @@
 #include "smooth_creases.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
@@ -18,9 +19,105 @@ struct Sharp {
     }
 };
 
+// The root of `v`'s set (path halving).
+std::uint32_t find(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+}
+
+using EdgeList = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+
+// Joins the sets of two crease ends that continue each other across a gap of at most `gap`
+// (each end's last edge points at the other end within about 37 degrees): a drawn corner that
+// Marching Cubes bevels in places is one crease in pieces; the steps of a carved surface lie
+// side by side, not end to end.
+void join_across_gaps(const Mesh& in, const EdgeList& sharp_edges, std::vector<std::uint32_t>& parent, double gap) {
+    std::vector<std::uint32_t> degree(in.positions.size(), 0), prev(in.positions.size(), 0);
+    for (const auto& [a, b] : sharp_edges) {
+        ++degree[a], ++degree[b];
+        prev[a] = b, prev[b] = a;
+    }
+    std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> ends; // cell, end vertex
+    const auto cell = [&](const Vec3f& p) {
+        return std::array<std::int64_t, 3>{std::int64_t(std::floor(p.x / gap)), std::int64_t(std::floor(p.y / gap)),
+                                           std::int64_t(std::floor(p.z / gap))};
+    };
+    for (const auto& [a, b] : sharp_edges)
+        for (const std::uint32_t v : {a, b})
+            if (degree[v] == 1) ends.emplace_back(cell(in.positions[v]), v);
+    std::sort(ends.begin(), ends.end());
+    const auto outward = [&](std::uint32_t v) { return normalize(Vec3d(in.positions[v] - in.positions[prev[v]])); };
+    for (const auto& [c, v] : ends) {
+        const Vec3d pv(in.positions[v]), dv = outward(v);
+        for (std::int64_t dx = -1; dx <= 1; ++dx)
+            for (std::int64_t dy = -1; dy <= 1; ++dy)
+                for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                    const std::array<std::int64_t, 3> k{c[0] + dx, c[1] + dy, c[2] + dz};
+                    auto it = std::lower_bound(ends.begin(), ends.end(), std::make_pair(k, std::uint32_t(0)));
+                    for (; it != ends.end() && it->first == k; ++it) {
+                        const std::uint32_t w = it->second;
+                        if (w <= v) continue;
+                        const Vec3d gvw = Vec3d(in.positions[w]) - pv;
+                        const double d = length(gvw);
+                        if (d > gap || d == 0 || dot(dv, gvw) < 0.8 * d || dot(outward(w), gvw) > -0.8 * d) continue;
+                        const std::uint32_t rv = find(parent, v), rw = find(parent, w);
+                        if (rv != rw) parent[std::max(rv, rw)] = std::min(rv, rw);
+                    }
+                }
+    }
+}
+
+// The sharp edges that belong to a crease reaching at least `reach` (the diagonal of the box
+// around its connected sharp edges, pieces continuing each other across `gap` joined); the
+// others dropped. Returns how many creases were dropped.
+// Whether the edge a-b runs along a line of sight of one of `views` (within 10 degrees): the
+// wall a view's outline sweeps has its corners along its lines of sight.
+bool along_a_view(const Mesh& in, std::uint32_t a, std::uint32_t b, const std::vector<Camera>& views) {
+    const Vec3d e = Vec3d(in.positions[b]) - Vec3d(in.positions[a]);
+    const double le = length(e);
+    return le > 0 && std::any_of(views.begin(), views.end(), [&](const Camera& c) {
+               return c.orthographic() && std::fabs(dot(e, c.d)) > 0.94 * le * length(c.d);
+           });
+}
+
+std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reach, double gap,
+                              const std::vector<Camera>& views) {
+    std::vector<std::uint32_t> parent(in.positions.size());
+    for (const auto& [a, b] : sharp_edges) parent[a] = a, parent[b] = b;
+    for (const auto& [a, b] : sharp_edges) {
+        const std::uint32_t ra = find(parent, a), rb = find(parent, b);
+        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    join_across_gaps(in, sharp_edges, parent, gap);
+    struct Box {
+        Vec3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+    };
+    std::vector<Box> box(in.positions.size());
+    for (const auto& [a, b] : sharp_edges)
+        for (const std::uint32_t v : {a, b}) {
+            Box& x = box[find(parent, v)];
+            const Vec3f& p = in.positions[v];
+            x.lo = Vec3f(std::min(x.lo.x, p.x), std::min(x.lo.y, p.y), std::min(x.lo.z, p.z));
+            x.hi = Vec3f(std::max(x.hi.x, p.x), std::max(x.hi.y, p.y), std::max(x.hi.z, p.z));
+        }
+    const auto is_short = [&](std::uint32_t root) { return double(length(box[root].hi - box[root].lo)) < reach; };
+    std::size_t dropped = 0;
+    std::vector<char> counted(in.positions.size(), 0);
+    for (const auto& [a, b] : sharp_edges)
+        if (const std::uint32_t r = find(parent, a); !counted[r] && is_short(r)) {
+            counted[r] = 1;
+            ++dropped;
+        }
+    std::erase_if(sharp_edges, [&](const auto& e) {
+        return is_short(find(parent, e.first)) && !along_a_view(in, e.first, e.second, views);
+    });
+    return dropped;
+}
+
 } // namespace
 
-CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg) {
+CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach,
+                        const std::vector<Camera>& views) {
     const std::size_t nv = in.positions.size(), nf = in.triangles.size();
     std::vector<Vec3d> normal(nf);
     for (std::size_t f = 0; f < nf; ++f) {
@@ -39,25 +136,35 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
         }
     std::sort(edges.begin(), edges.end());
     const double cos_angle = std::cos(angle_deg * 3.14159265358979323846 / 180.0);
-    std::vector<Sharp> sharp(nv);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> sharp_edges;
+    double edge_length = 0;
+    std::size_t edge_count = 0;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+        const auto a = std::uint32_t(edges[i].first >> 32), b = std::uint32_t(edges[i].first);
+        edge_length += double(length(in.positions[a] - in.positions[b]));
+        ++edge_count;
         if (j - i == 2) {
             const Vec3d &n0 = normal[edges[i].second], &n1 = normal[edges[i + 1].second];
             const double l0 = length(n0), l1 = length(n1);
-            if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) {
-                const auto a = std::uint32_t(edges[i].first >> 32), b = std::uint32_t(edges[i].first);
-                sharp[a].add(b);
-                sharp[b].add(a);
-            }
+            if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) sharp_edges.emplace_back(a, b);
         }
         i = j;
+    }
+    CreaseHold h;
+    if (min_reach > 0 && edge_count > 0) {
+        const double mean_edge = edge_length / double(edge_count);
+        h.short_creases = keep_long_creases(in, sharp_edges, min_reach * mean_edge, 3 * mean_edge, views);
+    }
+    std::vector<Sharp> sharp(nv);
+    for (const auto& [a, b] : sharp_edges) {
+        sharp[a].add(b);
+        sharp[b].add(a);
     }
     std::vector<Vec3d> mean(nv, Vec3d(0, 0, 0));
     for (std::size_t f = 0; f < nf; ++f)
         for (auto v : in.triangles[f]) mean[v] += normal[f];
-    CreaseHold h;
     h.plane.assign(nv, Vec3f(0, 0, 0));
     h.adj.offsets.assign(nv + 1, 0);
     for (std::size_t v = 0; v < nv; ++v) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <vector>
 
+#include "core/camera.h"
 #include "core/mesh.h"
 #include "geometry/mesh_adjacency.h"
 
@@ -19,10 +20,20 @@ struct CreaseHold {
     /// normal in the input) for a vertex off the creases beside one; zero: free.
     std::vector<Vec3f> plane;
     std::size_t crease_vertices = 0, held_vertices = 0, plane_vertices = 0;
+    /// Creases (connected sharp edges) not held because they reach less than `min_reach`.
+    std::size_t short_creases = 0;
 };
 
 /// The hold of `in` (closed or not; edges with other than two faces are not creases) for
-/// creases sharper than `angle_deg`, from its one-rings `ring`.
-CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg);
+/// creases sharper than `angle_deg`, from its one-rings `ring`. With `min_reach` > 0 only the
+/// creases that reach at least that many mean edge lengths of `in` are held (the diagonal of
+/// the box around a crease's connected sharp edges): the short creases of a surface carved on
+/// a grid, a voxel's steps and the facets where many cameras' cones meet, are smoothed as any
+/// vertex, the long edges of a drawn corner are held.
+/// A sharp edge of a short crease is held all the same where it runs along a line of sight of
+/// one of `views` (within 10 degrees): a corner of that view's outline, swept along its lines
+/// of sight.
+CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach = 0,
+                        const std::vector<Camera>& views = {});
 
 } // namespace cm

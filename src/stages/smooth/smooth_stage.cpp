@@ -17,7 +17,10 @@ Data run_smooth(const Inputs& in, Context& ctx, const SmoothOptions& opt) {
     std::unique_ptr<HullDistance> hull;
     if (opt.constrain != SmoothOptions::Constrain::None && in.has("views"))
         hull = std::make_unique<HullDistance>(*in.get<Views>("views"));
-    auto [mesh, stats] = smooth_mesh(*src, opt, hull.get(), ctx.progress("smoothing"));
+    SmoothOptions o = opt;
+    if (o.crease_reach > 0 && in.has("views"))
+        for (const View& v : in.get<Views>("views")->views) o.crease_views.push_back(v.camera);
+    auto [mesh, stats] = smooth_mesh(*src, o, hull.get(), ctx.progress("smoothing"));
     stats.report(ctx);
     return std::make_shared<const Mesh>(std::move(mesh));
 }
