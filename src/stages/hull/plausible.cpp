@@ -51,7 +51,7 @@ void PlausibleOptions::declare(ParamBinder& b) {
                                  "outline): 0 the drawings' depth profiles alone, 1 the lofted sections alone"));
     b.add(hard_surface,
           ParamSpec::Float("hard_surface", 0.0, 0.0, 1.0, "",
-                           "weight of the hard-surface detection: where every view's outline runs mostly along "
+                           "weight of the hard-surface detection: where every axis view's outline runs mostly along "
                            "straight lines (a machined part), roundness and loft are scaled down by this times the "
                            "detected hardness, keeping the hull; 0 never"));
     b.add(ghost, ParamSpec::Float("ghost", 0.0, 0.0, 1.0, "",

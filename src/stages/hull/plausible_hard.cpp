@@ -101,10 +101,22 @@ double outline_straightness(const View& view) {
     return double(straight) / double(n);
 }
 
+bool along_axis(const View& view) {
+    const Camera& c = view.camera;
+    if (!c.orthographic()) return false;
+    const double a = std::max({std::abs(c.d.x), std::abs(c.d.y), std::abs(c.d.z)});
+    return a > (1.0 - 1e-9) * length(c.d); // the other two components vanish
+}
+
 double hard_surface(const Views& views, std::vector<double>& shares) {
     shares.clear();
+    // The views along the grid's axes decide when there are any (an oblique view's outline
+    // crowds more corners within the reach, and shows curved faces' contours that the axis
+    // views see edge-on); without any, every view does.
+    const bool any_axis = std::any_of(views.views.begin(), views.views.end(), along_axis);
     double least = 1.0;
     for (const View& v : views.views) {
+        if (any_axis && !along_axis(v)) continue;
         shares.push_back(outline_straightness(v));
         least = std::min(least, shares.back());
     }

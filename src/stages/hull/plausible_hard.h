@@ -21,9 +21,17 @@ double outline_straightness(const View& view);
 /// Cells along the silhouette box's longest side of outline_straightness()'s raster.
 constexpr int kStraightCells = 460;
 
+/// Whether a view is orthographic along one of the world's axes (front, right, top, ... or an
+/// azimuth and elevation that are multiples of 90 degrees).
+bool along_axis(const View& view);
+
 /// @brief How hard-surfaced the views say the object is, in [0, 1]: a smooth step of the
-/// least straight view's share (from 0 at 0.06 to 1 at 0.12; a curved view rounds the shape).
-/// `shares` gets each view's outline_straightness().
+/// least straight deciding view's share (from 0 at 0.06 to 1 at 0.12; a curved view rounds
+/// the shape). The views along the world's axes decide when there are any (a machined
+/// part's faces and edges are seen edge-on along its axes; seen obliquely, its outline
+/// crowds more corners and shows its curved faces' contours: fandisk's oblique view at
+/// azimuth 45, elevation 30 keeps 10.9 % of its outline straight, its top view 22.6 %);
+/// otherwise every view does. `shares` gets each deciding view's outline_straightness().
 double hard_surface(const Views& views, std::vector<double>& shares);
 
 } // namespace cm::plausible

@@ -5,12 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <iostream>
 
 #include "hull_steps.h"
+#include "io/mesh_io.h"
 #include "plausible.h"
 #include "plausible_coarse.h"
 #include "plausible_hard.h"
 #include "plausible_loft.h"
+#include "render/raster.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
 
@@ -171,4 +175,81 @@ TEST(HullHard, CoarseFieldFollowsTheExactOne) {
     EXPECT_LT(sum / double(exact.size()), 0.5);
     EXPECT_LT(double(over), 0.1 * double(exact.size()));
     EXPECT_GT(lattice_count, exact.size() / 10);
+}
+
+// Which views look along a world axis: the named ones and azimuths and elevations that are
+// multiples of 90 degrees; not an oblique view nor a perspective camera.
+TEST(HullHard, ViewsAlongTheAxesAreFound) {
+    View v;
+    for (const char* n : {"front", "right", "top", "back", "left", "bottom"}) {
+        v.camera = *Camera::named(n);
+        EXPECT_TRUE(plausible::along_axis(v)) << n;
+    }
+    v.camera = Camera::from_azimuth_elevation(90, 0);
+    EXPECT_TRUE(plausible::along_axis(v));
+    v.camera = Camera::from_azimuth_elevation(45, 30);
+    EXPECT_FALSE(plausible::along_axis(v));
+    v.camera = Camera::from_azimuth_elevation(0, 30);
+    EXPECT_FALSE(plausible::along_axis(v));
+    v.camera = Camera::perspective(look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 500, 160, 160));
+    EXPECT_FALSE(plausible::along_axis(v));
+}
+
+namespace {
+
+// A mesh's binary mask seen by `dir`, framed as `conceptmesh render-views` frames its views:
+// the box's centre at the image centre, 0.9 of the image across the box's largest extent.
+View mask_view(const Mesh& m, const std::string& name, Camera c, int size, Vec3d lo, Vec3d hi) {
+    const Vec3d mid = (lo + hi) * 0.5, ext = hi - lo;
+    c.scale = 0.9 * size / std::max({ext[0], ext[1], ext[2]});
+    c.cx = size / 2.0 - c.scale * dot(mid, c.r);
+    c.cy = size / 2.0 + c.scale * dot(mid, c.u);
+    View v;
+    v.name = name;
+    v.camera = c;
+    v.width = v.height = size;
+    const std::vector<std::uint8_t> mask = render_mask(m, c, size, size);
+    v.coverage = Coverage(std::vector<float>(mask.begin(), mask.end()), size, size);
+    return v;
+}
+
+} // namespace
+
+// fandisk (../shared/data/models), the machined part of docs/results/shape.md, as the shape
+// bench draws it (1024 px masks): from front, right and top its least straight view (the top)
+// keeps 22.6 % of its outline on straight stretches. Seen obliquely (azimuth 45, elevation 30)
+// its outline crowds more corners within the reach and shows its curved faces' contours, under
+// the detection's upper bound (0.12), so the fourth view rounded the part a little (hardness
+// 0.91 before the views along the axes decided). It stays hard with the fourth view, and
+// loft.yaml's options keep its hull voxel for voxel.
+TEST(HullHard, ObliqueFourthViewLeavesAMachinedPartHard) {
+    const auto file = shared_dir() / "data" / "models" / "fandisk.off";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is not there";
+    const Mesh m = read_mesh(file);
+    Vec3d lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (const auto& p : m.positions)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a])), hi[a] = std::max(hi[a], double(p[a]));
+    std::vector<View> vs;
+    for (const char* n : {"front", "right", "top"}) vs.push_back(mask_view(m, n, *Camera::named(n), 1024, lo, hi));
+    vs.push_back(mask_view(m, "az45el30", Camera::from_azimuth_elevation(45, 30), 1024, lo, hi));
+    const double oblique = plausible::outline_straightness(vs[3]);
+    std::cout << "fandisk's oblique view: " << 100.0 * oblique << " % straight\n";
+    EXPECT_LT(oblique, 0.12) << "the oblique view alone would leave the part less than hard";
+
+    std::vector<double> shares;
+    const auto three = make_views({vs[0], vs[1], vs[2]}, lo, hi);
+    EXPECT_EQ(plausible::hard_surface(*three, shares), 1.0);
+    const auto four = make_views(vs, lo, hi);
+    EXPECT_EQ(plausible::hard_surface(*four, shares), 1.0);
+    EXPECT_EQ(shares.size(), 3u) << "the views along the axes decide";
+
+    const auto hull = carve_and_refine(four, 64);
+    PlausibleOptions opt; // loft.yaml's
+    opt.loft = 0.5;
+    opt.hard_surface = 1.0;
+    opt.ghost = 1.0;
+    const auto kept = make_plausible(*hull, nullptr, opt);
+    EXPECT_EQ(kept.stats.hardness, 1.0);
+    EXPECT_EQ(kept.stats.removed, 0u);
+    EXPECT_EQ(missing(*hull, *kept.value), 0u);
 }
