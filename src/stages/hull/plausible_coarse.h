@@ -1,5 +1,5 @@
-// The field of hull.plausible on grids finer than 256: smoothed afterwards over more cells than
-// it changes on (the Gaussian's 2.5 cells at 256 are 5 at 512), it is taken only at the hull's
+// The field of hull.plausible: smoothed afterwards over more cells than it changes on (the
+// Gaussian's 2.5 cells at 256, 5 at 512), it is taken only at the hull's
 // voxels on the lattice of grid points every `stride` cells, and at the few voxels that no such
 // point of the hull surrounds, and interpolated trilinearly in between (stride^3 fewer
 // evaluations of the views' fields, their join and the lofted prior).

@@ -157,9 +157,9 @@ void Plausible::score_view(std::size_t v, const Profile& p, const std::vector<st
             columns_.for_columns(R.axis, line);
             return;
         }
-        // On grids finer than 256 a line of sight has work only where it holds a voxel whose
-        // value is taken, or crosses a thin part of the drawing (whose short runs are marked):
-        // the others (three in four at 512) are not dealt.
+        // Where the field is taken on a lattice, a line of sight has work only where it holds a
+        // voxel whose value is taken, or crosses a thin part of the drawing (whose short runs
+        // are marked): the others (three in four at 256, 15 in 16 at 512) are not dealt.
         columns_.for_columns_wanted(
             R.axis, coarse_->exact(),
             [&](const Coord& c) {

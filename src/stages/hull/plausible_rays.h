@@ -114,6 +114,22 @@ public:
     /// The columns along `axis` (bit loc[a1] * 8 + loc[a2], a1 and a2 the next axes in turn)
     /// holding a voxel of the leaf mask `m`.
     static std::uint64_t column_bits(const Mask& m, int axis);
+    /// The voxels of word x of a leaf mask (bits y * 8 + z) that lie in the columns `cols`
+    /// along `axis` (bits as column_bits()).
+    static std::uint64_t column_word(std::uint64_t cols, int axis, int x) {
+        if (axis == 0) return cols; // columns y * 8 + z
+        std::uint64_t out = 0;
+        if (axis == 1) { // columns z * 8 + x: the same z bits in every byte
+            std::uint64_t zs = 0;
+            for (int z = 0; z < 8; ++z) zs |= ((cols >> (z * 8 + x)) & 1) << z;
+            return zs * 0x0101010101010101ull;
+        }
+        // columns x * 8 + y: whole bytes
+        const std::uint64_t ys = (cols >> (x * 8)) & 0xff;
+        for (int y = 0; y < 8; ++y)
+            if (ys >> y & 1) out |= std::uint64_t(0xff) << (8 * y);
+        return out;
+    }
 
 private:
     void stacks_along(int axis) const;
@@ -221,14 +237,22 @@ void LeafColumns::deal_columns(int axis, Wanted&& wanted_of, Body&& body) const 
             const auto& mask = leaf.getValueMask();
             std::size_t rank = base_[l];
             for (openvdb::Index w = 0; w < 8; ++w) {
-                std::uint64_t word = mask.template getWord<std::uint64_t>(w);
-                while (word) {
-                    const openvdb::Index off = w * 64 + openvdb::Index(__builtin_ctzll(word));
+                // Only the voxels of wanted columns are visited; a voxel's rank counts the
+                // word's voxels before it.
+                const std::uint64_t all = mask.template getWord<std::uint64_t>(w);
+                std::uint64_t word = all & column_word(wanted, axis, int(w));
+                const bool every = word == all;
+                const std::size_t first_rank = rank;
+                rank += std::size_t(__builtin_popcountll(all));
+                for (std::size_t seen = 0; word; ++seen) {
+                    const int b = __builtin_ctzll(word);
+                    const openvdb::Index off = w * 64 + openvdb::Index(b);
                     word &= word - 1;
-                    const std::uint32_t r = std::uint32_t(rank++);
+                    const std::uint32_t r = std::uint32_t(
+                        first_rank +
+                        (every ? seen : std::size_t(__builtin_popcountll(all & ((std::uint64_t(1) << b) - 1)))));
                     const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
                     const int col = loc[a1] * 8 + loc[a2];
-                    if (!(wanted >> col & 1)) continue;
                     std::size_t& n = cnt[std::size_t(col)];
                     if (n == 0) first[std::size_t(col)] = leaf.offsetToGlobalCoord(off);
                     idx[std::size_t(col) * cap + n] = r;

@@ -30,6 +30,10 @@ inline double smoothstep(double x, double a, double b) {
     return t * t * (3.0 - 2.0 * t);
 }
 
+/// The lattice step (cells) the field is taken on before it is smoothed by a Gaussian of
+/// standard deviation `sigma` cells (1: every voxel).
+int field_stride(double sigma);
+
 using BoolTree = openvdb::BoolTree;
 using LeafT = BoolTree::LeafNodeType;
 
@@ -90,8 +94,8 @@ public:
     /// 2. The hull's projections along the grid axes, which the lofted and hidden-depth priors
     /// share (plausible_projection.h): made at the first call, let go by fill_in().
     const std::array<Projection, 3>& projections();
-    /// 2. On grids finer than 256, the field between the lattice points where it was taken
-    /// (plausible_coarse.h); nothing at 256.
+    /// 2. The field between the lattice points where it was taken (plausible_coarse.h);
+    /// nothing where every voxel is taken (grids under about 200 cells).
     void fill_in();
     /// 3. The field smoothed over the hull's voxels; thin parts keep their voxels.
     void smooth();
@@ -154,7 +158,7 @@ private:
     // The views' values are clamped at 20 cells (far enough for any decision) to stay in range.
     static constexpr float kClamp = 20.0f;
     // Bits of thin_: in a short run of a thin part; the field is taken there, not interpolated
-    // (every voxel at 256); the voxel's lofted section is square.
+    // (every voxel on small grids); the voxel's lofted section is square.
     static constexpr std::uint8_t kThin = 1, kExact = 2, kSquare = 4;
 
     const Volume& in_;
@@ -177,7 +181,7 @@ private:
     UninitVector<float> phi_, cur_;
     UninitVector<std::uint8_t> thin_;
     std::shared_ptr<const std::array<Projection, 3>> proj_;
-    // On grids finer than 256 the lattice the field is taken on (null: every voxel).
+    // The lattice the field is taken on (null: every voxel, on small grids).
     std::unique_ptr<const CoarseLattice> coarse_;
     std::vector<RayRaster> rasters_;
     // Per view, its voxels by line of sight (cell c: order[start[c]] .. order[start[c + 1]]).

@@ -7,6 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <mutex>
+#include <set>
 
 #include "hull_steps.h"
 #include "io/mesh_io.h"
@@ -14,6 +17,8 @@
 #include "plausible_coarse.h"
 #include "plausible_hard.h"
 #include "plausible_loft.h"
+#include "plausible_rays.h"
+#include "plausible_state.h"
 #include "render/raster.h"
 #include "support/shapes.h"
 #include "support/test_support.h"
@@ -135,23 +140,27 @@ TEST(HullHard, LoftedSectionsAgreeWithTheViewAlongThem) {
     EXPECT_GT(double(confirmed), 0.97 * double(field.size()));
 }
 
-// On finer grids the field is taken every `stride` cells and interpolated: on a sphere the
-// grid points on the coarse lattice keep their exact values, and the others stay close to
-// the exact field (the lofted prior here, whose section axis changes jump).
-TEST(HullHard, CoarseFieldFollowsTheExactOne) {
-    const auto sphere =
-        carve_and_refine(three_views([](const Camera&) { return sphere_outline(1.0); }, {-1, -1, -1}, {1, 1, 1}), 64);
+// The field is taken every `stride` cells and interpolated: on a sphere the grid points on
+// the coarse lattice keep their exact values, and the others stay close to the exact field
+// (the lofted prior here, whose section axis changes jump). The sphere spans the same number of
+// lattice cells at each stride.
+namespace {
+
+void expect_coarse_follows_exact(int resolution, int stride) {
+    const auto sphere = carve_and_refine(
+        three_views([](const Camera&) { return sphere_outline(1.0); }, {-1, -1, -1}, {1, 1, 1}), resolution);
     const plausible::HullVoxels sv(*sphere->occupancy);
     const auto exact = plausible::loft_field(sv, 2.0);
-    const plausible::CoarseLattice lattice(sv.leaves, sv.base, 2);
+    const plausible::CoarseLattice lattice(sv.leaves, sv.base, stride);
     UninitVector<float> field(exact.size(), 1e6f);
     std::vector<char> taken(exact.size(), 0), on_lattice(exact.size(), 0);
+    const auto on = [stride](int v) { return ((v % stride) + stride) % stride == 0; };
     sv.for_voxels([&](std::size_t i, const openvdb::Coord& c) {
         const std::size_t l = std::size_t(std::upper_bound(sv.base.begin(), sv.base.end(), i) - sv.base.begin()) - 1;
         const openvdb::Index o = sv.leaves.leaf(l).coordToOffset(c);
         taken[i] = (lattice.exact()[l][o >> 6] >> (o & 63) & 1) != 0;
         if (taken[i]) field[i] = exact[i].field;
-        on_lattice[i] = c.x() % 2 == 0 && c.y() % 2 == 0 && c.z() % 2 == 0;
+        on_lattice[i] = on(c.x()) && on(c.y()) && on(c.z());
     });
     lattice.interpolate(field, nullptr, 0);
     std::size_t lattice_count = 0, missing = 0, extra = 0, far = 0, over = 0;
@@ -163,7 +172,7 @@ TEST(HullHard, CoarseFieldFollowsTheExactOne) {
         extra += taken[i] && !on_lattice[i];
         far += taken[i] && d > 1e-5;
         sum += d;
-        over += d > 1.0;
+        over += d > double(stride) / 2.0;
     }
     EXPECT_EQ(missing, 0u);
     EXPECT_EQ(far, 0u);
@@ -171,10 +180,81 @@ TEST(HullHard, CoarseFieldFollowsTheExactOne) {
     // sphere's surface) are taken too.
     EXPECT_LT(double(extra), 0.02 * double(exact.size()));
     // Where the section's axis changes the exact field jumps; the interpolation spreads the
-    // jump over two cells.
-    EXPECT_LT(sum / double(exact.size()), 0.5);
+    // jump over two lattice cells.
+    EXPECT_LT(sum / double(exact.size()), 0.25 * double(stride));
     EXPECT_LT(double(over), 0.1 * double(exact.size()));
-    EXPECT_GT(lattice_count, exact.size() / 10);
+    EXPECT_GT(lattice_count, exact.size() / (5 * std::size_t(stride * stride * stride)));
+}
+
+} // namespace
+
+TEST(HullHard, CoarseFieldFollowsTheExactOne) {
+    expect_coarse_follows_exact(64, 2);
+    expect_coarse_follows_exact(128, 4);
+}
+
+// The lattice step follows the smoothing (its standard deviation over 1.25 cells): every
+// other cell at 256 (2.5 cells), every fourth at 512, every eighth at 1024, every cell on
+// small grids.
+TEST(HullHard, FieldLatticeStepFollowsTheSmoothing) {
+    EXPECT_EQ(plausible::field_stride(2.5), 2);
+    EXPECT_EQ(plausible::field_stride(5.0), 4);
+    EXPECT_EQ(plausible::field_stride(10.0), 8);
+    EXPECT_EQ(plausible::field_stride(1.0), 1);
+    EXPECT_EQ(plausible::field_stride(0.0), 1);
+}
+
+// The lines of sight along each axis that hold a voxel whose value is taken are dealt whole
+// (every voxel of the column, in order, with its index), and only those.
+TEST(HullHard, WantedColumnsAreDealtWhole) {
+    using plausible::LeafColumns;
+    const auto sphere =
+        carve_and_refine(three_views([](const Camera&) { return sphere_outline(1.0); }, {-1, -1, -1}, {1, 1, 1}), 64);
+    const plausible::HullVoxels sv(*sphere->occupancy);
+    const plausible::CoarseLattice lattice(sv.leaves, sv.base, 4);
+    const LeafColumns columns(sv.leaves, sv.base);
+    using Columns = std::map<std::array<int, 3>, std::vector<std::uint32_t>>;
+    for (int axis = 0; axis < 3; ++axis) {
+        const auto key = [axis](openvdb::Coord c) {
+            c[axis] = 0;
+            return std::array<int, 3>{c.x(), c.y(), c.z()};
+        };
+        std::mutex m;
+        Columns all, wanted;
+        const auto collect = [&](Columns& into) {
+            return [&, axis](const openvdb::Coord& first, const std::uint32_t* idx, const int* along, std::size_t n) {
+                std::vector<std::uint32_t> v(idx, idx + n);
+                for (std::size_t k = 0; k < n; ++k) {
+                    openvdb::Coord c = first;
+                    c[axis] = along[k];
+                    EXPECT_EQ(sv.coord_of(idx[k]), c);
+                }
+                const std::lock_guard<std::mutex> lock(m);
+                into[key(first)] = std::move(v);
+            };
+        };
+        columns.for_columns(axis, collect(all));
+        columns.for_columns_wanted(
+            axis, lattice.exact(), [](const openvdb::Coord&) { return false; }, collect(wanted));
+        // The columns holding a voxel taken exactly.
+        std::set<std::array<int, 3>> expect;
+        sv.for_voxels([&](std::size_t i, const openvdb::Coord& c) {
+            const std::size_t l =
+                std::size_t(std::upper_bound(sv.base.begin(), sv.base.end(), i) - sv.base.begin()) - 1;
+            const openvdb::Index o = sv.leaves.leaf(l).coordToOffset(c);
+            if (lattice.exact()[l][o >> 6] >> (o & 63) & 1) {
+                const std::lock_guard<std::mutex> lock(m);
+                expect.insert(key(c));
+            }
+        });
+        ASSERT_FALSE(expect.empty());
+        EXPECT_LT(expect.size(), all.size());
+        EXPECT_EQ(wanted.size(), expect.size()) << "axis " << axis;
+        for (const auto& [k, v] : wanted) {
+            EXPECT_TRUE(expect.count(k)) << "axis " << axis;
+            EXPECT_EQ(v, all[k]) << "axis " << axis;
+        }
+    }
 }
 
 // Which views look along a world axis: the named ones and azimuths and elevations that are
