@@ -3,8 +3,11 @@
 # docs/results/shape.md.
 #   blender -b --factory-startup --python bench/hull/shape_render.py -- SIZE OUT_PREFIX A.obj [B.obj ...]
 # writes OUT_PREFIX-0.png, OUT_PREFIX-1.png, ... (one per mesh, same camera for all: framed on
-# the first mesh's box, so the pictures compare).
+# the first mesh's box, so the pictures compare). SHAPE_AZ=DEG in the environment turns the
+# camera about the vertical (45 unless given; 135 looks at a conceptmesh model, front +Z,
+# from its front right).
 import math
+import os
 import sys
 
 import bpy
@@ -35,7 +38,7 @@ for k, path in enumerate(paths):
     scene.render.film_transparent = False
     scene.world = bpy.data.worlds.new("w")
     # Blender is Z up; the OBJ's front (+Z in conceptmesh's frame) imports as +Y here.
-    az, el = math.radians(45), math.radians(25)
+    az, el = math.radians(float(os.environ.get("SHAPE_AZ", 45))), math.radians(25)
     d = Vector((math.sin(az) * math.cos(el), math.cos(az) * math.cos(el), math.sin(el)))
     cam_data = bpy.data.cameras.new("cam")
     cam = bpy.data.objects.new("cam", cam_data)
@@ -43,6 +46,8 @@ for k, path in enumerate(paths):
     cam.location = centre + d * radius * 3.2
     cam.rotation_euler = (-d).to_track_quat("-Z", "Y").to_euler()
     cam_data.lens = 50
+    # Meshes in the drawings' units (hundreds of units) lie beyond Blender's default 100.
+    cam_data.clip_start, cam_data.clip_end = radius * 0.01, radius * 10
     scene.camera = cam
     scene.render.filepath = f"{prefix}-{k}.png"
     bpy.ops.render.render(write_still=True)

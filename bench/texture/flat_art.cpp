@@ -1,4 +1,4 @@
-// flat_art MODEL UP FRONT OUT_DIR [SIZE]: concept art of a model as a colourist paints a
+// flat_art MODEL UP FRONT OUT_DIR [SIZE] [STYLE]: concept art of a model as a colourist paints a
 // turnaround: flat fills (a palette of six colours over horizontal bands of the model and
 // its left and right halves, so regions meet at lines that views must agree on), an ink
 // outline 2 px wide inside the silhouette and ink lines 1.5 px wide where two fills meet,
@@ -7,6 +7,9 @@
 // unit, box centre at the image centre). Writes OUT_DIR/art/{front,right,top}.png with
 // views.yaml (exact cameras, bounds) and OUT_DIR/fill/ the same without ink, so the colour
 // error can be measured against the drawing as drawn and against its fills.
+// STYLE flat (default) or marker: the fills laid in marker strokes, as a marker drawing by hand:
+// diagonal strokes about 1/70 of the image apart, each a darker shade of its fill where strokes
+// overlap and a paler streak where the marker ran dry, their edges wavering; same ink lines.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -44,11 +47,30 @@ const std::array<std::array<float, 3>, 6> kPalette = {{{0.82f, 0.33f, 0.24f},
                                                        {0.62f, 0.40f, 0.63f},
                                                        {0.85f, 0.62f, 0.52f}}};
 
+// A marker's stroke pattern over a fill at pixel (x, y): diagonal strokes `period` px apart,
+// wavering along their length; where two strokes overlap the ink is darker, between them the
+// marker leaves a paler streak.
+std::array<float, 3> marker_shade(const std::array<float, 3>& c, int x, int y, double period) {
+    const double along = (x - y) / period, across = (x + y) / period;
+    const double t = across + 0.18 * std::sin(0.9 * along + 1.7 * std::floor(across));
+    const double f = t - std::floor(t);
+    const auto stroke = static_cast<unsigned>(std::floor(t)) * 2654435761u;
+    const float jitter = 0.04f * float((stroke >> 16) % 5) - 0.08f;
+    float k = 1.0f;
+    if (f < 0.28) k = 0.74f + jitter; // overlap of two strokes
+    else if (f > 0.86) k = -0.35f;    // a dry streak: towards the paper
+    std::array<float, 3> out{};
+    for (int i = 0; i < 3; ++i)
+        out[std::size_t(i)] = k > 0 ? std::clamp(c[std::size_t(i)] * k, 0.0f, 1.0f)
+                                    : c[std::size_t(i)] + 0.35f * (0.96f - c[std::size_t(i)]);
+    return out;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
     if (argc < 5) {
-        std::fprintf(stderr, "usage: flat_art MODEL UP FRONT OUT_DIR [SIZE]\n");
+        std::fprintf(stderr, "usage: flat_art MODEL UP FRONT OUT_DIR [SIZE] [flat|marker]\n");
         return 2;
     }
     try {
@@ -64,6 +86,8 @@ int main(int argc, char** argv) {
         for (auto& p : m.positions) p -= pivot;
         m.bounds(lo, hi);
         const int size = argc > 5 ? std::stoi(argv[5]) : 512;
+        const std::string style = argc > 6 ? argv[6] : "flat";
+        if (style != "flat" && style != "marker") throw Error("style must be flat or marker: " + style);
         // The fill of each face: five height bands, the right half one palette step on.
         std::vector<int> fill(m.triangles.size());
         for (std::size_t f = 0; f < m.triangles.size(); ++f) {
@@ -74,7 +98,8 @@ int main(int argc, char** argv) {
         }
         const fs::path out = argv[4];
         Manifest art, plain;
-        art.comment = "flat_art of " + fs::path(argv[1]).filename().string() + ": flat fills with ink lines";
+        art.comment = "flat_art of " + fs::path(argv[1]).filename().string() +
+                      (style == "marker" ? ": fills in marker strokes with ink lines" : ": flat fills with ink lines");
         plain.comment = "flat_art of " + fs::path(argv[1]).filename().string() + ": the same fills without ink";
         art.bounds = plain.bounds = {lo.x, lo.y, lo.z, hi.x, hi.y, hi.z};
         for (const char* name : {"front", "right", "top"}) {
@@ -96,6 +121,15 @@ int main(int argc, char** argv) {
                     for (int k = 0; k < 3; ++k) filled.pixels[(std::size_t(y) * size + x) * 3 + k] = c[k];
                 }
             inked = filled;
+            if (style == "marker")
+                for (int y = 0; y < size; ++y)
+                    for (int x = 0; x < size; ++x) {
+                        const int f = fill_at(x, y);
+                        if (f < 0) continue;
+                        const auto c = marker_shade(kPalette[std::size_t(f)], x, y, size / 70.0);
+                        for (int k = 0; k < 3; ++k)
+                            inked.pixels[(std::size_t(y) * size + x) * 3 + k] = c[std::size_t(k)];
+                    }
             for (int y = 0; y < size; ++y)
                 for (int x = 0; x < size; ++x) {
                     const int f = fill_at(x, y);

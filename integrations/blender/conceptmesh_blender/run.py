@@ -10,7 +10,7 @@ import subprocess
 import sys
 import threading
 
-BUNDLED = ("paper", "organic", "dmc", "quadric", "textured")
+BUNDLED = ("loft", "paper", "organic", "dmc", "quadric", "textured")
 
 
 def addon_dir():

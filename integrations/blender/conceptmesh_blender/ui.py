@@ -6,7 +6,8 @@ from bpy.props import EnumProperty, IntProperty, PointerProperty, StringProperty
 from . import run, scene, views
 
 PIPELINES = [
-    ("paper", "Paper", "The method as published: the default"),
+    ("loft", "Loft", "The best model from the drawings: round between the views, machined parts kept: the default"),
+    ("paper", "Paper", "The seed paper's method: the visual hull, square in section between the views"),
     ("organic", "Organic", "Rounder volume behind the same outlines: characters, creatures"),
     ("dmc", "Dual Marching Cubes", "Fewer faces, crisp creases: hard-surface props"),
     ("quadric", "Quadric", "Taubin smoothing and quadric decimation"),
@@ -16,7 +17,7 @@ PIPELINES = [
 
 
 class ConceptmeshSettings(bpy.types.PropertyGroup):
-    pipeline: EnumProperty(name="Pipeline", items=PIPELINES, default="paper")
+    pipeline: EnumProperty(name="Pipeline", items=PIPELINES, default="loft")
     pipeline_file: StringProperty(name="Pipeline File", subtype="FILE_PATH")
     resolution: IntProperty(
         name="Resolution", default=256, min=16, max=4096, description="Grid cells along the largest side (hull.resolution)"

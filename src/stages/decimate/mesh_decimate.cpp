@@ -22,11 +22,36 @@ namespace decimate {
 // cross the other.
 constexpr double kCreaseAspect = 20.0;
 
+// True when collapsing v into w gives each of v's changed faces a normal within acos(cos_keep)
+// of one of the normals v's faces had (`old`, old_faces(v)): the faces keep their planes.
+bool keeps_planes(const Collapser& c, std::uint32_t v, std::uint32_t w, double cos_keep,
+                  const std::vector<Collapser::OldFace>& old) {
+    const Vec3d pw(c.point(w));
+    bool ok = true;
+    c.for_faces(v, [&](std::uint32_t f) {
+        const auto& t = c.tri(f);
+        if (!ok || t[0] == w || t[1] == w || t[2] == w) return;
+        Vec3d q[3];
+        for (int i = 0; i < 3; ++i) q[i] = t[i] == v ? pw : Vec3d(c.point(t[i]));
+        const Vec3d n = cross_of(q[0], q[1], q[2]);
+        const double len = length(n);
+        bool near = false;
+        for (const auto& o : old)
+            if (dot(n, o.n) >= cos_keep * len * o.len) {
+                near = true;
+                break;
+            }
+        ok = near;
+    });
+    return ok;
+}
+
 std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt, std::size_t target_faces,
                          float stop_key, const Progress& progress, StartScores* start, bool sweep) {
     const double limit = opt.max_angle_deg * kPi / 180.0;
     const double cos_limit = std::cos(limit);
     const double straight = opt.crease_straightness_deg * kPi / 180.0;
+    const double cos_keep = std::cos(opt.keep_planes_deg * kPi / 180.0);
     auto score = [&](std::uint32_t v, std::vector<std::uint32_t>&, float& key) {
         return importance(c, v, limit, straight, key);
     };
@@ -47,7 +72,8 @@ std::size_t reduce_queue(Collapser& c, std::size_t nv, const ReduceOptions& opt,
         return a.len < b.len;
     };
     auto passes = [&](std::uint32_t v, std::uint32_t x, const std::vector<std::uint32_t>& rv) {
-        return c.topology_ok(v, x, rv) && (!opt.outline || opt.outline->keeps(c, v, x, &*samples));
+        return c.topology_ok(v, x, rv) && (!(opt.keep_planes_deg > 0) || keeps_planes(c, v, x, cos_keep, old)) &&
+               (!opt.outline || opt.outline->keeps(c, v, x, &*samples));
     };
     std::vector<std::uint32_t> along; // a crease vertex's two targets along its crease
     auto choose = [&](std::uint32_t v, const std::vector<std::uint32_t>& ring, std::uint32_t& w, float&) {
@@ -211,10 +237,16 @@ void ReduceOptions::declare_angle(ParamBinder& b) {
                                           "largest angle between the face normals around a removable vertex (the "
                                           "paper: 5 to 40; larger reduces more)"));
     b.add(crease_straightness_deg,
-          ParamSpec::Float("crease_straightness", 0.0, 0.0, 30.0, "deg",
-                           "a vertex in the middle of a straight crease (two sides, each flat within max_angle_deg, "
-                           "meeting along two edges that continue each other within this) is removed along the "
-                           "crease, which stays where it is; 0: off, as in the paper"));
+          ParamSpec::Float(
+              "crease_straightness", 0.0, 0.0, 30.0, "deg",
+              "a vertex in the middle of a crease (two sides, each flat within max_angle_deg, meeting along two "
+              "edges that continue each other within this) is removed along the crease, which stays where it "
+              "is when straight (a curved one is cut by a chord); 0: off, as in the paper"));
+    b.add(keep_planes_deg,
+          ParamSpec::Float("keep_planes", 0.0, 0.0, 30.0, "deg",
+                           "refuse collapses that give a face a normal further than this from every normal the "
+                           "removed vertex's faces had, so flat sides beside a crease keep their plane instead of "
+                           "tilting by up to max_angle_deg; 0: off, as in the paper"));
 }
 
 void ReduceOptions::declare_limits(ParamBinder& b) {

@@ -28,6 +28,10 @@ struct ReduceOptions {
     /// A vertex in the middle of a crease whose two edges continue each other within this
     /// (degrees) is a candidate too, and goes along the crease; 0: off (the paper).
     double crease_straightness_deg;
+    /// A collapse may not give a face a normal further than this (degrees) from every normal
+    /// the removed vertex's faces had: flat sides stay flat beside a crease, where a collapse
+    /// would otherwise tilt them by up to max_angle_deg; 0: off (the paper).
+    double keep_planes_deg;
     double max_aspect_ratio; ///< refuse collapses making a face thinner than this (1 = equilateral); 0: off
     bool no_crossings;       ///< see DecimateStats::restarts
     /// Silhouette: the stage guards the outline in each of its views (`outline`), within

@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "plausible_hard.h"
 #include "plausible_loft.h"
+#include "plausible_projection.h"
 #include "plausible_state.h"
 
 namespace cm {
@@ -76,6 +77,7 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);
     m.count("ghost_voxels", ghost_voxels);
+    m.count("unpaired_voxels", unpaired_voxels);
     m.metric("cell_px", cell_px);
     m.metric("hardness", hardness);
     m.metric("straight_pct", straight_pct);
@@ -134,8 +136,18 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
       soft_(blend_ > 0),
       deep_(soft_ ? std::exp(-kClamp / blend_) : 0.0f) {
     st_.hull_voxels = vox_.n;
-    phi_.assign(vox_.n, soft_ ? 0.0f : -std::numeric_limits<float>::infinity());
-    thin_.assign(vox_.n, 0);
+    // Written side by side: each thread's first write maps its own pages (a fill in one call
+    // would map all 4 + 1 bytes per voxel on one thread).
+    phi_.resize(vox_.n);
+    thin_.resize(vox_.n);
+    const float phi0 = soft_ ? 0.0f : -std::numeric_limits<float>::infinity();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n, std::size_t(1) << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::fill(phi_.begin() + std::ptrdiff_t(r.begin()), phi_.begin() + std::ptrdiff_t(r.end()),
+                                    phi0);
+                          std::fill(thin_.begin() + std::ptrdiff_t(r.begin()), thin_.begin() + std::ptrdiff_t(r.end()),
+                                    std::uint8_t(0));
+                      });
     // On grids finer than 256 the field is smoothed afterwards (smooth()) over more cells than
     // the trilinear interpolation spans: it is taken every `stride` cells (every cell at 256,
     // every other one at 512, an eighth of the evaluations) and interpolated.
@@ -161,27 +173,38 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
 void Plausible::loft() {
     const float share = float(opt_.loft);
     const bool coarse = coarse_ != nullptr;
-    std::atomic<std::size_t> squares{0};
-    loft_by_leaf(vox_, opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
+    std::atomic<std::size_t> squares{0}, unpaired{0};
+    loft_by_leaf(vox_, projections(), opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
                  [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
-                     std::size_t sq = 0;
+                     std::size_t sq = 0, un = 0;
                      for (std::size_t k = 0; k < cnt; ++k) {
                          if (coarse && !(thin_[first + k] & kExact)) continue;
                          const LoftValue& v = lofted[k];
                          // A section the view along its axis does not confirm (ghost volume
                          // between limbs) leaves the say to the profiles.
-                         const float own = v.square + (1.0f - v.square) * share * v.fit;
+                         // A box the parts' tracks rule out (a ghost between two legs) is
+                         // the prior's alone: the profiles would fill it.
+                         const float own = std::max(v.drop, v.square + (1.0f - v.square) * share * v.fit);
                          float& phi = phi_[first + k];
                          phi = own * v.field + (1.0f - own) * phi;
                          sq += v.square >= 0.5f;
+                         un += v.drop > 0;
                          if (v.square >= 0.5f) thin_[first + k] |= kSquare;
                      }
                      squares += sq;
+                     unpaired += un;
                  });
     st_.square_voxels = squares;
+    st_.unpaired_voxels = unpaired;
+}
+
+const std::array<Projection, 3>& Plausible::projections() {
+    if (!proj_) proj_ = std::make_shared<const std::array<Projection, 3>>(project_hull(vox_));
+    return *proj_;
 }
 
 void Plausible::fill_in() {
+    proj_.reset();
     if (!coarse_) return;
     const bool lofted = opt_.loft > 0;
     coarse_->interpolate(phi_, lofted ? &thin_ : nullptr, kSquare);

@@ -75,6 +75,7 @@ struct PlausibleStats {
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     std::size_t square_voxels = 0;   ///< voxels whose lofted section is square (the hull kept; loft > 0)
     std::size_t ghost_voxels = 0;    ///< voxels outside a hidden part's round section (ghost > 0)
+    std::size_t unpaired_voxels = 0; ///< voxels in boxes pairing two parts' runs (loft > 0; plausible_tracks.h)
     double cell_px = 0;              ///< line-of-sight raster pitch, pixels of the finest view
     double hardness = 0;             ///< detected hard-surface weight in [0, 1] (hard_surface > 0)
     double straight_pct = 0;         ///< the least straight view's share of straight outline, %

@@ -125,7 +125,7 @@ void CoarseLattice::points(std::size_t l, const Frame& f, std::uint32_t* index) 
             }
 }
 
-void CoarseLattice::interpolate(std::vector<float>& value, std::vector<std::uint8_t>* flags, std::uint8_t bit) const {
+void CoarseLattice::interpolate(UninitVector<float>& value, UninitVector<std::uint8_t>* flags, std::uint8_t bit) const {
     tbb::parallel_for(std::size_t(0), leaves_.leafCount(),
                       [&](std::size_t l) { interpolate_leaf(l, value, flags, bit); });
 }
@@ -133,7 +133,7 @@ void CoarseLattice::interpolate(std::vector<float>& value, std::vector<std::uint
 // The lattice points about the leaf as (value, flag, 1) where the hull has them (zeros
 // elsewhere); a few voxels each from the corners of its cell, many by the whole block one axis
 // at a time (z, then y, then x).
-void CoarseLattice::interpolate_leaf(std::size_t l, std::vector<float>& value, std::vector<std::uint8_t>* flags,
+void CoarseLattice::interpolate_leaf(std::size_t l, UninitVector<float>& value, UninitVector<std::uint8_t>* flags,
                                      std::uint8_t bit) const {
     const auto& mask = leaves_.leaf(l).getValueMask();
     const LeafMask& ex = exact_[l];

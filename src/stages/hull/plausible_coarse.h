@@ -12,6 +12,8 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/LeafManager.h>
 
+#include "util/uninit_vector.h"
+
 #include "leaf_masks.h"
 
 namespace cm::plausible {
@@ -32,7 +34,7 @@ public:
     /// the hull about it (the others weigh nothing; the weights renormalised). With `flags`,
     /// bit `bit` of a voxel not in exact() is set where the same interpolation of that bit is
     /// at least 0.5, cleared elsewhere.
-    void interpolate(std::vector<float>& value, std::vector<std::uint8_t>* flags, std::uint8_t bit) const;
+    void interpolate(UninitVector<float>& value, UninitVector<std::uint8_t>* flags, std::uint8_t bit) const;
 
 private:
     struct Frame;
@@ -40,7 +42,7 @@ private:
     // Per lattice point about leaf l (m^3 of them, see Frame): the index of its voxel, or
     // kNone where the hull has no voxel there.
     void points(std::size_t l, const Frame& f, std::uint32_t* index) const;
-    void interpolate_leaf(std::size_t l, std::vector<float>& value, std::vector<std::uint8_t>* flags,
+    void interpolate_leaf(std::size_t l, UninitVector<float>& value, UninitVector<std::uint8_t>* flags,
                           std::uint8_t bit) const;
 
     static constexpr std::uint32_t kNone = ~std::uint32_t(0);

@@ -204,12 +204,21 @@ void Plausible::lower_by(const SwellField& field) {
     tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
         raised[l] = field.raised_in(openvdb::CoordBBox::createCube(vox_.leaves.leaf(l).origin(), LeafT::DIM));
     });
+    // Their places in saved_ in leaf order, then the copies side by side.
+    std::vector<std::uint32_t> fresh;
+    std::size_t end = saved_.size();
     for (std::size_t l = 0; l < vox_.nleaf; ++l)
         if (raised[l] && saved_at_[l] == kNotSaved) {
-            saved_at_[l] = saved_.size();
-            saved_.insert(saved_.end(), cur_.begin() + std::ptrdiff_t(vox_.base[l]),
-                          cur_.begin() + std::ptrdiff_t(vox_.base[l + 1]));
+            saved_at_[l] = end;
+            end += vox_.base[l + 1] - vox_.base[l];
+            fresh.push_back(std::uint32_t(l));
         }
+    saved_.resize(end);
+    tbb::parallel_for(std::size_t(0), fresh.size(), [&](std::size_t k) {
+        const std::size_t l = fresh[k];
+        std::copy(cur_.begin() + std::ptrdiff_t(vox_.base[l]), cur_.begin() + std::ptrdiff_t(vox_.base[l + 1]),
+                  saved_.begin() + std::ptrdiff_t(saved_at_[l]));
+    });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             if (!raised[l]) continue;

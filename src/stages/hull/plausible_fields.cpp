@@ -51,7 +51,7 @@ using BoolLeaves = openvdb::tree::LeafManager<openvdb::BoolTree>;
 // voxels trilinearly.
 class FieldSmoother {
 public:
-    FieldSmoother(std::vector<float>& value, const BoolLeaves& leaves, const std::vector<std::size_t>& base,
+    FieldSmoother(UninitVector<float>& value, const BoolLeaves& leaves, const std::vector<std::size_t>& base,
                   const openvdb::CoordBBox& box, double sigma, float reach)
         : value_(value),
           leaves_(leaves),
@@ -106,7 +106,7 @@ private:
     void sample_few(std::size_t l, const Weights& wt);
     void sample_block(std::size_t l, const Weights& wt);
 
-    std::vector<float>& value_;
+    UninitVector<float>& value_;
     const BoolLeaves& leaves_;
     const std::vector<std::size_t>& base_;
     const float reach_;
@@ -253,7 +253,7 @@ void FieldSmoother::sample_block(std::size_t l, const Weights& wt) {
 
 } // namespace
 
-void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+void smooth_field(UninitVector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                   const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach) {
     if (!(sigma > 0) || leaves.leafCount() == 0) return;
     FieldSmoother smoother(value, leaves, base, box, sigma, reach);

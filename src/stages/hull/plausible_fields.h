@@ -10,6 +10,8 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/LeafManager.h>
 
+#include "util/uninit_vector.h"
+
 namespace cm::plausible {
 
 using openvdb::Coord;
@@ -23,7 +25,7 @@ void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int
 /// pull it): the voxels' means on a dense lattice of `f` cells a cell (f a power of 2 up to
 /// sigma), binomial passes there, and back trilinearly. Voxels whose value lies farther than
 /// `reach` from 0 keep theirs.
-void smooth_field(std::vector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+void smooth_field(UninitVector<float>& value, const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                   const std::vector<std::size_t>& base, const openvdb::CoordBBox& box, double sigma, float reach);
 
 // A smooth, non-negative field on a coarse dense lattice (`f` grid cells a coarse cell) over a

@@ -51,7 +51,7 @@ double span(const Projection& A, int t, const Interval& O, const Interval& D) {
 
 class GhostFinder {
 public:
-    explicit GhostFinder(const HullVoxels& vox) { proj_ = project_hull(vox); }
+    explicit GhostFinder(const std::array<Projection, 3>& proj) : proj_(proj) {}
 
     GhostValue value(const Coord& p, HiddenMemo& memo) const {
         GhostValue best;
@@ -117,13 +117,14 @@ private:
         return slot;
     }
 
-    std::array<Projection, 3> proj_;
+    const std::array<Projection, 3>& proj_;
 };
 
 } // namespace
 
-void ghost_by_leaf(const HullVoxels& vox, const std::vector<LeafMask>* only, const GhostLeafBody& body) {
-    const GhostFinder finder(vox);
+void ghost_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, const std::vector<LeafMask>* only,
+                   const GhostLeafBody& body) {
+    const GhostFinder finder(proj);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<GhostValue> values;
         values.reserve(LeafT::SIZE);
@@ -151,7 +152,7 @@ void Plausible::ghost() {
     const float share = float(opt_.ghost);
     const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> hidden{0};
-    ghost_by_leaf(vox_, coarse ? &coarse_->exact() : nullptr,
+    ghost_by_leaf(vox_, projections(), coarse ? &coarse_->exact() : nullptr,
                   [&](std::size_t first, const GhostValue* values, std::size_t cnt) {
                       std::size_t n = 0;
                       for (std::size_t k = 0; k < cnt; ++k) {

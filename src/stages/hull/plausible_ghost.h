@@ -4,6 +4,7 @@
 // its section pairs its own thin run with the run of the wider part. A modeller gives it a
 // round section about as deep as it is wide, placed where the third view puts it.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -22,6 +23,7 @@ struct GhostValue {
 /// the leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
 /// order) just the voxels in it are taken; the others' values are left at zero weight.
 using GhostLeafBody = std::function<void(std::size_t first, const GhostValue* values, std::size_t count)>;
-void ghost_by_leaf(const HullVoxels& vox, const std::vector<LeafMask>* only, const GhostLeafBody& body);
+void ghost_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, const std::vector<LeafMask>* only,
+                   const GhostLeafBody& body);
 
 } // namespace cm::plausible

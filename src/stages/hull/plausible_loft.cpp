@@ -8,6 +8,7 @@
 #include "plausible_loft.h"
 
 #include "plausible_projection.h"
+#include "plausible_tracks.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -52,7 +53,8 @@ using BoxMemo = std::array<std::array<BoxFacts, 8>, 3>;
 
 class Lofter {
 public:
-    Lofter(const HullVoxels& vox, double round_exponent) : round_(round_exponent) { proj_ = project_hull(vox); }
+    Lofter(const std::array<Projection, 3>& proj, int maxdim, double round_exponent)
+        : round_(round_exponent), proj_(proj), pairs_(proj_, maxdim) {}
 
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is; `found` false where no axis has a section through p (p projects
@@ -83,6 +85,13 @@ public:
         if (found) *found = best_a >= 0;
         if (best_a < 0) return {};
         const int b = (best_a + 1) % 3, c = (best_a + 2) % 3;
+        // In a box pairing two parts' runs that the evidence rules out, across any axis
+        // (plausible_tracks.h): outside (about the cells to the nearest side of the section's
+        // box, at least 1) with the whole say.
+        if (pairs_.dropped(0, p) || pairs_.dropped(1, p) || pairs_.dropped(2, p)) {
+            const int d = std::min({p[b] - sb.lo, sb.hi - p[b], p[c] - sc.lo, sc.hi - p[c]});
+            return {float(d + 1), 0.0f, 1.0f, 1.0f};
+        }
         const double hb = sb.half(), hc = sc.half();
         const double ub = std::abs(double(p[b]) - sb.mid()) / hb, uc = std::abs(double(p[c]) - sc.mid()) / hc;
         double s;
@@ -164,14 +173,15 @@ private:
     }
 
     double round_;
-    std::array<Projection, 3> proj_;
+    const std::array<Projection, 3>& proj_;
+    PairedBoxes pairs_;
 };
 
 } // namespace
 
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
-                  const LoftLeafBody& body) {
-    const Lofter lofter(vox, round_exponent);
+void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, double round_exponent,
+                  const std::vector<LeafMask>* only, const LoftLeafBody& body) {
+    const Lofter lofter(proj, vox.maxdim, round_exponent);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<LoftValue> values;
         values.reserve(LeafT::SIZE);
@@ -191,9 +201,10 @@ void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vecto
 
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
     std::vector<LoftValue> out(vox.n);
-    loft_by_leaf(vox, round_exponent, nullptr, [&](std::size_t first, const LoftValue* values, std::size_t count) {
-        std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
-    });
+    loft_by_leaf(vox, project_hull(vox), round_exponent, nullptr,
+                 [&](std::size_t first, const LoftValue* values, std::size_t count) {
+                     std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
+                 });
     return out;
 }
 

@@ -4,6 +4,7 @@
 // smallest (the most section-like), made square where the walls are straight and the view
 // along the axis shows the box's sides as its outline.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -17,6 +18,7 @@ struct LoftValue {
     float field = 0;  ///< cells outside the lofted section (<= 0 inside)
     float square = 0; ///< how square the section is, in [0, 1] (1: the hull decides)
     float fit = 0;    ///< how well the view along the section's axis covers its box, in [0, 1]
+    float drop = 0;   ///< 1 in a box that pairs two parts' runs the evidence rules out (plausible_tracks.h)
 };
 
 /// @brief The lofted field of every voxel of `vox` (cells, <= 0 inside the lofted sections;
@@ -27,8 +29,9 @@ std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
 /// body(first, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
 /// leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
 /// order) just the voxels in it are taken; the others' values are left at zero.
+/// `proj`: the hull's projections (project_hull(), plausible_projection.h).
 using LoftLeafBody = std::function<void(std::size_t first, const LoftValue* values, std::size_t count)>;
-void loft_by_leaf(const HullVoxels& vox, double round_exponent, const std::vector<LeafMask>* only,
-                  const LoftLeafBody& body);
+void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, double round_exponent,
+                  const std::vector<LeafMask>* only, const LoftLeafBody& body);
 
 } // namespace cm::plausible

@@ -5,6 +5,7 @@
 // removal (plausible.cpp); 6-7 the output volume (plausible_volume.cpp).
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -60,6 +61,8 @@ struct HullVoxels {
     }
 };
 
+struct Projection;
+
 /// A voxel of a line of sight: the line's cell, the voxel's index and its grid point.
 struct Vox {
     std::uint32_t cell, i;
@@ -84,6 +87,9 @@ public:
     /// 2. Hidden depth: thin parts whose depth a wider part hides get a round section
     /// (plausible_ghost.h).
     void ghost();
+    /// 2. The hull's projections along the grid axes, which the lofted and hidden-depth priors
+    /// share (plausible_projection.h): made at the first call, let go by fill_in().
+    const std::array<Projection, 3>& projections();
     /// 2. On grids finer than 256, the field between the lattice points where it was taken
     /// (plausible_coarse.h); nothing at 256.
     void fill_in();
@@ -95,9 +101,9 @@ public:
     void remove();
 
     HullVoxels& voxels() { return vox_; }
-    std::vector<std::uint8_t>& removed() { return removed_; }
+    UninitVector<std::uint8_t>& removed() { return removed_; }
     /// The field after step 4 (the one the removal and the new crossings follow).
-    const std::vector<float>& field() const { return cur_; }
+    const UninitVector<float>& field() const { return cur_; }
     /// The finest line-of-sight raster pitch, pixels of its view.
     double finest_cell_px() const;
 
@@ -168,8 +174,9 @@ private:
     // phi_: how far (cells, along the ray) a voxel lies outside the views' allowance; thin_:
     // in a short run of a thin part of some drawing; cur_: phi_ lowered (step 4: it takes
     // phi_'s buffer).
-    std::vector<float> phi_, cur_;
-    std::vector<std::uint8_t> thin_;
+    UninitVector<float> phi_, cur_;
+    UninitVector<std::uint8_t> thin_;
+    std::shared_ptr<const std::array<Projection, 3>> proj_;
     // On grids finer than 256 the lattice the field is taken on (null: every voxel).
     std::unique_ptr<const CoarseLattice> coarse_;
     std::vector<RayRaster> rasters_;
@@ -181,12 +188,12 @@ private:
     std::uint32_t keep_ = 1;
     std::vector<std::vector<Vox>> lists_;
     std::vector<std::vector<std::size_t>> groups_;
-    std::vector<std::uint8_t> removed_;
+    UninitVector<std::uint8_t> removed_;
     // Step 4 lowers the field in place (cur_); the leaves it lowers keep their values before
     // it in saved_ from saved_at_[leaf] (kNotSaved: unchanged, cur_ holds them).
     static constexpr std::size_t kNotSaved = ~std::size_t(0);
     std::vector<std::size_t> saved_at_;
-    std::vector<float> saved_;
+    UninitVector<float> saved_;
 };
 
 template <typename Body>
@@ -219,7 +226,8 @@ void Plausible::for_rays(std::size_t v, Body&& body, const std::vector<LeafColum
 /// Steps 6 and 7: the output volume from the voxels `removed` (changed: pockets put back) and
 /// the field `field`; changes `vox` (the output's occupancy); fills the removal's figures of
 /// `st` (plausible_volume.cpp).
-std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, std::vector<std::uint8_t>& removed,
-                                         const std::vector<float>& field, PlausibleStats& st, const Progress& progress);
+std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
+                                         const UninitVector<float>& field, PlausibleStats& st,
+                                         const Progress& progress);
 
 } // namespace cm::plausible

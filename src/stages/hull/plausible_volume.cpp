@@ -46,7 +46,7 @@ OnLeaf on_leaf(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAcce
 class FieldAt {
 public:
     FieldAt(const std::vector<LeafMask>& hull_masks, const std::vector<Coord>& hull_origin,
-            const std::vector<std::size_t>& base, const std::vector<float>& field)
+            const std::vector<std::size_t>& base, const UninitVector<float>& field)
         : hull_masks_(hull_masks), base_(base), field_(field) {
         leaf_of_.reserve(hull_origin.size() * 2);
         for (std::size_t l = 0; l < hull_origin.size(); ++l)
@@ -67,7 +67,7 @@ public:
 private:
     const std::vector<LeafMask>& hull_masks_;
     const std::vector<std::size_t>& base_;
-    const std::vector<float>& field_;
+    const UninitVector<float>& field_;
     std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
 };
 
@@ -75,8 +75,8 @@ private:
 // the output's.
 class OutputVolume {
 public:
-    OutputVolume(const Volume& in, HullVoxels& vox, std::vector<std::uint8_t>& removed, const std::vector<float>& field,
-                 PlausibleStats& st)
+    OutputVolume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
+                 const UninitVector<float>& field, PlausibleStats& st)
         : in_(in), vox_(vox), removed_(removed), field_(field), st_(st), nleaf_(vox.nleaf) {}
 
     /// 6. The removed voxels off. The hull's voxels, as numbered, are kept first.
@@ -104,8 +104,8 @@ private:
 
     const Volume& in_;
     HullVoxels& vox_;
-    std::vector<std::uint8_t>& removed_;
-    const std::vector<float>& field_;
+    UninitVector<std::uint8_t>& removed_;
+    const UninitVector<float>& field_;
     PlausibleStats& st_;
     const std::size_t nleaf_;
     // The hull's voxels by leaf (leaves that come back full become tiles: their origins are
@@ -230,22 +230,27 @@ void OutputVolume::fill_pockets() {
         for (openvdb::Index w = 0; w < 8; ++w) cut_masks[l][w] = hull_masks_[l][w] & ~mask.getWord<std::uint64_t>(w);
     });
     const std::vector<LeafMask> pockets = sealed_pockets(leaves, hull_masks_, cut_masks);
-    std::size_t filled = 0;
-    for (std::size_t l = 0; l < nleaf_; ++l) {
-        if (!near_cut_[l]) continue;
-        auto& leaf = leaves.leaf(l);
-        std::size_t i = vox_.base[l];
-        for (openvdb::Index w = 0; w < 8; ++w)
-            for (std::uint64_t bits = hull_masks_[l][w]; bits; bits &= bits - 1, ++i) {
-                const int b = __builtin_ctzll(bits);
-                if (!(pockets[l][w] >> b & 1)) continue;
-                leaf.setValueOn(w * 64 + openvdb::Index(b), true);
-                removed_[i] = 0;
-                ++filled;
-            }
-    }
+    // Per leaf, in parallel (each leaf's voxels and flags are its own).
+    std::atomic<std::size_t> filled{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf_), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::size_t mine = 0;
+        for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            if (!near_cut_[l]) continue;
+            auto& leaf = leaves.leaf(l);
+            std::size_t i = vox_.base[l];
+            for (openvdb::Index w = 0; w < 8; ++w)
+                for (std::uint64_t bits = hull_masks_[l][w]; bits; bits &= bits - 1, ++i) {
+                    const int b = __builtin_ctzll(bits);
+                    if (!(pockets[l][w] >> b & 1)) continue;
+                    leaf.setValueOn(w * 64 + openvdb::Index(b), true);
+                    removed_[i] = 0;
+                    ++mine;
+                }
+        }
+        filled += mine;
+    });
     st_.cavities_filled = filled;
-    st_.removed -= std::min(st_.removed, filled);
+    st_.removed -= std::min(st_.removed, filled.load());
 }
 
 // Pieces of the kept volume apart from the main body (a part whose connection the removal
@@ -370,8 +375,9 @@ void OutputVolume::drop_thin_parts(Volume& out) const {
 std::vector<Coord> OutputVolume::touched_leaves() const {
     std::vector<Coord> touch;
     std::vector<std::uint8_t> has(nleaf_, 0);
-    for (std::size_t l = 0; l < nleaf_; ++l)
+    tbb::parallel_for(std::size_t(0), nleaf_, [&](std::size_t l) {
         for (std::size_t i = vox_.base[l]; i < vox_.base[l + 1] && !has[l]; ++i) has[l] = removed_[i];
+    });
     for (std::size_t l = 0; l < nleaf_; ++l) {
         if (!has[l]) continue;
         // (The hull's origin: a leaf that came back full may be a tile now.)
@@ -473,8 +479,8 @@ std::size_t OutputVolume::recross(CrossLeaf& leaf, const FieldAt& field_at, cons
 
 } // namespace
 
-std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, std::vector<std::uint8_t>& removed,
-                                         const std::vector<float>& field, PlausibleStats& st,
+std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
+                                         const UninitVector<float>& field, PlausibleStats& st,
                                          const Progress& progress) {
     OutputVolume out(in, vox, removed, field, st);
     // 6. The output occupancy.

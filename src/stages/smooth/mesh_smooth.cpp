@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "geometry/hull_distance.h"
 #include "geometry/mesh_adjacency.h"
+#include "smooth_creases.h"
 #include "smooth_guard.h"
 #include "util/uninit_vector.h"
 
@@ -47,7 +48,9 @@ struct AskedViews {
 
     bool skip = true;
     std::atomic<std::size_t> skipping_steps{0};
-    // Per vertex: a bound on |hull distance| where the vertex is (infinity: none). The hull
+    // Per vertex: a bound on |hull distance| where the vertex is (infinity: none); for a
+    // vertex free inside the hull, a bound on its signed hull distance, which only has to
+    // stay below the tolerance. The hull
     // distance moves by at most `lip` per unit the vertex moves, so a step no longer than
     // (tol - bound) / lip keeps it within the tolerance: that step is taken whole, as asking
     // would have found, without a sample. 0 when some view's distance cannot be bounded so.
@@ -108,6 +111,9 @@ struct AskedViews {
         const double d = hull->distance(p, mask[v]);
         return d >= -tol ? d : (*hull)(p);
     }
+    // With a valid mask, the largest distance of the asked views at p (the hull distance when
+    // it is -tol or more; below -tol otherwise).
+    double masked(std::size_t v, const Vec3d& p) const { return hull->distance(p, mask[v]); }
     // With a valid mask, whether the hull distance at p is at most `limit` (>= -tol).
     bool at_most(std::size_t v, const Vec3d& p, double limit) const { return hull->distance(p, mask[v]) <= limit; }
     // With a valid mask, HullDistance::within (exact as distance()).
@@ -123,8 +129,9 @@ struct AskedViews {
 // With a hull, the step is shortened so that |hull distance| stays within the
 // tolerance (or does not grow, for a vertex that starts outside the band).
 // `free` (may be null): the vertices that only have to stay inside the hull (within tol).
+// `plane` (may be null): per vertex, the normal of the plane its step is kept in (zero: free).
 std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std::vector<Vec3f>& dst, double w,
-                  AskedViews& asked, const std::vector<char>* free) {
+                  AskedViews& asked, const std::vector<char>* free, const std::vector<Vec3f>* plane) {
     const HullDistance* hull = asked.hull;
     const double tol = asked.tol;
     const std::size_t nv = src.size();
@@ -142,7 +149,11 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             }
             Vec3f sum{0, 0, 0};
             for (std::uint32_t i = b; i < e; ++i) sum += src[adj.neighbours[i]];
-            const Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
+            Vec3f step = (sum * (1.0f / float(e - b)) - p) * float(w);
+            if (plane) {
+                const Vec3f n = (*plane)[v];
+                step -= n * dot(step, n);
+            }
             if (!hull) {
                 dst[v] = p + step;
                 continue;
@@ -181,13 +192,22 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                 return (target - h0) / (h1 - h0);
             };
             double h_end = std::numeric_limits<double>::infinity(); // |hull distance| at the end, when known
-            if (asked.valid(v, reach)) {
+            const bool is_free = free && (*free)[v];
+            if (asked.surely_within(v, reach) && (is_free || asked.valid(v, reach))) {
+                // The hull distance is bounded far enough within the tolerance: the step is
+                // taken whole without a sample (the bound moves with it). A free vertex's bound
+                // holds without the mask, which only has to stay below the tolerance.
+                h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
+                if (asked.valid(v, reach)) {
+                    ++skipping;
+                    asked.moved(v, reach);
+                }
+            } else if (asked.valid(v, reach)) {
                 ++skipping;
-                if (free && (*free)[v]) {
-                    if (!asked.at_most(v, p0 + s, tol))
-                        lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
-                } else if (asked.surely_within(v, reach)) {
-                    h_end = double(asked.near[v]) + asked.lip * reach * (1 + 1e-9);
+                if (is_free) {
+                    const double d = asked.masked(v, p0 + s);
+                    if (d <= tol) h_end = std::max(d, -tol); // the skipped views lie below -tol
+                    else lo = bisect([&](const Vec3d& x) { return asked.at_most(v, x, tol); });
                 } else if (const double h1 = asked.distance(v, p0 + s); std::fabs(h1) > tol) {
                     const double h0 = asked.distance(v, p0), bound = std::max(tol, std::fabs(h0));
                     std::size_t first = 0; // the view that refused the last point
@@ -202,7 +222,7 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
             } else {
                 // Every view asked at the end of the step, and the mask made afresh there.
                 const double h1 = asked.ask_all(v, p0 + s, reach);
-                if (free && (*free)[v]) {
+                if (is_free) {
                     if (h1 > tol) lo = bisect([&](const Vec3d& x) { return (*hull)(x) <= tol; });
                 } else if (std::fabs(h1) > tol) {
                     const double h0 = (*hull)(p0), bound = std::max(tol, std::fabs(h0));
@@ -211,7 +231,7 @@ std::size_t relax(const VertexAdjacency& adj, const std::vector<Vec3f>& src, std
                         lo = bisect([&](const Vec3d& x) { return hull->within(x, bound, first); },
                                     crossing(h0, h1, bound));
                 }
-                if (lo == 1) h_end = std::fabs(h1);
+                if (lo == 1) h_end = is_free ? h1 : std::fabs(h1);
                 asked.moved(v, reach * (1 - lo)); // the mask is about p0 + s
             }
             asked.now_at(v, lo == 1 ? h_end : std::numeric_limits<double>::infinity());
@@ -264,7 +284,11 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
     {
         // The adjacency and the second buffer are let go before the guard, the largest user
         // of memory, builds its indices.
-        const VertexAdjacency adj = build_vertex_adjacency(in);
+        const VertexAdjacency ring = build_vertex_adjacency(in);
+        std::optional<CreaseHold> hold;
+        if (opt.crease_angle_deg > 0) hold.emplace(hold_creases(in, ring, opt.crease_angle_deg));
+        const VertexAdjacency& adj = hold ? hold->adj : ring;
+        const std::vector<Vec3f>* plane = hold ? &hold->plane : nullptr;
         std::vector<Vec3f> b(a.size());
         AskedViews asked(hull, tol, a.size(), opt.skip_far_views);
         // Vertices that start inside the hull, farther than the tolerance, move freely inside it.
@@ -278,15 +302,15 @@ SmoothStats smooth_positions(const Mesh& in, std::vector<Vec3f>& a, const Smooth
         const std::vector<char>* free = free_inside.empty() ? nullptr : &free_inside;
         for (int it = 0; it < opt.iterations; ++it) {
             if (opt.method == SmoothOptions::Method::Laplacian) {
-                stats.clamped_steps += relax(adj, a, b, opt.factor, asked, free);
+                stats.clamped_steps += relax(adj, a, b, opt.factor, asked, free, plane);
                 a.swap(b);
             } else {
-                stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free);
-                stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free);
+                stats.clamped_steps += relax(adj, a, b, opt.lambda, asked, free, plane);
+                stats.clamped_steps += relax(adj, b, a, opt.mu, asked, free, plane);
             }
             progress(double(it + 1) / opt.iterations);
         }
-        for (std::size_t v = 0; v < used.size(); ++v) used[v] = adj.degree(std::uint32_t(v)) > 0;
+        for (std::size_t v = 0; v < used.size(); ++v) used[v] = ring.degree(std::uint32_t(v)) > 0;
         stats.skipping_steps = asked.skipping_steps.load();
     }
     if (opt.guard) guard_surface(in, a, stats);
@@ -322,6 +346,11 @@ void SmoothOptions::declare_common(ParamBinder& b) {
                                  "keep the surface valid: vertices of faces that would cross another face, turn "
                                  "over or collapse, and vertices drawn onto another vertex, are moved back towards "
                                  "their input positions"));
+    b.add(crease_angle_deg,
+          ParamSpec::Float("creases", 0.0, 0.0, 180.0, "deg",
+                           "hold sharp creases: a vertex on an edge whose two faces meet at more than this "
+                           "smooths along its crease only (and stays where creases end or meet), a vertex "
+                           "beside one stays in its plane; 0: off, as in the paper"));
 }
 
 void SmoothOptions::declare_laplacian(ParamBinder& b) {

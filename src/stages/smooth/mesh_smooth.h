@@ -35,6 +35,10 @@ struct SmoothOptions {
     /// towards their input positions (half the way, a quarter, then all the way) until no
     /// such face is left. The input must be free of them itself.
     bool guard;
+    /// Hold sharp creases: a vertex on an edge whose two faces meet at more than this
+    /// (degrees) smooths along its crease only (or stays, where creases end or meet), and a
+    /// vertex beside one stays in its plane (smooth_creases.h); 0: off (the paper).
+    double crease_angle_deg;
     /// With a hull: a view that sees a vertex far inside its silhouette is not asked again
     /// until the vertex may have come near enough for its answer to matter (the same result
     /// either way, about a third of the samples with three views; false asks every view at
@@ -48,7 +52,7 @@ struct SmoothOptions {
         declare_laplacian(b);
         declare_taubin(b);
     }
-    /// `iterations`, `constrain`, `tolerance` and `guard`.
+    /// `iterations`, `constrain`, `tolerance`, `guard` and `creases`.
     void declare_common(ParamBinder& b);
     /// `factor`.
     void declare_laplacian(ParamBinder& b);

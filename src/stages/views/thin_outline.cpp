@@ -22,6 +22,28 @@ constexpr float kMerged = 2.0f;
 // have pulled them in by half a stroke measured too wide).
 constexpr int kAfter = 2;
 
+// Differences of ink under this are rounding, not ink (px): one step of a byte is 1/255 of
+// full scale, more of the full ink.
+constexpr float kTie = 1e-5f;
+// Ink fractions within this of each other are the same ink: each is read from bytes, a
+// pixel's colour to within half a step (0.002) on each channel, its fraction of the full ink
+// (at least 0.3 from the paper for the faintest pencil) to within 0.007, differently in each
+// ink colour. Comparisons of two pixels' ink (a valley against the stroke's peak) take
+// near-equal as equal, so that a valley of exactly half the peak (the renderer's 1/3 beside
+// 2/3, or 1/9 beside 2/9) is read alike in every ink.
+constexpr float kInkStep = 0.01f;
+
+// How far the pixel's centre lies past the half-ink point of its crossing, in ink (px): the
+// ink `passed` before the pixel, half its own `a`, less half the stroke's `placed`. Summed
+// before the half pixel of coverage is added (0.5 + passed + a / 2 - placed / 2 rounds
+// 0.5 + a / 2 first, and gave a stroke on one pixel 0.5 less one float step in some inks,
+// 0.5 in others: a whole row of pixels in or out by the colour), and within kTie of the
+// point taken as on it.
+float beyond_half_ink(float passed, float a, float placed) {
+    const float off = passed + 0.5f * a - 0.5f * placed;
+    return std::abs(off) < kTie ? 0.0f : off;
+}
+
 // Per pixel, the crossing that passes its stroke most squarely: its ink and the coverage it
 // gives the pixel.
 struct Best {
@@ -30,8 +52,9 @@ struct Best {
 
 // Where the outline stroke entered at k ends when another line runs into it from inside:
 // `e` becomes the first valley of the ink after k, within kLongest (a pixel under half the
-// stroke's peak and no more than the next pixel's), and `shared` its ink. False when there
-// is none, or the background lies within kAfter + 1 beyond it (a thin part).
+// stroke's peak by more than kInkStep, and no more than the next pixel's give or take it),
+// and `shared` its ink. False when there is none, or the background lies within kAfter + 1
+// beyond it (a thin part).
 template <typename At>
 bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vector<float>& ink, int k, int& e,
                   float& shared) {
@@ -39,7 +62,7 @@ bool first_stroke(int count, At at, const std::vector<char>& bg, const std::vect
     for (int j = k + 1; j + 1 < count && j <= k + kLongest; ++j) {
         const float a = ink[at(j)];
         if (bg[at(j)] || a <= 0) return false; // the blank inside: a single stroke
-        if (a < 0.5f * peak && a <= ink[at(j + 1)]) {
+        if (a < 0.5f * peak - kInkStep && a <= ink[at(j + 1)] + kInkStep) {
             for (int m = j + 1; m <= j + kAfter + 1; ++m)
                 if (m >= count || bg[at(m)]) return false;
             e = j;
@@ -79,8 +102,10 @@ void cross_line(int count, At at, const std::vector<char>& bg, const std::vector
             const std::size_t i = at(j);
             if (j >= e && bg[i]) break;
             const float a = j < e ? ink[i] : j == e ? 0.5f * shared : 0.0f;
-            // The ink up to the pixel's centre against half the stroke's.
-            const float c = std::clamp(0.5f + passed + 0.5f * a - 0.5f * placed, 0.0f, 1.0f);
+            // The ink up to the pixel's centre against half the stroke's (the pixel's side of
+            // the half-ink point, px). At the half-ink point itself (a 1 px stroke on one pixel,
+            // the outline through its middle) the pixel is half inside, exactly, in any ink.
+            const float c = std::clamp(0.5f + beyond_half_ink(passed, a, placed), 0.0f, 1.0f);
             passed += a;
             if (total < best.ink[i]) {
                 best.ink[i] = total;

@@ -20,7 +20,9 @@ namespace cm {
 /// does not jitter: each pixel's ink fraction is its distance to the paper over the full
 /// ink's (the drawing's strongest ink, 95th percentile), and across a stroke along a row or a
 /// column the outline lies where half of the stroke's ink is passed. A pixel is inside when
-/// the ink up to its centre (from the background) is at least half the stroke's.
+/// the ink up to its centre (from the background) is at least half the stroke's; a pixel
+/// at exactly half (a 1 px stroke on one pixel) is inside in every ink colour, the float
+/// rounding of its ink fraction aside.
 ///
 /// A crossing counts when it is a single stroke from the background to the object's blank
 /// inside, or the outline stroke with a line just inside it run into it (the stroke then

@@ -140,7 +140,7 @@ TEST(HullHard, CoarseFieldFollowsTheExactOne) {
     const plausible::HullVoxels sv(*sphere->occupancy);
     const auto exact = plausible::loft_field(sv, 2.0);
     const plausible::CoarseLattice lattice(sv.leaves, sv.base, 2);
-    std::vector<float> field(exact.size(), 1e6f);
+    UninitVector<float> field(exact.size(), 1e6f);
     std::vector<char> taken(exact.size(), 0), on_lattice(exact.size(), 0);
     sv.for_voxels([&](std::size_t i, const openvdb::Coord& c) {
         const std::size_t l = std::size_t(std::upper_bound(sv.base.begin(), sv.base.end(), i) - sv.base.begin()) - 1;
