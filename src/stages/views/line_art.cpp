@@ -295,4 +295,24 @@ StrokeCentre pull_to_stroke_centre(std::vector<float>& coverage, const std::vect
     return res;
 }
 
+std::size_t give_back_enclosed_paper(std::vector<float>& coverage, const std::vector<float>& before,
+                                     const std::vector<char>& bg, int w, int h) {
+    const std::size_t n = std::size_t(w) * h;
+    std::vector<char> under(n);
+    for (std::size_t i = 0; i < n; ++i) under[i] = coverage[i] < 0.5f;
+    std::vector<int> lab;
+    std::vector<std::size_t> sizes;
+    const int count = mask_components(under, w, h, true, lab, sizes);
+    std::vector<char> outside(std::size_t(count), 0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (lab[i] >= 0 && bg[i]) outside[std::size_t(lab[i])] = 1;
+    std::size_t given = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (lab[i] >= 0 && !outside[std::size_t(lab[i])] && before[i] > coverage[i]) {
+            coverage[i] = before[i];
+            ++given;
+        }
+    return given;
+}
+
 } // namespace cm

@@ -16,14 +16,15 @@ void give_back_barrier_rim(std::vector<char>& bg, const std::vector<char>& ink, 
 
 /// What pull_to_stroke_centre measured and did.
 struct StrokeCentre {
-    double stroke_width = 0;         ///< the outline stroke's width, median over the outline (px); 0: none measured
-    std::size_t samples = 0;         ///< outline pixels the width was measured at
-    double pulled_px = 0;            ///< coverage taken off the silhouette (pixels)
-    std::size_t thin_held = 0;       ///< pixels of parts thinner than two strokes kept by their core
-    std::size_t pockets_opened = 0;  ///< pixels of paper outside the outline the gap closing had shut
-    std::size_t corners_dropped = 0; ///< stray cores at the outer corner of a stroke turning a sharp corner
-    double ink_width = 0;            ///< thin lines: the width measured from the ink (px); 0: not measured
-    std::size_t ink_placed = 0;      ///< thin lines: pixels placed from the ink (see place_thin_outline)
+    double stroke_width = 0;          ///< the outline stroke's width, median over the outline (px); 0: none measured
+    std::size_t samples = 0;          ///< outline pixels the width was measured at
+    double pulled_px = 0;             ///< coverage taken off the silhouette (pixels)
+    std::size_t thin_held = 0;        ///< pixels of parts thinner than two strokes kept by their core
+    std::size_t pockets_opened = 0;   ///< pixels of paper outside the outline the gap closing had shut
+    std::size_t corners_dropped = 0;  ///< stray cores at the outer corner of a stroke turning a sharp corner
+    double ink_width = 0;             ///< thin lines: the width measured from the ink (px); 0: not measured
+    std::size_t ink_placed = 0;       ///< thin lines: pixels placed from the ink (see place_thin_outline)
+    std::size_t paper_given_back = 0; ///< enclosed paper the placement left under one half (give_back_enclosed_paper)
 };
 
 /// @brief Moves the silhouette of a line drawing from its strokes' outer edge to their
@@ -51,5 +52,15 @@ struct StrokeCentre {
 /// background, so an object cut by the frame keeps its edge there.
 StrokeCentre pull_to_stroke_centre(std::vector<float>& coverage, const std::vector<char>& bg,
                                    const std::vector<char>& ink, double close_gaps, int w, int h);
+
+/// @brief The object's paper the outline's placement (pull_to_stroke_centre,
+/// place_thin_outline) left enclosed: pieces (8-connected) of coverage under one half in
+/// `coverage` that hold no background pixel (`bg`, w x h, row-major) take back their
+/// coverage from `before` (the silhouette before the placement). Such a piece is the paper
+/// between the outline and a line run 1-2 px inside it, which the placement takes for the
+/// outline's own inner edge; it is enclosed by ink and the object, and the region judge,
+/// which decides the holes, left it inside. Returns the number of pixels given back.
+std::size_t give_back_enclosed_paper(std::vector<float>& coverage, const std::vector<float>& before,
+                                     const std::vector<char>& bg, int w, int h);
 
 } // namespace cm

@@ -241,8 +241,10 @@ public:
         if (!line_drawing_) return;
         std::vector<char> ink(n_);
         for (std::size_t i = 0; i < n_; ++i) ink[i] = d_[i] >= t_;
+        const std::vector<float> before = cov;
         res.stroke = cm::pull_to_stroke_centre(cov, bg_, ink, res.close_gaps, w_, h_);
         place_thin_outline(cov, bg_, d_, t_, w_, h_, res.stroke);
+        res.stroke.paper_given_back = give_back_enclosed_paper(cov, before, bg_, w_, h_);
     }
 
     // A ground shadow under the object is background (see remove_ground_shadow).
