@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 #include "hull_steps.h"
 #include "plausible.h"
@@ -86,6 +87,19 @@ void expect_lines_of_sight_kept(const Volume& hull, const Volume& out) {
     for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(columns(out, axis), columns(hull, axis)) << "axis " << axis;
 }
 
+// At each height of `ys` the hull holds all four boxes of the two legs, and the result keeps
+// the legs' own and drops the two ghosts.
+void expect_legs_apart(const Legs& legs, const Volume& hull, const Volume& out, std::initializer_list<double> ys) {
+    const double ax = legs.a[0], az = legs.a[2], bx = legs.b[0], bz = legs.b[2];
+    for (double y : ys) {
+        ASSERT_TRUE(on(hull, ax, y, bz) && on(hull, bx, y, az));
+        EXPECT_TRUE(on(out, ax, y, az)) << "leg a at y " << y;
+        EXPECT_TRUE(on(out, bx, y, bz)) << "leg b at y " << y;
+        EXPECT_FALSE(on(out, ax, y, bz)) << "ghost at y " << y;
+        EXPECT_FALSE(on(out, bx, y, az)) << "ghost at y " << y;
+    }
+}
+
 } // namespace
 
 TEST(HullTracks, TwoLegsApartInBothViewsComeBackAsTwo) {
@@ -93,18 +107,10 @@ TEST(HullTracks, TwoLegsApartInBothViewsComeBackAsTwo) {
     const auto hull = carve_and_refine(legs.views(), 96);
     PlausibleStats st;
     const auto out = lofted(hull, &st);
-    const double ax = legs.a[0], az = legs.a[2], bx = legs.b[0], bz = legs.b[2];
     EXPECT_GT(st.unpaired_voxels, 0u);
-    for (double y : {-2.6, -2.3, -2.0}) {
-        // The hull holds all four boxes where both legs are.
-        ASSERT_TRUE(on(*hull, ax, y, bz) && on(*hull, bx, y, az));
-        EXPECT_TRUE(on(*out, ax, y, az)) << "leg a at y " << y;
-        EXPECT_TRUE(on(*out, bx, y, bz)) << "leg b at y " << y;
-        EXPECT_FALSE(on(*out, ax, y, bz)) << "ghost at y " << y;
-        EXPECT_FALSE(on(*out, bx, y, az)) << "ghost at y " << y;
-    }
+    expect_legs_apart(legs, *hull, *out, {-2.6, -2.3, -2.0});
     // Below the lifted foot only leg a is there, in the hull as in the result.
-    EXPECT_TRUE(on(*out, ax, -3.5, az));
+    EXPECT_TRUE(on(*out, legs.a[0], -3.5, legs.a[2]));
     expect_lines_of_sight_kept(*hull, *out);
 }
 
@@ -130,14 +136,7 @@ TEST(HullTracks, ToesBesideTheFeetStillTellTheLegsApart) {
     const auto hull = carve_and_refine(legs.views(), 96);
     PlausibleStats st;
     const auto out = lofted(hull, &st);
-    const double ax = legs.a[0], az = legs.a[2], bx = legs.b[0], bz = legs.b[2];
     EXPECT_GT(st.unpaired_voxels, 0u);
-    for (double y : {-2.3, -2.0, -1.7}) {
-        ASSERT_TRUE(on(*hull, ax, y, bz) && on(*hull, bx, y, az));
-        EXPECT_TRUE(on(*out, ax, y, az)) << "leg a at y " << y;
-        EXPECT_TRUE(on(*out, bx, y, bz)) << "leg b at y " << y;
-        EXPECT_FALSE(on(*out, ax, y, bz)) << "ghost at y " << y;
-        EXPECT_FALSE(on(*out, bx, y, az)) << "ghost at y " << y;
-    }
+    expect_legs_apart(legs, *hull, *out, {-2.3, -2.0, -1.7});
     expect_lines_of_sight_kept(*hull, *out);
 }
