@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
-#include <numeric>
 #include <unordered_map>
 
 #include <tbb/blocked_range.h>
@@ -11,22 +10,11 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
+#include "geometry/disjoint_sets.h"
+
 namespace cm {
 
 namespace {
-
-struct Dsu {
-    std::vector<std::uint32_t> p;
-    explicit Dsu(std::size_t n) : p(n) { std::iota(p.begin(), p.end(), 0u); }
-    std::uint32_t find(std::uint32_t x) {
-        while (p[x] != x) {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) { p[find(a)] = find(b); }
-};
 
 // Whether the faces around vertex v form one fan (connected through edges at v): faces
 // are joined when they share a vertex other than v. A fan of a few faces is checked pair
@@ -56,7 +44,7 @@ bool one_fan(const Mesh& m, std::uint32_t v, const std::uint32_t* fs, std::size_
         return true;
     }
     std::unordered_map<std::uint32_t, std::uint32_t> other_to_face;
-    Dsu local(k);
+    DisjointSets local(k);
     for (std::uint32_t i = 0; i < k; ++i) {
         const auto& t = m.triangles[fs[i]];
         for (int x = 0; x < 3; ++x) {

@@ -118,14 +118,14 @@ public:
     /// along `axis` (bits as column_bits()).
     static std::uint64_t column_word(std::uint64_t cols, int axis, int x) {
         if (axis == 0) return cols; // columns y * 8 + z
-        std::uint64_t out = 0;
-        if (axis == 1) { // columns z * 8 + x: the same z bits in every byte
+        if (axis == 1) {            // columns z * 8 + x: the same z bits in every byte
             std::uint64_t zs = 0;
             for (int z = 0; z < 8; ++z) zs |= ((cols >> (z * 8 + x)) & 1) << z;
             return zs * 0x0101010101010101ull;
         }
         // columns x * 8 + y: whole bytes
         const std::uint64_t ys = (cols >> (x * 8)) & 0xff;
+        std::uint64_t out = 0;
         for (int y = 0; y < 8; ++y)
             if (ys >> y & 1) out |= std::uint64_t(0xff) << (8 * y);
         return out;

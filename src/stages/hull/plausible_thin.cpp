@@ -2,9 +2,10 @@
 #include "plausible_thin.h"
 
 #include <cstdint>
-#include <numeric>
 #include <unordered_map>
 #include <vector>
+
+#include "geometry/disjoint_sets.h"
 
 namespace cm::plausible {
 
@@ -55,29 +56,19 @@ bool cut_beside(const Acc& was, const Acc& now, const ThinEdge& e) {
     return false;
 }
 
-struct UnionFind {
-    std::vector<std::size_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t(0)); }
-    std::size_t find(std::size_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    }
-    void join(std::size_t i, std::size_t j) { parent[find(i)] = find(j); }
-};
-
 // Edges grouped into chains (sharing a cell), over the edges where `use` is set.
 std::vector<std::size_t> chains(const std::vector<ThinEdge>& edges, const std::vector<char>& use) {
-    UnionFind uf(edges.size());
+    DisjointSets uf(edges.size());
     std::unordered_map<std::uint64_t, std::size_t> first;
     first.reserve(edges.size() * 4);
     for (std::size_t i = 0; i < edges.size(); ++i)
         if (use[i])
             cells_of(edges[i], [&](const Coord& c) {
                 const auto [it, fresh] = first.emplace(cell_key(c), i);
-                if (!fresh) uf.join(i, it->second);
+                if (!fresh) uf.unite(std::uint32_t(i), std::uint32_t(it->second));
             });
     std::vector<std::size_t> root(edges.size());
-    for (std::size_t i = 0; i < edges.size(); ++i) root[i] = uf.find(i);
+    for (std::size_t i = 0; i < edges.size(); ++i) root[i] = uf.find(std::uint32_t(i));
     return root;
 }
 

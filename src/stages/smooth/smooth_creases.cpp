@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "geometry/disjoint_sets.h"
+
 namespace cm {
 
 namespace {
@@ -19,19 +21,13 @@ struct Sharp {
     }
 };
 
-// The root of `v`'s set (path halving).
-std::uint32_t find(std::vector<std::uint32_t>& parent, std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-}
-
 using EdgeList = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
 // Joins the sets of two crease ends that continue each other across a gap of at most `gap`
 // (each end's last edge points at the other end within about 37 degrees): a drawn corner that
 // Marching Cubes bevels in places is one crease in pieces; the steps of a carved surface lie
 // side by side, not end to end.
-void join_across_gaps(const Mesh& in, const EdgeList& sharp_edges, std::vector<std::uint32_t>& parent, double gap) {
+void join_across_gaps(const Mesh& in, const EdgeList& sharp_edges, DisjointSets& sets, double gap) {
     std::vector<std::uint32_t> degree(in.positions.size(), 0), prev(in.positions.size(), 0);
     for (const auto& [a, b] : sharp_edges) {
         ++degree[a], ++degree[b];
@@ -60,17 +56,13 @@ void join_across_gaps(const Mesh& in, const EdgeList& sharp_edges, std::vector<s
                         const Vec3d gvw = Vec3d(in.positions[w]) - pv;
                         const double d = length(gvw);
                         if (d > gap || d == 0 || dot(dv, gvw) < 0.8 * d || dot(outward(w), gvw) > -0.8 * d) continue;
-                        const std::uint32_t rv = find(parent, v), rw = find(parent, w);
-                        if (rv != rw) parent[std::max(rv, rw)] = std::min(rv, rw);
+                        sets.unite(v, w);
                     }
                 }
     }
 }
 
-// The sharp edges that belong to a crease reaching at least `reach` (the diagonal of the box
-// around its connected sharp edges, pieces continuing each other across `gap` joined); the
-// others dropped. Returns how many creases were dropped.
-// Whether the edge a-b runs along a line of sight of one of `views` (within 10 degrees): the
+// Whether the edge a-b runs along a line of sight of one of `views` (within 20 degrees): the
 // wall a view's outline sweeps has its corners along its lines of sight.
 bool along_a_view(const Mesh& in, std::uint32_t a, std::uint32_t b, const std::vector<Camera>& views) {
     const Vec3d e = Vec3d(in.positions[b]) - Vec3d(in.positions[a]);
@@ -80,22 +72,21 @@ bool along_a_view(const Mesh& in, std::uint32_t a, std::uint32_t b, const std::v
            });
 }
 
+// The sharp edges that belong to a crease reaching at least `reach` (the diagonal of the box
+// around its connected sharp edges, pieces continuing each other across `gap` joined), or that
+// run along a view; the others dropped. Returns how many short creases there were.
 std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reach, double gap,
                               const std::vector<Camera>& views) {
-    std::vector<std::uint32_t> parent(in.positions.size());
-    for (const auto& [a, b] : sharp_edges) parent[a] = a, parent[b] = b;
-    for (const auto& [a, b] : sharp_edges) {
-        const std::uint32_t ra = find(parent, a), rb = find(parent, b);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-    }
-    join_across_gaps(in, sharp_edges, parent, gap);
+    DisjointSets sets(in.positions.size());
+    for (const auto& [a, b] : sharp_edges) sets.unite(a, b);
+    join_across_gaps(in, sharp_edges, sets, gap);
     struct Box {
         Vec3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     };
     std::vector<Box> box(in.positions.size());
     for (const auto& [a, b] : sharp_edges)
         for (const std::uint32_t v : {a, b}) {
-            Box& x = box[find(parent, v)];
+            Box& x = box[sets.find(v)];
             const Vec3f& p = in.positions[v];
             x.lo = Vec3f(std::min(x.lo.x, p.x), std::min(x.lo.y, p.y), std::min(x.lo.z, p.z));
             x.hi = Vec3f(std::max(x.hi.x, p.x), std::max(x.hi.y, p.y), std::max(x.hi.z, p.z));
@@ -104,12 +95,12 @@ std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reac
     std::size_t dropped = 0;
     std::vector<char> counted(in.positions.size(), 0);
     for (const auto& [a, b] : sharp_edges)
-        if (const std::uint32_t r = find(parent, a); !counted[r] && is_short(r)) {
+        if (const std::uint32_t r = sets.find(a); !counted[r] && is_short(r)) {
             counted[r] = 1;
             ++dropped;
         }
     std::erase_if(sharp_edges, [&](const auto& e) {
-        return is_short(find(parent, e.first)) && !along_a_view(in, e.first, e.second, views);
+        return is_short(sets.find(e.first)) && !along_a_view(in, e.first, e.second, views);
     });
     return dropped;
 }
