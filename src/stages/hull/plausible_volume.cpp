@@ -43,6 +43,29 @@ OnLeaf on_leaf(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAcce
     return s;
 }
 
+// The leaf of `grid` at `origin` (0) and its neighbours above in x, y and z (1 to 3).
+void on_leaves(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAccessor& acc, const Coord& origin,
+               OnLeaf (&out)[4]) {
+    for (int a = -1; a < 3; ++a) {
+        Coord o = origin;
+        if (a >= 0) o[a] += int(LeafT::DIM);
+        out[a + 1] = on_leaf(grid, acc, o);
+    }
+}
+
+// The points of a leaf (`nw`: it and its neighbours above, as on_leaves()) with an edge whose
+// ends differ (inside one, outside the other): the only points with crossings.
+LeafMask differing_points(const OnLeaf (&nw)[4]) {
+    LeafMask differ{};
+    const LeafMask own = nw[0].mask();
+    for (int a = 0; a < 3; ++a) {
+        const LeafMask next = nw[a + 1].mask();
+        const LeafMask above = neighbour_in(own, &next, 2 * a + 1);
+        for (openvdb::Index w = 0; w < 8; ++w) differ[w] |= own[w] ^ above[w];
+    }
+    return differ;
+}
+
 // The field at a grid point of the hull (0 elsewhere), through the voxels' numbering.
 class FieldAt {
 public:
@@ -100,6 +123,7 @@ private:
     void drop_thin_parts(Volume& out) const;
     void place_crossings(Volume& out) const;
     std::vector<Coord> touched_leaves() const;
+    std::vector<Coord> leaves_to_recross(const openvdb::Vec3fGrid& cross) const;
     std::size_t recross(CrossLeaf& leaf, const FieldAt& field_at, const openvdb::BoolGrid::ConstAccessor& was,
                         const openvdb::BoolGrid::ConstAccessor& now) const;
 
@@ -344,11 +368,41 @@ std::vector<Coord> OutputVolume::touched_leaves() const {
     return touch;
 }
 
+// Of the touched leaves (touched_leaves()), those whose crossings can change: a leaf of `cross`
+// (the input's), a tile there other than the background, or a point with an edge whose ends
+// differ now. (A leaf made anew for none of these, most of them deep inside the hull, would
+// only be cleared and pruned again: at 512 more than half of the touched leaves.)
+std::vector<Coord> OutputVolume::leaves_to_recross(const openvdb::Vec3fGrid& cross) const {
+    std::vector<Coord> touch = touched_leaves();
+    std::vector<std::uint8_t> need(touch.size(), 0);
+    const openvdb::Vec3f bg = cross.background();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touch.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        auto acc = cross.getConstAccessor();
+        auto now = vox_.occ->getConstAccessor();
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const Coord& o = touch[k];
+            if (acc.probeConstLeaf(o) || acc.isValueOn(o) || acc.getValue(o) != bg) {
+                need[k] = 1;
+                continue;
+            }
+            OnLeaf nw[4];
+            on_leaves(*vox_.occ, now, o, nw);
+            const LeafMask differ = differing_points(nw);
+            for (const std::uint64_t w : differ) need[k] |= w != 0;
+        }
+    });
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < touch.size(); ++k)
+        if (need[k]) touch[kept++] = touch[k];
+    touch.resize(kept);
+    return touch;
+}
+
 // Crossings: unchanged where an edge still runs from an inside point to a point outside the
 // hull; the smoothed field's zero crossing on edges into the removed region.
 void OutputVolume::place_crossings(Volume& out) const {
     auto cross = in_.crossings->deepCopy();
-    const std::vector<Coord> touch = touched_leaves();
+    const std::vector<Coord> touch = leaves_to_recross(*cross);
     std::vector<CrossLeaf*> cl(touch.size());
     for (std::size_t k = 0; k < touch.size(); ++k) cl[k] = cross->tree().touchLeaf(touch[k]);
     const FieldAt field_at(hull_masks_, hull_origin_, vox_.base, field_);
@@ -373,23 +427,10 @@ std::size_t OutputVolume::recross(CrossLeaf& leaf, const FieldAt& field_at, cons
     std::size_t placed = 0;
     // This leaf (0) and its neighbours above in x, y and z (1 to 3), now and before.
     OnLeaf nw[4], wa[4];
-    for (int a = -1; a < 3; ++a) {
-        Coord o = leaf.origin();
-        if (a >= 0) o[a] += int(LeafT::DIM);
-        nw[a + 1] = on_leaf(*vox_.occ, now, o);
-        wa[a + 1] = on_leaf(*in_.occupancy, was, o);
-    }
-    // The points with an edge whose ends differ now (inside one, outside the other); every
-    // other point's edges have no crossing.
-    LeafMask differ{};
-    {
-        const LeafMask own = nw[0].mask();
-        for (int a = 0; a < 3; ++a) {
-            const LeafMask next = nw[a + 1].mask();
-            const LeafMask above = neighbour_in(own, &next, 2 * a + 1);
-            for (openvdb::Index w = 0; w < 8; ++w) differ[w] |= own[w] ^ above[w];
-        }
-    }
+    on_leaves(*vox_.occ, now, leaf.origin(), nw);
+    on_leaves(*in_.occupancy, was, leaf.origin(), wa);
+    // The points with an edge whose ends differ now; every other point's edges have no crossing.
+    const LeafMask differ = differing_points(nw);
     for (openvdb::Index off = 0; off < CrossLeaf::SIZE; ++off) {
         if (!(differ[off >> 6] >> (off & 63) & 1)) {
             leaf.setValueOff(off, openvdb::Vec3f(-1.0f));
