@@ -3,97 +3,22 @@
 // thin put back, sealed pockets filled, pieces cut off bridged back to the body, full leaves
 // back to tiles); 7: the thin parts that would float free dropped (plausible_thin.h), and the
 // crossings: the hull's own where an edge still runs to the outside of the hull, the field's
-// zero level on edges into the removed region.
-#include <openvdb/tools/Prune.h>
+// zero level on edges into the removed region (plausible_crossings.h).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
 #include <set>
-#include <unordered_map>
 
 #include "leaf_masks.h"
+#include "plausible_crossings.h"
 #include "plausible_state.h"
 #include "plausible_thin.h"
 
 namespace cm::plausible {
 
 namespace {
-
-using CrossLeaf = openvdb::Vec3fTree::LeafNodeType;
-
-// Whether grid points are on, by leaf: a leaf's mask, or its tile's (or the background's) state.
-struct OnLeaf {
-    const LeafT* leaf = nullptr;
-    bool all = false;
-    bool on(openvdb::Index off) const { return leaf ? leaf->isValueOn(off) : all; }
-    LeafMask mask() const {
-        LeafMask m;
-        if (leaf) m = leaf_mask(*leaf);
-        else m.fill(all ? ~std::uint64_t(0) : 0);
-        return m;
-    }
-};
-
-OnLeaf on_leaf(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAccessor& acc, const Coord& origin) {
-    OnLeaf s;
-    s.leaf = grid.tree().probeConstLeaf(origin);
-    if (!s.leaf) s.all = acc.isValueOn(origin);
-    return s;
-}
-
-// The leaf of `grid` at `origin` (0) and its neighbours above in x, y and z (1 to 3).
-void on_leaves(const openvdb::BoolGrid& grid, const openvdb::BoolGrid::ConstAccessor& acc, const Coord& origin,
-               OnLeaf (&out)[4]) {
-    for (int a = -1; a < 3; ++a) {
-        Coord o = origin;
-        if (a >= 0) o[a] += int(LeafT::DIM);
-        out[a + 1] = on_leaf(grid, acc, o);
-    }
-}
-
-// The points of a leaf (`nw`: it and its neighbours above, as on_leaves()) with an edge whose
-// ends differ (inside one, outside the other): the only points with crossings.
-LeafMask differing_points(const OnLeaf (&nw)[4]) {
-    LeafMask differ{};
-    const LeafMask own = nw[0].mask();
-    for (int a = 0; a < 3; ++a) {
-        const LeafMask next = nw[a + 1].mask();
-        const LeafMask above = neighbour_in(own, &next, 2 * a + 1);
-        for (openvdb::Index w = 0; w < 8; ++w) differ[w] |= own[w] ^ above[w];
-    }
-    return differ;
-}
-
-// The field at a grid point of the hull (0 elsewhere), through the voxels' numbering.
-class FieldAt {
-public:
-    FieldAt(const std::vector<LeafMask>& hull_masks, const std::vector<Coord>& hull_origin,
-            const std::vector<std::size_t>& base, const UninitVector<float>& field)
-        : hull_masks_(hull_masks), base_(base), field_(field) {
-        leaf_of_.reserve(hull_origin.size() * 2);
-        for (std::size_t l = 0; l < hull_origin.size(); ++l)
-            leaf_of_.emplace(leaf_key(hull_origin[l]), std::uint32_t(l));
-    }
-    float operator()(const Coord& g) const {
-        const auto it = leaf_of_.find(leaf_key(g));
-        if (it == leaf_of_.end()) return 0.0f;
-        const std::size_t l = it->second;
-        const openvdb::Index off = LeafT::coordToOffset(g);
-        const std::uint64_t bit = std::uint64_t(1) << (off & 63), word = hull_masks_[l][off >> 6];
-        if (!(word & bit)) return 0.0f;
-        std::size_t i = base_[l] + std::size_t(__builtin_popcountll(word & (bit - 1)));
-        for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(hull_masks_[l][w]));
-        return field_[i];
-    }
-
-private:
-    const std::vector<LeafMask>& hull_masks_;
-    const std::vector<std::size_t>& base_;
-    const UninitVector<float>& field_;
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
-};
 
 // The output volume's steps over the voxelized hull (HullVoxels), whose occupancy becomes
 // the output's.
@@ -123,9 +48,6 @@ private:
     void drop_thin_parts(Volume& out) const;
     void place_crossings(Volume& out) const;
     std::vector<Coord> touched_leaves() const;
-    std::vector<Coord> leaves_to_recross(const openvdb::Vec3fGrid& cross) const;
-    std::size_t recross(CrossLeaf& leaf, const FieldAt& field_at, const openvdb::BoolGrid::ConstAccessor& was,
-                        const openvdb::BoolGrid::ConstAccessor& now) const;
 
     const Volume& in_;
     HullVoxels& vox_;
@@ -368,105 +290,14 @@ std::vector<Coord> OutputVolume::touched_leaves() const {
     return touch;
 }
 
-// Of the touched leaves (touched_leaves()), those whose crossings can change: a leaf of `cross`
-// (the input's), a tile there other than the background, or a point with an edge whose ends
-// differ now. (A leaf made anew for none of these, most of them deep inside the hull, would
-// only be cleared and pruned again: at 512 more than half of the touched leaves.)
-std::vector<Coord> OutputVolume::leaves_to_recross(const openvdb::Vec3fGrid& cross) const {
-    std::vector<Coord> touch = touched_leaves();
-    std::vector<std::uint8_t> need(touch.size(), 0);
-    const openvdb::Vec3f bg = cross.background();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, touch.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-        auto acc = cross.getConstAccessor();
-        auto now = vox_.occ->getConstAccessor();
-        for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            const Coord& o = touch[k];
-            if (acc.probeConstLeaf(o) || acc.isValueOn(o) || acc.getValue(o) != bg) {
-                need[k] = 1;
-                continue;
-            }
-            OnLeaf nw[4];
-            on_leaves(*vox_.occ, now, o, nw);
-            const LeafMask differ = differing_points(nw);
-            for (const std::uint64_t w : differ) need[k] |= w != 0;
-        }
-    });
-    std::size_t kept = 0;
-    for (std::size_t k = 0; k < touch.size(); ++k)
-        if (need[k]) touch[kept++] = touch[k];
-    touch.resize(kept);
-    return touch;
-}
-
 // Crossings: unchanged where an edge still runs from an inside point to a point outside the
-// hull; the smoothed field's zero crossing on edges into the removed region.
+// hull; the smoothed field's zero crossing on edges into the removed region
+// (plausible_crossings.h).
 void OutputVolume::place_crossings(Volume& out) const {
-    auto cross = in_.crossings->deepCopy();
-    const std::vector<Coord> touch = leaves_to_recross(*cross);
-    std::vector<CrossLeaf*> cl(touch.size());
-    for (std::size_t k = 0; k < touch.size(); ++k) cl[k] = cross->tree().touchLeaf(touch[k]);
-    const FieldAt field_at(hull_masks_, hull_origin_, vox_.base, field_);
-    std::atomic<std::size_t> placed{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cl.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-        auto was = in_.occupancy->getConstAccessor();
-        auto now = vox_.occ->getConstAccessor();
-        std::size_t mine = 0;
-        for (std::size_t k = r.begin(); k != r.end(); ++k) mine += recross(*cl[k], field_at, was, now);
-        placed += mine;
-    });
-    st_.new_crossings = placed;
-    openvdb::tools::pruneInactive(cross->tree());
-    out.crossings = cross;
-}
-
-// One leaf of crossings, a copy of the old crossings' leaf (or their tile's values), made
-// anew; returns the crossings placed on the field's zero level.
-std::size_t OutputVolume::recross(CrossLeaf& leaf, const FieldAt& field_at, const openvdb::BoolGrid::ConstAccessor& was,
-                                  const openvdb::BoolGrid::ConstAccessor& now) const {
-    constexpr int kStride[3] = {64, 8, 1};
     std::size_t placed = 0;
-    // This leaf (0) and its neighbours above in x, y and z (1 to 3), now and before.
-    OnLeaf nw[4], wa[4];
-    on_leaves(*vox_.occ, now, leaf.origin(), nw);
-    on_leaves(*in_.occupancy, was, leaf.origin(), wa);
-    // The points with an edge whose ends differ now; every other point's edges have no crossing.
-    const LeafMask differ = differing_points(nw);
-    for (openvdb::Index off = 0; off < CrossLeaf::SIZE; ++off) {
-        if (!(differ[off >> 6] >> (off & 63) & 1)) {
-            leaf.setValueOff(off, openvdb::Vec3f(-1.0f));
-            continue;
-        }
-        const int loc[3] = {int(off >> 6), int((off >> 3) & 7), int(off & 7)};
-        const bool ig = nw[0].on(off), rg = !ig && wa[0].on(off);
-        openvdb::Vec3f val = leaf.getValue(off);
-        bool any = false;
-        for (int a = 0; a < 3; ++a) {
-            // The point above along a: in this leaf, or the first of the next one's.
-            const bool inside = loc[a] < 7;
-            const int at = inside ? 0 : a + 1;
-            const openvdb::Index qoff =
-                inside ? off + openvdb::Index(kStride[a]) : off - openvdb::Index(7 * kStride[a]);
-            const bool iq = nw[at].on(qoff), rq = !iq && wa[at].on(qoff);
-            if (ig == iq) {
-                val[a] = -1.0f;
-            } else if (rg || rq) {
-                // One end kept (inside), the other removed: the field's zero level
-                // (half-way from a voxel the plate repair put back).
-                const Coord g = leaf.offsetToGlobalCoord(off);
-                Coord q = g;
-                q[a] += 1;
-                const float sk = field_at(ig ? g : q), sr = field_at(ig ? q : g);
-                float f = 0.5f;
-                if (sk <= 0 && sr > sk) f = std::clamp(-sk / (sr - sk), 0.0f, 1.0f);
-                val[a] = ig ? f : 1.0f - f;
-                ++placed;
-            }
-            any = any || val[a] >= 0;
-        }
-        if (any) leaf.setValueOn(off, val);
-        else leaf.setValueOff(off, openvdb::Vec3f(-1.0f));
-    }
-    return placed;
+    out.crossings =
+        recrossed(in_, *vox_.occ, touched_leaves(), HullField{hull_masks_, hull_origin_, vox_.base, field_}, placed);
+    st_.new_crossings = placed;
 }
 
 } // namespace
