@@ -5,7 +5,11 @@
 #include <cmath>
 #include <cstdint>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "geometry/disjoint_sets.h"
+#include "util/chunked_scatter.h"
 
 namespace cm {
 
@@ -22,6 +26,38 @@ struct Sharp {
 };
 
 using EdgeList = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+
+// The larger vertex of edge 3 f + k of `in` (from corner k of face f to the next).
+std::uint32_t larger_end(const Mesh& in, std::uint32_t e) {
+    const auto& t = in.triangles[e / 3];
+    return std::max(t[e % 3], t[(e % 3 + 1) % 3]);
+}
+
+// Every edge of every face (3 f + k: from corner k to the next) listed under its smaller vertex
+// (`start`: where each vertex's list begins in `edge`), ordered by the larger vertex and then by
+// face: the order of sorting every (smaller, larger, face) but by a scatter, without the sort of
+// three entries a face (a third of the smoothing's time at 1.5 M faces).
+void edges_by_vertex(const Mesh& in, std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& edge) {
+    const std::size_t nv = in.positions.size();
+    chunked_scatter(
+        in.triangles.size(), nv,
+        [&](std::size_t f, auto&& emit) {
+            const auto& t = in.triangles[f];
+            for (std::size_t k = 0; k < 3; ++k) emit(std::min(t[k], t[(k + 1) % 3]), std::uint32_t(3 * f + k));
+        },
+        start, edge);
+    // The scatter keeps the faces' order; a stable insertion sort by the larger vertex (a
+    // handful of edges a vertex) leaves equal ones in it.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v)
+            for (std::uint32_t i = start[v] + 1; i < start[v + 1]; ++i) {
+                const std::uint32_t e = edge[i], key = larger_end(in, e);
+                std::uint32_t j = i;
+                for (; j > start[v] && larger_end(in, edge[j - 1]) > key; --j) edge[j] = edge[j - 1];
+                edge[j] = e;
+            }
+    });
+}
 
 // Joins the sets of two crease ends that continue each other across a gap of at most `gap`
 // (each end's last edge points at the other end within about 37 degrees): a drawn corner that
@@ -111,38 +147,35 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
                         const std::vector<Camera>& views) {
     const std::size_t nv = in.positions.size(), nf = in.triangles.size();
     std::vector<Vec3d> normal(nf);
-    for (std::size_t f = 0; f < nf; ++f) {
-        const auto& t = in.triangles[f];
-        const Vec3d p0(in.positions[t[0]]);
-        normal[f] = cross(Vec3d(in.positions[t[1]]) - p0, Vec3d(in.positions[t[2]]) - p0); // area-weighted
-    }
-    // Every edge of every face keyed by its two vertices; an edge with exactly two faces is
-    // sharp when their normals are further apart than the angle.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
-    edges.reserve(3 * nf);
-    for (std::size_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = in.triangles[f][std::size_t(k)], b = in.triangles[f][std::size_t((k + 1) % 3)];
-            edges.emplace_back(std::uint64_t(std::min(a, b)) << 32 | std::max(a, b), std::uint32_t(f));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const auto& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const auto& t = in.triangles[f];
+            const Vec3d p0(in.positions[t[0]]);
+            normal[f] = cross(Vec3d(in.positions[t[1]]) - p0, Vec3d(in.positions[t[2]]) - p0); // area-weighted
         }
-    std::sort(edges.begin(), edges.end());
+    });
+    // Every edge with exactly two faces is sharp when their normals are further apart than the angle.
+    std::vector<std::uint32_t> start, edge;
+    edges_by_vertex(in, start, edge);
+    const auto larger = [&](std::uint32_t e) { return larger_end(in, e); };
     const double cos_angle = std::cos(angle_deg * 3.14159265358979323846 / 180.0);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> sharp_edges;
     double edge_length = 0;
     std::size_t edge_count = 0;
-    for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-        const auto a = std::uint32_t(edges[i].first >> 32), b = std::uint32_t(edges[i].first);
-        edge_length += double(length(in.positions[a] - in.positions[b]));
-        ++edge_count;
-        if (j - i == 2) {
-            const Vec3d &n0 = normal[edges[i].second], &n1 = normal[edges[i + 1].second];
-            const double l0 = length(n0), l1 = length(n1);
-            if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) sharp_edges.emplace_back(a, b);
+    for (std::uint32_t a = 0; a < nv; ++a)
+        for (std::uint32_t i = start[a], end = start[a + 1]; i < end;) {
+            const std::uint32_t b = larger(edge[i]);
+            std::uint32_t j = i + 1;
+            while (j < end && larger(edge[j]) == b) ++j;
+            edge_length += double(length(in.positions[a] - in.positions[b]));
+            ++edge_count;
+            if (j - i == 2) {
+                const Vec3d &n0 = normal[edge[i] / 3], &n1 = normal[edge[i + 1] / 3];
+                const double l0 = length(n0), l1 = length(n1);
+                if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) sharp_edges.emplace_back(a, b);
+            }
+            i = j;
         }
-        i = j;
-    }
     CreaseHold h;
     if (min_reach > 0 && edge_count > 0) {
         const double mean_edge = edge_length / double(edge_count);
