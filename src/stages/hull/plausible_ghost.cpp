@@ -18,7 +18,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace cm::plausible {
@@ -26,14 +25,10 @@ namespace cm::plausible {
 namespace {
 
 // A thin run: at most kThinLow of the depth has the whole say, from kThinHigh on none.
-double env_or(const char* name, double d) {
-    const char* e = std::getenv(name);
-    return e ? std::atof(e) : d;
-}
-const double kThinLow = env_or("CM_THIN_LO", 0.3), kThinHigh = env_or("CM_THIN_HI", 0.45);
+constexpr double kThinLow = 0.3, kThinHigh = 0.45;
 // The wider part: its run along the thin one's axis at least this share of the depth (a smooth
 // step), and the view along the slicing axis showing it over at least this share of the depth.
-const double kWideLow = env_or("CM_WIDE_LO", 0.5), kWideHigh = env_or("CM_WIDE_HI", 0.7);
+constexpr double kWideLow = 0.5, kWideHigh = 0.7;
 constexpr double kSpanLow = 0.7, kSpanHigh = 0.9;
 
 // How clearly the depth D of a thin run T across axis a is another part's, for a station, T

@@ -8,7 +8,6 @@
 #include "plausible_loft.h"
 
 #include "plausible_projection.h"
-#include "plausible_section.h"
 #include "plausible_tracks.h"
 
 #include <tbb/blocked_range.h>
@@ -18,7 +17,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace cm::plausible {
@@ -48,7 +46,6 @@ struct BoxFacts {
     Interval ib, ic;
     bool sides = false;
     double fit = 0.0;
-    FittedSection section; ///< the section fitted to the part of the box the view along a covers
 };
 
 /// The last box facts per axis and station (modulo a leaf's side) of one thread's voxels.
@@ -57,10 +54,7 @@ using BoxMemo = std::array<std::array<BoxFacts, 8>, 3>;
 class Lofter {
 public:
     Lofter(const std::array<Projection, 3>& proj, int maxdim, double round_exponent)
-        : round_(round_exponent), proj_(proj), pairs_(proj_, maxdim), moments_(proj_) {
-        const char* e = std::getenv("CM_SECTION_FIT");
-        mode_ = e ? std::atoi(e) : 0;
-    }
+        : round_(round_exponent), proj_(proj), pairs_(proj_, maxdim) {}
 
     // The field at grid point p (cells; <= 0 inside the lofted section) and how square the
     // section taken there is; `found` false where no axis has a section through p (p projects
@@ -69,7 +63,6 @@ public:
     LoftValue value(const Coord& p, bool* found = nullptr, BoxMemo* memo = nullptr) const {
         double best_key = 1e300, square = 0.0, fitted = 0.0;
         Interval sb, sc;
-        FittedSection section;
         int best_a = -1;
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -78,9 +71,7 @@ public:
             if (ib.empty() || ic.empty()) continue;
             const BoxFacts facts = box_facts(a, b, c, p, ib, ic, memo);
             const double w = facts.sides ? squareness(a, b, c, p, ib, ic) : 0.0;
-            const double f = mode_ >= 2 && facts.section.valid
-                                 ? std::max(facts.fit, smoothstep(facts.section.compact, 0.6, 0.85))
-                                 : facts.fit;
+            const double f = facts.fit;
             // Sections the view along their axis does not confirm count larger (up to 3x).
             const double key = ib.half() * ic.half() * (1.0 - 0.9 * w) * (3.0 - 2.0 * std::max(f, w));
             if (key >= best_key) continue;
@@ -90,7 +81,6 @@ public:
             best_a = a;
             sb = ib;
             sc = ic;
-            section = facts.section;
         }
         if (found) *found = best_a >= 0;
         if (best_a < 0) return {};
@@ -105,10 +95,6 @@ public:
         const double hb = sb.half(), hc = sc.half();
         const double ub = std::abs(double(p[b]) - sb.mid()) / hb, uc = std::abs(double(p[c]) - sc.mid()) / hc;
         double s;
-        if (mode_ >= 1 && square == 0.0 && section.valid) {
-            s = section.norm(double(p[b]), double(p[c]), round_);
-            return {float((s - 1.0) * section.r2), 0.0f, float(fitted)};
-        }
         if (square == 0.0 && round_ == 2.0) {
             s = std::sqrt(ub * ub + uc * uc);
         } else {
@@ -162,7 +148,6 @@ private:
         facts.sides =
             outside(ib.lo - 2, mc) && outside(ib.hi + 2, mc) && outside(mb, ic.lo - 2) && outside(mb, ic.hi + 2);
         facts.fit = fit(a, b, ib, ic);
-        if (mode_ >= 1) facts.section = moments_.fit(a, ib, ic);
         if (slot) *slot = facts;
         return facts;
     }
@@ -190,8 +175,6 @@ private:
     double round_;
     const std::array<Projection, 3>& proj_;
     PairedBoxes pairs_;
-    SectionMoments moments_;
-    int mode_ = 0;
 };
 
 } // namespace
