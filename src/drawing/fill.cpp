@@ -69,6 +69,50 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
     return light;
 }
 
+std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& inside,
+                                    const std::vector<std::array<float, 3>>& fill, const std::array<float, 3>& paper,
+                                    float width, float toward, float min_step) {
+    const int w = img.width, h = img.height;
+    const std::size_t n = std::size_t(w) * h;
+    // Each pixel's distance to the paper relative to its fill's: 1 on the fill, under 1
+    // towards the paper. A thin dip of it is a thin feature paler towards the paper: the
+    // ink finder's black top-hat of that measure, `toward` deep.
+    Image rel;
+    rel.width = w;
+    rel.height = h;
+    rel.channels = 1;
+    rel.pixels.assign(n, 1.0f);
+    auto dist = [](const std::array<float, 3>& a, const std::array<float, 3>& b) {
+        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const float to_paper = dist(fill[i], paper);
+            if (to_paper > 1e-3f)
+                rel.pixels[i] = dist({img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}, paper) / to_paper;
+        }
+    std::vector<char> pale = find_ink(rel, inside, width, toward, false);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            char& p = pale[std::size_t(y) * w + x];
+            if (!p) continue;
+            // On the way from the fill to the paper: the step from the fill mostly along it.
+            const auto& m = fill[std::size_t(y) * w + x];
+            double along = 0, len2 = 0, step2 = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double v = paper[std::size_t(c)] - m[std::size_t(c)], d = img.at(x, y, c) - m[std::size_t(c)];
+                along += v * d;
+                len2 += v * v;
+                step2 += d * d;
+            }
+            const double t = len2 > 1e-6 ? along / len2 : 0.0;
+            const double across2 = std::max(0.0, step2 - t * t * len2); // off the way to the paper
+            p = t >= toward && step2 >= double(min_step) * min_step && across2 <= 0.25 * t * t * len2;
+        }
+    return pale;
+}
+
 void keep_neutral_ink(const Image& img, std::vector<char>& ink, float max_chroma) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
