@@ -71,7 +71,7 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
 
 std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& inside,
                                     const std::vector<std::array<float, 3>>& fill, const std::array<float, 3>& paper,
-                                    float width, float toward, float min_step) {
+                                    float width, float toward, float min_step, float density) {
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
     // Each pixel's distance to the paper relative to its fill's: 1 on the fill, under 1
@@ -110,6 +110,15 @@ std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& i
             const double across2 = std::max(0.0, step2 - t * t * len2); // off the way to the paper
             p = t >= toward && step2 >= double(min_step) * min_step && across2 <= 0.25 * t * t * len2;
         }
+    // A marker's dry streaks repeat across its fill: at least `density` of the square of side
+    // 4 `width` + 1 around. A lone thin light feature (a lit edge of shading drawn beside a
+    // line or a shadow) is not a streak pattern and stays.
+    const int r = int(std::ceil(2 * width));
+    std::vector<double> counts(n);
+    for (std::size_t i = 0; i < n; ++i) counts[i] = pale[i] ? 1.0 : 0.0;
+    counts = box_sum(counts, w, h, 1, r);
+    const double least = double(density) * (2 * r + 1) * (2 * r + 1);
+    for (std::size_t i = 0; i < n; ++i) pale[i] = pale[i] && counts[i] >= least;
     return pale;
 }
 
