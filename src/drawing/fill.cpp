@@ -74,25 +74,22 @@ std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& i
                                     float width, float toward, float min_step, float density) {
     const int w = img.width, h = img.height;
     const std::size_t n = std::size_t(w) * h;
-    // Each pixel's distance to the paper relative to its fill's: 1 on the fill, under 1
-    // towards the paper. A thin dip of it is a thin feature paler towards the paper: the
-    // ink finder's black top-hat of that measure, `toward` deep.
-    Image rel;
-    rel.width = w;
-    rel.height = h;
-    rel.channels = 1;
-    rel.pixels.assign(n, 1.0f);
-    auto dist = [](const std::array<float, 3>& a, const std::array<float, 3>& b) {
-        return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-    };
+    // The log of each pixel's distance to the paper: a thin dip of it is a thin feature
+    // nearer the paper than what lies on both sides, by at least `toward` of their distance
+    // (the ink finder's black top-hat of it). A step between two fills is no dip.
+    Image near;
+    near.width = w;
+    near.height = h;
+    near.channels = 1;
+    near.pixels.resize(n);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            const float to_paper = dist(fill[i], paper);
-            if (to_paper > 1e-3f)
-                rel.pixels[i] = dist({img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}, paper) / to_paper;
+            double d2 = 0;
+            for (int c = 0; c < 3; ++c)
+                d2 += (img.at(x, y, c) - paper[std::size_t(c)]) * (img.at(x, y, c) - paper[std::size_t(c)]);
+            near.pixels[std::size_t(y) * w + x] = float(std::log(std::sqrt(d2) + 0.02));
         }
-    std::vector<char> pale = find_ink(rel, inside, width, toward, false);
+    std::vector<char> pale = find_ink(near, inside, width, float(-std::log(1.0 - toward)), false);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             char& p = pale[std::size_t(y) * w + x];
