@@ -26,8 +26,9 @@ void CleanOptions::declare(ParamBinder& b) {
           ParamSpec::Bool("paper_slivers", true,
                           "with strokes: strip, also leave out the paper showing between marker or hatching strokes "
                           "(thin, lighter than around them by line_contrast, near the paper's colour) and the pale "
-                          "streaks where a marker ran dry (thin, at least 15 % of the way from the fill around them "
-                          "to the paper), so the fill does not come out paler than drawn or flecked"));
+                          "streaks where a marker ran dry (thin, nearer the paper than both sides by 15 % of their "
+                          "distance to it, towards it from the fill around, repeated), so the fill does not come "
+                          "out paler than drawn or flecked"));
     b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
                                        "strokes at least this saturated (largest minus smallest of R, G, B, 0-1) are "
                                        "coloured: marker or coloured hatching, part of the fill and smoothed with it, "
