@@ -69,6 +69,79 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
     return light;
 }
 
+std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& inside,
+                                    const std::vector<std::array<float, 3>>& fill, const std::array<float, 3>& paper,
+                                    float width, float toward, float min_step, float density, float paper_distance,
+                                    float paper_part) {
+    const int w = img.width, h = img.height;
+    const std::size_t n = std::size_t(w) * h;
+    // The log of each pixel's distance to the paper: a thin dip of it is a thin feature
+    // nearer the paper than what lies on both sides, by at least `toward` of their distance
+    // (the ink finder's black top-hat of it). A step between two fills is no dip.
+    Image near;
+    near.width = w;
+    near.height = h;
+    near.channels = 1;
+    near.pixels.resize(n);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double d2 = 0;
+            for (int c = 0; c < 3; ++c)
+                d2 += (img.at(x, y, c) - paper[std::size_t(c)]) * (img.at(x, y, c) - paper[std::size_t(c)]);
+            near.pixels[std::size_t(y) * w + x] = float(std::log(std::sqrt(d2) + 0.02));
+        }
+    std::vector<char> pale = find_ink(near, inside, width, float(-std::log(1.0 - toward)), false);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            char& p = pale[std::size_t(y) * w + x];
+            if (!p) continue;
+            // On the way from the fill to the paper: the step from the fill mostly along it.
+            const auto& m = fill[std::size_t(y) * w + x];
+            double along = 0, len2 = 0, step2 = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double v = paper[std::size_t(c)] - m[std::size_t(c)], d = img.at(x, y, c) - m[std::size_t(c)];
+                along += v * d;
+                len2 += v * v;
+                step2 += d * d;
+            }
+            const double t = len2 > 1e-6 ? along / len2 : 0.0;
+            const double across2 = std::max(0.0, step2 - t * t * len2); // off the way to the paper
+            p = t >= toward && step2 >= double(min_step) * min_step && across2 <= 0.25 * t * t * len2;
+        }
+    // Beside the paper showing (within 1.5 `width` of a pixel within `paper_distance` of the
+    // paper, or nearer it than `paper_part` of its fill's distance), a pale pixel is the blend
+    // of a stroke's edge with the paper between strokes: hatching, whose paper is the
+    // drawing's lightness as drawn, not a dry streak. A marker's dry streak lies between
+    // strokes that cover the paper.
+    const int reach = int(std::ceil(1.5 * width));
+    std::vector<double> papery(n, 0.0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (!inside[i]) continue;
+            double d2 = 0;
+            for (int c = 0; c < 3; ++c)
+                d2 += (img.at(x, y, c) - paper[std::size_t(c)]) * (img.at(x, y, c) - paper[std::size_t(c)]);
+            double f2 = 0;
+            for (int c = 0; c < 3; ++c)
+                f2 += (fill[i][std::size_t(c)] - paper[std::size_t(c)]) *
+                      (fill[i][std::size_t(c)] - paper[std::size_t(c)]);
+            papery[i] = d2 <= std::max(double(paper_distance) * paper_distance, double(paper_part) * paper_part * f2);
+        }
+    papery = box_sum(papery, w, h, 1, reach);
+    for (std::size_t i = 0; i < n; ++i) pale[i] = pale[i] && papery[i] == 0;
+    // A marker's dry streaks repeat across its fill: at least `density` of the square of side
+    // 4 `width` + 1 around. A lone thin light feature (a lit edge of shading drawn beside a
+    // line or a shadow) is not a streak pattern and stays.
+    const int r = int(std::ceil(2 * width));
+    std::vector<double> counts(n);
+    for (std::size_t i = 0; i < n; ++i) counts[i] = pale[i] ? 1.0 : 0.0;
+    counts = box_sum(counts, w, h, 1, r);
+    const double least = double(density) * (2 * r + 1) * (2 * r + 1);
+    for (std::size_t i = 0; i < n; ++i) pale[i] = pale[i] && counts[i] >= least;
+    return pale;
+}
+
 void keep_neutral_ink(const Image& img, std::vector<char>& ink, float max_chroma) {
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {

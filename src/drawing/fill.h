@@ -17,6 +17,21 @@ std::vector<char> find_paper_slivers(const Image& img, const std::vector<char>& 
                                      const std::array<float, 3>& paper, float width, float contrast,
                                      float paper_distance = 0.35f);
 
+/// @brief Pale streaks of a marker fill: 1 where a pixel inside `inside` is a thin feature
+/// (narrower than about `width`) whose colour lies on the way from its local fill `fill`
+/// (per pixel) to `paper`, at least `toward` of the way there (and `min_step` RGB from the fill),
+/// where the marker ran dry or the paper shows through thinly, and as streaks do, repeated:
+/// at least `density` of the square of side 4 `width` + 1 around is such a pixel. Shading
+/// drawn in the fill (gradients, bands wider than `width`, a lone lit edge) and a thin line
+/// of another hue (not towards the paper) stay. So does hatching: a pale pixel within 1.5
+/// `width` of the paper showing (a pixel within `paper_distance` of `paper`, or nearer it
+/// than `paper_part` of its fill's distance) is the edge of strokes laid on paper, whose
+/// paper is the drawing's lightness; a marker's strokes cover the paper around its streaks.
+std::vector<char> find_pale_streaks(const Image& img, const std::vector<char>& inside,
+                                    const std::vector<std::array<float, 3>>& fill, const std::array<float, 3>& paper,
+                                    float width, float toward = 0.15f, float min_step = 0.04f, float density = 0.05f,
+                                    float paper_distance = 0.2f, float paper_part = 0.4f);
+
 /// @brief Leaves out of `ink` the coloured strokes: pixels whose saturation (largest minus
 /// smallest of R, G, B) is at least `max_chroma`. Marker strokes and coloured hatching are the
 /// fill as drawn, not ink; outlines and hatching in black, grey or pencil stay ink.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <vector>
 
 #include "core/views.h"
@@ -69,4 +70,61 @@ TEST(Fill, TheFillUnderStrokesIsTheMeanOfTheKeptPixels) {
     // Far from any kept pixel, a pixel keeps its own colour.
     EXPECT_FLOAT_EQ(fill[0][0], 1.0f);
     EXPECT_FLOAT_EQ(share[0], 0.0f);
+}
+
+TEST(Fill, PaleStreaksAreThinRepeatedAndTowardsThePaper) {
+    // Left half: a fill (0.3, 0.5, 0.7) with dry streaks (1 px, a third of the way to the
+    // white paper) every 6 px; right half: a band drawn as pale as a streak, 20 px wide, and a
+    // thin line of another hue (orange) as pale. Only the streaks are taken.
+    Image img;
+    img.width = img.height = 60;
+    img.channels = 3;
+    img.pixels.assign(60 * 60 * 3, 1.0f);
+    std::vector<char> inside(60 * 60, 0);
+    const float fill[3] = {0.3f, 0.5f, 0.7f}, orange[3] = {0.9f, 0.6f, 0.3f};
+    for (int y = 5; y < 55; ++y)
+        for (int x = 5; x < 55; ++x) {
+            inside[std::size_t(y) * 60 + x] = 1;
+            const bool streak = x < 30 && x % 6 == 0, band = x >= 36 && x < 56, line = x == 32;
+            for (int k = 0; k < 3; ++k) {
+                float v = fill[k];
+                if (streak || band) v += 0.35f * (1 - v);
+                if (line) v = orange[k];
+                img.at(x, y, k) = v;
+            }
+        }
+    // The fill around as texturing takes it: the mean over 17 x 17 px, across the band's edge.
+    std::vector<float> share;
+    const auto around = fill_under_strokes(img, inside, std::vector<char>(60 * 60, 0), 8, share);
+    const auto pale = find_pale_streaks(img, inside, around, {1, 1, 1}, 4);
+    int streaks = 0, others = 0;
+    for (int y = 10; y < 50; ++y)
+        for (int x = 5; x < 55; ++x) (x < 30 && x % 6 == 0 ? streaks : others) += pale[std::size_t(y) * 60 + x];
+    EXPECT_EQ(streaks, 4 * 40); // x = 6, 12, 18, 24
+    EXPECT_EQ(others, 0);
+}
+
+TEST(Fill, TheGapsOfHatchingOnPaperAreNoDryStreaks) {
+    // Coloured hatching on white paper as a scan gives it: strokes 4 px wide, and between
+    // them 3 px of paper tinted by the strokes' blur (half, 72 % and half the way to the
+    // paper). The gaps are the drawing's lightness: none of their pixels is a dry streak
+    // (before, 3 in 7 of the square's pixels were, and the texture came out darker).
+    Image img;
+    img.width = img.height = 60;
+    img.channels = 3;
+    img.pixels.assign(60 * 60 * 3, 1.0f);
+    std::vector<char> inside(60 * 60, 0);
+    const float line[3] = {0.15f, 0.10f, 0.55f}, toward[7] = {0, 0, 0, 0, 0.5f, 0.72f, 0.5f};
+    for (int y = 5; y < 55; ++y)
+        for (int x = 5; x < 55; ++x) {
+            inside[std::size_t(y) * 60 + x] = 1;
+            for (int k = 0; k < 3; ++k) img.at(x, y, k) = line[k] + toward[(x + y) % 7] * (1 - line[k]);
+        }
+    std::vector<float> share;
+    const auto around = fill_under_strokes(img, inside, std::vector<char>(60 * 60, 0), 8, share);
+    const auto pale = find_pale_streaks(img, inside, around, {1, 1, 1}, 4);
+    int taken = 0;
+    for (int y = 10; y < 50; ++y)
+        for (int x = 10; x < 50; ++x) taken += pale[std::size_t(y) * 60 + x];
+    EXPECT_EQ(taken, 0);
 }

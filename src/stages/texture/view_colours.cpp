@@ -25,8 +25,10 @@ void CleanOptions::declare(ParamBinder& b) {
     b.add(paper_slivers,
           ParamSpec::Bool("paper_slivers", true,
                           "with strokes: strip, also leave out the paper showing between marker or hatching strokes "
-                          "(thin, lighter than around them by line_contrast, near the paper's colour), so the fill "
-                          "does not come out paler than drawn"));
+                          "(thin, lighter than around them by line_contrast, near the paper's colour) and the pale "
+                          "streaks where a marker ran dry (thin, nearer the paper than both sides by 15 % of their "
+                          "distance to it, towards it from the fill around, repeated), so the fill does not come "
+                          "out paler than drawn or flecked"));
     b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
                                        "strokes at least this saturated (largest minus smallest of R, G, B, 0-1) are "
                                        "coloured: marker or coloured hatching, part of the fill and smoothed with it, "
@@ -46,7 +48,7 @@ void CleanOptions::declare(ParamBinder& b) {
 namespace {
 
 // Leaves the strokes out of `valid` and `drawn`: ink (and its fringe) and, with
-// paper_slivers, the paper between strokes. With fill_smooth, `fill` gets each valid pixel's
+// paper_slivers, the paper between strokes and the pale streaks where a marker ran dry. With fill_smooth, `fill` gets each valid pixel's
 // colour: its own, leaning to the fill's low-pass as much as strokes crowd around it (a
 // flat drawing keeps its pixels, a marker drawing its fill's mean, not the stroke pattern).
 void strip_strokes(const Image& img, const std::vector<char>& inside, const CleanOptions& opt, ViewColours& vc,
@@ -58,8 +60,9 @@ void strip_strokes(const Image& img, const std::vector<char>& inside, const Clea
     std::vector<char> slivers(n, 0);
     const Image* searched = &img;
     Image patched;
+    const std::array<float, 3> paper = paper_colour(img, inside);
     if (opt.paper_slivers) {
-        slivers = find_paper_slivers(img, inside, paper_colour(img, inside), opt.line_width, opt.line_contrast);
+        slivers = find_paper_slivers(img, inside, paper, opt.line_width, opt.line_contrast);
         std::vector<char> keep(n);
         for (std::size_t i = 0; i < n; ++i) keep[i] = inside[i] && !slivers[i];
         std::vector<float> unused;
@@ -88,6 +91,21 @@ void strip_strokes(const Image& img, const std::vector<char>& inside, const Clea
         loose[i] = valid[i] && !ink[i] && !slivers[i]; // the fringe kept
         if (ink[i]) drawn[i] = 0;
         if (fringed[i] || slivers[i]) valid[i] = 0;
+    }
+    if (opt.paper_slivers) {
+        // Where the marker ran dry: thin streaks paler, towards the paper, than the fill
+        // around them. Left in, they come out as pale flecks in the texture. They often
+        // run along a stroke, in its fringe: looked for among the fringe's pixels too (the
+        // fill of strokes too dense for any pixel clear of their fringe is the fringe's).
+        std::vector<float> unused;
+        const auto around = fill_under_strokes(img, loose, strokes, int(std::ceil(2 * opt.line_width)), unused);
+        const std::vector<char> pale = find_pale_streaks(img, inside, around, paper, opt.line_width);
+        for (std::size_t i = 0; i < n; ++i)
+            if (pale[i] && loose[i]) {
+                vc.sliver_pixels += valid[i] ? 1 : 0;
+                strokes[i] = 1;
+                valid[i] = loose[i] = 0;
+            }
     }
     if (opt.fill_smooth <= 0) return;
     const int r = int(opt.fill_smooth);
