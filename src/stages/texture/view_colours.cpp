@@ -27,8 +27,9 @@ void CleanOptions::declare(ParamBinder& b) {
                           "with strokes: strip, also leave out the paper showing between marker or hatching strokes "
                           "(thin, lighter than around them by line_contrast, near the paper's colour) and the pale "
                           "streaks where a marker ran dry (thin, nearer the paper than both sides by 15 % of their "
-                          "distance to it, towards it from the fill around, repeated), so the fill does not come "
-                          "out paler than drawn or flecked"));
+                          "distance to it, towards it from the fill around, repeated, with no paper within 1.5 "
+                          "line widths: hatching's pale gaps beside the paper stay as drawn), so the fill does "
+                          "not come out paler than drawn or flecked"));
     b.add(ink_chroma, ParamSpec::Float("ink_chroma", 0.25, 0, 1, "",
                                        "strokes at least this saturated (largest minus smallest of R, G, B, 0-1) are "
                                        "coloured: marker or coloured hatching, part of the fill and smoothed with it, "
