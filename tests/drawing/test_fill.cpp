@@ -10,26 +10,32 @@ using namespace cm;
 
 namespace {
 
-// A 60 x 60 grey-on-white drawing: a square of fill (0.6, 0.2, 0.4) from 10 to 50, crossed by
-// vertical white slivers (1 px) every 6 px and dark strokes (1 px) between them.
-Image marker_square(std::vector<char>& inside) {
+// A 60 x 60 sheet of white paper with the square [lo, hi)^2 painted by `paint(x, y, channel)`;
+// `inside` marks the square.
+template <class Paint>
+Image square_on_paper(std::vector<char>& inside, int lo, int hi, Paint paint) {
     Image img;
     img.width = img.height = 60;
     img.channels = 3;
     img.pixels.assign(60 * 60 * 3, 1.0f);
     inside.assign(60 * 60, 0);
-    for (int y = 10; y < 50; ++y)
-        for (int x = 10; x < 50; ++x) {
+    for (int y = lo; y < hi; ++y)
+        for (int x = lo; x < hi; ++x) {
             inside[std::size_t(y) * 60 + x] = 1;
-            const float c[3] = {0.6f, 0.2f, 0.4f};
-            for (int k = 0; k < 3; ++k) {
-                float v = c[k];
-                if (x % 6 == 0) v = 0.98f;       // paper between strokes
-                if (x % 6 == 3) v = c[k] * 0.4f; // a stroke over another
-                img.at(x, y, k) = v;
-            }
+            for (int k = 0; k < 3; ++k) img.at(x, y, k) = paint(x, y, k);
         }
     return img;
+}
+
+// A 60 x 60 grey-on-white drawing: a square of fill (0.6, 0.2, 0.4) from 10 to 50, crossed by
+// vertical white slivers (1 px) every 6 px and dark strokes (1 px) between them.
+Image marker_square(std::vector<char>& inside) {
+    return square_on_paper(inside, 10, 50, [](int x, int, int k) {
+        const float c[3] = {0.6f, 0.2f, 0.4f};
+        if (x % 6 == 0) return 0.98f;       // paper between strokes
+        if (x % 6 == 3) return c[k] * 0.4f; // a stroke over another
+        return c[k];
+    });
 }
 
 } // namespace
@@ -76,23 +82,14 @@ TEST(Fill, PaleStreaksAreThinRepeatedAndTowardsThePaper) {
     // Left half: a fill (0.3, 0.5, 0.7) with dry streaks (1 px, a third of the way to the
     // white paper) every 6 px; right half: a band drawn as pale as a streak, 20 px wide, and a
     // thin line of another hue (orange) as pale. Only the streaks are taken.
-    Image img;
-    img.width = img.height = 60;
-    img.channels = 3;
-    img.pixels.assign(60 * 60 * 3, 1.0f);
-    std::vector<char> inside(60 * 60, 0);
     const float fill[3] = {0.3f, 0.5f, 0.7f}, orange[3] = {0.9f, 0.6f, 0.3f};
-    for (int y = 5; y < 55; ++y)
-        for (int x = 5; x < 55; ++x) {
-            inside[std::size_t(y) * 60 + x] = 1;
-            const bool streak = x < 30 && x % 6 == 0, band = x >= 36 && x < 56, line = x == 32;
-            for (int k = 0; k < 3; ++k) {
-                float v = fill[k];
-                if (streak || band) v += 0.35f * (1 - v);
-                if (line) v = orange[k];
-                img.at(x, y, k) = v;
-            }
-        }
+    std::vector<char> inside;
+    const Image img = square_on_paper(inside, 5, 55, [&](int x, int, int k) {
+        const bool streak = x < 30 && x % 6 == 0, band = x >= 36 && x < 56, line = x == 32;
+        float v = fill[k];
+        if (streak || band) v += 0.35f * (1 - v);
+        return line ? orange[k] : v;
+    });
     // The fill around as texturing takes it: the mean over 17 x 17 px, across the band's edge.
     std::vector<float> share;
     const auto around = fill_under_strokes(img, inside, std::vector<char>(60 * 60, 0), 8, share);
@@ -109,17 +106,10 @@ TEST(Fill, TheGapsOfHatchingOnPaperAreNoDryStreaks) {
     // them 3 px of paper tinted by the strokes' blur (half, 72 % and half the way to the
     // paper). The gaps are the drawing's lightness: none of their pixels is a dry streak
     // (before, 3 in 7 of the square's pixels were, and the texture came out darker).
-    Image img;
-    img.width = img.height = 60;
-    img.channels = 3;
-    img.pixels.assign(60 * 60 * 3, 1.0f);
-    std::vector<char> inside(60 * 60, 0);
     const float line[3] = {0.15f, 0.10f, 0.55f}, toward[7] = {0, 0, 0, 0, 0.5f, 0.72f, 0.5f};
-    for (int y = 5; y < 55; ++y)
-        for (int x = 5; x < 55; ++x) {
-            inside[std::size_t(y) * 60 + x] = 1;
-            for (int k = 0; k < 3; ++k) img.at(x, y, k) = line[k] + toward[(x + y) % 7] * (1 - line[k]);
-        }
+    std::vector<char> inside;
+    const Image img = square_on_paper(
+        inside, 5, 55, [&](int x, int y, int k) { return line[k] + toward[(x + y) % 7] * (1 - line[k]); });
     std::vector<float> share;
     const auto around = fill_under_strokes(img, inside, std::vector<char>(60 * 60, 0), 8, share);
     const auto pale = find_pale_streaks(img, inside, around, {1, 1, 1}, 4);
