@@ -115,7 +115,9 @@ public:
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
 
-    Coord coord(std::size_t code) const { return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512)); }
+    Coord coord(std::size_t code) const {
+        return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512));
+    }
 
     std::size_t code_of(const Coord& g) const {
         const Coord o(g.x() & ~7, g.y() & ~7, g.z() & ~7);
@@ -143,8 +145,8 @@ private:
                     // The cube: the centre's opposite corner off, the pairs of the other two
                     // diagonals. A corner contact: one on at (sx,0,0)-type with its opposite
                     // (0,sy,sz) on, the other six off.
-                    const bool c[8] = {false,           on(sx, 0, 0),  on(0, sy, 0),  on(sx, sy, 0),
-                                       on(0, 0, sz),    on(sx, 0, sz), on(0, sy, sz), on(sx, sy, sz)};
+                    const bool c[8] = {false,        on(sx, 0, 0),  on(0, sy, 0),  on(sx, sy, 0),
+                                       on(0, 0, sz), on(sx, 0, sz), on(0, sy, sz), on(sx, sy, sz)};
                     int count = 0;
                     for (bool b : c) count += b;
                     if (count == 2 && ((c[1] && c[6]) || (c[2] && c[5]) || (c[4] && c[3]))) return true;
