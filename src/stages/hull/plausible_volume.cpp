@@ -452,8 +452,6 @@ std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, Unin
     out.fill_pockets();
     out.join_pieces();
     out.keep_genus();
-    // (What keep_genus() put back can be a plate one voxel thin closing a tunnel.)
-    out.thicken_plates();
     out.make_tiles();
     progress(0.8);
     // 7. Crossings and thin parts.
