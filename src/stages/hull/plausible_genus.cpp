@@ -36,9 +36,18 @@ class Retake {
 public:
     Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const std::function<float(const Coord&)>& field)
         : leaves_(leaves), hull_(hull), field_(field), tree_(leaves.tree()), state_(leaves.leafCount() * 512, kKept) {
-        leaf_of_.reserve(leaves.leafCount() * 2);
+        std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
+        leaf_of.reserve(leaves.leafCount() * 2);
         for (std::size_t l = 0; l < leaves.leafCount(); ++l)
-            leaf_of_.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
+            leaf_of.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
+        // Each leaf's 26 neighbours and itself (bit order of a neighbourhood), kNoLeaf where none.
+        around_.resize(leaves.leafCount() * 27);
+        for (std::size_t l = 0; l < leaves.leafCount(); ++l)
+            for (int k = 0; k < 27; ++k) {
+                const Coord o = leaves.leaf(l).origin().offsetBy(8 * (k % 3 - 1), 8 * (k / 3 % 3 - 1), 8 * (k / 9 - 1));
+                const auto it = leaf_of.find(leaf_key(o));
+                around_[l * 27 + std::size_t(k)] = it == leaf_of.end() ? kNoLeaf : it->second;
+            }
     }
 
     // The removed voxels back on, marked; the ones at the hull's outside queued.
@@ -84,7 +93,7 @@ public:
             for (int k = 0; k < 27; ++k) {
                 if (k == kCentre) continue;
                 const Coord q = g.offsetBy(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
-                const std::size_t c = code_of(q);
+                const std::size_t c = code_of(code / 512, q);
                 if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c, q);
             }
         }
@@ -119,10 +128,13 @@ private:
         return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512));
     }
 
-    std::size_t code_of(const Coord& g) const {
-        const Coord o(g.x() & ~7, g.y() & ~7, g.z() & ~7);
-        const auto it = leaf_of_.find(leaf_key(o));
-        return it == leaf_of_.end() ? kNone : std::size_t(it->second) * 512 + LeafT::coordToOffset(g);
+    // The code of grid point g next to (or in) leaf l.
+    std::size_t code_of(std::size_t l, const Coord& g) const {
+        const Coord& o = leaves_.leaf(l).origin();
+        const int k = ((g.x() >> 3) - (o.x() >> 3) + 1) + 3 * ((g.y() >> 3) - (o.y() >> 3) + 1) +
+                      9 * ((g.z() >> 3) - (o.z() >> 3) + 1);
+        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+        return n == kNoLeaf ? kNone : std::size_t(n) * 512 + LeafT::coordToOffset(g);
     }
 
     void push(std::size_t code, const Coord& g) {
@@ -160,7 +172,7 @@ private:
     openvdb::BoolTree& tree_;
     std::vector<std::uint8_t> state_;
     std::vector<std::size_t> removed_;
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
+    std::vector<std::uint32_t> around_;
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
