@@ -104,14 +104,17 @@ public:
     void close_diagonal_contacts() {
         openvdb::tree::ValueAccessor<openvdb::BoolTree> acc(tree_);
         for (int pass = 0; pass < 4; ++pass) {
-            std::vector<std::size_t> back;
-            for (const std::size_t code : removed_)
-                if (state_[code] == kOut && diagonal_contact(neighbourhood(acc, coord(code)))) back.push_back(code);
-            for (const std::size_t code : back) {
+            // (Only where the outside about it stays one piece: no pocket sealed off.)
+            std::size_t back = 0;
+            for (const std::size_t code : removed_) {
+                if (state_[code] != kOut) continue;
+                const unsigned nb = neighbourhood(acc, coord(code));
+                if (!diagonal_contact(nb) || !removal_keeps_outside(nb)) continue;
                 acc.setValueOn(coord(code), true);
                 state_[code] = kKept;
+                ++back;
             }
-            if (back.empty()) break;
+            if (back == 0) break;
         }
     }
 
