@@ -7,12 +7,14 @@
 // removed voxels are taken out again one at a time from the hull, the most removable (highest
 // field) first, each only while its 3x3x3 neighbourhood says its removal leaves the outside
 // one piece there (a voxel whose removed neighbours would be joined by it into one passage
-// around kept voxels closes a loop of the outside: a tunnel, or, with none, a cavity). Cutting
-// a kept part through (a ring of the hull cut, a piece cut off) stays allowed. Then no two
-// kept voxels touch by an edge or a corner alone where the removal made that contact: one of
-// the voxels between them comes back, so Marching Cubes, whichever way it resolves such a
-// face, gives the surface the topology of the voxels (a diagonal contact read as apart opens
-// a hole between two concavities).
+// around kept voxels closes a loop of the outside: a tunnel, or, with none, a cavity); what
+// still waits at the end stays, a wall where the field is lowest. Cutting a part off stays
+// allowed (the outside about the cut is one piece); cutting a ring of the hull through does
+// not (the first voxel of the cut's last layer would join the outside to itself). Then no two
+// kept voxels touch by an edge or a corner alone across a voxel taken out, where putting it
+// back seals no pocket of the outside: it comes back, so Marching Cubes, whichever way it
+// resolves such a face, gives the surface the topology of the voxels (a diagonal contact read
+// as apart opens a hole between two concavities).
 #pragma once
 #include <cstddef>
 #include <functional>
