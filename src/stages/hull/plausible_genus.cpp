@@ -6,8 +6,6 @@
 #include <unordered_map>
 #include <utility>
 
-#include <openvdb/tree/ValueAccessor.h>
-
 namespace cm::plausible {
 
 namespace {
@@ -19,23 +17,61 @@ constexpr int kCentre = 13;
 
 int bit_of(int x, int y, int z) { return (x + 1) + 3 * (y + 1) + 9 * (z + 1); }
 
-// The 3x3x3 neighbourhood of g in the tree, bit x + 3 y + 9 z (offsets + 1).
-template <typename Acc>
-unsigned neighbourhood(const Acc& acc, const Coord& g) {
-    unsigned nb = 0;
-    for (int k = 0; k < 27; ++k)
-        if (acc.isValueOn(g.offsetBy(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1))) nb |= 1u << k;
-    return nb;
-}
-
 // Where the removal left voxels of the hull off: per removed voxel its state while they are
 // taken out again one at a time.
-enum State : std::uint8_t { kKept = 0, kIdle, kQueued, kOut, kWaiting };
+enum State : std::uint8_t { kKept = 0, kIdle, kQueued, kOut, kWaiting, kSeen };
+
+// The six face neighbours of the centre in a neighbourhood.
+constexpr unsigned kFaces = 1u << 4 | 1u << 10 | 1u << 12 | 1u << 14 | 1u << 16 | 1u << 22;
+
+// The lattice cells (vertices, edges, faces, the cube) of a voxel, by the offset k of their
+// centre from the voxel's (halved; bit order of a neighbourhood): the voxels incident to each
+// (a mask of the neighbourhood) and its sign in the Euler characteristic V - E + F - C.
+struct Cells {
+    unsigned incident[27];
+    int sign[27];
+};
+const Cells& cells() {
+    static const Cells c = [] {
+        Cells t{};
+        for (int k = 0; k < 27; ++k) {
+            const int d[3] = {k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1};
+            const int dim = (d[0] == 0) + (d[1] == 0) + (d[2] == 0);
+            t.sign[k] = dim % 2 == 0 ? 1 : -1;
+            for (int j = 0; j < 27; ++j) {
+                const int u[3] = {j % 3 - 1, j / 3 % 3 - 1, j / 9 - 1};
+                bool in = true;
+                for (int a = 0; a < 3; ++a) in = in && (u[a] == 0 || u[a] == d[a]);
+                if (in) t.incident[k] |= 1u << j;
+            }
+        }
+        return t;
+    }();
+    return c;
+}
+
+} // namespace
+
+// The change of the Euler characteristic of the kept volume (the union of its closed voxel
+// cubes) that taking out the centre of a neighbourhood, with the rest of its piece `gone`
+// (the centre's bit included), causes in the cells of the centre the piece has no earlier
+// voxel (bit order) in: summed over a piece, the change its removal at once causes.
+int euler_change(unsigned kept, unsigned gone) {
+    int change = 0;
+    for (int k = 0; k < 27; ++k) {
+        const unsigned m = cells().incident[k];
+        if (gone & m & ((1u << kCentre) - 1)) continue; // counted at an earlier voxel
+        if (!(kept & m)) change -= cells().sign[k];     // the cell goes with the piece
+    }
+    return change;
+}
+
+namespace {
 
 class Retake {
 public:
     Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const std::function<float(const Coord&)>& field)
-        : leaves_(leaves), hull_(hull), field_(field), tree_(leaves.tree()), state_(leaves.leafCount() * 512, kKept) {
+        : leaves_(leaves), hull_(hull), field_(field), state_(leaves.leafCount() * 512, kKept) {
         std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
         leaf_of.reserve(leaves.leafCount() * 2);
         for (std::size_t l = 0; l < leaves.leafCount(); ++l)
@@ -50,51 +86,46 @@ public:
             }
     }
 
-    // The removed voxels back on, marked; the ones at the hull's outside queued.
+    // The removed voxels marked, then sorted by 26-connected piece: a piece whose removal at
+    // once leaves the Euler characteristic of the kept volume as it was and that reaches the
+    // outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
-            auto& leaf = leaves_.leaf(l);
-            for (openvdb::Index off = 0; off < LeafT::SIZE; ++off)
-                if ((hull_[l][off >> 6] >> (off & 63) & 1) && !leaf.isValueOn(off)) {
-                    leaf.setValueOn(off, true);
-                    state_[l * 512 + off] = kIdle;
-                    removed_.push_back(l * 512 + off);
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            bool cut = false;
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, cut = true) {
+                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
+                    state_[code] = kIdle;
+                    removed_.push_back(code);
                 }
+            if (cut) cut_leaves_.push_back(l);
         }
-        openvdb::tree::ValueAccessor<const openvdb::BoolTree> acc(tree_);
-        for (const std::size_t code : removed_) {
-            const Coord g = coord(code);
-            for (int d = 0; d < 6; ++d) {
-                Coord q = g;
-                q[d / 2] += (d & 1) ? 1 : -1;
-                if (!acc.isValueOn(q)) {
-                    push(code, g);
-                    break;
-                }
-            }
-        }
+        std::vector<std::size_t> back;
+        for (const std::size_t code : removed_)
+            if (state_[code] == kIdle) sort_piece(code, back);
+        for (const std::size_t code : back) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
+        for (const std::size_t code : back)
+            if (~around_on(code) & kFaces) push(code, coord(code));
     }
 
     // Out again, highest field first, while the outside stays one piece about each.
     void take_out() {
-        openvdb::tree::ValueAccessor<openvdb::BoolTree> acc(tree_);
         while (!queue_.empty()) {
             const std::size_t code = queue_.top().second;
             queue_.pop();
             if (state_[code] != kQueued) continue;
-            const Coord g = coord(code);
-            if (!removal_keeps_outside(neighbourhood(acc, g))) {
+            if (!removal_keeps_outside(around_on(code))) {
                 state_[code] = kWaiting;
                 continue;
             }
-            acc.setValueOff(g, false);
+            leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
             state_[code] = kOut;
             // Its removed neighbours may go now (or again).
             for (int k = 0; k < 27; ++k) {
                 if (k == kCentre) continue;
-                const Coord q = g.offsetBy(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
-                const std::size_t c = code_of(code / 512, q);
-                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c, q);
+                const std::size_t c = neighbour(code, k);
+                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c, coord(c));
             }
         }
     }
@@ -102,15 +133,13 @@ public:
     // Kept voxels touching by an edge or a corner alone across a voxel taken out: that voxel
     // back (a few passes: a voxel put back can make such a contact of its own).
     void close_diagonal_contacts() {
-        openvdb::tree::ValueAccessor<openvdb::BoolTree> acc(tree_);
         for (int pass = 0; pass < 4; ++pass) {
             // (Only where the outside about it stays one piece: no pocket sealed off.)
             std::size_t back = 0;
-            for (const std::size_t code : removed_) {
-                if (state_[code] != kOut) continue;
-                const unsigned nb = neighbourhood(acc, coord(code));
+            for (const std::size_t code : touching_kept()) {
+                const unsigned nb = around_on(code);
                 if (!diagonal_contact(nb) || !removal_keeps_outside(nb)) continue;
-                acc.setValueOn(coord(code), true);
+                leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
                 state_[code] = kKept;
                 ++back;
             }
@@ -131,13 +160,76 @@ private:
         return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512));
     }
 
-    // The code of grid point g next to (or in) leaf l.
-    std::size_t code_of(std::size_t l, const Coord& g) const {
-        const Coord& o = leaves_.leaf(l).origin();
-        const int k = ((g.x() >> 3) - (o.x() >> 3) + 1) + 3 * ((g.y() >> 3) - (o.y() >> 3) + 1) +
-                      9 * ((g.z() >> 3) - (o.z() >> 3) + 1);
-        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-        return n == kNoLeaf ? kNone : std::size_t(n) * 512 + LeafT::coordToOffset(g);
+    // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
+    // where the tree has no leaf.
+    std::size_t neighbour(std::size_t code, int k) const {
+        const unsigned off = unsigned(code % 512);
+        const int x = int(off >> 6) + k % 3 - 1, y = int(off >> 3 & 7) + k / 3 % 3 - 1, z = int(off & 7) + k / 9 - 1;
+        const auto step = [](int v) { return v < 0 ? 0 : v > 7 ? 2 : 1; };
+        const std::uint32_t n = around_[code / 512 * 27 + std::size_t(step(x) + 3 * step(y) + 9 * step(z))];
+        return n == kNoLeaf ? kNone : std::size_t(n) * 512 + std::size_t((x & 7) << 6 | (y & 7) << 3 | (z & 7));
+    }
+
+    // The 3x3x3 neighbourhood of `code` (bit order as above): its on voxels.
+    unsigned around_on(std::size_t code) const {
+        unsigned nb = 0;
+        for (int k = 0; k < 27; ++k) {
+            const std::size_t c = neighbour(code, k);
+            if (c != kNone && leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) nb |= 1u << k;
+        }
+        return nb;
+    }
+
+    // The 26-connected piece of removed voxels through `seed`: out for good (kOut) when its
+    // removal leaves the kept volume's Euler characteristic unchanged and it touches the
+    // outside, else appended to `back` (to be taken out one at a time).
+    void sort_piece(std::size_t seed, std::vector<std::size_t>& back) {
+        std::vector<std::size_t> piece{seed};
+        state_[seed] = kSeen;
+        int change = 0;
+        bool outside = false;
+        for (std::size_t i = 0; i < piece.size(); ++i) {
+            const std::size_t code = piece[i];
+            unsigned kept = 0, gone = 0;
+            std::size_t nbr[27];
+            const unsigned off = unsigned(code % 512);
+            const bool inner = (off >> 6) - 1 < 6 && (off >> 3 & 7) - 1 < 6 && (off & 7) - 1 < 6;
+            for (int k = 0; k < 27; ++k) {
+                nbr[k] = inner ? code + std::size_t((k % 3 - 1) * 64 + (k / 3 % 3 - 1) * 8 + (k / 9 - 1))
+                               : neighbour(code, k);
+                if (nbr[k] == kNone) continue;
+                if (state_[nbr[k]] != kKept) gone |= 1u << k;
+                else if (leaves_.leaf(nbr[k] / 512).isValueOn(openvdb::Index(nbr[k] % 512))) kept |= 1u << k;
+            }
+            change += euler_change(kept, gone);
+            outside = outside || (~(kept | gone) & kFaces) != 0;
+            for (int k = 0; k < 27; ++k)
+                if ((gone >> k & 1) && state_[nbr[k]] == kIdle) state_[nbr[k]] = kSeen, piece.push_back(nbr[k]);
+        }
+        const bool at_once = change == 0 && outside;
+        for (const std::size_t code : piece) state_[code] = at_once ? kOut : kIdle;
+        if (!at_once) back.insert(back.end(), piece.begin(), piece.end());
+    }
+
+    // The voxels taken out (in leaf order) with a kept face neighbour: only these can stand
+    // between kept voxels touching by an edge or a corner alone.
+    std::vector<std::size_t> touching_kept() const {
+        static constexpr int kFace[6] = {12, 14, 10, 16, 4, 22}; // -x +x -y +y -z +z
+        std::vector<std::size_t> out;
+        for (const std::size_t l : cut_leaves_) {
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            LeafMask touch{};
+            for (int d = 0; d < 6; ++d) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(kFace[d])];
+                const LeafMask next = n == kNoLeaf ? LeafMask{} : leaf_mask(leaves_.leaf(n));
+                const LeafMask m = neighbour_in(on, &next, d);
+                for (std::size_t x = 0; x < 8; ++x) touch[x] |= m[x];
+            }
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = hull_[l][x] & ~on[x] & touch[x]; w; w &= w - 1)
+                    out.push_back(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)));
+        }
+        return out;
     }
 
     void push(std::size_t code, const Coord& g) {
@@ -172,9 +264,9 @@ private:
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
     const std::function<float(const Coord&)>& field_;
-    openvdb::BoolTree& tree_;
     std::vector<std::uint8_t> state_;
     std::vector<std::size_t> removed_;
+    std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };

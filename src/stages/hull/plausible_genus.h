@@ -38,4 +38,12 @@ std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leave
 /// centre.
 bool removal_keeps_outside(unsigned nb);
 
+/// The change of the Euler characteristic (V - E + F - C of the union of closed voxel cubes)
+/// of the kept volume that taking out the centre of a neighbourhood causes in the lattice
+/// cells of the centre no earlier voxel (lower bit) of `gone` touches: `kept` the kept
+/// voxels about it, `gone` those taken out with it (26-connected to it; its own bit 13 on).
+/// Summed over every voxel of a 26-connected set taken out at once, the change its removal
+/// causes (sets with no voxel within one of each other touch no cell in common).
+int euler_change(unsigned kept, unsigned gone);
+
 } // namespace cm::plausible

@@ -97,3 +97,24 @@ TEST(HullPlausibleGenus, ADentStaysWhole) {
     EXPECT_EQ(r.st.genus_kept, 0u);
     EXPECT_EQ(r.st.removed, 6u * 4u * 6u);
 }
+
+TEST(HullPlausibleGenus, EulerChangeOfOneVoxelByItsNeighbours) {
+    // Bit x + 3 y + 9 z of the 3x3x3 neighbourhood, offsets + 1.
+    const auto bit = [](int x, int y, int z) { return 1u << ((x + 1) + 3 * (y + 1) + 9 * (z + 1)); };
+    const unsigned centre = bit(0, 0, 0);
+    unsigned all = 0, slab = 0;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y) {
+            for (int z = -1; z <= 1; ++z) all |= bit(x, y, z);
+            slab |= bit(x, y, 0);
+        }
+    all &= ~centre;
+    slab &= ~centre;
+    // Out of a full block: a cavity (+1). Out of a plate one voxel thick: a hole (-1). A voxel
+    // on a face alone: nothing changes.
+    EXPECT_EQ(plausible::euler_change(all, centre), 1);
+    EXPECT_EQ(plausible::euler_change(slab, centre), -1);
+    EXPECT_EQ(plausible::euler_change(bit(0, 0, -1), centre), 0);
+    // Taken out with its whole neighbourhood (no kept voxel about it): what it adds cancels.
+    EXPECT_EQ(plausible::euler_change(0, all | centre), 0);
+}
