@@ -24,6 +24,44 @@ enum State : std::uint8_t { kKept = 0, kIdle, kQueued, kOut, kWaiting, kSeen };
 // The six face neighbours of the centre in a neighbourhood.
 constexpr unsigned kFaces = 1u << 4 | 1u << 10 | 1u << 12 | 1u << 14 | 1u << 16 | 1u << 22;
 
+bool any(const LeafMask& m) {
+    std::uint64_t a = 0;
+    for (const std::uint64_t w : m) a |= w;
+    return a != 0;
+}
+LeafMask full() {
+    LeafMask m;
+    m.fill(~0ull);
+    return m;
+}
+// a & b (keep), or ~a & ~b... : a & b when `both`, else ~a & ~b.
+LeafMask and_not(const LeafMask& a, const LeafMask& b, bool both) {
+    LeafMask r;
+    for (std::size_t x = 0; x < 8; ++x) r[x] = both ? a[x] & b[x] : ~a[x] & ~b[x];
+    return r;
+}
+
+// The voxels of the leaf at offset k (bit order of a neighbourhood; 13: the leaf itself) that
+// are 26-neighbours of (or, for k 13, are) voxels of `m` (word x, byte y, bit z).
+LeafMask spill(const LeafMask& m, int k) {
+    const int a = k % 3 - 1, b = k / 3 % 3 - 1, c = k / 9 - 1;
+    LeafMask out{};
+    for (int xd = 0; xd < 8; ++xd) {
+        std::uint64_t w;
+        if (a == 0)
+            w = m[std::size_t(xd)] | (xd > 0 ? m[std::size_t(xd - 1)] : 0) | (xd < 7 ? m[std::size_t(xd + 1)] : 0);
+        else if (a == 1 && xd == 0) w = m[7];
+        else if (a == -1 && xd == 7) w = m[0];
+        else continue;
+        if (b == 0) w |= w << 8 | w >> 8;
+        else w = b == 1 ? w >> 56 : (w & 0xFFull) << 56;
+        if (c == 0) w |= (w << 1 & 0xFEFEFEFEFEFEFEFEull) | (w >> 1 & 0x7F7F7F7F7F7F7F7Full);
+        else w = c == 1 ? (w >> 7) & 0x0101010101010101ull : (w & 0x0101010101010101ull) << 7;
+        out[std::size_t(xd)] = w;
+    }
+    return out;
+}
+
 // The lattice cells (vertices, edges, faces, the cube) of a voxel, by the offset k of their
 // centre from the voxel's (halved; bit order of a neighbourhood): the voxels incident to each
 // (a mask of the neighbourhood) and its sign in the Euler characteristic V - E + F - C.
@@ -102,8 +140,7 @@ public:
             if (cut) cut_leaves_.push_back(l);
         }
         std::vector<std::size_t> back;
-        for (const std::size_t code : removed_)
-            if (state_[code] == kIdle) sort_piece(code, back);
+        sort_pieces(back);
         for (const std::size_t code : back) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
         for (const std::size_t code : back)
             if (~around_on(code) & kFaces) push(code, coord(code));
@@ -180,35 +217,81 @@ private:
         return nb;
     }
 
-    // The 26-connected piece of removed voxels through `seed`: out for good (kOut) when its
-    // removal leaves the kept volume's Euler characteristic unchanged and it touches the
-    // outside, else appended to `back` (to be taken out one at a time).
-    void sort_piece(std::size_t seed, std::vector<std::size_t>& back) {
-        std::vector<std::size_t> piece{seed};
-        state_[seed] = kSeen;
-        int change = 0;
-        bool outside = false;
-        for (std::size_t i = 0; i < piece.size(); ++i) {
-            const std::size_t code = piece[i];
-            unsigned kept = 0, gone = 0;
-            std::size_t nbr[27];
-            const unsigned off = unsigned(code % 512);
-            const bool inner = (off >> 6) - 1 < 6 && (off >> 3 & 7) - 1 < 6 && (off & 7) - 1 < 6;
-            for (int k = 0; k < 27; ++k) {
-                nbr[k] = inner ? code + std::size_t((k % 3 - 1) * 64 + (k / 3 % 3 - 1) * 8 + (k / 9 - 1))
-                               : neighbour(code, k);
-                if (nbr[k] == kNone) continue;
-                if (state_[nbr[k]] != kKept) gone |= 1u << k;
-                else if (leaves_.leaf(nbr[k] / 512).isValueOn(openvdb::Index(nbr[k] % 512))) kept |= 1u << k;
+    // The removed voxels by 26-connected piece (flooded a leaf's 512 voxels at a time): a
+    // piece that touches the outside and whose removal at once leaves the kept volume's Euler
+    // characteristic unchanged is out for good (kOut); the others are appended to `back` (to be
+    // taken out one at a time). Only voxels with a voxel not removed about them add to the
+    // change (one with all its neighbours removed adds nothing: euler_change).
+    void sort_pieces(std::vector<std::size_t>& back) {
+        std::vector<LeafMask> left(leaves_.leafCount(), LeafMask{}), reach(leaves_.leafCount(), LeafMask{});
+        for (const std::size_t code : removed_) left[code / 512][code % 512 / 64] |= 1ull << (code % 64);
+        const std::vector<LeafMask> gone = left;
+        std::vector<std::size_t> work, touched;
+        for (const std::size_t l0 : cut_leaves_)
+            while (any(left[l0])) {
+                std::size_t x0 = 0;
+                while (!left[l0][x0]) ++x0;
+                const std::uint64_t seed = left[l0][x0] & -left[l0][x0];
+                reach[l0][x0] = seed, left[l0][x0] &= ~seed;
+                work.assign(1, l0), touched.assign(1, l0);
+                while (!work.empty()) {
+                    const std::size_t l = work.back();
+                    work.pop_back();
+                    for (;;) { // grow within the leaf
+                        const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
+                        if (!any(g)) break;
+                        for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
+                    }
+                    for (int k = 0; k < 27; ++k) {
+                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                        if (k == kCentre || n == kNoLeaf) continue;
+                        const LeafMask g = and_not(spill(reach[l], k), left[n], true);
+                        if (!any(g)) continue;
+                        if (!any(reach[n])) touched.push_back(n);
+                        for (std::size_t x = 0; x < 8; ++x) reach[n][x] |= g[x], left[n][x] &= ~g[x];
+                        work.push_back(n);
+                    }
+                }
+                int change = 0;
+                bool outside = false;
+                for (const std::size_t l : touched) {
+                    // Voxels with one not removed about them (a missing leaf: none removed).
+                    LeafMask near = spill(and_not(gone[l], LeafMask{}, false), kCentre);
+                    for (int k = 0; k < 27; ++k) {
+                        if (k == kCentre) continue;
+                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                        const LeafMask m = spill(n == kNoLeaf ? full() : and_not(gone[n], LeafMask{}, false), 26 - k);
+                        for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
+                    }
+                    for (std::size_t x = 0; x < 8; ++x)
+                        for (std::uint64_t w = reach[l][x] & near[x]; w; w &= w - 1)
+                            change += voxel_change(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)), outside);
+                }
+                const bool at_once = change == 0 && outside;
+                for (const std::size_t l : touched) {
+                    for (std::size_t x = 0; x < 8; ++x)
+                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
+                            const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
+                            state_[code] = at_once ? kOut : kIdle;
+                            if (!at_once) back.push_back(code);
+                        }
+                    reach[l] = LeafMask{};
+                }
             }
-            change += euler_change(kept, gone);
-            outside = outside || (~(kept | gone) & kFaces) != 0;
-            for (int k = 0; k < 27; ++k)
-                if ((gone >> k & 1) && state_[nbr[k]] == kIdle) state_[nbr[k]] = kSeen, piece.push_back(nbr[k]);
+    }
+
+    // What taking out voxel `code` adds to its piece's change (euler_change); `outside` set when
+    // a face neighbour is neither kept nor removed.
+    int voxel_change(std::size_t code, bool& outside) const {
+        unsigned kept = 0, gone = 0;
+        for (int k = 0; k < 27; ++k) {
+            const std::size_t c = neighbour(code, k);
+            if (c == kNone) continue;
+            if (state_[c] != kKept) gone |= 1u << k;
+            else if (leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) kept |= 1u << k;
         }
-        const bool at_once = change == 0 && outside;
-        for (const std::size_t code : piece) state_[code] = at_once ? kOut : kIdle;
-        if (!at_once) back.insert(back.end(), piece.begin(), piece.end());
+        outside = outside || (~(kept | gone) & kFaces) != 0;
+        return euler_change(kept, gone);
     }
 
     // The voxels taken out (in leaf order) with a kept face neighbour: only these can stand
