@@ -13,6 +13,7 @@
 
 #include "leaf_masks.h"
 #include "plausible_crossings.h"
+#include "plausible_genus.h"
 #include "plausible_state.h"
 #include "plausible_thin.h"
 
@@ -36,6 +37,8 @@ public:
     void fill_pockets();
     /// 6c. Pieces apart from the main body joined to it.
     void join_pieces();
+    /// 6d. No handle the hull has not (plausible_genus.h).
+    void keep_genus();
     /// 6. Leaves full with 26 full neighbours back to tiles.
     void make_tiles();
     /// 7. The output volume: the occupancy, the thin parts that still hang on the surface and
@@ -225,6 +228,15 @@ void OutputVolume::join_pieces() {
     st_.removed -= std::min(st_.removed, added);
 }
 
+// Removed voxels whose removal opened a tunnel through the kept volume put back
+// (plausible_genus.h; only adding: no line of sight loses a voxel).
+void OutputVolume::keep_genus() {
+    const FieldAt field_at(hull_masks_, hull_origin_, vox_.base, field_);
+    const std::size_t back = keep_hull_genus(vox_.leaves, hull_masks_, [&](const Coord& g) { return field_at(g); });
+    st_.genus_kept = back;
+    st_.removed -= std::min(st_.removed, back);
+}
+
 // A leaf comes back as a tile when it and its 26 neighbours are full (each reached through
 // face neighbours, which must be full themselves), so every inside point next to the outside
 // stays a leaf voxel (volume.h).
@@ -311,6 +323,7 @@ std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, Unin
     out.thicken_plates();
     out.fill_pockets();
     out.join_pieces();
+    out.keep_genus();
     out.make_tiles();
     progress(0.8);
     // 7. Crossings and thin parts.

@@ -1,0 +1,49 @@
+// The kept volume of hull.plausible with no handle the hull has not: a removal that would
+// open a tunnel through what is kept (or seal a cavity in it) is taken back.
+//
+// The field removes every voxel where it is above 0, all at once. Where two removed regions
+// come close from two sides of a thin part (an ear's base, the gap between an arm and the
+// body), they can meet: the kept volume gets a through-hole the drawings never showed. The
+// removed voxels are taken out again one at a time from the hull, the most removable (highest
+// field) first, each only while its 3x3x3 neighbourhood says its removal leaves the outside
+// one piece there (a voxel whose removed neighbours would be joined by it into one passage
+// around kept voxels closes a loop of the outside: a tunnel, or, with none, a cavity); what
+// still waits at the end stays, a wall where the field is lowest. Cutting a part off stays
+// allowed (the outside about the cut is one piece); cutting a ring of the hull through does
+// not (the first voxel of the cut's last layer would join the outside to itself). Then no two
+// kept voxels touch by an edge or a corner alone across a voxel taken out, where putting it
+// back seals no pocket of the outside: it comes back, so Marching Cubes, whichever way it
+// resolves such a face, gives the surface the topology of the voxels (a diagonal contact read
+// as apart opens a hole between two concavities).
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "leaf_masks.h"
+
+namespace cm::plausible {
+
+/// Puts back into `kept` (the hull's voxelized leaves, `leaves`, as the removal left them)
+/// the removed voxels (on in `hull`, per leaf in LeafManager order, off now) whose removal
+/// would open a tunnel or seal a cavity, as above, `field` giving each voxel's removal order
+/// (highest first). Then closes the diagonal contacts the removal made. Returns the number
+/// of voxels put back.
+std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
+                            const std::function<float(const Coord&)>& field);
+
+/// Whether removing the centre of a 3x3x3 neighbourhood (`nb`, bit x + 3 y + 9 z, 1 inside;
+/// the centre bit 13 ignored) leaves the outside in one piece there: its outside voxels among
+/// the 18 nearest, 6-connected within them, form exactly one piece that touches a face of the
+/// centre.
+bool removal_keeps_outside(unsigned nb);
+
+/// The change of the Euler characteristic (V - E + F - C of the union of closed voxel cubes)
+/// of the kept volume that taking out the centre of a neighbourhood causes in the lattice
+/// cells of the centre no earlier voxel (lower bit) of `gone` touches: `kept` the kept
+/// voxels about it, `gone` those taken out with it (26-connected to it; its own bit 13 on).
+/// Summed over every voxel of a 26-connected set taken out at once, the change its removal
+/// causes (sets with no voxel within one of each other touch no cell in common).
+int euler_change(unsigned kept, unsigned gone);
+
+} // namespace cm::plausible

@@ -1,0 +1,120 @@
+// hull.plausible's output volume keeps the hull's genus (plausible_genus.h): a removal that
+// would open a tunnel through the kept volume is put back in part (a wall across it), and one
+// that only dents it stays whole.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "plausible_genus.h"
+#include "plausible_state.h"
+
+using namespace cm;
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::CoordBBox;
+
+// Euler characteristic of the union of the closed unit cubes of the grid's on voxels
+// (vertices - edges + faces - cubes of the cubical complex): 1 - handles for one solid piece
+// without cavities.
+long euler(const openvdb::BoolGrid& g) {
+    CoordBBox box;
+    g.tree().evalActiveVoxelBoundingBox(box);
+    auto acc = g.getConstAccessor();
+    const auto on = [&](int x, int y, int z) { return acc.isValueOn(Coord(x, y, z)); };
+    long chi = 0;
+    // Every cell of the complex by its lowest corner p and the axes it spans (mask m): it is in
+    // the complex when a voxel holding it is on (voxel v holds the cells at corners v..v+1).
+    for (int x = box.min().x(); x <= box.max().x() + 1; ++x)
+        for (int y = box.min().y(); y <= box.max().y() + 1; ++y)
+            for (int z = box.min().z(); z <= box.max().z() + 1; ++z)
+                for (int m = 0; m < 8; ++m) {
+                    bool in = false;
+                    // Voxels holding the cell: offsets -1/0 along the axes it does not span.
+                    for (int k = 0; k < 8 && !in; ++k) {
+                        if ((k & m) != 0) continue;
+                        in = on(x - (k & 1), y - (k >> 1 & 1), z - (k >> 2 & 1));
+                    }
+                    if (in) chi += (__builtin_popcount(unsigned(m)) % 2) ? -1 : 1;
+                }
+    return chi;
+}
+
+struct Removal {
+    Volume hull;
+    std::unique_ptr<plausible::HullVoxels> vox;
+    UninitVector<std::uint8_t> removed;
+    UninitVector<float> field;
+    PlausibleStats st;
+
+    // A 16 x 12 x 12 block; `cut` says which voxels the field removes and how far outside the
+    // allowance they lie (above 0: removed).
+    template <typename F>
+    explicit Removal(F&& cut) {
+        hull.occupancy = openvdb::BoolGrid::create(false);
+        hull.occupancy->tree().denseFill(CoordBBox({0, 0, 0}, {15, 11, 11}), true, true);
+        vox = std::make_unique<plausible::HullVoxels>(*hull.occupancy);
+        removed.resize(vox->n);
+        field.resize(vox->n);
+        for (std::size_t i = 0; i < vox->n; ++i) {
+            field[i] = cut(vox->coord_of(i));
+            removed[i] = field[i] > 0;
+        }
+    }
+    std::shared_ptr<Volume> run() { return plausible::plausible_volume(hull, *vox, removed, field, st, Progress{}); }
+};
+
+} // namespace
+
+TEST(HullPlausibleGenus, ARemovalThroughTheBlockLeavesAWallAcrossIt) {
+    // A slot through the block along z (x 5..10, y 4..7): alone, it leaves a ring (genus 1).
+    // The field is lowest half-way along it.
+    Removal r([](const Coord& c) {
+        const bool slot = c.x() >= 5 && c.x() <= 10 && c.y() >= 4 && c.y() <= 7;
+        return slot ? 1.0f + std::abs(float(c.z()) - 5.25f) : -1.0f;
+    });
+    auto out = r.run();
+    EXPECT_EQ(euler(*out->occupancy), 1) << "a tunnel through the kept volume";
+    EXPECT_GT(r.st.genus_kept, 0u);
+    // The wall is where the field is lowest: both ends of the slot stay open.
+    EXPECT_TRUE(out->occupancy->tree().isValueOn({7, 5, 5}));
+    for (int z : {0, 1, 2, 9, 10, 11}) EXPECT_FALSE(out->occupancy->tree().isValueOn({7, 5, z})) << "z " << z;
+    // No more than a wall a few voxels thick of the 6 x 4 x 12 slot comes back.
+    EXPECT_LE(r.st.genus_kept, 6u * 4u * 4u);
+}
+
+TEST(HullPlausibleGenus, ADentStaysWhole) {
+    // A pocket open on one face only (z 0..5): no tunnel, nothing comes back.
+    Removal r([](const Coord& c) {
+        const bool dent = c.x() >= 5 && c.x() <= 10 && c.y() >= 4 && c.y() <= 7 && c.z() <= 5;
+        return dent ? 1.0f : -1.0f;
+    });
+    r.st.removed = 6u * 4u * 6u;
+    auto out = r.run();
+    EXPECT_EQ(euler(*out->occupancy), 1);
+    EXPECT_EQ(r.st.genus_kept, 0u);
+    EXPECT_EQ(r.st.removed, 6u * 4u * 6u);
+}
+
+TEST(HullPlausibleGenus, EulerChangeOfOneVoxelByItsNeighbours) {
+    // Bit x + 3 y + 9 z of the 3x3x3 neighbourhood, offsets + 1.
+    const auto bit = [](int x, int y, int z) { return 1u << ((x + 1) + 3 * (y + 1) + 9 * (z + 1)); };
+    const unsigned centre = bit(0, 0, 0);
+    unsigned all = 0, slab = 0;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y) {
+            for (int z = -1; z <= 1; ++z) all |= bit(x, y, z);
+            slab |= bit(x, y, 0);
+        }
+    all &= ~centre;
+    slab &= ~centre;
+    // Out of a full block: a cavity (+1). Out of a plate one voxel thick: a hole (-1). A voxel
+    // on a face alone: nothing changes.
+    EXPECT_EQ(plausible::euler_change(all, centre), 1);
+    EXPECT_EQ(plausible::euler_change(slab, centre), -1);
+    EXPECT_EQ(plausible::euler_change(bit(0, 0, -1), centre), 0);
+    // Taken out with its whole neighbourhood (no kept voxel about it): what it adds cancels.
+    EXPECT_EQ(plausible::euler_change(0, all | centre), 0);
+}
