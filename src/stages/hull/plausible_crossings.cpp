@@ -64,31 +64,6 @@ LeafMask differing_points(const OnLeaf (&nw)[4]) {
     return differ;
 }
 
-// The field at a grid point of the hull (0 elsewhere), through the voxels' numbering.
-class FieldAt {
-public:
-    explicit FieldAt(const HullField& hull) : hull_(hull) {
-        leaf_of_.reserve(hull.origins.size() * 2);
-        for (std::size_t l = 0; l < hull.origins.size(); ++l)
-            leaf_of_.emplace(leaf_key(hull.origins[l]), std::uint32_t(l));
-    }
-    float operator()(const Coord& g) const {
-        const auto it = leaf_of_.find(leaf_key(g));
-        if (it == leaf_of_.end()) return 0.0f;
-        const std::size_t l = it->second;
-        const openvdb::Index off = BoolLeaf::coordToOffset(g);
-        const std::uint64_t bit = std::uint64_t(1) << (off & 63), word = hull_.masks[l][off >> 6];
-        if (!(word & bit)) return 0.0f;
-        std::size_t i = hull_.base[l] + std::size_t(__builtin_popcountll(word & (bit - 1)));
-        for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(hull_.masks[l][w]));
-        return hull_.field[i];
-    }
-
-private:
-    const HullField& hull_;
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of_;
-};
-
 class Recrossing {
 public:
     Recrossing(const Volume& in, const openvdb::BoolGrid& now, const std::vector<Coord>& touched, const HullField& hull)

@@ -231,7 +231,8 @@ void OutputVolume::join_pieces() {
 // Removed voxels whose removal opened a tunnel through the kept volume put back
 // (plausible_genus.h; only adding: no line of sight loses a voxel).
 void OutputVolume::keep_genus() {
-    const FieldAt field_at(hull_masks_, hull_origin_, vox_.base, field_);
+    const HullField hull{hull_masks_, hull_origin_, vox_.base, field_};
+    const FieldAt field_at(hull);
     const std::size_t back = keep_hull_genus(vox_.leaves, hull_masks_, [&](const Coord& g) { return field_at(g); });
     st_.genus_kept = back;
     st_.removed -= std::min(st_.removed, back);
