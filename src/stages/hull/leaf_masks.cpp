@@ -52,12 +52,22 @@ constexpr Mask kFull = {~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull};
 
 } // namespace
 
+namespace {
+// Each leaf's LeafManager index by its origin's key.
+std::unordered_map<std::uint64_t, std::uint32_t> leaf_index(
+    const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves) {
+    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
+    leaf_of.reserve(leaves.leafCount() * 2);
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l)
+        leaf_of.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
+    return leaf_of;
+}
+} // namespace
+
 std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves) {
     using Leaf = openvdb::BoolTree::LeafNodeType;
     const std::size_t nleaf = leaves.leafCount();
-    std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
-    leaf_of.reserve(nleaf * 2);
-    for (std::size_t l = 0; l < nleaf; ++l) leaf_of.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
+    const auto leaf_of = leaf_index(leaves);
     std::vector<std::array<std::uint32_t, 6>> nbr(nleaf);
     tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
         for (int d = 0; d < 6; ++d) {
@@ -68,6 +78,20 @@ std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::L
         }
     });
     return nbr;
+}
+
+std::vector<std::uint32_t> leaf_neighbourhoods(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves) {
+    const std::size_t nleaf = leaves.leafCount();
+    const auto leaf_of = leaf_index(leaves);
+    std::vector<std::uint32_t> around(nleaf * 27);
+    tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
+        for (int k = 0; k < 27; ++k) {
+            const Coord o = leaves.leaf(l).origin().offsetBy(8 * (k % 3 - 1), 8 * (k / 3 % 3 - 1), 8 * (k / 9 - 1));
+            const auto it = leaf_of.find(leaf_key(o));
+            around[l * 27 + std::size_t(k)] = it == leaf_of.end() ? kNoLeaf : it->second;
+        }
+    });
+    return around;
 }
 
 Mask neighbour_in(const Mask& own, const Mask* next, int d) {

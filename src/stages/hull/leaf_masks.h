@@ -36,6 +36,9 @@ std::vector<std::array<std::uint32_t, 6>> leaf_neighbours(const openvdb::tree::L
 /// (the leaf's mask) or, across the face, in `next` (the mask of the leaf beside it that
 /// way; none when null).
 LeafMask neighbour_in(const LeafMask& own, const LeafMask* next, int d);
+/// Each leaf's 26 neighbours and itself, 27 per leaf, offset k = (dx + 1) + 3 (dy + 1) + 9 (dz + 1)
+/// in leaves; LeafManager indices, kNoLeaf where the tree has none.
+std::vector<std::uint32_t> leaf_neighbourhoods(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves);
 
 /// The voxels of `through` (per leaf, in LeafManager order) reached from those of `seed` by
 /// 6-neighbour steps within `through` (a step from a seed into `through` included; with

@@ -3,7 +3,6 @@
 
 #include <cstdint>
 #include <queue>
-#include <unordered_map>
 #include <utility>
 
 namespace cm::plausible {
@@ -109,20 +108,11 @@ namespace {
 class Retake {
 public:
     Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const std::function<float(const Coord&)>& field)
-        : leaves_(leaves), hull_(hull), field_(field), state_(leaves.leafCount() * 512, kKept) {
-        std::unordered_map<std::uint64_t, std::uint32_t> leaf_of;
-        leaf_of.reserve(leaves.leafCount() * 2);
-        for (std::size_t l = 0; l < leaves.leafCount(); ++l)
-            leaf_of.emplace(leaf_key(leaves.leaf(l).origin()), std::uint32_t(l));
-        // Each leaf's 26 neighbours and itself (bit order of a neighbourhood), kNoLeaf where none.
-        around_.resize(leaves.leafCount() * 27);
-        for (std::size_t l = 0; l < leaves.leafCount(); ++l)
-            for (int k = 0; k < 27; ++k) {
-                const Coord o = leaves.leaf(l).origin().offsetBy(8 * (k % 3 - 1), 8 * (k / 3 % 3 - 1), 8 * (k / 9 - 1));
-                const auto it = leaf_of.find(leaf_key(o));
-                around_[l * 27 + std::size_t(k)] = it == leaf_of.end() ? kNoLeaf : it->second;
-            }
-    }
+        : leaves_(leaves),
+          hull_(hull),
+          field_(field),
+          state_(leaves.leafCount() * 512, kKept),
+          around_(leaf_neighbourhoods(leaves)) {}
 
     // The removed voxels marked, then sorted by 26-connected piece: a piece whose removal at
     // once leaves the Euler characteristic of the kept volume as it was and that reaches the
