@@ -33,6 +33,14 @@ std::uint32_t larger_end(const Mesh& in, std::uint32_t e) {
     return std::max(t[e % 3], t[(e % 3 + 1) % 3]);
 }
 
+// Face f's normal, area-weighted (taken where it is needed: a table of every face's would be
+// 24 bytes a face of fresh memory, more than the few products it saves).
+Vec3d face_normal(const Mesh& in, std::size_t f) {
+    const auto& t = in.triangles[f];
+    const Vec3d p0(in.positions[t[0]]);
+    return cross(Vec3d(in.positions[t[1]]) - p0, Vec3d(in.positions[t[2]]) - p0);
+}
+
 // Every edge of every face (3 f + k: from corner k to the next) listed under its smaller vertex
 // (`start`: where each vertex's list begins in `edge`), ordered by the larger vertex and then by
 // face: the order of sorting every (smaller, larger, face) but by a scatter, without the sort of
@@ -146,14 +154,6 @@ std::size_t keep_long_creases(const Mesh& in, EdgeList& sharp_edges, double reac
 CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angle_deg, double min_reach,
                         const std::vector<Camera>& views) {
     const std::size_t nv = in.positions.size(), nf = in.triangles.size();
-    std::vector<Vec3d> normal(nf);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf, 1 << 14), [&](const auto& r) {
-        for (std::size_t f = r.begin(); f != r.end(); ++f) {
-            const auto& t = in.triangles[f];
-            const Vec3d p0(in.positions[t[0]]);
-            normal[f] = cross(Vec3d(in.positions[t[1]]) - p0, Vec3d(in.positions[t[2]]) - p0); // area-weighted
-        }
-    });
     // Every edge with exactly two faces is sharp when their normals are further apart than the angle.
     std::vector<std::uint32_t> start, edge;
     edges_by_vertex(in, start, edge);
@@ -170,12 +170,14 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
             edge_length += double(length(in.positions[a] - in.positions[b]));
             ++edge_count;
             if (j - i == 2) {
-                const Vec3d &n0 = normal[edge[i] / 3], &n1 = normal[edge[i + 1] / 3];
+                const Vec3d n0 = face_normal(in, edge[i] / 3), n1 = face_normal(in, edge[i + 1] / 3);
                 const double l0 = length(n0), l1 = length(n1);
                 if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) sharp_edges.emplace_back(a, b);
             }
             i = j;
         }
+    std::vector<std::uint32_t>().swap(start);
+    std::vector<std::uint32_t>().swap(edge);
     CreaseHold h;
     if (min_reach > 0 && edge_count > 0) {
         const double mean_edge = edge_length / double(edge_count);
@@ -186,11 +188,29 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
         sharp[a].add(b);
         sharp[b].add(a);
     }
-    std::vector<Vec3d> mean(nv, Vec3d(0, 0, 0));
-    for (std::size_t f = 0; f < nf; ++f)
-        for (auto v : in.triangles[f]) mean[v] += normal[f];
+    // The vertices off the creases beside one, numbered: only theirs of the faces' summed
+    // normals are taken (in face order, as a sum over every vertex would add them).
+    constexpr std::uint32_t kOff = 0xFFFFFFFFu;
+    std::vector<std::uint32_t> slot(nv, kOff);
+    std::uint32_t beside_count = 0;
+    for (std::size_t v = 0; v < nv; ++v) {
+        const auto u = std::uint32_t(v);
+        if (sharp[v].count == 0 &&
+            std::any_of(ring.begin(u), ring.end(u), [&](std::uint32_t w) { return sharp[w].count > 0; }))
+            slot[v] = beside_count++;
+    }
+    std::vector<Vec3d> mean(beside_count, Vec3d(0, 0, 0));
+    if (beside_count > 0)
+        for (std::size_t f = 0; f < nf; ++f) {
+            const auto& t = in.triangles[f];
+            if (slot[t[0]] == kOff && slot[t[1]] == kOff && slot[t[2]] == kOff) continue;
+            const Vec3d n = face_normal(in, f);
+            for (auto v : t)
+                if (slot[v] != kOff) mean[slot[v]] += n;
+        }
     h.plane.assign(nv, Vec3f(0, 0, 0));
     h.adj.offsets.assign(nv + 1, 0);
+    h.adj.neighbours.reserve(ring.neighbours.size()); // a crease vertex keeps two, a held one none
     for (std::size_t v = 0; v < nv; ++v) {
         const auto u = std::uint32_t(v);
         if (sharp[v].count == 2) {
@@ -200,10 +220,8 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
             ++h.held_vertices; // stays
         } else {
             h.adj.neighbours.insert(h.adj.neighbours.end(), ring.begin(u), ring.end(u));
-            const bool beside =
-                std::any_of(ring.begin(u), ring.end(u), [&](std::uint32_t w) { return sharp[w].count > 0; });
-            if (beside && length(mean[v]) > 0) {
-                h.plane[v] = Vec3f(normalize(mean[v]));
+            if (slot[v] != kOff && length(mean[slot[v]]) > 0) {
+                h.plane[v] = Vec3f(normalize(mean[slot[v]]));
                 ++h.plane_vertices;
             }
         }
