@@ -71,17 +71,48 @@ public:
                 // The part's place along d: the view along a's run through p, within D.
                 const Interval R = proj_[std::size_t(a)].run(d, p);
                 const Interval in{std::max(R.lo, D.lo), std::min(R.hi, D.hi)};
-                const double h = std::min(T.half(), in.empty() ? T.half() : in.half());
+                const Place at = place(a, t, h0.O, T, D, in);
                 const double ut = std::abs(double(p[t]) - T.mid()) / T.half();
-                const double ud = std::abs(double(p[d]) - (in.empty() ? D.mid() : in.mid())) / h;
+                const double ud = std::abs(double(p[d]) - at.mid) / at.half;
                 best.weight = float(w);
-                best.field = float((std::sqrt(ut * ut + ud * ud) - 1.0) * std::min(T.half(), h));
+                best.field = float((std::sqrt(ut * ut + ud * ud) - 1.0) * std::min(T.half(), at.half));
             }
         }
         return best;
     }
 
 private:
+    // The hidden part's section along d: centre and half depth.
+    struct Place {
+        double mid, half;
+    };
+    // Round, as deep as the part is wide, in the middle of `in` (the view along a's run through
+    // the voxel, within D): unless part of `in` lies beyond the wider part's depth (no pixel of
+    // the view along a within O there). The depth D reaches there, and no other part at this
+    // station can give it but the thin one: its section is moved (and deepened if need be) to
+    // take that stretch in, so the covering of the lines of sight does not have to swell the
+    // section back into a plate as deep as D. A stretch on both sides of the wider part (less
+    // than half of its extent beyond the part) leaves the section in the middle.
+    Place place(int a, int t, const Interval& O, const Interval& T, const Interval& D, const Interval& in) const {
+        if (in.empty()) return {D.mid(), T.half()};
+        const double h = std::min(T.half(), in.half());
+        Place at{in.mid(), h};
+        if (O.empty()) return at;
+        const Projection& A = proj_[std::size_t(a)];
+        Interval U;
+        int n = 0;
+        for (int x = in.lo; x <= in.hi; ++x) {
+            if ((t == A.u ? A.count(O.lo, O.hi, x, x) : A.count(x, x, O.lo, O.hi)) > 0) continue;
+            if (U.empty()) U.lo = x;
+            U.hi = x;
+            ++n;
+        }
+        if (U.empty() || U.size() == in.size() || 2 * n < U.size()) return at;
+        if (U.half() >= h) return {U.mid(), U.half()};
+        // The least move from the middle that takes U in.
+        at.mid = std::clamp(at.mid, double(U.hi) + 0.5 - h, double(U.lo) - 0.5 + h);
+        return at;
+    }
     bool behind(int a, int t, int d, const Coord& p, const Interval& O) const {
         const Projection& A = proj_[std::size_t(a)];
         return (t == A.u ? A.count(O.lo, O.hi, p[d], p[d]) : A.count(p[d], p[d], O.lo, O.hi)) > 0;

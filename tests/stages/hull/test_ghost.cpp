@@ -97,3 +97,29 @@ TEST(HullGhost, LegsSideBySideAreLeftAlone) {
     plausible_of(hull, 1.0, &st);
     EXPECT_EQ(st.ghost_voxels, 0u);
 }
+
+// An arm that reaches behind the torso's back: the side view's depth goes beyond the torso
+// there, and only the arm can give it. Its round section is placed to take that stretch in,
+// not in the middle of the top view's run (which reaches from the shoulder plate's front to the
+// arm's back): otherwise the covering of the side view's lines of sight keeps the arm's back as
+// well, and the arm comes out a plate from its section to the back.
+TEST(HullGhost, ArmBehindTheTorsoStaysRoundAtItsPlace) {
+    const Vec3d armLo(2.5, -2, 1.0), armHi(3.3, 2, 2.0);
+    std::vector<View> vs;
+    for (const char* n : {"front", "right", "top"}) {
+        const Vec3d d = Camera::named(n)->d;
+        vs.push_back(
+            ortho_view(n, 320, 40.0,
+                       union_outline(union_outline(box_outline(kTorsoLo, kTorsoHi, d), box_outline(armLo, armHi, d)),
+                                     box_outline(kPlateLo, kPlateHi, d))));
+    }
+    const auto hull = carve_and_refine(make_views(std::move(vs), Vec3d(-3.5, -3, -1.5), Vec3d(3.5, 3, 2.0)), 96);
+    const auto after = plausible_of(hull, 1.0);
+    const double arm_x = 0.5 * (armLo[0] + armHi[0]), arm_d = armHi[2] - armLo[2];
+    for (double y : {-1.0, 0.0, 1.0}) {
+        const double d0 = depth_at(*hull, arm_x, y), d1 = depth_at(*after, arm_x, y);
+        std::cout << "arm depth at y " << y << ": " << d0 << " in the hull, " << d1 << " kept\n";
+        EXPECT_GT(d0, 2.5 * arm_d);
+        EXPECT_LT(d1, 1.5 * arm_d);
+    }
+}
