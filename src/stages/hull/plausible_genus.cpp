@@ -107,7 +107,7 @@ namespace {
 
 class Retake {
 public:
-    Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const std::function<float(const Coord&)>& field)
+    Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field)
         : leaves_(leaves),
           hull_(hull),
           field_(field),
@@ -118,22 +118,20 @@ public:
     // once leaves the Euler characteristic of the kept volume as it was and that reaches the
     // outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
+        removed_ = 0;
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
             const LeafMask on = leaf_mask(leaves_.leaf(l));
-            bool cut = false;
+            std::size_t n = 0;
             for (std::size_t x = 0; x < 8; ++x)
-                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, cut = true) {
-                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                    state_[code] = kIdle;
-                    removed_.push_back(code);
-                }
-            if (cut) cut_leaves_.push_back(l);
+                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, ++n)
+                    state_[l * 512 + x * 64 + std::size_t(__builtin_ctzll(w))] = kIdle;
+            if (n) cut_leaves_.push_back(l), removed_ += n;
         }
         std::vector<std::size_t> back;
         sort_pieces(back);
         for (const std::size_t code : back) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
         for (const std::size_t code : back)
-            if (~around_on(code) & kFaces) push(code, coord(code));
+            if (~around_on(code) & kFaces) push(code);
     }
 
     // Out again, highest field first, while the outside stays one piece about each.
@@ -152,7 +150,7 @@ public:
             for (int k = 0; k < 27; ++k) {
                 if (k == kCentre) continue;
                 const std::size_t c = neighbour(code, k);
-                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c, coord(c));
+                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c);
             }
         }
     }
@@ -174,18 +172,18 @@ public:
         }
     }
 
+    // The removed voxels on again (the others are off: out).
     std::size_t put_back() const {
-        std::size_t n = 0;
-        for (const std::size_t code : removed_) n += state_[code] != kOut;
-        return n;
+        std::size_t out = 0;
+        for (const std::size_t l : cut_leaves_) {
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            for (std::size_t x = 0; x < 8; ++x) out += std::size_t(__builtin_popcountll(hull_[l][x] & ~on[x]));
+        }
+        return removed_ - out;
     }
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
-
-    Coord coord(std::size_t code) const {
-        return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512));
-    }
 
     // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
     // where the tree has no leaf.
@@ -208,40 +206,24 @@ private:
     }
 
     // The removed voxels by 26-connected piece (flooded a leaf's 512 voxels at a time): a
-    // piece that touches the outside and whose removal at once leaves the kept volume's Euler
-    // characteristic unchanged is out for good (kOut); the others are appended to `back` (to be
-    // taken out one at a time). Only voxels with a voxel not removed about them add to the
-    // change (one with all its neighbours removed adds nothing: euler_change).
+    // piece that touches the outside, whose removal at once leaves the kept volume's Euler
+    // characteristic unchanged and whose kept voxels about it are one piece by themselves (so
+    // no part of the kept volume comes off: that and a tunnel would sum to no change) is out
+    // for good (kOut); the others are appended to `back` (to be taken out one at a time). Only
+    // voxels with a voxel not removed about them add to the change (one with all its
+    // neighbours removed adds nothing: euler_change).
     void sort_pieces(std::vector<std::size_t>& back) {
-        std::vector<LeafMask> left(leaves_.leafCount(), LeafMask{}), reach(leaves_.leafCount(), LeafMask{});
-        for (const std::size_t code : removed_) left[code / 512][code % 512 / 64] |= 1ull << (code % 64);
+        const std::size_t n = leaves_.leafCount();
+        std::vector<LeafMask> left(n, LeafMask{}), reach(n, LeafMask{});
+        for (const std::size_t l : cut_leaves_) {
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            for (std::size_t x = 0; x < 8; ++x) left[l][x] = hull_[l][x] & ~on[x];
+        }
         const std::vector<LeafMask> gone = left;
-        std::vector<std::size_t> work, touched;
+        std::vector<std::size_t> touched;
         for (const std::size_t l0 : cut_leaves_)
             while (any(left[l0])) {
-                std::size_t x0 = 0;
-                while (!left[l0][x0]) ++x0;
-                const std::uint64_t seed = left[l0][x0] & -left[l0][x0];
-                reach[l0][x0] = seed, left[l0][x0] &= ~seed;
-                work.assign(1, l0), touched.assign(1, l0);
-                while (!work.empty()) {
-                    const std::size_t l = work.back();
-                    work.pop_back();
-                    for (;;) { // grow within the leaf
-                        const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
-                        if (!any(g)) break;
-                        for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
-                    }
-                    for (int k = 0; k < 27; ++k) {
-                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                        if (k == kCentre || n == kNoLeaf) continue;
-                        const LeafMask g = and_not(spill(reach[l], k), left[n], true);
-                        if (!any(g)) continue;
-                        if (!any(reach[n])) touched.push_back(n);
-                        for (std::size_t x = 0; x < 8; ++x) reach[n][x] |= g[x], left[n][x] &= ~g[x];
-                        work.push_back(n);
-                    }
-                }
+                flood26(l0, left, reach, touched);
                 int change = 0;
                 bool outside = false;
                 for (const std::size_t l : touched) {
@@ -249,15 +231,15 @@ private:
                     LeafMask near = spill(and_not(gone[l], LeafMask{}, false), kCentre);
                     for (int k = 0; k < 27; ++k) {
                         if (k == kCentre) continue;
-                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                        const LeafMask m = spill(n == kNoLeaf ? full() : and_not(gone[n], LeafMask{}, false), 26 - k);
+                        const std::uint32_t nl = around_[l * 27 + std::size_t(k)];
+                        const LeafMask m = spill(nl == kNoLeaf ? full() : and_not(gone[nl], LeafMask{}, false), 26 - k);
                         for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
                     }
                     for (std::size_t x = 0; x < 8; ++x)
                         for (std::uint64_t w = reach[l][x] & near[x]; w; w &= w - 1)
                             change += voxel_change(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)), outside);
                 }
-                const bool at_once = change == 0 && outside;
+                const bool at_once = change == 0 && outside && collar_connected(reach, touched);
                 for (const std::size_t l : touched) {
                     for (std::size_t x = 0; x < 8; ++x)
                         for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
@@ -268,6 +250,62 @@ private:
                     reach[l] = LeafMask{};
                 }
             }
+    }
+
+    // The 26-connected piece of `left` (per leaf) of its first voxel in leaf l0 moved from
+    // `left` to `reach`; `touched` gets the leaves it has voxels in.
+    void flood26(std::size_t l0, std::vector<LeafMask>& left, std::vector<LeafMask>& reach,
+                 std::vector<std::size_t>& touched) const {
+        std::size_t x0 = 0;
+        while (!left[l0][x0]) ++x0;
+        const std::uint64_t seed = left[l0][x0] & -left[l0][x0];
+        reach[l0][x0] |= seed, left[l0][x0] &= ~seed;
+        std::vector<std::size_t> work(1, l0);
+        touched.assign(1, l0);
+        while (!work.empty()) {
+            const std::size_t l = work.back();
+            work.pop_back();
+            for (;;) { // grow within the leaf
+                const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
+                if (!any(g)) break;
+                for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
+            }
+            for (int k = 0; k < 27; ++k) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (k == kCentre || n == kNoLeaf) continue;
+                const LeafMask g = and_not(spill(reach[l], k), left[n], true);
+                if (!any(g)) continue;
+                if (!any(reach[n])) touched.push_back(n);
+                for (std::size_t x = 0; x < 8; ++x) reach[n][x] |= g[x], left[n][x] &= ~g[x];
+                work.push_back(n);
+            }
+        }
+    }
+
+    // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves
+    // `in`) are one 26-connected set by themselves. (When they are, its removal joins no two
+    // of them apart: no part of the kept volume comes off.)
+    bool collar_connected(const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) {
+        if (collar_.empty())
+            collar_.assign(leaves_.leafCount(), LeafMask{}), hold_.assign(leaves_.leafCount(), LeafMask{});
+        std::vector<std::size_t> leaves;
+        for (const std::size_t l : in)
+            for (int k = 0; k < 27; ++k) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (n == kNoLeaf) continue;
+                const LeafMask g = and_not(spill(piece[l], k), leaf_mask(leaves_.leaf(n)), true);
+                if (!any(g)) continue;
+                if (!any(collar_[n])) leaves.push_back(n);
+                for (std::size_t x = 0; x < 8; ++x) collar_[n][x] |= g[x];
+            }
+        bool one = true;
+        if (!leaves.empty()) {
+            std::vector<std::size_t> reached;
+            flood26(leaves[0], collar_, hold_, reached);
+            for (const std::size_t l : reached) hold_[l] = LeafMask{};
+        }
+        for (const std::size_t l : leaves) one = one && !any(collar_[l]), collar_[l] = LeafMask{};
+        return one;
     }
 
     // What taking out voxel `code` adds to its piece's change (euler_change); `outside` set when
@@ -305,9 +343,9 @@ private:
         return out;
     }
 
-    void push(std::size_t code, const Coord& g) {
+    void push(std::size_t code) {
         state_[code] = kQueued;
-        queue_.emplace(field_(g), code);
+        queue_.emplace(field_(code / 512, openvdb::Index(code % 512)), code);
     }
 
     // The off centre of `nb` (the voxel taken out) between two on voxels that touch by an
@@ -336,52 +374,38 @@ private:
 
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
-    const std::function<float(const Coord&)>& field_;
+    const VoxelField& field_;
     std::vector<std::uint8_t> state_;
-    std::vector<std::size_t> removed_;
+    std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
+    std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
 } // namespace
 
 bool removal_keeps_outside(unsigned nb) {
-    // The outside voxels among the 18 nearest (no corners of the cube), flooded by face steps
-    // from each face neighbour of the centre.
-    unsigned out = 0;
-    for (int k = 0; k < 27; ++k) {
-        const int x = k % 3 - 1, y = k / 3 % 3 - 1, z = k / 9 - 1;
-        if (k != kCentre && std::abs(x) + std::abs(y) + std::abs(z) <= 2 && !(nb >> k & 1)) out |= 1u << k;
+    // The outside voxels among the 18 nearest (no corners of the cube, not the centre),
+    // flooded by face steps (shifts of the bit order: x 1, y 3, z 9) from one face neighbour
+    // of the centre: one piece when the flood reaches every outside face neighbour.
+    constexpr unsigned kNear = 0x7FFFFFFu & ~(1u << 0 | 1u << 2 | 1u << 6 | 1u << 8 | 1u << 18 | 1u << 20 | 1u << 24 |
+                                              1u << 26 | 1u << kCentre);
+    constexpr unsigned kX0 = 0x1249249u, kX2 = kX0 << 2; // x -1, x +1
+    constexpr unsigned kY0 = 0x01C0E07u, kY2 = kY0 << 6; // y -1, y +1
+    const unsigned out = ~nb & kNear, faces = out & kFaces;
+    if (!faces) return false;
+    unsigned f = faces & -faces;
+    for (;;) {
+        const unsigned g =
+            (f | (f & ~kX2) << 1 | (f & ~kX0) >> 1 | (f & ~kY2) << 3 | (f & ~kY0) >> 3 | f << 9 | f >> 9) & out;
+        if (g == f) break;
+        f = g;
     }
-    int pieces = 0;
-    unsigned seen = 0;
-    for (int d = 0; d < 6; ++d) {
-        int f[3] = {0, 0, 0};
-        f[d / 2] = (d & 1) ? 1 : -1;
-        const int s = bit_of(f[0], f[1], f[2]);
-        if (!(out >> s & 1) || (seen >> s & 1)) continue;
-        ++pieces;
-        unsigned front = 1u << s;
-        seen |= front;
-        while (front) {
-            const int k = __builtin_ctz(front);
-            front &= front - 1;
-            const int x = k % 3 - 1, y = k / 3 % 3 - 1, z = k / 9 - 1;
-            for (int e = 0; e < 6; ++e) {
-                int p[3] = {x, y, z};
-                p[e / 2] += (e & 1) ? 1 : -1;
-                if (std::abs(p[0]) > 1 || std::abs(p[1]) > 1 || std::abs(p[2]) > 1) continue;
-                const int q = bit_of(p[0], p[1], p[2]);
-                if ((out >> q & 1) && !(seen >> q & 1)) seen |= 1u << q, front |= 1u << q;
-            }
-        }
-    }
-    return pieces == 1;
+    return (faces & ~f) == 0;
 }
 
-std::size_t keep_hull_genus(Leaves& leaves, const std::vector<LeafMask>& hull,
-                            const std::function<float(const Coord&)>& field) {
+std::size_t keep_hull_genus(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field) {
     Retake r(leaves, hull, field);
     r.restore();
     r.take_out();

@@ -24,13 +24,16 @@
 
 namespace cm::plausible {
 
+/// The field at a voxel of the hull: its leaf (LeafManager order) and offset in the leaf.
+using VoxelField = std::function<float(std::size_t, openvdb::Index)>;
+
 /// Puts back into `kept` (the hull's voxelized leaves, `leaves`, as the removal left them)
 /// the removed voxels (on in `hull`, per leaf in LeafManager order, off now) whose removal
 /// would open a tunnel or seal a cavity, as above, `field` giving each voxel's removal order
 /// (highest first). Then closes the diagonal contacts the removal made. Returns the number
 /// of voxels put back.
 std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
-                            const std::function<float(const Coord&)>& field);
+                            const VoxelField& field);
 
 /// Whether removing the centre of a 3x3x3 neighbourhood (`nb`, bit x + 3 y + 9 z, 1 inside;
 /// the centre bit 13 ignored) leaves the outside in one piece there: its outside voxels among
