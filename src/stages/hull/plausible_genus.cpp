@@ -1,6 +1,7 @@
 // See plausible_genus.h.
 #include "plausible_genus.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <queue>
 #include <utility>
@@ -61,49 +62,27 @@ LeafMask spill(const LeafMask& m, int k) {
     return out;
 }
 
-// The lattice cells (vertices, edges, faces, the cube) of a voxel, by the offset k of their
-// centre from the voxel's (halved; bit order of a neighbourhood): the voxels incident to each
-// (a mask of the neighbourhood) and its sign in the Euler characteristic V - E + F - C.
-struct Cells {
-    unsigned incident[27];
-    int sign[27];
-};
-const Cells& cells() {
-    static const Cells c = [] {
-        Cells t{};
-        for (int k = 0; k < 27; ++k) {
-            const int d[3] = {k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1};
-            const int dim = (d[0] == 0) + (d[1] == 0) + (d[2] == 0);
-            t.sign[k] = dim % 2 == 0 ? 1 : -1;
-            for (int j = 0; j < 27; ++j) {
-                const int u[3] = {j % 3 - 1, j / 3 % 3 - 1, j / 9 - 1};
-                bool in = true;
-                for (int a = 0; a < 3; ++a) in = in && (u[a] == 0 || u[a] == d[a]);
-                if (in) t.incident[k] |= 1u << j;
-            }
+// The voxels of the leaf at face offset k (or, for k 13, the leaf itself) that are face
+// neighbours of (or are) voxels of `m`.
+LeafMask spill6(const LeafMask& m, int k) {
+    LeafMask out{};
+    for (std::size_t x = 0; x < 8; ++x) {
+        const std::uint64_t w = m[x];
+        switch (k) {
+        case 13:
+            out[x] = w | w << 8 | w >> 8 | (w << 1 & 0xFEFEFEFEFEFEFEFEull) | (w >> 1 & 0x7F7F7F7F7F7F7F7Full) |
+                     (x > 0 ? m[x - 1] : 0) | (x < 7 ? m[x + 1] : 0);
+            break;
+        case 14: out[0] = x == 7 ? w : out[0]; break; // +x
+        case 12: out[7] = x == 0 ? w : out[7]; break; // -x
+        case 16: out[x] = w >> 56; break;             // +y
+        case 10: out[x] = (w & 0xFFull) << 56; break; // -y
+        case 22: out[x] = (w >> 7) & 0x0101010101010101ull; break;
+        default: out[x] = (w & 0x0101010101010101ull) << 7; break; // 4: -z
         }
-        return t;
-    }();
-    return c;
-}
-
-} // namespace
-
-// The change of the Euler characteristic of the kept volume (the union of its closed voxel
-// cubes) that taking out the centre of a neighbourhood, with the rest of its piece `gone`
-// (the centre's bit included), causes in the cells of the centre the piece has no earlier
-// voxel (bit order) in: summed over a piece, the change its removal at once causes.
-int euler_change(unsigned kept, unsigned gone) {
-    int change = 0;
-    for (int k = 0; k < 27; ++k) {
-        const unsigned m = cells().incident[k];
-        if (gone & m & ((1u << kCentre) - 1)) continue; // counted at an earlier voxel
-        if (!(kept & m)) change -= cells().sign[k];     // the cell goes with the piece
     }
-    return change;
+    return out;
 }
-
-namespace {
 
 class Retake {
 public:
@@ -184,6 +163,7 @@ public:
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
+    static constexpr std::size_t kChunk = 64; // chunks this small go one voxel at a time
 
     // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
     // where the tree has no leaf.
@@ -223,7 +203,9 @@ private:
         std::vector<std::size_t> touched;
         for (const std::size_t l0 : cut_leaves_)
             while (any(left[l0])) {
-                flood26(l0, left, reach, touched);
+                std::size_t x0 = 0;
+                while (!left[l0][x0]) ++x0;
+                flood26(l0 * 512 + x0 * 64 + std::size_t(__builtin_ctzll(left[l0][x0])), left, reach, touched);
                 int change = 0;
                 bool outside = false;
                 for (const std::size_t l : touched) {
@@ -239,27 +221,136 @@ private:
                         for (std::uint64_t w = reach[l][x] & near[x]; w; w &= w - 1)
                             change += voxel_change(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)), outside);
                 }
-                const bool at_once = change == 0 && outside && collar_connected(reach, touched);
-                for (const std::size_t l : touched) {
-                    for (std::size_t x = 0; x < 8; ++x)
-                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
-                            const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                            state_[code] = at_once ? kOut : kIdle;
-                            if (!at_once) back.push_back(code);
-                        }
-                    reach[l] = LeafMask{};
+                const bool at_once =
+                    change == 0 && outside && collar_connected(reach, touched) && reaches_outside(reach, touched);
+                std::vector<std::size_t> piece = take(reach, touched);
+                for (const std::size_t code : piece) {
+                    state_[code] = at_once ? kOut : kIdle;
+                    if (!at_once) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
                 }
+                if (!at_once) split(piece, back);
             }
     }
 
-    // The 26-connected piece of `left` (per leaf) of its first voxel in leaf l0 moved from
-    // `left` to `reach`; `touched` gets the leaves it has voxels in.
-    void flood26(std::size_t l0, std::vector<LeafMask>& left, std::vector<LeafMask>& reach,
+    // A piece (its voxels `codes`, on) whose removal at once would change the kept volume's
+    // topology, taken out in chunks: its voxels above its median field first, then the
+    // others, by 26-connected chunk; a chunk that could go at once (removable) goes, the
+    // others are split again, down to kChunk voxels, which go to `back` (one at a time).
+    void split(const std::vector<std::size_t>& codes, std::vector<std::size_t>& back) {
+        std::vector<float> f(codes.size());
+        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
+        float t = 0.0f;
+        if (codes.size() > kChunk) {
+            std::vector<float> sorted = f;
+            std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(f.size() / 2), sorted.end());
+            t = sorted[f.size() / 2];
+        }
+        if (codes.size() <= kChunk || std::none_of(f.begin(), f.end(), [&](float v) { return v > t; })) {
+            back.insert(back.end(), codes.begin(), codes.end());
+            return;
+        }
+        if (part_.empty())
+            part_.assign(leaves_.leafCount(), LeafMask{}), grown_.assign(leaves_.leafCount(), LeafMask{});
+        std::vector<std::size_t> touched;
+        for (const bool high : {true, false}) {
+            for (std::size_t i = 0; i < codes.size(); ++i)
+                if ((f[i] > t) == high) part_[codes[i] / 512][codes[i] % 512 / 64] |= 1ull << (codes[i] % 64);
+            for (std::size_t i = 0; i < codes.size(); ++i) {
+                const std::size_t c = codes[i];
+                if ((f[i] > t) != high || !(part_[c / 512][c % 512 / 64] >> (c % 64) & 1)) continue;
+                flood26(c, part_, grown_, touched);
+                const bool go = removable(touched);
+                const std::vector<std::size_t> chunk = take(grown_, touched);
+                if (!go) {
+                    split(chunk, back);
+                    continue;
+                }
+                for (const std::size_t code : chunk) {
+                    leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
+                    state_[code] = kOut;
+                }
+            }
+        }
+    }
+
+    // Whether the chunk in grown_ (over the leaves `in`) could go at once: it touches the
+    // outside, its removal leaves the Euler characteristic of the kept volume (the on voxels)
+    // unchanged, and the kept voxels about it are one piece by themselves.
+    bool removable(const std::vector<std::size_t>& in) {
+        int change = 0;
+        bool outside = false;
+        for (const std::size_t l : in)
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = grown_[l][x]; w; w &= w - 1) {
+                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
+                    unsigned kept = 0, gone = 0;
+                    for (int k = 0; k < 27; ++k) {
+                        const std::size_t c = neighbour(code, k);
+                        if (c == kNone) continue;
+                        if (grown_[c / 512][c % 512 / 64] >> (c % 64) & 1) gone |= 1u << k;
+                        else if (leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) kept |= 1u << k;
+                    }
+                    outside = outside || (~(kept | gone) & kFaces) != 0;
+                    change += euler_change(kept, gone);
+                }
+        return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in);
+    }
+
+    // Whether every voxel of `q` (per leaf, over the leaves `in`) reaches by face steps
+    // within it one with a face neighbour neither on nor in `q` (the outside: what is
+    // removed reaches it so): taking `q` out then seals no cavity.
+    bool reaches_outside(const std::vector<LeafMask>& q, const std::vector<std::size_t>& in) {
+        static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
+        if (seen_.empty()) seen_.assign(leaves_.leafCount(), LeafMask{}), rest_.assign(leaves_.leafCount(), LeafMask{});
+        const auto off = [&](std::uint32_t n) { // neither on nor in q (a missing leaf: all)
+            if (n == kNoLeaf) return full();
+            return and_not(leaf_mask(leaves_.leaf(n)), q[n], false);
+        };
+        std::vector<std::size_t> work;
+        for (const std::size_t l : in) {
+            LeafMask near = spill6(off(std::uint32_t(l)), kCentre);
+            for (const int k : kFace) {
+                const LeafMask m = spill6(off(around_[l * 27 + std::size_t(k)]), 26 - k);
+                for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
+            }
+            for (std::size_t x = 0; x < 8; ++x) seen_[l][x] = q[l][x] & near[x], rest_[l][x] = q[l][x] & ~near[x];
+            work.push_back(l);
+        }
+        while (!work.empty()) {
+            const std::size_t l = work.back();
+            work.pop_back();
+            for (const int k : {13, 4, 10, 12, 14, 16, 22}) {
+                const std::uint32_t n = k == kCentre ? std::uint32_t(l) : around_[l * 27 + std::size_t(k)];
+                if (n == kNoLeaf) continue;
+                const LeafMask g = and_not(spill6(seen_[l], k), rest_[n], true);
+                if (!any(g)) continue;
+                for (std::size_t x = 0; x < 8; ++x) seen_[n][x] |= g[x], rest_[n][x] &= ~g[x];
+                work.push_back(n);
+            }
+        }
+        bool all = true;
+        for (const std::size_t l : in) all = all && !any(rest_[l]), seen_[l] = rest_[l] = LeafMask{};
+        return all;
+    }
+
+    // The voxels of `m` over the leaves `in`, which are cleared.
+    static std::vector<std::size_t> take(std::vector<LeafMask>& m, const std::vector<std::size_t>& in) {
+        std::vector<std::size_t> out;
+        for (const std::size_t l : in) {
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = m[l][x]; w; w &= w - 1)
+                    out.push_back(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)));
+            m[l] = LeafMask{};
+        }
+        return out;
+    }
+
+    // The 26-connected piece of `left` (per leaf) of voxel `seed` (in it) moved from `left`
+    // to `reach`; `touched` gets the leaves it has voxels in.
+    void flood26(std::size_t seed, std::vector<LeafMask>& left, std::vector<LeafMask>& reach,
                  std::vector<std::size_t>& touched) const {
-        std::size_t x0 = 0;
-        while (!left[l0][x0]) ++x0;
-        const std::uint64_t seed = left[l0][x0] & -left[l0][x0];
-        reach[l0][x0] |= seed, left[l0][x0] &= ~seed;
+        const std::size_t l0 = seed / 512, x0 = seed % 512 / 64;
+        reach[l0][x0] |= 1ull << (seed % 64), left[l0][x0] &= ~(1ull << (seed % 64));
         std::vector<std::size_t> work(1, l0);
         touched.assign(1, l0);
         while (!work.empty()) {
@@ -301,7 +392,10 @@ private:
         bool one = true;
         if (!leaves.empty()) {
             std::vector<std::size_t> reached;
-            flood26(leaves[0], collar_, hold_, reached);
+            std::size_t x0 = 0;
+            while (!collar_[leaves[0]][x0]) ++x0;
+            flood26(leaves[0] * 512 + x0 * 64 + std::size_t(__builtin_ctzll(collar_[leaves[0]][x0])), collar_, hold_,
+                    reached);
             for (const std::size_t l : reached) hold_[l] = LeafMask{};
         }
         for (const std::size_t l : leaves) one = one && !any(collar_[l]), collar_[l] = LeafMask{};
@@ -380,30 +474,12 @@ private:
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
     std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
+    std::vector<LeafMask> part_, grown_;  // split's
+    std::vector<LeafMask> seen_, rest_;   // reaches_outside's
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
 } // namespace
-
-bool removal_keeps_outside(unsigned nb) {
-    // The outside voxels among the 18 nearest (no corners of the cube, not the centre),
-    // flooded by face steps (shifts of the bit order: x 1, y 3, z 9) from one face neighbour
-    // of the centre: one piece when the flood reaches every outside face neighbour.
-    constexpr unsigned kNear = 0x7FFFFFFu & ~(1u << 0 | 1u << 2 | 1u << 6 | 1u << 8 | 1u << 18 | 1u << 20 | 1u << 24 |
-                                              1u << 26 | 1u << kCentre);
-    constexpr unsigned kX0 = 0x1249249u, kX2 = kX0 << 2; // x -1, x +1
-    constexpr unsigned kY0 = 0x01C0E07u, kY2 = kY0 << 6; // y -1, y +1
-    const unsigned out = ~nb & kNear, faces = out & kFaces;
-    if (!faces) return false;
-    unsigned f = faces & -faces;
-    for (;;) {
-        const unsigned g =
-            (f | (f & ~kX2) << 1 | (f & ~kX0) >> 1 | (f & ~kY2) << 3 | (f & ~kY0) >> 3 | f << 9 | f >> 9) & out;
-        if (g == f) break;
-        f = g;
-    }
-    return (faces & ~f) == 0;
-}
 
 std::size_t keep_hull_genus(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field) {
     Retake r(leaves, hull, field);
