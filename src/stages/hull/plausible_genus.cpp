@@ -319,9 +319,14 @@ private:
         while (!work.empty()) {
             const std::size_t l = work.back();
             work.pop_back();
-            for (const int k : {13, 4, 10, 12, 14, 16, 22}) {
-                const std::uint32_t n = k == kCentre ? std::uint32_t(l) : around_[l * 27 + std::size_t(k)];
-                if (n == kNoLeaf) continue;
+            for (;;) { // grow within the leaf
+                const LeafMask g = and_not(spill6(seen_[l], kCentre), rest_[l], true);
+                if (!any(g)) break;
+                for (std::size_t x = 0; x < 8; ++x) seen_[l][x] |= g[x], rest_[l][x] &= ~g[x];
+            }
+            for (const int k : kFace) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (n == kNoLeaf || !any(rest_[n])) continue;
                 const LeafMask g = and_not(spill6(seen_[l], k), rest_[n], true);
                 if (!any(g)) continue;
                 for (std::size_t x = 0; x < 8; ++x) seen_[n][x] |= g[x], rest_[n][x] &= ~g[x];
