@@ -1,6 +1,7 @@
 // See plausible_genus.h.
 #include "plausible_genus.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <queue>
 #include <utility>
@@ -61,53 +62,31 @@ LeafMask spill(const LeafMask& m, int k) {
     return out;
 }
 
-// The lattice cells (vertices, edges, faces, the cube) of a voxel, by the offset k of their
-// centre from the voxel's (halved; bit order of a neighbourhood): the voxels incident to each
-// (a mask of the neighbourhood) and its sign in the Euler characteristic V - E + F - C.
-struct Cells {
-    unsigned incident[27];
-    int sign[27];
-};
-const Cells& cells() {
-    static const Cells c = [] {
-        Cells t{};
-        for (int k = 0; k < 27; ++k) {
-            const int d[3] = {k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1};
-            const int dim = (d[0] == 0) + (d[1] == 0) + (d[2] == 0);
-            t.sign[k] = dim % 2 == 0 ? 1 : -1;
-            for (int j = 0; j < 27; ++j) {
-                const int u[3] = {j % 3 - 1, j / 3 % 3 - 1, j / 9 - 1};
-                bool in = true;
-                for (int a = 0; a < 3; ++a) in = in && (u[a] == 0 || u[a] == d[a]);
-                if (in) t.incident[k] |= 1u << j;
-            }
+// The voxels of the leaf at face offset k (or, for k 13, the leaf itself) that are face
+// neighbours of (or are) voxels of `m`.
+LeafMask spill6(const LeafMask& m, int k) {
+    LeafMask out{};
+    for (std::size_t x = 0; x < 8; ++x) {
+        const std::uint64_t w = m[x];
+        switch (k) {
+        case 13:
+            out[x] = w | w << 8 | w >> 8 | (w << 1 & 0xFEFEFEFEFEFEFEFEull) | (w >> 1 & 0x7F7F7F7F7F7F7F7Full) |
+                     (x > 0 ? m[x - 1] : 0) | (x < 7 ? m[x + 1] : 0);
+            break;
+        case 14: out[0] = x == 7 ? w : out[0]; break; // +x
+        case 12: out[7] = x == 0 ? w : out[7]; break; // -x
+        case 16: out[x] = w >> 56; break;             // +y
+        case 10: out[x] = (w & 0xFFull) << 56; break; // -y
+        case 22: out[x] = (w >> 7) & 0x0101010101010101ull; break;
+        default: out[x] = (w & 0x0101010101010101ull) << 7; break; // 4: -z
         }
-        return t;
-    }();
-    return c;
-}
-
-} // namespace
-
-// The change of the Euler characteristic of the kept volume (the union of its closed voxel
-// cubes) that taking out the centre of a neighbourhood, with the rest of its piece `gone`
-// (the centre's bit included), causes in the cells of the centre the piece has no earlier
-// voxel (bit order) in: summed over a piece, the change its removal at once causes.
-int euler_change(unsigned kept, unsigned gone) {
-    int change = 0;
-    for (int k = 0; k < 27; ++k) {
-        const unsigned m = cells().incident[k];
-        if (gone & m & ((1u << kCentre) - 1)) continue; // counted at an earlier voxel
-        if (!(kept & m)) change -= cells().sign[k];     // the cell goes with the piece
     }
-    return change;
+    return out;
 }
-
-namespace {
 
 class Retake {
 public:
-    Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const std::function<float(const Coord&)>& field)
+    Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field)
         : leaves_(leaves),
           hull_(hull),
           field_(field),
@@ -118,22 +97,20 @@ public:
     // once leaves the Euler characteristic of the kept volume as it was and that reaches the
     // outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
+        removed_ = 0;
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
             const LeafMask on = leaf_mask(leaves_.leaf(l));
-            bool cut = false;
+            std::size_t n = 0;
             for (std::size_t x = 0; x < 8; ++x)
-                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, cut = true) {
-                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                    state_[code] = kIdle;
-                    removed_.push_back(code);
-                }
-            if (cut) cut_leaves_.push_back(l);
+                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, ++n)
+                    state_[l * 512 + x * 64 + std::size_t(__builtin_ctzll(w))] = kIdle;
+            if (n) cut_leaves_.push_back(l), removed_ += n;
         }
         std::vector<std::size_t> back;
         sort_pieces(back);
         for (const std::size_t code : back) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
         for (const std::size_t code : back)
-            if (~around_on(code) & kFaces) push(code, coord(code));
+            if (~around_on(code) & kFaces) push(code);
     }
 
     // Out again, highest field first, while the outside stays one piece about each.
@@ -152,7 +129,7 @@ public:
             for (int k = 0; k < 27; ++k) {
                 if (k == kCentre) continue;
                 const std::size_t c = neighbour(code, k);
-                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c, coord(c));
+                if (c != kNone && (state_[c] == kIdle || state_[c] == kWaiting)) push(c);
             }
         }
     }
@@ -174,18 +151,19 @@ public:
         }
     }
 
+    // The removed voxels on again (the others are off: out).
     std::size_t put_back() const {
-        std::size_t n = 0;
-        for (const std::size_t code : removed_) n += state_[code] != kOut;
-        return n;
+        std::size_t out = 0;
+        for (const std::size_t l : cut_leaves_) {
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            for (std::size_t x = 0; x < 8; ++x) out += std::size_t(__builtin_popcountll(hull_[l][x] & ~on[x]));
+        }
+        return removed_ - out;
     }
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
-
-    Coord coord(std::size_t code) const {
-        return leaves_.leaf(code / 512).offsetToGlobalCoord(openvdb::Index(code % 512));
-    }
+    static constexpr std::size_t kChunk = 64; // chunks this small go one voxel at a time
 
     // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
     // where the tree has no leaf.
@@ -208,40 +186,26 @@ private:
     }
 
     // The removed voxels by 26-connected piece (flooded a leaf's 512 voxels at a time): a
-    // piece that touches the outside and whose removal at once leaves the kept volume's Euler
-    // characteristic unchanged is out for good (kOut); the others are appended to `back` (to be
-    // taken out one at a time). Only voxels with a voxel not removed about them add to the
-    // change (one with all its neighbours removed adds nothing: euler_change).
+    // piece that touches the outside, whose removal at once leaves the kept volume's Euler
+    // characteristic unchanged and whose kept voxels about it are one piece by themselves (so
+    // no part of the kept volume comes off: that and a tunnel would sum to no change) is out
+    // for good (kOut); the others are appended to `back` (to be taken out one at a time). Only
+    // voxels with a voxel not removed about them add to the change (one with all its
+    // neighbours removed adds nothing: euler_change).
     void sort_pieces(std::vector<std::size_t>& back) {
-        std::vector<LeafMask> left(leaves_.leafCount(), LeafMask{}), reach(leaves_.leafCount(), LeafMask{});
-        for (const std::size_t code : removed_) left[code / 512][code % 512 / 64] |= 1ull << (code % 64);
+        const std::size_t n = leaves_.leafCount();
+        std::vector<LeafMask> left(n, LeafMask{}), reach(n, LeafMask{});
+        for (const std::size_t l : cut_leaves_) {
+            const LeafMask on = leaf_mask(leaves_.leaf(l));
+            for (std::size_t x = 0; x < 8; ++x) left[l][x] = hull_[l][x] & ~on[x];
+        }
         const std::vector<LeafMask> gone = left;
-        std::vector<std::size_t> work, touched;
+        std::vector<std::size_t> touched;
         for (const std::size_t l0 : cut_leaves_)
             while (any(left[l0])) {
                 std::size_t x0 = 0;
                 while (!left[l0][x0]) ++x0;
-                const std::uint64_t seed = left[l0][x0] & -left[l0][x0];
-                reach[l0][x0] = seed, left[l0][x0] &= ~seed;
-                work.assign(1, l0), touched.assign(1, l0);
-                while (!work.empty()) {
-                    const std::size_t l = work.back();
-                    work.pop_back();
-                    for (;;) { // grow within the leaf
-                        const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
-                        if (!any(g)) break;
-                        for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
-                    }
-                    for (int k = 0; k < 27; ++k) {
-                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                        if (k == kCentre || n == kNoLeaf) continue;
-                        const LeafMask g = and_not(spill(reach[l], k), left[n], true);
-                        if (!any(g)) continue;
-                        if (!any(reach[n])) touched.push_back(n);
-                        for (std::size_t x = 0; x < 8; ++x) reach[n][x] |= g[x], left[n][x] &= ~g[x];
-                        work.push_back(n);
-                    }
-                }
+                flood26(l0 * 512 + x0 * 64 + std::size_t(__builtin_ctzll(left[l0][x0])), left, reach, touched);
                 int change = 0;
                 bool outside = false;
                 for (const std::size_t l : touched) {
@@ -249,25 +213,198 @@ private:
                     LeafMask near = spill(and_not(gone[l], LeafMask{}, false), kCentre);
                     for (int k = 0; k < 27; ++k) {
                         if (k == kCentre) continue;
-                        const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                        const LeafMask m = spill(n == kNoLeaf ? full() : and_not(gone[n], LeafMask{}, false), 26 - k);
+                        const std::uint32_t nl = around_[l * 27 + std::size_t(k)];
+                        const LeafMask m = spill(nl == kNoLeaf ? full() : and_not(gone[nl], LeafMask{}, false), 26 - k);
                         for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
                     }
                     for (std::size_t x = 0; x < 8; ++x)
                         for (std::uint64_t w = reach[l][x] & near[x]; w; w &= w - 1)
                             change += voxel_change(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)), outside);
                 }
-                const bool at_once = change == 0 && outside;
-                for (const std::size_t l : touched) {
-                    for (std::size_t x = 0; x < 8; ++x)
-                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
-                            const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                            state_[code] = at_once ? kOut : kIdle;
-                            if (!at_once) back.push_back(code);
-                        }
-                    reach[l] = LeafMask{};
+                const bool at_once =
+                    change == 0 && outside && collar_connected(reach, touched) && reaches_outside(reach, touched);
+                std::vector<std::size_t> piece = take(reach, touched);
+                for (const std::size_t code : piece) {
+                    state_[code] = at_once ? kOut : kIdle;
+                    if (!at_once) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
+                }
+                if (!at_once) split(piece, back);
+            }
+    }
+
+    // A piece (its voxels `codes`, on) whose removal at once would change the kept volume's
+    // topology, taken out in chunks: its voxels above its median field first, then the
+    // others, by 26-connected chunk; a chunk that could go at once (removable) goes, the
+    // others are split again, down to kChunk voxels, which go to `back` (one at a time).
+    void split(const std::vector<std::size_t>& codes, std::vector<std::size_t>& back) {
+        std::vector<float> f(codes.size());
+        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
+        float t = 0.0f;
+        if (codes.size() > kChunk) {
+            std::vector<float> sorted = f;
+            std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(f.size() / 2), sorted.end());
+            t = sorted[f.size() / 2];
+        }
+        if (codes.size() <= kChunk || std::none_of(f.begin(), f.end(), [&](float v) { return v > t; })) {
+            back.insert(back.end(), codes.begin(), codes.end());
+            return;
+        }
+        if (part_.empty())
+            part_.assign(leaves_.leafCount(), LeafMask{}), grown_.assign(leaves_.leafCount(), LeafMask{});
+        std::vector<std::size_t> touched;
+        for (const bool high : {true, false}) {
+            for (std::size_t i = 0; i < codes.size(); ++i)
+                if ((f[i] > t) == high) part_[codes[i] / 512][codes[i] % 512 / 64] |= 1ull << (codes[i] % 64);
+            for (std::size_t i = 0; i < codes.size(); ++i) {
+                const std::size_t c = codes[i];
+                if ((f[i] > t) != high || !(part_[c / 512][c % 512 / 64] >> (c % 64) & 1)) continue;
+                flood26(c, part_, grown_, touched);
+                const bool go = removable(touched);
+                const std::vector<std::size_t> chunk = take(grown_, touched);
+                if (!go) {
+                    split(chunk, back);
+                    continue;
+                }
+                for (const std::size_t code : chunk) {
+                    leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
+                    state_[code] = kOut;
                 }
             }
+        }
+    }
+
+    // Whether the chunk in grown_ (over the leaves `in`) could go at once: it touches the
+    // outside, its removal leaves the Euler characteristic of the kept volume (the on voxels)
+    // unchanged, and the kept voxels about it are one piece by themselves.
+    bool removable(const std::vector<std::size_t>& in) {
+        int change = 0;
+        bool outside = false;
+        for (const std::size_t l : in)
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = grown_[l][x]; w; w &= w - 1) {
+                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
+                    unsigned kept = 0, gone = 0;
+                    for (int k = 0; k < 27; ++k) {
+                        const std::size_t c = neighbour(code, k);
+                        if (c == kNone) continue;
+                        if (grown_[c / 512][c % 512 / 64] >> (c % 64) & 1) gone |= 1u << k;
+                        else if (leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) kept |= 1u << k;
+                    }
+                    outside = outside || (~(kept | gone) & kFaces) != 0;
+                    change += euler_change(kept, gone);
+                }
+        return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in);
+    }
+
+    // Whether every voxel of `q` (per leaf, over the leaves `in`) reaches by face steps
+    // within it one with a face neighbour neither on nor in `q` (the outside: what is
+    // removed reaches it so): taking `q` out then seals no cavity.
+    bool reaches_outside(const std::vector<LeafMask>& q, const std::vector<std::size_t>& in) {
+        static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
+        if (seen_.empty()) seen_.assign(leaves_.leafCount(), LeafMask{}), rest_.assign(leaves_.leafCount(), LeafMask{});
+        const auto off = [&](std::uint32_t n) { // neither on nor in q (a missing leaf: all)
+            if (n == kNoLeaf) return full();
+            return and_not(leaf_mask(leaves_.leaf(n)), q[n], false);
+        };
+        std::vector<std::size_t> work;
+        for (const std::size_t l : in) {
+            LeafMask near = spill6(off(std::uint32_t(l)), kCentre);
+            for (const int k : kFace) {
+                const LeafMask m = spill6(off(around_[l * 27 + std::size_t(k)]), 26 - k);
+                for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
+            }
+            for (std::size_t x = 0; x < 8; ++x) seen_[l][x] = q[l][x] & near[x], rest_[l][x] = q[l][x] & ~near[x];
+            work.push_back(l);
+        }
+        while (!work.empty()) {
+            const std::size_t l = work.back();
+            work.pop_back();
+            for (;;) { // grow within the leaf
+                const LeafMask g = and_not(spill6(seen_[l], kCentre), rest_[l], true);
+                if (!any(g)) break;
+                for (std::size_t x = 0; x < 8; ++x) seen_[l][x] |= g[x], rest_[l][x] &= ~g[x];
+            }
+            for (const int k : kFace) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (n == kNoLeaf || !any(rest_[n])) continue;
+                const LeafMask g = and_not(spill6(seen_[l], k), rest_[n], true);
+                if (!any(g)) continue;
+                for (std::size_t x = 0; x < 8; ++x) seen_[n][x] |= g[x], rest_[n][x] &= ~g[x];
+                work.push_back(n);
+            }
+        }
+        bool all = true;
+        for (const std::size_t l : in) all = all && !any(rest_[l]), seen_[l] = rest_[l] = LeafMask{};
+        return all;
+    }
+
+    // The voxels of `m` over the leaves `in`, which are cleared.
+    static std::vector<std::size_t> take(std::vector<LeafMask>& m, const std::vector<std::size_t>& in) {
+        std::vector<std::size_t> out;
+        for (const std::size_t l : in) {
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = m[l][x]; w; w &= w - 1)
+                    out.push_back(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)));
+            m[l] = LeafMask{};
+        }
+        return out;
+    }
+
+    // The 26-connected piece of `left` (per leaf) of voxel `seed` (in it) moved from `left`
+    // to `reach`; `touched` gets the leaves it has voxels in.
+    void flood26(std::size_t seed, std::vector<LeafMask>& left, std::vector<LeafMask>& reach,
+                 std::vector<std::size_t>& touched) const {
+        const std::size_t l0 = seed / 512, x0 = seed % 512 / 64;
+        reach[l0][x0] |= 1ull << (seed % 64), left[l0][x0] &= ~(1ull << (seed % 64));
+        std::vector<std::size_t> work(1, l0);
+        touched.assign(1, l0);
+        while (!work.empty()) {
+            const std::size_t l = work.back();
+            work.pop_back();
+            for (;;) { // grow within the leaf
+                const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
+                if (!any(g)) break;
+                for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
+            }
+            for (int k = 0; k < 27; ++k) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (k == kCentre || n == kNoLeaf) continue;
+                const LeafMask g = and_not(spill(reach[l], k), left[n], true);
+                if (!any(g)) continue;
+                if (!any(reach[n])) touched.push_back(n);
+                for (std::size_t x = 0; x < 8; ++x) reach[n][x] |= g[x], left[n][x] &= ~g[x];
+                work.push_back(n);
+            }
+        }
+    }
+
+    // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves
+    // `in`) are one 26-connected set by themselves. (When they are, its removal joins no two
+    // of them apart: no part of the kept volume comes off.)
+    bool collar_connected(const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) {
+        if (collar_.empty())
+            collar_.assign(leaves_.leafCount(), LeafMask{}), hold_.assign(leaves_.leafCount(), LeafMask{});
+        std::vector<std::size_t> leaves;
+        for (const std::size_t l : in)
+            for (int k = 0; k < 27; ++k) {
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                if (n == kNoLeaf) continue;
+                const LeafMask g = and_not(spill(piece[l], k), leaf_mask(leaves_.leaf(n)), true);
+                if (!any(g)) continue;
+                if (!any(collar_[n])) leaves.push_back(n);
+                for (std::size_t x = 0; x < 8; ++x) collar_[n][x] |= g[x];
+            }
+        bool one = true;
+        if (!leaves.empty()) {
+            std::vector<std::size_t> reached;
+            std::size_t x0 = 0;
+            while (!collar_[leaves[0]][x0]) ++x0;
+            flood26(leaves[0] * 512 + x0 * 64 + std::size_t(__builtin_ctzll(collar_[leaves[0]][x0])), collar_, hold_,
+                    reached);
+            for (const std::size_t l : reached) hold_[l] = LeafMask{};
+        }
+        for (const std::size_t l : leaves) one = one && !any(collar_[l]), collar_[l] = LeafMask{};
+        return one;
     }
 
     // What taking out voxel `code` adds to its piece's change (euler_change); `outside` set when
@@ -305,9 +442,9 @@ private:
         return out;
     }
 
-    void push(std::size_t code, const Coord& g) {
+    void push(std::size_t code) {
         state_[code] = kQueued;
-        queue_.emplace(field_(g), code);
+        queue_.emplace(field_(code / 512, openvdb::Index(code % 512)), code);
     }
 
     // The off centre of `nb` (the voxel taken out) between two on voxels that touch by an
@@ -336,52 +473,20 @@ private:
 
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
-    const std::function<float(const Coord&)>& field_;
+    const VoxelField& field_;
     std::vector<std::uint8_t> state_;
-    std::vector<std::size_t> removed_;
+    std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
+    std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
+    std::vector<LeafMask> part_, grown_;  // split's
+    std::vector<LeafMask> seen_, rest_;   // reaches_outside's
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
 } // namespace
 
-bool removal_keeps_outside(unsigned nb) {
-    // The outside voxels among the 18 nearest (no corners of the cube), flooded by face steps
-    // from each face neighbour of the centre.
-    unsigned out = 0;
-    for (int k = 0; k < 27; ++k) {
-        const int x = k % 3 - 1, y = k / 3 % 3 - 1, z = k / 9 - 1;
-        if (k != kCentre && std::abs(x) + std::abs(y) + std::abs(z) <= 2 && !(nb >> k & 1)) out |= 1u << k;
-    }
-    int pieces = 0;
-    unsigned seen = 0;
-    for (int d = 0; d < 6; ++d) {
-        int f[3] = {0, 0, 0};
-        f[d / 2] = (d & 1) ? 1 : -1;
-        const int s = bit_of(f[0], f[1], f[2]);
-        if (!(out >> s & 1) || (seen >> s & 1)) continue;
-        ++pieces;
-        unsigned front = 1u << s;
-        seen |= front;
-        while (front) {
-            const int k = __builtin_ctz(front);
-            front &= front - 1;
-            const int x = k % 3 - 1, y = k / 3 % 3 - 1, z = k / 9 - 1;
-            for (int e = 0; e < 6; ++e) {
-                int p[3] = {x, y, z};
-                p[e / 2] += (e & 1) ? 1 : -1;
-                if (std::abs(p[0]) > 1 || std::abs(p[1]) > 1 || std::abs(p[2]) > 1) continue;
-                const int q = bit_of(p[0], p[1], p[2]);
-                if ((out >> q & 1) && !(seen >> q & 1)) seen |= 1u << q, front |= 1u << q;
-            }
-        }
-    }
-    return pieces == 1;
-}
-
-std::size_t keep_hull_genus(Leaves& leaves, const std::vector<LeafMask>& hull,
-                            const std::function<float(const Coord&)>& field) {
+std::size_t keep_hull_genus(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field) {
     Retake r(leaves, hull, field);
     r.restore();
     r.take_out();

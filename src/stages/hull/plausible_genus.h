@@ -24,13 +24,20 @@
 
 namespace cm::plausible {
 
+/// The field at a voxel of the hull: its leaf (LeafManager order) and offset in the leaf.
+using VoxelField = std::function<float(std::size_t, openvdb::Index)>;
+
 /// Puts back into `kept` (the hull's voxelized leaves, `leaves`, as the removal left them)
 /// the removed voxels (on in `hull`, per leaf in LeafManager order, off now) whose removal
 /// would open a tunnel or seal a cavity, as above, `field` giving each voxel's removal order
-/// (highest first). Then closes the diagonal contacts the removal made. Returns the number
-/// of voxels put back.
+/// (highest first). Only what needs it goes one voxel at a time: a 26-connected piece (or a
+/// chunk of one, split at its median field) goes at once when its removal leaves the Euler
+/// characteristic unchanged, the kept voxels about it are one piece and each of its voxels
+/// reaches the outside by face steps within it (so no tunnel, part cut off or cavity hides
+/// in the sum). Then closes the diagonal contacts the removal made. Returns the number of
+/// voxels put back.
 std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
-                            const std::function<float(const Coord&)>& field);
+                            const VoxelField& field);
 
 /// Whether removing the centre of a 3x3x3 neighbourhood (`nb`, bit x + 3 y + 9 z, 1 inside;
 /// the centre bit 13 ignored) leaves the outside in one piece there: its outside voxels among

@@ -231,9 +231,14 @@ void OutputVolume::join_pieces() {
 // Removed voxels whose removal opened a tunnel through the kept volume put back
 // (plausible_genus.h; only adding: no line of sight loses a voxel).
 void OutputVolume::keep_genus() {
-    const HullField hull{hull_masks_, hull_origin_, vox_.base, field_};
-    const FieldAt field_at(hull);
-    const std::size_t back = keep_hull_genus(vox_.leaves, hull_masks_, [&](const Coord& g) { return field_at(g); });
+    // The field of voxel `off` of leaf l: its number, the hull's voxels before it.
+    const auto field_at = [&](std::size_t l, openvdb::Index off) {
+        const LeafMask& m = hull_masks_[l];
+        std::size_t i = vox_.base[l] + std::size_t(__builtin_popcountll(m[off >> 6] & ((1ull << (off & 63)) - 1)));
+        for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(m[w]));
+        return field_[i];
+    };
+    const std::size_t back = keep_hull_genus(vox_.leaves, hull_masks_, field_at);
     st_.genus_kept = back;
     st_.removed -= std::min(st_.removed, back);
 }

@@ -1,0 +1,75 @@
+// The voxel topology of plausible_genus.h: the Euler change of a removal and the outside
+// about a voxel.
+#include "plausible_genus.h"
+
+namespace cm::plausible {
+
+namespace {
+
+constexpr int kCentre = 13;
+// The six face neighbours of the centre in a neighbourhood.
+constexpr unsigned kFaces = 1u << 4 | 1u << 10 | 1u << 12 | 1u << 14 | 1u << 16 | 1u << 22;
+
+// The lattice cells (vertices, edges, faces, the cube) of a voxel, by the offset k of their
+// centre from the voxel's (halved; bit order of a neighbourhood): the voxels incident to each
+// (a mask of the neighbourhood) and its sign in the Euler characteristic V - E + F - C.
+struct Cells {
+    unsigned incident[27];
+    int sign[27];
+};
+const Cells& cells() {
+    static const Cells c = [] {
+        Cells t{};
+        for (int k = 0; k < 27; ++k) {
+            const int d[3] = {k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1};
+            const int dim = (d[0] == 0) + (d[1] == 0) + (d[2] == 0);
+            t.sign[k] = dim % 2 == 0 ? 1 : -1;
+            for (int j = 0; j < 27; ++j) {
+                const int u[3] = {j % 3 - 1, j / 3 % 3 - 1, j / 9 - 1};
+                bool in = true;
+                for (int a = 0; a < 3; ++a) in = in && (u[a] == 0 || u[a] == d[a]);
+                if (in) t.incident[k] |= 1u << j;
+            }
+        }
+        return t;
+    }();
+    return c;
+}
+
+} // namespace
+
+// The change of the Euler characteristic of the kept volume (the union of its closed voxel
+// cubes) that taking out the centre of a neighbourhood, with the rest of its piece `gone`
+// (the centre's bit included), causes in the cells of the centre the piece has no earlier
+// voxel (bit order) in: summed over a piece, the change its removal at once causes.
+int euler_change(unsigned kept, unsigned gone) {
+    int change = 0;
+    for (int k = 0; k < 27; ++k) {
+        const unsigned m = cells().incident[k];
+        if (gone & m & ((1u << kCentre) - 1)) continue; // counted at an earlier voxel
+        if (!(kept & m)) change -= cells().sign[k];     // the cell goes with the piece
+    }
+    return change;
+}
+
+bool removal_keeps_outside(unsigned nb) {
+    // The outside voxels among the 18 nearest (no corners of the cube, not the centre),
+    // flooded by face steps (shifts of the bit order: x 1, y 3, z 9) from one face neighbour
+    // of the centre: one piece when the flood reaches every outside face neighbour.
+    constexpr unsigned kNear = 0x7FFFFFFu & ~(1u << 0 | 1u << 2 | 1u << 6 | 1u << 8 | 1u << 18 | 1u << 20 | 1u << 24 |
+                                              1u << 26 | 1u << kCentre);
+    constexpr unsigned kX0 = 0x1249249u, kX2 = kX0 << 2; // x -1, x +1
+    constexpr unsigned kY0 = 0x01C0E07u, kY2 = kY0 << 6; // y -1, y +1
+    const unsigned out = ~nb & kNear, faces = out & kFaces;
+    if (!faces) return false;
+    unsigned f = faces & -faces;
+    for (;;) {
+        const unsigned g =
+            (f | (f & ~kX2) << 1 | (f & ~kX0) >> 1 | (f & ~kY2) << 3 | (f & ~kY0) >> 3 | f << 9 | f >> 9) & out;
+        if (g == f) break;
+        f = g;
+    }
+    return (faces & ~f) == 0;
+}
+
+} // namespace cm::plausible
