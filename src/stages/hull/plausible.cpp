@@ -74,6 +74,7 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("loose_dropped", loose_dropped);
     m.count("cavities_filled", cavities_filled);
     m.count("pieces_joined", pieces_joined);
+    m.count("far_dropped", far_dropped);
     m.count("genus_kept", genus_kept);
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);

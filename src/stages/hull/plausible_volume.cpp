@@ -14,6 +14,7 @@
 #include "leaf_masks.h"
 #include "plausible_crossings.h"
 #include "plausible_genus.h"
+#include "plausible_pieces.h"
 #include "plausible_state.h"
 #include "plausible_thin.h"
 
@@ -37,6 +38,8 @@ public:
     void fill_pockets();
     /// 6c. Pieces apart from the main body joined to it.
     void join_pieces();
+    /// 6c. The kept voxels now, per leaf.
+    std::vector<LeafMask> kept_masks() const;
     /// 6d. No handle the hull has not (plausible_genus.h).
     void keep_genus();
     /// 6. Leaves full with 26 full neighbours back to tiles.
@@ -47,6 +50,7 @@ public:
 
 private:
     void find_near_cut();
+    std::size_t bridge_pieces(int reach);
     std::vector<std::vector<Coord>> plates() const;
     void drop_thin_parts(Volume& out) const;
     void place_crossings(Volume& out) const;
@@ -206,13 +210,38 @@ void OutputVolume::fill_pockets() {
 // Pieces of the kept volume apart from the main body (a part whose connection the removal
 // took: an ear kept as a thin part, a hand) would float in the mesh: each is joined to the body
 // by the shortest path back through the removed voxels (only adding: no line of sight loses a
-// voxel).
+// voxel). What is farther from the body than the bridges reach is sorted by its size
+// (plausible_pieces.h): a crumb goes, a larger part is joined however far.
 void OutputVolume::join_pieces() {
+    const int reach = std::max(8, vox_.maxdim / 8);
+    st_.pieces_joined = bridge_pieces(reach);
+    const FarPieces far = far_pieces(vox_.leaves, hull_masks_, kept_masks(), reach);
     auto& leaves = vox_.leaves;
+    for (const FarVoxel& v : far.crumbs) {
+        leaves.leaf(v.leaf).setValueOff(v.offset, false);
+        const LeafMask& hull = hull_masks_[v.leaf];
+        std::size_t i = vox_.base[v.leaf];
+        for (openvdb::Index w = 0; w < v.offset >> 6; ++w) i += std::size_t(__builtin_popcountll(hull[w]));
+        i += std::size_t(__builtin_popcountll(hull[v.offset >> 6] & ((std::uint64_t(1) << (v.offset & 63)) - 1)));
+        removed_[i] = 1;
+    }
+    st_.removed += far.crumbs.size();
+    st_.far_dropped = far.crumbs.size();
+    // (The longest path within the hull is shorter than its voxel count.)
+    if (far.large_pieces > 0) st_.pieces_joined += bridge_pieces(int(std::min<std::size_t>(vox_.n, 1u << 30)));
+}
+
+std::vector<LeafMask> OutputVolume::kept_masks() const {
     std::vector<LeafMask> kept(nleaf_);
-    tbb::parallel_for(std::size_t(0), nleaf_, [&](std::size_t l) { kept[l] = leaf_mask(leaves.leaf(l)); });
+    tbb::parallel_for(std::size_t(0), nleaf_, [&](std::size_t l) { kept[l] = leaf_mask(vox_.leaves.leaf(l)); });
+    return kept;
+}
+
+// The pieces apart from the body within `reach` voxels of it joined to it; returns their
+// number.
+std::size_t OutputVolume::bridge_pieces(int reach) {
     std::size_t joined = 0;
-    const std::vector<Coord> path = bridges(leaves, nbr_, hull_masks_, kept, std::max(8, vox_.maxdim / 8), &joined);
+    const std::vector<Coord> path = bridges(vox_.leaves, nbr_, hull_masks_, kept_masks(), reach, &joined);
     // A path one voxel wide would be a strand a cell thin in the mesh: it is thickened by
     // its face neighbours within the hull.
     std::size_t added = 0;
@@ -224,8 +253,8 @@ void OutputVolume::join_pieces() {
             if (k > 0) q[(k - 1) / 2] += (k & 1) ? 1 : -1;
             if (hull_acc.isValueOn(q) && !tree.isValueOn(q)) tree.setValueOn(q, true), ++added;
         }
-    st_.pieces_joined = joined;
     st_.removed -= std::min(st_.removed, added);
+    return joined;
 }
 
 // Removed voxels whose removal opened a tunnel through the kept volume put back
