@@ -61,14 +61,9 @@ std::vector<std::uint32_t> nearest_covered(const RayRaster& R, const std::vector
 
 void Plausible::cover_lines_of_sight() {
     keep_ = std::uint32_t(std::max(1, opt_.ray_keep));
-    // The field is lowered in place; the few leaves the swelling reaches keep their values
-    // before it (phi_at()), so no second copy of the whole field is made.
+    // The field is lowered in place, once, by drop_loose(): until then cur_ holds the values
+    // before the swelling, and its rounds need only the short lines' voxels lowered (low_).
     cur_.swap(phi_);
-    saved_at_.assign(vox_.nleaf, kNotSaved);
-    saved_.clear();
-    // Room for every leaf, taken up front: growing it leaf by leaf would copy the values saved
-    // so far and fault fresh pages at each step; only the pages written are ever touched.
-    saved_.reserve(vox_.n);
     find_short_lines();
     swell();            // (a)
     drop_loose();       // (b)
@@ -78,8 +73,9 @@ void Plausible::cover_lines_of_sight() {
     groups_ = {};
     orders_ = {};
     starts_ = {};
-    saved_at_ = {};
-    saved_ = {};
+    swelling_.reset();
+    swollen_ = {};
+    low_ = {};
 }
 
 // Per view, the voxels of its lines of sight the profiles leave short, by line of sight (the
@@ -139,15 +135,16 @@ void Plausible::find_short_lines() {
 }
 
 // Whether line of sight g of view v is short, and the field value its `keep_`-th best voxel has.
-bool Plausible::shortfall(std::size_t v, std::size_t g, float* t) const {
+bool Plausible::shortfall(std::size_t v, std::size_t g, float* t, const float* low) const {
     const auto& list = lists_[v];
     const std::size_t b = groups_[v][g], e = groups_[v][g + 1];
     static thread_local std::vector<float> vals;
     vals.clear();
     std::uint32_t have = 0;
     for (std::size_t k = b; k < e; ++k) {
-        vals.push_back(cur_[list[k].i]);
-        have += cur_[list[k].i] <= 0;
+        const float value = low ? low[k] : cur_[list[k].i];
+        vals.push_back(value);
+        have += value <= 0;
     }
     const std::size_t want = std::min<std::size_t>(keep_, vals.size());
     if (have >= want) return false;
@@ -174,84 +171,106 @@ std::vector<Vox> Plausible::kept_voxels_of(std::size_t v, const std::vector<char
 
 // (a) The swelling about the best voxels of each short line of sight (those within a cell of
 // the best: where the profiles least object), in rounds since its smoothing takes some of its
-// height.
+// height. The swelling only rises (SwellField::settle() adds), so a voxel's value lowered by
+// every round so far is its value less the swelling now: the rounds read it for the voxels of
+// the lines still short alone (low_; values only go down, so a line covered stays covered),
+// and drop_loose() lowers the field once.
 void Plausible::swell() {
-    SwellField field(vox_.box, std::clamp(int(std::lround(double(vox_.maxdim) / 96.0)), 1, 8));
-    for (int round = 0; round < 4; ++round) {
+    swelling_ = std::make_unique<SwellField>(vox_.box, std::clamp(int(std::lround(double(vox_.maxdim) / 96.0)), 1, 8));
+    SwellField& field = *swelling_;
+    swollen_.assign(vox_.nleaf, 0);
+    low_.assign(nv_, {});
+    std::vector<std::vector<char>> covered(nv_);
+    for (std::size_t v = 0; v < nv_; ++v) {
+        low_[v].resize(lists_[v].size());
+        covered[v].assign(groups_[v].empty() ? 0 : groups_[v].size() - 1, 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists_[v].size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t k = r.begin(); k != r.end(); ++k) low_[v][k] = cur_[lists_[v][k].i];
+                          });
+    }
+    constexpr int kRounds = 4;
+    for (int round = 0; round < kRounds; ++round) {
         // The seeds, found in parallel (settle() sorts them, so their order does not matter).
         tbb::enumerable_thread_specific<std::vector<std::pair<Coord, float>>> seeds;
         for (std::size_t v = 0; v < nv_; ++v)
-            tbb::parallel_for(std::size_t(0), groups_[v].empty() ? 0 : groups_[v].size() - 1, [&](std::size_t g) {
+            tbb::parallel_for(std::size_t(0), covered[v].size(), [&](std::size_t g) {
                 float t = 0;
-                if (!shortfall(v, g, &t)) return;
+                if (covered[v][g]) return;
+                if (!shortfall(v, g, &t, low_[v].data())) {
+                    covered[v][g] = 1;
+                    return;
+                }
                 auto& local = seeds.local();
                 for (std::size_t k = groups_[v][g]; k < groups_[v][g + 1]; ++k)
-                    if (cur_[lists_[v][k].i] <= t + 1.0f) local.push_back({lists_[v][k].c, t + kMargin});
+                    if (low_[v][k] <= t + 1.0f) local.push_back({lists_[v][k].c, t + kMargin});
             });
         bool seeded = false;
         for (const auto& local : seeds)
             for (const auto& [c, value] : local) field.seed(c, value), seeded = true;
         if (!seeded) break;
         field.settle();
-        lower_by(field);
+        mark_swollen(field);
+        if (round + 1 < kRounds) lower_lists(field, covered);
     }
 }
 
-// The field lowered by the swelling's last rise (only where the profiles object).
-void Plausible::lower_by(const SwellField& field) {
-    // The leaves the rise reaches; those reached for the first time keep their values first.
-    std::vector<char> raised(vox_.nleaf, 0);
+// The leaves about which the last round raised the swelling.
+void Plausible::mark_swollen(const SwellField& field) {
     tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
-        raised[l] = field.raised_in(openvdb::CoordBBox::createCube(vox_.leaves.leaf(l).origin(), LeafT::DIM));
-    });
-    // Their places in saved_ in leaf order, then the copies side by side.
-    std::vector<std::uint32_t> fresh;
-    std::size_t end = saved_.size();
-    for (std::size_t l = 0; l < vox_.nleaf; ++l)
-        if (raised[l] && saved_at_[l] == kNotSaved) {
-            saved_at_[l] = end;
-            end += vox_.base[l + 1] - vox_.base[l];
-            fresh.push_back(std::uint32_t(l));
-        }
-    saved_.resize(end);
-    tbb::parallel_for(std::size_t(0), fresh.size(), [&](std::size_t k) {
-        const std::size_t l = fresh[k];
-        std::copy(cur_.begin() + std::ptrdiff_t(vox_.base[l]), cur_.begin() + std::ptrdiff_t(vox_.base[l + 1]),
-                  saved_.begin() + std::ptrdiff_t(saved_at_[l]));
-    });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t l = r.begin(); l != r.end(); ++l) {
-            if (!raised[l]) continue;
-            const auto& leaf = vox_.leaves.leaf(l);
-            const SwellField::Block block(field, leaf.origin());
-            const float* phi = saved_.data() + saved_at_[l];
-            std::size_t i = vox_.base[l];
-            for (openvdb::Index w = 0; w < 8; ++w)
-                for (std::uint64_t bits = leaf.getValueMask().getWord<std::uint64_t>(w); bits;
-                     bits &= bits - 1, ++i, ++phi) {
-                    if (!(*phi > 0)) continue;
-                    const int b = __builtin_ctzll(bits);
-                    cur_[i] = std::min(cur_[i], *phi - block.at(int(w), b >> 3, b & 7));
-                }
-        }
+        if (!swollen_[l] && field.raised_in(openvdb::CoordBBox::createCube(vox_.leaves.leaf(l).origin(), LeafT::DIM)))
+            swollen_[l] = 1;
     });
 }
 
+// The voxels of the lines still short lowered by the swelling (only where the profiles
+// object; SwellField::at() is SwellField::Block::at()'s value).
+void Plausible::lower_lists(const SwellField& field, const std::vector<std::vector<char>>& covered) {
+    for (std::size_t v = 0; v < nv_; ++v)
+        tbb::parallel_for(std::size_t(0), covered[v].size(), [&](std::size_t g) {
+            if (covered[v][g]) return;
+            for (std::size_t k = groups_[v][g]; k < groups_[v][g + 1]; ++k) {
+                const float phi = cur_[lists_[v][k].i];
+                if (phi > 0) low_[v][k] = phi - field.at(lists_[v][k].c);
+            }
+        });
+}
+
 // (b) What the swelling kept apart from the profiles' volume goes: a flood from the profiles'
-// volume through the swollen voxels, and what it misses.
+// volume through the swollen voxels, and what it misses. The field is lowered here, once, in
+// the leaves the swelling reached (cur_ holds the values before it until then): at once where
+// it stays above 0, after the flood for the voxels it takes to 0 or below (`member`), which
+// keep their values if loose.
 void Plausible::drop_loose() {
     const std::size_t nleaf = vox_.nleaf;
     std::vector<LeafColumns::Mask> member(nleaf), anchor(nleaf);
     tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
-        const auto& mask = vox_.leaves.leaf(l).getValueMask();
+        const auto& leaf = vox_.leaves.leaf(l);
+        const auto& mask = leaf.getValueMask();
         std::size_t i = vox_.base[l];
+        if (!swollen_[l]) {
+            for (openvdb::Index w = 0; w < 8; ++w) {
+                std::uint64_t a = 0;
+                for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i)
+                    if (cur_[i] <= 0) a |= bits & (~bits + 1);
+                member[l][w] = 0, anchor[l][w] = a;
+            }
+            return;
+        }
+        const SwellField::Block block(*swelling_, leaf.origin());
         for (openvdb::Index w = 0; w < 8; ++w) {
             std::uint64_t m = 0, a = 0;
             for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i) {
                 const std::uint64_t bit = bits & (~bits + 1);
-                const float phi = phi_at(l, i);
-                if (phi <= 0) a |= bit;
-                else if (cur_[i] <= 0) m |= bit;
+                const float phi = cur_[i];
+                if (!(phi > 0)) {
+                    a |= bit;
+                    continue;
+                }
+                const int b = __builtin_ctzll(bits);
+                const float lowered = phi - block.at(int(w), b >> 3, b & 7);
+                if (lowered <= 0) m |= bit;
+                else cur_[i] = lowered;
             }
             member[l][w] = m, anchor[l][w] = a;
         }
@@ -261,21 +280,33 @@ void Plausible::drop_loose() {
     st_.loose_dropped = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, nleaf), std::size_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, std::size_t dropped) {
-            for (std::size_t l = r.begin(); l != r.end(); ++l) {
-                std::uint64_t loose_any = 0;
-                for (openvdb::Index w = 0; w < 8; ++w) loose_any |= member[l][w] & ~joined[l][w];
-                if (!loose_any) continue;
-                const auto& mask = vox_.leaves.leaf(l).getValueMask();
-                std::size_t i = vox_.base[l];
-                for (openvdb::Index w = 0; w < 8; ++w) {
-                    const std::uint64_t loose = member[l][w] & ~joined[l][w];
-                    for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i)
-                        if (loose & bits & (~bits + 1)) cur_[i] = phi_at(l, i), ++dropped;
-                }
-            }
+            for (std::size_t l = r.begin(); l != r.end(); ++l) dropped += lower_members(l, member[l], joined[l]);
             return dropped;
         },
         std::plus<>());
+}
+
+// Leaf l's `member` voxels lowered by the swelling, but for the loose ones (those the flood
+// missed: not in `joined`), which keep their values; returns how many those are.
+std::size_t Plausible::lower_members(std::size_t l, const LeafColumns::Mask& member, const LeafColumns::Mask& joined) {
+    std::uint64_t any = 0;
+    for (openvdb::Index w = 0; w < 8; ++w) any |= member[w];
+    if (!any) return 0;
+    const auto& leaf = vox_.leaves.leaf(l);
+    const SwellField::Block block(*swelling_, leaf.origin());
+    std::size_t i = vox_.base[l], dropped = 0;
+    for (openvdb::Index w = 0; w < 8; ++w)
+        for (std::uint64_t bits = leaf.getValueMask().getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i) {
+            const std::uint64_t bit = bits & (~bits + 1);
+            if (!(member[w] & bit)) continue;
+            if (!(joined[w] & bit)) {
+                ++dropped;
+                continue;
+            }
+            const int b = __builtin_ctzll(bits);
+            cur_[i] = cur_[i] - block.at(int(w), b >> 3, b & 7);
+        }
+    return dropped;
 }
 
 // (c) Balls about the volume to the lines of sight still short, view by view.

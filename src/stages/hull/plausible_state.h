@@ -127,15 +127,14 @@ private:
     void keep_thin();
     // 4, its parts (a) to (d) and what they share.
     void find_short_lines();
-    bool shortfall(std::size_t v, std::size_t g, float* t) const;
+    /// With `low`: the values of view v's list (lists_[v]) entry by entry, else cur_'s.
+    bool shortfall(std::size_t v, std::size_t g, float* t, const float* low = nullptr) const;
     std::vector<Vox> kept_voxels_of(std::size_t v, const std::vector<char>& want) const;
     void swell();
-    void lower_by(const SwellField& field);
-    /// The field before step 4 at voxel i of leaf l.
-    float phi_at(std::size_t l, std::size_t i) const {
-        return saved_at_[l] == kNotSaved ? cur_[i] : saved_[saved_at_[l] + (i - vox_.base[l])];
-    }
+    void mark_swollen(const SwellField& field);
+    void lower_lists(const SwellField& field, const std::vector<std::vector<char>>& covered);
     void drop_loose();
+    std::size_t lower_members(std::size_t l, const LeafColumns::Mask& member, const LeafColumns::Mask& joined);
     void reach_with_balls();
     void balls_for_view(std::size_t v, BallField& balls, double coarse);
     bool short_lines_of(std::size_t v, std::vector<char>& flag, std::vector<std::size_t>& short_groups) const;
@@ -193,11 +192,14 @@ private:
     std::vector<std::vector<Vox>> lists_;
     std::vector<std::vector<std::size_t>> groups_;
     UninitVector<std::uint8_t> removed_;
-    // Step 4 lowers the field in place (cur_); the leaves it lowers keep their values before
-    // it in saved_ from saved_at_[leaf] (kNotSaved: unchanged, cur_ holds them).
-    static constexpr std::size_t kNotSaved = ~std::size_t(0);
-    std::vector<std::size_t> saved_at_;
-    UninitVector<float> saved_;
+    // Step 4 (a): the swelling, which only rises from round to round, so a voxel's lowered
+    // value is its value less the swelling's last rise at it. cur_ keeps the values before it
+    // until drop_loose() lowers the field once; the rounds read the lowered values of the
+    // short lines' voxels (low_[v], entry by entry of lists_[v]). swollen_: per leaf, whether
+    // a round raised the swelling about it.
+    std::unique_ptr<SwellField> swelling_;
+    std::vector<char> swollen_;
+    std::vector<std::vector<float>> low_;
 };
 
 template <typename Body>
