@@ -8,6 +8,7 @@
 
 #include "plausible_genus.h"
 #include "plausible_state.h"
+#include "removal_block.h"
 
 using namespace cm;
 
@@ -42,28 +43,11 @@ long euler(const openvdb::BoolGrid& g) {
     return chi;
 }
 
-struct Removal {
-    Volume hull;
-    std::unique_ptr<plausible::HullVoxels> vox;
-    UninitVector<std::uint8_t> removed;
-    UninitVector<float> field;
-    PlausibleStats st;
-
-    // A 16 x 12 x 12 block; `cut` says which voxels the field removes and how far outside the
-    // allowance they lie (above 0: removed).
+// A 16 x 12 x 12 block; `cut` says which voxels the field removes and how far outside the
+// allowance they lie (above 0: removed).
+struct Removal : test::RemovalBlock {
     template <typename F>
-    explicit Removal(F&& cut) {
-        hull.occupancy = openvdb::BoolGrid::create(false);
-        hull.occupancy->tree().denseFill(CoordBBox({0, 0, 0}, {15, 11, 11}), true, true);
-        vox = std::make_unique<plausible::HullVoxels>(*hull.occupancy);
-        removed.resize(vox->n);
-        field.resize(vox->n);
-        for (std::size_t i = 0; i < vox->n; ++i) {
-            field[i] = cut(vox->coord_of(i));
-            removed[i] = field[i] > 0;
-        }
-    }
-    std::shared_ptr<Volume> run() { return plausible::plausible_volume(hull, *vox, removed, field, st, Progress{}); }
+    explicit Removal(F&& cut) : RemovalBlock(CoordBBox({0, 0, 0}, {15, 11, 11}), cut) {}
 };
 
 } // namespace

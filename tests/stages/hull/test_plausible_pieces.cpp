@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "plausible_state.h"
+#include "removal_block.h"
 
 using namespace cm;
 
@@ -45,28 +46,11 @@ int pieces(const openvdb::BoolGrid& g) {
 
 // A bar 80 x 8 x 8 (the bridges reach 10 voxels): the body x 0..39 kept; of the rest, only
 // what `kept` says.
-struct Bar {
-    Volume hull;
-    std::unique_ptr<plausible::HullVoxels> vox;
-    UninitVector<std::uint8_t> removed;
-    UninitVector<float> field;
-    PlausibleStats st;
-
+struct Bar : test::RemovalBlock {
     template <typename F>
-    explicit Bar(F&& kept) {
-        hull.occupancy = openvdb::BoolGrid::create(false);
-        hull.occupancy->tree().denseFill(CoordBBox({0, 0, 0}, {79, 7, 7}), true, true);
-        vox = std::make_unique<plausible::HullVoxels>(*hull.occupancy);
-        removed.resize(vox->n);
-        field.resize(vox->n);
-        for (std::size_t i = 0; i < vox->n; ++i) {
-            const Coord c = vox->coord_of(i);
-            field[i] = c.x() <= 39 || kept(c) ? -1.0f : 1.0f;
-            removed[i] = field[i] > 0;
-            st.removed += removed[i];
-        }
-    }
-    std::shared_ptr<Volume> run() { return plausible::plausible_volume(hull, *vox, removed, field, st, Progress{}); }
+    explicit Bar(F&& kept)
+        : RemovalBlock(CoordBBox({0, 0, 0}, {79, 7, 7}),
+                       [&](const Coord& c) { return c.x() <= 39 || kept(c) ? -1.0f : 1.0f; }) {}
 };
 
 bool in_box(const Coord& c, const Coord& lo, const Coord& hi) {
