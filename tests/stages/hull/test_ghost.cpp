@@ -23,16 +23,19 @@ const Vec3d kTorsoLo(-2, -3, -1.5), kTorsoHi(2, 2, 1.5);
 const Vec3d kArmLo(2.5, -2, -0.4), kArmHi(3.3, 2, 0.4);
 const Vec3d kPlateLo(-3.5, 2, -1.5), kPlateHi(3.5, 3, 1.5);
 
-std::shared_ptr<const Views> torso_with_arm() {
+// Front, right and top of the torso, the shoulder plate and an arm from `armLo` to `armHi`,
+// the views framing everything up to `hi`.
+std::shared_ptr<const Views> torso_with_arm(const Vec3d& armLo = kArmLo, const Vec3d& armHi = kArmHi,
+                                            const Vec3d& hi = Vec3d(3.5, 3, 1.5)) {
     std::vector<View> vs;
     for (const char* n : {"front", "right", "top"}) {
         const Vec3d d = Camera::named(n)->d;
         vs.push_back(
             ortho_view(n, 320, 40.0,
-                       union_outline(union_outline(box_outline(kTorsoLo, kTorsoHi, d), box_outline(kArmLo, kArmHi, d)),
+                       union_outline(union_outline(box_outline(kTorsoLo, kTorsoHi, d), box_outline(armLo, armHi, d)),
                                      box_outline(kPlateLo, kPlateHi, d))));
     }
-    return make_views(std::move(vs), Vec3d(-3.5, -3, -1.5), Vec3d(3.5, 3, 1.5));
+    return make_views(std::move(vs), Vec3d(-3.5, -3, -1.5), hi);
 }
 
 std::shared_ptr<const Volume> plausible_of(const std::shared_ptr<const Volume>& hull, double ghost,
@@ -105,15 +108,7 @@ TEST(HullGhost, LegsSideBySideAreLeftAlone) {
 // well, and the arm comes out a plate from its section to the back.
 TEST(HullGhost, ArmBehindTheTorsoStaysRoundAtItsPlace) {
     const Vec3d armLo(2.5, -2, 1.0), armHi(3.3, 2, 2.0);
-    std::vector<View> vs;
-    for (const char* n : {"front", "right", "top"}) {
-        const Vec3d d = Camera::named(n)->d;
-        vs.push_back(
-            ortho_view(n, 320, 40.0,
-                       union_outline(union_outline(box_outline(kTorsoLo, kTorsoHi, d), box_outline(armLo, armHi, d)),
-                                     box_outline(kPlateLo, kPlateHi, d))));
-    }
-    const auto hull = carve_and_refine(make_views(std::move(vs), Vec3d(-3.5, -3, -1.5), Vec3d(3.5, 3, 2.0)), 96);
+    const auto hull = carve_and_refine(torso_with_arm(armLo, armHi, Vec3d(3.5, 3, 2.0)), 96);
     const auto after = plausible_of(hull, 1.0);
     const double arm_x = 0.5 * (armLo[0] + armHi[0]), arm_d = armHi[2] - armLo[2];
     for (double y : {-1.0, 0.0, 1.0}) {
