@@ -113,7 +113,12 @@ Mask neighbour_in(const Mask& own, const Mask* next, int d) {
 std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                             const std::vector<LeafMask>& seed, const std::vector<LeafMask>& through,
                             bool missing_is_seed) {
-    const std::size_t nleaf = leaves.leafCount();
+    return flood(leaf_neighbours(leaves), seed, through, missing_is_seed);
+}
+
+std::vector<LeafMask> flood(const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<LeafMask>& seed,
+                            const std::vector<LeafMask>& through, bool missing_is_seed) {
+    const std::size_t nleaf = through.size();
     auto any = [](const Mask& m) {
         std::uint64_t a = 0;
         for (const std::uint64_t w : m) a |= w;
@@ -124,7 +129,6 @@ std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>&
     for (std::size_t l = 0; l < nleaf; ++l)
         if (any(through[l])) work.push_back(std::uint32_t(l));
     if (work.empty()) return reached;
-    const auto nbr = leaf_neighbours(leaves);
     constexpr std::uint32_t none = kNoLeaf;
     auto neighbour = [&](std::size_t l, int d) { return nbr[l][std::size_t(d)]; };
     // The seeds of each leaf the flood may enter: its own, and those beside it across its faces.
@@ -175,6 +179,45 @@ std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>&
     return reached;
 }
 
+void flood_piece(const std::vector<std::array<std::uint32_t, 6>>& nbr, std::uint32_t leaf, openvdb::Index offset,
+                 std::vector<LeafMask>& through, std::vector<LeafMask>& piece, std::vector<std::uint32_t>& touched) {
+    touched.assign(1, leaf);
+    piece[leaf][offset >> 6] = std::uint64_t(1) << (offset & 63);
+    through[leaf][offset >> 6] &= ~piece[leaf][offset >> 6];
+    std::vector<std::uint32_t> work(1, leaf);
+    auto any = [](const Mask& m) {
+        std::uint64_t a = 0;
+        for (const std::uint64_t w : m) a |= w;
+        return a != 0;
+    };
+    // Each leaf's share grown inside it to a fixed point, then handed across its faces.
+    while (!work.empty()) {
+        const std::uint32_t l = work.back();
+        work.pop_back();
+        Mask& s = piece[l];
+        for (;;) {
+            const Mask d = dilate_in_leaf(s);
+            Mask g;
+            for (int w = 0; w < 8; ++w) g[std::size_t(w)] = d[std::size_t(w)] & through[l][std::size_t(w)];
+            if (!any(g)) break;
+            for (int w = 0; w < 8; ++w)
+                s[std::size_t(w)] |= g[std::size_t(w)], through[l][std::size_t(w)] &= ~g[std::size_t(w)];
+        }
+        for (int d = 0; d < 6; ++d) {
+            const std::uint32_t nb = nbr[l][std::size_t(d)];
+            if (nb == kNoLeaf) continue;
+            const Mask t = across_face(s, d ^ 1);
+            Mask g;
+            for (int w = 0; w < 8; ++w) g[std::size_t(w)] = t[std::size_t(w)] & through[nb][std::size_t(w)];
+            if (!any(g)) continue;
+            if (!any(piece[nb])) touched.push_back(nb);
+            for (int w = 0; w < 8; ++w)
+                piece[nb][std::size_t(w)] |= g[std::size_t(w)], through[nb][std::size_t(w)] &= ~g[std::size_t(w)];
+            work.push_back(nb);
+        }
+    }
+}
+
 namespace {
 
 std::size_t count(const Mask& m) {
@@ -185,9 +228,11 @@ std::size_t count(const Mask& m) {
 
 bool bit(const Mask& m, int off) { return (m[std::size_t(off >> 6)] >> (off & 63) & 1) != 0; }
 
-// The steps of bridges(): the main body, the pieces apart from it, and breadth-first layers
-// through the removed voxels out of the main body; a piece next to a layer is joined by a
-// bridge down the layers.
+// The steps of bridges(): the main body, the pieces apart from it, and for each piece
+// breadth-first layers through the removed voxels out of it until a layer touches the main
+// body; the bridge runs from there down the layers to the piece. (Layers out of the piece, not
+// out of the body: the body's first layer alone is its whole surface, a piece's layers stay
+// about the piece.)
 class Bridges {
 public:
     Bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
@@ -199,24 +244,25 @@ public:
     bool find_main();
     /// The kept voxels apart from the main body. False when there are none.
     bool find_pieces();
-    /// Layer by layer out of the main body until every piece is joined; returns the bridges'
-    /// voxels and counts the pieces joined.
+    /// Each piece, in leaf order, joined to the main body by a shortest bridge when one of at
+    /// most max_steps voxels exists; returns the bridges' voxels and counts the pieces joined.
     std::vector<Coord> join(std::size_t* pieces);
 
 private:
     // next = the voxels of `into`, not visited, next to `front` (given on the leaves `from`).
-    void grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& front, const std::vector<Mask>& into,
-              std::vector<Mask>& next, std::vector<std::uint32_t>& touched) const;
+    void grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& into,
+              std::vector<std::uint32_t>& touched);
     // The leaf and offset of the neighbour of (l, off) in direction d, if the tree has it.
     bool step(std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff) const;
     Coord voxel_at(std::uint32_t l, int off) const { return leaves_.leaf(l).offsetToGlobalCoord(openvdb::Index(off)); }
-    // Joins the pieces next to the voxels of layer `layer` (`next`, on the leaves `touched`).
-    void join_next_to(int layer, const std::vector<std::uint32_t>& touched, std::vector<Coord>& out,
-                      std::size_t* pieces);
-    // The bridge from voxel (l, off) of layer `layer` down the layers to the main body.
+    // The layers out of the piece on the leaves `piece` (its voxels in front_), until one
+    // touches the main body; the bridge appended to `out`. False when none within max_steps.
+    bool bridge(const std::vector<std::uint32_t>& piece, std::vector<Coord>& out);
+    // The first voxel of layer `next_` (on the leaves `touched`) with a face neighbour in the
+    // main body, as leaf * 512 + offset; -1 when none.
+    std::int64_t touching_main(const std::vector<std::uint32_t>& touched) const;
+    // The bridge from voxel (l, off) of layer `layer` down the layers to the piece.
     void bridge_down(std::uint32_t l, int off, int layer, std::vector<Coord>& out) const;
-    // The piece holding voxel (pl, poff) joins the main body: it is no piece any more.
-    void joined(std::uint32_t pl, int poff);
 
     const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves_;
     const std::vector<std::array<std::uint32_t, 6>>& nbr_;
@@ -225,7 +271,7 @@ private:
     const int max_steps_;
     const std::size_t nleaf_;
     std::vector<Mask> main_, piece_, removed_, visited_, front_, next_;
-    std::size_t remaining_ = 0;                                   // voxels of pieces not joined yet
+    std::vector<char> seen_;                                      // grow()'s leaves of this layer
     std::vector<std::unordered_map<std::uint32_t, Mask>> layers_; // per layer: leaf -> its voxels there
 };
 
@@ -236,7 +282,7 @@ bool Bridges::find_main() {
     if (most == 0) return false;
     std::vector<Mask> seed(nleaf_, Mask{});
     seed[best] = kept_[best];
-    main_ = flood(leaves_, seed, kept_, false);
+    main_ = flood(nbr_, seed, kept_, false);
     return true;
 }
 
@@ -248,14 +294,11 @@ bool Bridges::find_pieces() {
             piece_[l][std::size_t(w)] = kept_[l][std::size_t(w)] & ~main_[l][std::size_t(w)];
             any_piece = any_piece || piece_[l][std::size_t(w)];
         }
-    if (!any_piece) return false;
-    for (const Mask& m : piece_) remaining_ += count(m);
-    return true;
+    return any_piece;
 }
 
-void Bridges::grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& front,
-                   const std::vector<Mask>& into, std::vector<Mask>& next, std::vector<std::uint32_t>& touched) const {
-    std::vector<char> seen(nleaf_, 0);
+void Bridges::grow(const std::vector<std::uint32_t>& from, const std::vector<Mask>& into,
+                   std::vector<std::uint32_t>& touched) {
     auto add = [&](std::uint32_t l, const Mask& m) {
         Mask a;
         bool any = false;
@@ -264,14 +307,15 @@ void Bridges::grow(const std::vector<std::uint32_t>& from, const std::vector<Mas
             any = any || a[std::size_t(w)];
         }
         if (!any) return;
-        if (!seen[l]) seen[l] = 1, touched.push_back(l), next[l] = Mask{};
-        for (int w = 0; w < 8; ++w) next[l][std::size_t(w)] |= a[std::size_t(w)];
+        if (!seen_[l]) seen_[l] = 1, touched.push_back(l), next_[l] = Mask{};
+        for (int w = 0; w < 8; ++w) next_[l][std::size_t(w)] |= a[std::size_t(w)];
     };
     for (const std::uint32_t l : from) {
-        add(l, dilate_in_leaf(front[l]));
+        add(l, dilate_in_leaf(front_[l]));
         for (int d = 0; d < 6; ++d)
-            if (const std::uint32_t nb = nbr_[l][std::size_t(d)]; nb != kNoLeaf) add(nb, across_face(front[l], d ^ 1));
+            if (const std::uint32_t nb = nbr_[l][std::size_t(d)]; nb != kNoLeaf) add(nb, across_face(front_[l], d ^ 1));
     }
+    for (const std::uint32_t l : touched) seen_[l] = 0;
 }
 
 bool Bridges::step(std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff) const {
@@ -287,49 +331,74 @@ bool Bridges::step(std::uint32_t l, int off, int d, std::uint32_t* nl, int* noff
 
 std::vector<Coord> Bridges::join(std::size_t* pieces) {
     std::vector<Coord> out;
-    // Breadth-first layers through the removed voxels (hull, not kept) out of the main body;
-    // each voxel's layer kept by leaf and offset.
+    // Breadth-first layers through the removed voxels (hull, not kept).
     removed_.resize(nleaf_);
     for (std::size_t l = 0; l < nleaf_; ++l)
         for (int w = 0; w < 8; ++w) removed_[l][std::size_t(w)] = hull_[l][std::size_t(w)] & ~kept_[l][std::size_t(w)];
-    visited_ = main_;
-    layers_.resize(std::size_t(max_steps_) + 1);
-    std::vector<std::uint32_t> from;
+    visited_.assign(nleaf_, Mask{});
+    front_.assign(nleaf_, Mask{});
+    next_.assign(nleaf_, Mask{});
+    seen_.assign(nleaf_, 0);
+    std::vector<Mask> one(nleaf_, Mask{});
+    std::vector<std::uint32_t> holding;
     for (std::size_t l = 0; l < nleaf_; ++l)
-        if (count(main_[l])) from.push_back(std::uint32_t(l));
-    front_ = main_;
-    next_.resize(nleaf_);
-    for (int layer = 1; layer <= max_steps_ && !from.empty() && remaining_ > 0; ++layer) {
+        if (count(piece_[l])) holding.push_back(std::uint32_t(l));
+    std::vector<std::uint32_t> leaves;
+    for (const std::uint32_t l0 : holding)
+        for (int w0 = 0; w0 < 8; ++w0)
+            while (piece_[l0][std::size_t(w0)]) {
+                const auto off = openvdb::Index(w0 * 64 + __builtin_ctzll(piece_[l0][std::size_t(w0)]));
+                flood_piece(nbr_, l0, off, piece_, one, leaves);
+                for (const std::uint32_t l : leaves) front_[l] = one[l], one[l] = Mask{};
+                if (bridge(leaves, out) && pieces) ++*pieces;
+            }
+    return out;
+}
+
+bool Bridges::bridge(const std::vector<std::uint32_t>& piece, std::vector<Coord>& out) {
+    // Every leaf whose visited_, front_ or next_ this piece's layers set, cleared at the end.
+    std::vector<std::uint32_t> used = piece;
+    for (const std::uint32_t l : piece) visited_[l] = front_[l];
+    std::vector<std::uint32_t> from = piece;
+    bool joined = false;
+    int layer = 1;
+    for (; layer <= max_steps_ && !from.empty(); ++layer) {
         std::vector<std::uint32_t> touched;
-        grow(from, front_, removed_, next_, touched);
+        grow(from, removed_, touched);
+        if (layers_.size() <= std::size_t(layer)) layers_.resize(std::size_t(layer) + 1);
         for (const std::uint32_t l : touched) {
             for (int w = 0; w < 8; ++w) visited_[l][std::size_t(w)] |= next_[l][std::size_t(w)];
             layers_[std::size_t(layer)].emplace(l, next_[l]);
         }
-        join_next_to(layer, touched, out, pieces);
+        used.insert(used.end(), touched.begin(), touched.end());
+        if (const std::int64_t first = touching_main(touched); first >= 0) {
+            bridge_down(std::uint32_t(first / 512), int(first % 512), layer, out);
+            joined = true;
+            break;
+        }
+        for (const std::uint32_t l : from) front_[l] = Mask{};
         from = std::move(touched);
         std::swap(front_, next_);
     }
-    return out;
+    for (const std::uint32_t l : used) visited_[l] = front_[l] = next_[l] = Mask{};
+    for (int k = 1; k <= std::min(layer, max_steps_) && std::size_t(k) < layers_.size(); ++k)
+        layers_[std::size_t(k)].clear();
+    return joined;
 }
 
-// A bridge down the layers from the first voxel found next to a piece, then the whole piece
-// joins the main body (its other voxels need no bridge of their own).
-void Bridges::join_next_to(int layer, const std::vector<std::uint32_t>& touched, std::vector<Coord>& out,
-                           std::size_t* pieces) {
-    for (const std::uint32_t l : touched)
+std::int64_t Bridges::touching_main(const std::vector<std::uint32_t>& touched) const {
+    for (const std::uint32_t l : touched) {
+        Mask near{};
+        for (int d = 0; d < 6; ++d) {
+            const std::uint32_t k = nbr_[l][std::size_t(d)];
+            const Mask m = neighbour_in(main_[l], k != kNoLeaf ? &main_[k] : nullptr, d);
+            for (int w = 0; w < 8; ++w) near[std::size_t(w)] |= m[std::size_t(w)];
+        }
         for (int w = 0; w < 8; ++w)
-            for (std::uint64_t b = next_[l][std::size_t(w)]; b; b &= b - 1) {
-                const int off = w * 64 + __builtin_ctzll(b);
-                for (int d = 0; d < 6; ++d) {
-                    std::uint32_t pl;
-                    int poff;
-                    if (!step(l, off, d, &pl, &poff) || !bit(piece_[pl], poff)) continue;
-                    bridge_down(l, off, layer, out);
-                    joined(pl, poff);
-                    if (pieces) ++*pieces;
-                }
-            }
+            if (const std::uint64_t b = next_[l][std::size_t(w)] & near[std::size_t(w)])
+                return std::int64_t(l) * 512 + w * 64 + __builtin_ctzll(b);
+    }
+    return -1;
 }
 
 void Bridges::bridge_down(std::uint32_t l, int off, int layer, std::vector<Coord>& out) const {
@@ -352,16 +421,6 @@ void Bridges::bridge_down(std::uint32_t l, int off, int layer, std::vector<Coord
     }
 }
 
-void Bridges::joined(std::uint32_t pl, int poff) {
-    std::vector<Mask> s1(nleaf_, Mask{});
-    s1[pl][std::size_t(poff >> 6)] = std::uint64_t(1) << (poff & 63);
-    const std::vector<Mask> reached = flood(leaves_, s1, piece_, false);
-    for (std::size_t k = 0; k < nleaf_; ++k) {
-        remaining_ -= count(reached[k]);
-        for (int x = 0; x < 8; ++x) piece_[k][std::size_t(x)] &= ~reached[k][std::size_t(x)];
-    }
-}
-
 } // namespace
 
 std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
@@ -373,12 +432,12 @@ std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& 
     return b.join(pieces);
 }
 
-std::vector<LeafMask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+std::vector<LeafMask> sealed_pockets(const std::vector<std::array<std::uint32_t, 6>>& nbr,
                                      const std::vector<LeafMask>& hull, const std::vector<LeafMask>& removed) {
     std::vector<Mask> outside(hull.size());
     for (std::size_t l = 0; l < hull.size(); ++l)
         for (int w = 0; w < 8; ++w) outside[l][std::size_t(w)] = ~hull[l][std::size_t(w)];
-    std::vector<Mask> pockets = flood(leaves, outside, removed, /*missing_is_seed=*/true);
+    std::vector<Mask> pockets = flood(nbr, outside, removed, /*missing_is_seed=*/true);
     for (std::size_t l = 0; l < hull.size(); ++l)
         for (int w = 0; w < 8; ++w)
             pockets[l][std::size_t(w)] = removed[l][std::size_t(w)] & ~pockets[l][std::size_t(w)];

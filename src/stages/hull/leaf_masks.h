@@ -48,11 +48,21 @@ std::vector<std::uint32_t> leaf_neighbourhoods(const openvdb::tree::LeafManager<
 std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
                             const std::vector<LeafMask>& seed, const std::vector<LeafMask>& through,
                             bool missing_is_seed);
+/// The same flood with the leaves' face neighbours (leaf_neighbours) given: a caller that
+/// floods more than once builds them once.
+std::vector<LeafMask> flood(const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<LeafMask>& seed,
+                            const std::vector<LeafMask>& through, bool missing_is_seed);
+/// The piece of `through` (per leaf; face neighbours `nbr`) that holds voxel `offset` of
+/// leaf `leaf` (which must be in it), moved out of `through` into `piece` (empty on every
+/// leaf it reaches before the call); `touched` gets the leaves it reaches. Its work is the
+/// piece's leaves alone, however many leaves the tree has: for many small pieces.
+void flood_piece(const std::vector<std::array<std::uint32_t, 6>>& nbr, std::uint32_t leaf, openvdb::Index offset,
+                 std::vector<LeafMask>& through, std::vector<LeafMask>& piece, std::vector<std::uint32_t>& touched);
 
 /// The kept volume (`kept`, per leaf, within `hull`) as one piece: its pieces apart from the
 /// main body (the piece of the fullest leaf) are joined to it by bridges through the hull's
-/// removed voxels, each the shortest 6-connected path (breadth-first, at most `max_steps`
-/// voxels) from the main body to the piece. Returns the voxels of the bridges; `pieces`
+/// removed voxels, each a shortest 6-connected path (breadth-first out of the piece, at most
+/// `max_steps` voxels) from the piece to the main body. Returns the voxels of the bridges; `pieces`
 /// gets the number of pieces joined. Pieces of the hull itself apart from the rest (no path
 /// within the hull) stay apart.
 std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
@@ -62,7 +72,7 @@ std::vector<Coord> bridges(const openvdb::tree::LeafManager<openvdb::BoolTree>& 
 /// Of the voxels of `removed` (per leaf, in LeafManager order; a subset of the voxels of
 /// `hull`), those in 6-connected pieces of removed voxels that reach no point outside `hull`:
 /// pockets sealed inside what is kept (what a flood from the outside through them misses).
-std::vector<LeafMask> sealed_pockets(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+std::vector<LeafMask> sealed_pockets(const std::vector<std::array<std::uint32_t, 6>>& nbr,
                                      const std::vector<LeafMask>& hull, const std::vector<LeafMask>& removed);
 
 } // namespace cm::plausible

@@ -30,7 +30,9 @@ struct FarPieces {
 };
 
 /// The far pieces of `kept`, sorted by size against `reach` (voxels) as above.
-FarPieces far_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
+/// `nbr`: the leaves' face neighbours (leaf_neighbours).
+FarPieces far_pieces(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves,
+                     const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<LeafMask>& hull,
                      const std::vector<LeafMask>& kept, int reach);
 
 } // namespace cm::plausible

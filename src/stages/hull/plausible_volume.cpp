@@ -183,7 +183,7 @@ void OutputVolume::fill_pockets() {
         const auto& mask = leaves.leaf(l).getValueMask();
         for (openvdb::Index w = 0; w < 8; ++w) cut_masks[l][w] = hull_masks_[l][w] & ~mask.getWord<std::uint64_t>(w);
     });
-    const std::vector<LeafMask> pockets = sealed_pockets(leaves, hull_masks_, cut_masks);
+    const std::vector<LeafMask> pockets = sealed_pockets(nbr_, hull_masks_, cut_masks);
     // Per leaf, in parallel (each leaf's voxels and flags are its own).
     std::atomic<std::size_t> filled{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nleaf_), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -215,7 +215,7 @@ void OutputVolume::fill_pockets() {
 void OutputVolume::join_pieces() {
     const int reach = std::max(8, vox_.maxdim / 8);
     st_.pieces_joined = bridge_pieces(reach);
-    const FarPieces far = far_pieces(vox_.leaves, hull_masks_, kept_masks(), reach);
+    const FarPieces far = far_pieces(vox_.leaves, nbr_, hull_masks_, kept_masks(), reach);
     auto& leaves = vox_.leaves;
     for (const FarVoxel& v : far.crumbs) {
         leaves.leaf(v.leaf).setValueOff(v.offset, false);
