@@ -84,6 +84,56 @@ LeafMask spill6(const LeafMask& m, int k) {
     return out;
 }
 
+// A leaf's voxels of two sets with the layer about the leaf from its 26 neighbours, as rows
+// along x (row [y + 1][z + 1], bit x + 1, for x, y, z from -1 to 8): the 3x3x3 neighbourhood
+// of any voxel of the leaf in nine row reads, where a lookup per neighbour would find its
+// leaf and offset 26 times.
+struct Padded {
+    std::uint16_t a[10][10] = {}, b[10][10] = {};
+
+    /// The sets `sa` and `sb` about leaf `l` (`around`: the leaves' neighbourhoods, kNoLeaf
+    /// where the tree has no leaf: empty there).
+    Padded(const std::vector<LeafMask>& sa, const std::vector<LeafMask>& sb, const std::vector<std::uint32_t>& around,
+           std::size_t l) {
+        for (int k = 0; k < 27; ++k) {
+            const std::uint32_t n = around[l * 27 + std::size_t(k)];
+            if (n == kNoLeaf) continue;
+            const int dx = k % 3 - 1, dy = k / 3 % 3 - 1, dz = k / 9 - 1;
+            // The leaf's voxels that fall in the padding along each axis: all 8, or the one
+            // layer next to the centre leaf.
+            const int x0 = dx < 0 ? 7 : 0, x1 = dx > 0 ? 0 : 7;
+            const int y0 = dy < 0 ? 7 : 0, y1 = dy > 0 ? 0 : 7;
+            const int z0 = dz < 0 ? 7 : 0, z1 = dz > 0 ? 0 : 7;
+            const LeafMask& ma = sa[n];
+            const LeafMask& mb = sb[n];
+            for (int y = y0; y <= y1; ++y)
+                for (int z = z0; z <= z1; ++z) {
+                    const int py = dy < 0 ? 0 : dy > 0 ? 9 : y + 1, pz = dz < 0 ? 0 : dz > 0 ? 9 : z + 1;
+                    const int sh = y * 8 + z;
+                    std::uint16_t ra = 0, rb = 0;
+                    for (int x = x0; x <= x1; ++x) {
+                        const int px = dx < 0 ? 0 : dx > 0 ? 9 : x + 1;
+                        ra |= std::uint16_t((ma[std::size_t(x)] >> sh & 1) << px);
+                        rb |= std::uint16_t((mb[std::size_t(x)] >> sh & 1) << px);
+                    }
+                    a[py][pz] |= ra, b[py][pz] |= rb;
+                }
+        }
+    }
+    /// The neighbourhood of voxel `off` of the leaf in set a (first) and b (bit order of a
+    /// neighbourhood: x + 3 y + 9 z).
+    std::pair<unsigned, unsigned> around(unsigned off) const {
+        const unsigned x = off >> 6, y = off >> 3 & 7, z = off & 7;
+        unsigned na = 0, nb = 0;
+        for (unsigned dz = 0; dz < 3; ++dz)
+            for (unsigned dy = 0; dy < 3; ++dy) {
+                na |= unsigned(a[y + dy][z + dz] >> x & 7) << (3 * dy + 9 * dz);
+                nb |= unsigned(b[y + dy][z + dz] >> x & 7) << (3 * dy + 9 * dz);
+            }
+        return {na, nb};
+    }
+};
+
 class Retake {
 public:
     Retake(Leaves& leaves, const std::vector<LeafMask>& hull, const VoxelField& field)
@@ -217,9 +267,9 @@ private:
                         const LeafMask m = spill(nl == kNoLeaf ? full() : and_not(gone[nl], LeafMask{}, false), 26 - k);
                         for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
                     }
-                    for (std::size_t x = 0; x < 8; ++x)
-                        for (std::uint64_t w = reach[l][x] & near[x]; w; w &= w - 1)
-                            change += voxel_change(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)), outside);
+                    LeafMask which;
+                    for (std::size_t x = 0; x < 8; ++x) which[x] = reach[l][x] & near[x];
+                    change += leaf_change(l, which, gone, outside);
                 }
                 const bool at_once =
                     change == 0 && outside && collar_connected(reach, touched) && reaches_outside(reach, touched);
@@ -279,20 +329,7 @@ private:
     bool removable(const std::vector<std::size_t>& in) {
         int change = 0;
         bool outside = false;
-        for (const std::size_t l : in)
-            for (std::size_t x = 0; x < 8; ++x)
-                for (std::uint64_t w = grown_[l][x]; w; w &= w - 1) {
-                    const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                    unsigned kept = 0, gone = 0;
-                    for (int k = 0; k < 27; ++k) {
-                        const std::size_t c = neighbour(code, k);
-                        if (c == kNone) continue;
-                        if (grown_[c / 512][c % 512 / 64] >> (c % 64) & 1) gone |= 1u << k;
-                        else if (leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) kept |= 1u << k;
-                    }
-                    outside = outside || (~(kept | gone) & kFaces) != 0;
-                    change += euler_change(kept, gone);
-                }
+        for (const std::size_t l : in) change += leaf_change(l, grown_[l], grown_, outside);
         return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in);
     }
 
@@ -407,18 +444,25 @@ private:
         return one;
     }
 
-    // What taking out voxel `code` adds to its piece's change (euler_change); `outside` set when
-    // a face neighbour is neither kept nor removed.
-    int voxel_change(std::size_t code, bool& outside) const {
-        unsigned kept = 0, gone = 0;
-        for (int k = 0; k < 27; ++k) {
-            const std::size_t c = neighbour(code, k);
-            if (c == kNone) continue;
-            if (state_[c] != kKept) gone |= 1u << k;
-            else if (leaves_.leaf(c / 512).isValueOn(openvdb::Index(c % 512))) kept |= 1u << k;
-        }
-        outside = outside || (~(kept | gone) & kFaces) != 0;
-        return euler_change(kept, gone);
+    // What taking out the voxels `which` of leaf l adds to their piece's change
+    // (euler_change), `gone` the voxels taken out with them (per leaf; the others on are
+    // kept); `outside` set when one has a face neighbour neither kept nor gone.
+    int leaf_change(std::size_t l, const LeafMask& which, const std::vector<LeafMask>& gone, bool& outside) {
+        if (!any(which)) return 0;
+        if (on_.empty()) on_.assign(leaves_.leafCount(), LeafMask{});
+        for (int k = 0; k < 27; ++k)
+            if (const std::uint32_t n = around_[l * 27 + std::size_t(k)]; n != kNoLeaf)
+                on_[n] = leaf_mask(leaves_.leaf(n));
+        const Padded p(on_, gone, around_, l);
+        int change = 0;
+        for (std::size_t x = 0; x < 8; ++x)
+            for (std::uint64_t w = which[x]; w; w &= w - 1) {
+                const auto [on, g] = p.around(unsigned(x * 64 + std::size_t(__builtin_ctzll(w))));
+                const unsigned kept = on & ~g;
+                outside = outside || (~(kept | g) & kFaces) != 0;
+                change += euler_change(kept, g);
+            }
+        return change;
     }
 
     // The voxels taken out (in leaf order) with a kept face neighbour: only these can stand
@@ -481,6 +525,7 @@ private:
     std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
     std::vector<LeafMask> part_, grown_;  // split's
     std::vector<LeafMask> seen_, rest_;   // reaches_outside's
+    std::vector<LeafMask> on_;            // leaf_change's: the on voxels of the leaves about one
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
