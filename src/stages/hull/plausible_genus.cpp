@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <queue>
+#include <unordered_map>
 #include <utility>
 
 namespace cm::plausible {
@@ -238,8 +239,9 @@ private:
     // The removed voxels by 26-connected piece (flooded a leaf's 512 voxels at a time): a
     // piece that touches the outside, whose removal at once leaves the kept volume's Euler
     // characteristic unchanged and whose kept voxels about it are one piece by themselves (so
-    // no part of the kept volume comes off: that and a tunnel would sum to no change) is out
-    // for good (kOut); the others are appended to `back` (to be taken out one at a time). Only
+    // no part of the kept volume comes off: that and a tunnel would sum to no change), that
+    // seals no cavity and whose outside about it is one piece (outside_connected: no tunnel
+    // traded for a handle of the hull cut) is out for good (kOut); the others are appended to `back` (to be taken out one at a time). Only
     // voxels with a voxel not removed about them add to the change (one with all its
     // neighbours removed adds nothing: euler_change).
     void sort_pieces(std::vector<std::size_t>& back) {
@@ -271,8 +273,8 @@ private:
                     for (std::size_t x = 0; x < 8; ++x) which[x] = reach[l][x] & near[x];
                     change += leaf_change(l, which, gone, outside);
                 }
-                const bool at_once =
-                    change == 0 && outside && collar_connected(reach, touched) && reaches_outside(reach, touched);
+                const bool at_once = change == 0 && outside && collar_connected(reach, touched) &&
+                                     reaches_outside(reach, touched) && outside_connected(reach, touched);
                 std::vector<std::size_t> piece = take(reach, touched);
                 for (const std::size_t code : piece) {
                     state_[code] = at_once ? kOut : kIdle;
@@ -325,12 +327,14 @@ private:
 
     // Whether the chunk in grown_ (over the leaves `in`) could go at once: it touches the
     // outside, its removal leaves the Euler characteristic of the kept volume (the on voxels)
-    // unchanged, and the kept voxels about it are one piece by themselves.
+    // unchanged, the kept voxels about it are one piece by themselves, it seals no cavity and
+    // the outside about it is one piece.
     bool removable(const std::vector<std::size_t>& in) {
         int change = 0;
         bool outside = false;
         for (const std::size_t l : in) change += leaf_change(l, grown_[l], grown_, outside);
-        return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in);
+        return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in) &&
+               outside_connected(grown_, in);
     }
 
     // Whether every voxel of `q` (per leaf, over the leaves `in`) reaches by face steps
@@ -373,6 +377,78 @@ private:
         bool all = true;
         for (const std::size_t l : in) all = all && !any(rest_[l]), seen_[l] = rest_[l] = LeafMask{};
         return all;
+    }
+
+    // Whether the outside voxels about the piece `piece` (per leaf, over the leaves `in`) that
+    // touch it by a face lie in one piece of the outside voxels about it (its 26-neighbours
+    // neither on nor in it; a leaf the tree lacks is all outside), 6-connected among
+    // themselves. (When they do, its removal closes no new loop of the outside: it opens no
+    // tunnel, and with (a)-(c) cuts none either. A piece that cuts one of the hull's handles
+    // and drills a tunnel elsewhere meets the outside in two places at least: the drill's
+    // two ends.)
+    bool outside_connected(const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) {
+        static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
+        shell_.clear();
+        shell_of_.clear();
+        // The shell's leaf at offset k (bit order of a neighbourhood) from origin `o`: made on
+        // first use when `make`, else kNone where there is none.
+        const auto at = [&](const Coord& o, int k, bool make) {
+            const Coord p = o.offsetBy(8 * (k % 3 - 1), 8 * (k / 3 % 3 - 1), 8 * (k / 9 - 1));
+            if (!make) {
+                const auto it = shell_of_.find(leaf_key(p));
+                return it == shell_of_.end() ? kNone : it->second;
+            }
+            const auto [it, fresh] = shell_of_.try_emplace(leaf_key(p), shell_.size());
+            if (fresh) shell_.push_back(ShellLeaf{p, {}, {}, {}});
+            return it->second;
+        };
+        for (const std::size_t l : in)
+            for (int k = 0; k < 27; ++k) {
+                LeafMask m = spill(piece[l], k);
+                if (!any(m)) continue;
+                const std::uint32_t n = around_[l * 27 + std::size_t(k)];
+                ShellLeaf& s = shell_[at(leaves_.leaf(l).origin(), k, true)];
+                if (n != kNoLeaf) m = and_not(m, and_not(leaf_mask(leaves_.leaf(n)), piece[n], false), true);
+                for (std::size_t x = 0; x < 8; ++x) s.out[x] |= m[x];
+            }
+        // The outside voxels face neighbours of the piece; the flood starts from one of them.
+        std::size_t seed = kNone;
+        for (const std::size_t l : in)
+            for (const int k : {kCentre, 4, 10, 12, 14, 16, 22}) {
+                const std::size_t s = at(leaves_.leaf(l).origin(), k, false);
+                if (s == kNone) continue;
+                const LeafMask c = and_not(spill6(piece[l], k), shell_[s].out, true);
+                for (std::size_t x = 0; x < 8; ++x) shell_[s].contact[x] |= c[x];
+                if (seed == kNone && any(c)) seed = s;
+            }
+        if (seed == kNone) return true;
+        std::size_t x0 = 0;
+        while (!shell_[seed].contact[x0]) ++x0;
+        shell_[seed].seen[x0] = shell_[seed].contact[x0] & (~shell_[seed].contact[x0] + 1);
+        // Adds to `seen` of shell leaf t the voxels of `g` in its `out`; whether any was new.
+        const auto grow = [&](std::size_t t, const LeafMask& g) {
+            bool grew = false;
+            for (std::size_t x = 0; x < 8; ++x) {
+                const std::uint64_t w = g[x] & shell_[t].out[x] & ~shell_[t].seen[x];
+                shell_[t].seen[x] |= w;
+                grew = grew || w;
+            }
+            return grew;
+        };
+        std::vector<std::size_t> work(1, seed);
+        while (!work.empty()) {
+            const std::size_t s = work.back();
+            work.pop_back();
+            while (grow(s, spill6(shell_[s].seen, kCentre))) {} // within the leaf
+            for (const int k : kFace) {
+                const std::size_t t = at(shell_[s].origin, k, false);
+                if (t != kNone && grow(t, spill6(shell_[s].seen, k))) work.push_back(t);
+            }
+        }
+        for (const ShellLeaf& s : shell_)
+            for (std::size_t x = 0; x < 8; ++x)
+                if (s.contact[x] & ~s.seen[x]) return false;
+        return true;
     }
 
     // The voxels of `m` over the leaves `in`, which are cleared.
@@ -526,6 +602,14 @@ private:
     std::vector<LeafMask> part_, grown_;  // split's
     std::vector<LeafMask> seen_, rest_;   // reaches_outside's
     std::vector<LeafMask> on_;            // leaf_change's: the on voxels of the leaves about one
+    // outside_connected's: the leaves about a piece (those the tree lacks too) by origin, each
+    // with its outside voxels about the piece, those touching it by a face, those flooded.
+    struct ShellLeaf {
+        Coord origin;
+        LeafMask out, contact, seen;
+    };
+    std::vector<ShellLeaf> shell_;
+    std::unordered_map<std::uint64_t, std::size_t> shell_of_;
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 

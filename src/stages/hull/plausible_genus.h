@@ -32,9 +32,11 @@ using VoxelField = std::function<float(std::size_t, openvdb::Index)>;
 /// would open a tunnel or seal a cavity, as above, `field` giving each voxel's removal order
 /// (highest first). Only what needs it goes one voxel at a time: a 26-connected piece (or a
 /// chunk of one, split at its median field) goes at once when its removal leaves the Euler
-/// characteristic unchanged, the kept voxels about it are one piece and each of its voxels
-/// reaches the outside by face steps within it (so no tunnel, part cut off or cavity hides
-/// in the sum). Then closes the diagonal contacts the removal made. Returns the number of
+/// characteristic unchanged, the kept voxels about it are one piece, each of its voxels
+/// reaches the outside by face steps within it and the outside voxels about it that touch
+/// it by a face are one 6-connected piece among the outside voxels about it (so no tunnel,
+/// part cut off or cavity hides in the sum, and no tunnel opened is traded for a handle of
+/// the hull cut). Then closes the diagonal contacts the removal made. Returns the number of
 /// voxels put back.
 std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
                             const VoxelField& field);

@@ -136,3 +136,54 @@ TEST(HullPlausibleGenus, APieceThatCutsAPartOffAndOpensATunnelLeavesAWall) {
     EXPECT_FALSE(grid->tree().isValueOn({12, 1, 1})) << "the cut stays";
     EXPECT_TRUE(grid->tree().isValueOn({4, 5, 5})) << "a wall across the slot";
 }
+
+TEST(HullPlausibleGenus, APieceThatCutsAHandleOfTheHullAndDrillsATunnelIsNotTakenAtOnce) {
+    // A hull of genus 1: a 24 x 12 x 12 block with a hole through it along z (x 3..6, y
+    // 4..7). One removed piece of three parts: a cut through the hole's wall to the block's
+    // -x face (x 0..2, y 5..6; alone, the hull's handle cut: Euler +1), a slot through the
+    // block along z (x 15..17, y 4..7; alone, a tunnel: -1) and a dent in the top (z 10..11)
+    // around the hole that joins them. Its Euler change sums to 0, the kept voxels about it
+    // are one piece (the dent's floor goes round the hole) and every voxel of it reaches the
+    // outside: the count lets it go at once, and the kept volume keeps genus 1 with its
+    // tunnel where the hull has none (the trade). It meets the outside in two places (the
+    // slot's lower end apart from the rest), so it goes one voxel at a time: the slot keeps a
+    // wall. The hull's own handle may go (taking voxels out one at a time can cut a handle,
+    // here from the dent down, never open one): the kept volume's genus is not above the
+    // hull's, and no tunnel of it runs where the hull has none.
+    const auto hole = [](const Coord& c) { return c.x() >= 3 && c.x() <= 6 && c.y() >= 4 && c.y() <= 7; };
+    const auto field = [](const Coord& c) {
+        if (c.x() <= 2 && c.y() >= 5 && c.y() <= 6) return 8.0f;
+        if (c.x() >= 15 && c.x() <= 17 && c.y() >= 4 && c.y() <= 7) return 1.0f + std::abs(float(c.z()) - 5.25f);
+        if (c.z() >= 10 && (c.x() <= 10 || (c.x() <= 17 && c.y() >= 4 && c.y() <= 7))) return 8.0f;
+        return -1.0f;
+    };
+    auto grid = openvdb::BoolGrid::create(false);
+    grid->tree().denseFill(CoordBBox({0, 0, 0}, {23, 11, 11}), true, true);
+    for (int x = 0; x < 24; ++x)
+        for (int y = 0; y < 12; ++y)
+            for (int z = 0; z < 12; ++z)
+                if (hole({x, y, z})) grid->tree().setValueOff({x, y, z}, false);
+    ASSERT_EQ(euler(*grid), 0) << "the hull: one handle";
+    openvdb::tree::LeafManager<openvdb::BoolTree> leaves(grid->tree());
+    std::vector<plausible::LeafMask> hull;
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l) hull.push_back(plausible::leaf_mask(leaves.leaf(l)));
+    std::size_t cut = 0;
+    for (int x = 0; x < 24; ++x)
+        for (int y = 0; y < 12; ++y)
+            for (int z = 0; z < 12; ++z)
+                if (!hole({x, y, z}) && field({x, y, z}) > 0) grid->tree().setValueOff({x, y, z}, false), ++cut;
+    ASSERT_EQ(euler(*grid), 0) << "the piece at once: Euler unchanged";
+    const std::size_t back = plausible::keep_hull_genus(leaves, hull, [&](std::size_t l, openvdb::Index off) {
+        return field(leaves.leaf(l).offsetToGlobalCoord(off));
+    });
+    // One piece without cavities: Euler 1 - genus, so genus 1 at most (the hull's).
+    EXPECT_GE(euler(*grid), 0) << "more handles than the hull";
+    EXPECT_GT(back, 0u);
+    EXPECT_LT(back, cut);
+    // No tunnel but through the hull's hole: with the hole filled in, none is left.
+    auto filled = grid->deepCopy();
+    filled->tree().denseFill(CoordBBox({3, 4, 0}, {6, 7, 11}), true, true);
+    EXPECT_EQ(euler(*filled), 1) << "a tunnel where the hull has none";
+    EXPECT_TRUE(grid->tree().isValueOn({16, 5, 5})) << "a wall across the slot";
+    EXPECT_FALSE(grid->tree().isValueOn({9, 1, 11})) << "the dent stays";
+}
