@@ -179,6 +179,11 @@ std::vector<LeafMask> flood(const std::vector<std::array<std::uint32_t, 6>>& nbr
     return reached;
 }
 
+namespace {
+
+// The piece of `through` that holds voxel `offset` of leaf `leaf` (which must be in it),
+// moved out of `through` into `piece` (empty on every leaf it reaches before the call);
+// `touched` gets the leaves it reaches.
 void flood_piece(const std::vector<std::array<std::uint32_t, 6>>& nbr, std::uint32_t leaf, openvdb::Index offset,
                  std::vector<LeafMask>& through, std::vector<LeafMask>& piece, std::vector<std::uint32_t>& touched) {
     touched.assign(1, leaf);
@@ -216,6 +221,30 @@ void flood_piece(const std::vector<std::array<std::uint32_t, 6>>& nbr, std::uint
             work.push_back(nb);
         }
     }
+}
+
+} // namespace
+
+void for_each_piece(
+    const std::vector<std::array<std::uint32_t, 6>>& nbr, std::vector<LeafMask>& masks,
+    const std::function<void(const std::vector<LeafMask>& piece, const std::vector<std::uint32_t>& leaves)>& fn) {
+    std::vector<std::uint32_t> holding;
+    for (std::size_t l = 0; l < masks.size(); ++l) {
+        std::uint64_t a = 0;
+        for (const std::uint64_t w : masks[l]) a |= w;
+        if (a) holding.push_back(std::uint32_t(l));
+    }
+    if (holding.empty()) return;
+    std::vector<LeafMask> piece(masks.size(), LeafMask{});
+    std::vector<std::uint32_t> leaves;
+    for (const std::uint32_t l0 : holding)
+        for (int w0 = 0; w0 < 8; ++w0)
+            while (masks[l0][std::size_t(w0)]) {
+                const auto off = openvdb::Index(w0 * 64 + __builtin_ctzll(masks[l0][std::size_t(w0)]));
+                flood_piece(nbr, l0, off, masks, piece, leaves);
+                fn(piece, leaves);
+                for (const std::uint32_t l : leaves) piece[l] = LeafMask{};
+            }
 }
 
 namespace {
@@ -339,19 +368,10 @@ std::vector<Coord> Bridges::join(std::size_t* pieces) {
     front_.assign(nleaf_, Mask{});
     next_.assign(nleaf_, Mask{});
     seen_.assign(nleaf_, 0);
-    std::vector<Mask> one(nleaf_, Mask{});
-    std::vector<std::uint32_t> holding;
-    for (std::size_t l = 0; l < nleaf_; ++l)
-        if (count(piece_[l])) holding.push_back(std::uint32_t(l));
-    std::vector<std::uint32_t> leaves;
-    for (const std::uint32_t l0 : holding)
-        for (int w0 = 0; w0 < 8; ++w0)
-            while (piece_[l0][std::size_t(w0)]) {
-                const auto off = openvdb::Index(w0 * 64 + __builtin_ctzll(piece_[l0][std::size_t(w0)]));
-                flood_piece(nbr_, l0, off, piece_, one, leaves);
-                for (const std::uint32_t l : leaves) front_[l] = one[l], one[l] = Mask{};
-                if (bridge(leaves, out) && pieces) ++*pieces;
-            }
+    for_each_piece(nbr_, piece_, [&](const std::vector<Mask>& piece, const std::vector<std::uint32_t>& leaves) {
+        for (const std::uint32_t l : leaves) front_[l] = piece[l];
+        if (bridge(leaves, out) && pieces) ++*pieces;
+    });
     return out;
 }
 

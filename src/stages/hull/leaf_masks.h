@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -52,12 +53,13 @@ std::vector<LeafMask> flood(const openvdb::tree::LeafManager<openvdb::BoolTree>&
 /// floods more than once builds them once.
 std::vector<LeafMask> flood(const std::vector<std::array<std::uint32_t, 6>>& nbr, const std::vector<LeafMask>& seed,
                             const std::vector<LeafMask>& through, bool missing_is_seed);
-/// The piece of `through` (per leaf; face neighbours `nbr`) that holds voxel `offset` of
-/// leaf `leaf` (which must be in it), moved out of `through` into `piece` (empty on every
-/// leaf it reaches before the call); `touched` gets the leaves it reaches. Its work is the
-/// piece's leaves alone, however many leaves the tree has: for many small pieces.
-void flood_piece(const std::vector<std::array<std::uint32_t, 6>>& nbr, std::uint32_t leaf, openvdb::Index offset,
-                 std::vector<LeafMask>& through, std::vector<LeafMask>& piece, std::vector<std::uint32_t>& touched);
+/// Each 6-connected piece of `masks` (per leaf; face neighbours `nbr`), in the order of its
+/// first voxel (leaf, then offset), taken out of `masks` and handed to `fn` as its voxels per
+/// leaf (`piece`, set on the leaves `leaves` alone, cleared after the call). A piece's flood
+/// works over its own leaves alone, however many leaves the tree has: for many small pieces.
+void for_each_piece(
+    const std::vector<std::array<std::uint32_t, 6>>& nbr, std::vector<LeafMask>& masks,
+    const std::function<void(const std::vector<LeafMask>& piece, const std::vector<std::uint32_t>& leaves)>& fn);
 
 /// The kept volume (`kept`, per leaf, within `hull`) as one piece: its pieces apart from the
 /// main body (the piece of the fullest leaf) are joined to it by bridges through the hull's

@@ -47,6 +47,11 @@ std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leave
 /// centre.
 bool removal_keeps_outside(unsigned nb);
 
+/// Whether the centre of a neighbourhood (`nb` as above), taken out, stands between two on
+/// voxels that touch by an edge or a corner alone: a 2x2 square through the centre whose on
+/// voxels are diagonal, or a 2x2x2 cube with two opposite corners on and its six others off.
+bool diagonal_contact(unsigned nb);
+
 /// The change of the Euler characteristic (V - E + F - C of the union of closed voxel cubes)
 /// of the kept volume that taking out the centre of a neighbourhood causes in the lattice
 /// cells of the centre no earlier voxel (lower bit) of `gone` touches: `kept` the kept

@@ -1,5 +1,5 @@
-// The voxel topology of plausible_genus.h: the Euler change of a removal and the outside
-// about a voxel.
+// The voxel topology of plausible_genus.h: the Euler change of a removal, the outside about
+// a voxel and the diagonal contacts across it.
 #include "plausible_genus.h"
 
 namespace cm::plausible {
@@ -7,6 +7,8 @@ namespace cm::plausible {
 namespace {
 
 constexpr int kCentre = 13;
+
+int bit_of(int x, int y, int z) { return (x + 1) + 3 * (y + 1) + 9 * (z + 1); }
 // The six face neighbours of the centre in a neighbourhood.
 constexpr unsigned kFaces = 1u << 4 | 1u << 10 | 1u << 12 | 1u << 14 | 1u << 16 | 1u << 22;
 
@@ -70,6 +72,30 @@ bool removal_keeps_outside(unsigned nb) {
         f = g;
     }
     return (faces & ~f) == 0;
+}
+
+// The off centre of `nb` (the voxel taken out) between two on voxels that touch by an
+// edge or a corner alone: a 2x2 square with the centre where its on voxels are diagonal,
+// or a 2x2x2 cube with two opposite corners on and its six others off.
+bool diagonal_contact(unsigned nb) {
+    const auto on = [&](int x, int y, int z) { return (nb >> bit_of(x, y, z) & 1) != 0; };
+    for (int sx = -1; sx <= 1; sx += 2)
+        for (int sy = -1; sy <= 1; sy += 2)
+            for (int sz = -1; sz <= 1; sz += 2) {
+                // The three squares through the centre in this octant.
+                if (on(sx, 0, 0) && on(0, sy, 0) && !on(sx, sy, 0)) return true;
+                if (on(sx, 0, 0) && on(0, 0, sz) && !on(sx, 0, sz)) return true;
+                if (on(0, sy, 0) && on(0, 0, sz) && !on(0, sy, sz)) return true;
+                // The cube: the centre's opposite corner off, the pairs of the other two
+                // diagonals. A corner contact: one on at (sx,0,0)-type with its opposite
+                // (0,sy,sz) on, the other six off.
+                const bool c[8] = {false,        on(sx, 0, 0),  on(0, sy, 0),  on(sx, sy, 0),
+                                   on(0, 0, sz), on(sx, 0, sz), on(0, sy, sz), on(sx, sy, sz)};
+                int count = 0;
+                for (bool b : c) count += b;
+                if (count == 2 && ((c[1] && c[6]) || (c[2] && c[5]) || (c[4] && c[3]))) return true;
+            }
+    return false;
 }
 
 } // namespace cm::plausible

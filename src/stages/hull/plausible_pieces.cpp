@@ -36,42 +36,27 @@ FarPieces far_pieces(const Leaves& leaves, const Neighbours& nbr, const std::vec
     // Apart from the body, but within the hull's piece of it.
     const std::vector<LeafMask> within = flood(nbr, body, hull, false);
     std::vector<LeafMask> apart(nleaf);
-    std::vector<std::uint32_t> holding; // the leaves with voxels apart
-    for (std::size_t l = 0; l < nleaf; ++l) {
-        std::uint64_t any = 0;
-        for (int w = 0; w < 8; ++w) {
+    for (std::size_t l = 0; l < nleaf; ++l)
+        for (int w = 0; w < 8; ++w)
             apart[l][std::size_t(w)] = kept[l][std::size_t(w)] & ~body[l][std::size_t(w)] & within[l][std::size_t(w)];
-            any |= apart[l][std::size_t(w)];
+    for_each_piece(nbr, apart, [&](const std::vector<LeafMask>& piece, const std::vector<std::uint32_t>& touched) {
+        std::vector<FarVoxel> voxels;
+        openvdb::CoordBBox box;
+        for (const std::uint32_t l : touched)
+            for (int w = 0; w < 8; ++w)
+                for (std::uint64_t b = piece[l][std::size_t(w)]; b; b &= b - 1) {
+                    const auto o = openvdb::Index(w * 64 + __builtin_ctzll(b));
+                    voxels.push_back({l, o});
+                    box.expand(leaves.leaf(l).offsetToGlobalCoord(o));
+                }
+        const auto dim = box.dim();
+        if (std::max({dim.x(), dim.y(), dim.z()}) < reach) {
+            out.crumbs.insert(out.crumbs.end(), voxels.begin(), voxels.end());
+            ++out.crumb_pieces;
+        } else {
+            ++out.large_pieces;
         }
-        if (any) holding.push_back(std::uint32_t(l));
-    }
-    if (holding.empty()) return out;
-    std::vector<LeafMask> piece(nleaf, LeafMask{});
-    std::vector<std::uint32_t> touched;
-    for (const std::uint32_t l0 : holding)
-        for (int w0 = 0; w0 < 8; ++w0)
-            while (apart[l0][std::size_t(w0)]) {
-                const auto off = openvdb::Index(w0 * 64 + __builtin_ctzll(apart[l0][std::size_t(w0)]));
-                flood_piece(nbr, l0, off, apart, piece, touched);
-                std::vector<FarVoxel> voxels;
-                openvdb::CoordBBox box;
-                for (const std::uint32_t l : touched) {
-                    for (int w = 0; w < 8; ++w)
-                        for (std::uint64_t b = piece[l][std::size_t(w)]; b; b &= b - 1) {
-                            const auto o = openvdb::Index(w * 64 + __builtin_ctzll(b));
-                            voxels.push_back({l, o});
-                            box.expand(leaves.leaf(l).offsetToGlobalCoord(o));
-                        }
-                    piece[l] = LeafMask{};
-                }
-                const auto dim = box.dim();
-                if (std::max({dim.x(), dim.y(), dim.z()}) < reach) {
-                    out.crumbs.insert(out.crumbs.end(), voxels.begin(), voxels.end());
-                    ++out.crumb_pieces;
-                } else {
-                    ++out.large_pieces;
-                }
-            }
+    });
     return out;
 }
 
