@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <queue>
 #include <unordered_map>
 #include <utility>
@@ -16,9 +19,9 @@ using namespace genus_masks;
 using LeafT = openvdb::BoolTree::LeafNodeType;
 using Leaves = openvdb::tree::LeafManager<openvdb::BoolTree>;
 
-// Where the removal left voxels of the hull off: per removed voxel its state while they are
-// taken out again one at a time.
-enum State : std::uint8_t { kKept = 0, kIdle, kQueued, kOut, kWaiting, kSeen };
+// Per voxel, its state while the removed voxels are taken out again one at a time: kSettled
+// (kept, or out for good: left alone), or one of the others for the voxels that went back.
+enum State : std::uint8_t { kSettled = 0, kIdle, kQueued, kWaiting };
 
 class Retake {
 public:
@@ -26,20 +29,20 @@ public:
         : leaves_(leaves),
           hull_(hull),
           field_(field),
-          state_(leaves.leafCount() * 512, kKept),
+          // (Zeroed pages are mapped on first use: only the leaves a piece went back in are.)
+          state_(static_cast<std::uint8_t*>(std::calloc(leaves.leafCount() * 512, 1)), &std::free),
           around_(leaf_neighbourhoods(leaves)) {}
 
-    // The removed voxels marked, then sorted by 26-connected piece: a piece whose removal at
-    // once leaves the Euler characteristic of the kept volume as it was and that reaches the
-    // outside stays out; the others come back on, the ones at the hull's outside queued.
+    // The removed voxels counted, then sorted by 26-connected piece: a piece whose removal
+    // at once leaves the Euler characteristic of the kept volume as it was and that reaches
+    // the outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
+        if (!state_) throw std::bad_alloc();
         removed_ = 0;
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
             const LeafMask on = leaf_mask(leaves_.leaf(l));
             std::size_t n = 0;
-            for (std::size_t x = 0; x < 8; ++x)
-                for (std::uint64_t w = hull_[l][x] & ~on[x]; w; w &= w - 1, ++n)
-                    state_[l * 512 + x * 64 + std::size_t(__builtin_ctzll(w))] = kIdle;
+            for (std::size_t x = 0; x < 8; ++x) n += std::size_t(__builtin_popcountll(hull_[l][x] & ~on[x]));
             if (n) cut_leaves_.push_back(l), removed_ += n;
         }
         std::vector<std::size_t> back;
@@ -60,7 +63,7 @@ public:
                 continue;
             }
             leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
-            state_[code] = kOut;
+            state_[code] = kSettled;
             // Its removed neighbours may go now (or again).
             for (int k = 0; k < 27; ++k) {
                 if (k == kCentre) continue;
@@ -80,7 +83,7 @@ public:
                 const unsigned nb = around_on(code);
                 if (!diagonal_contact(nb) || !removal_keeps_outside(nb)) continue;
                 leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
-                state_[code] = kKept;
+                state_[code] = kSettled;
                 ++back;
             }
             if (back == 0) break;
@@ -126,9 +129,9 @@ private:
     // characteristic unchanged and whose kept voxels about it are one piece by themselves (so
     // no part of the kept volume comes off: that and a tunnel would sum to no change), that
     // seals no cavity and whose outside about it is one piece (outside_connected: no tunnel
-    // traded for a handle of the hull cut) is out for good (kOut); the others are appended to `back` (to be taken out one at a time). Only
-    // voxels with a voxel not removed about them add to the change (one with all its
-    // neighbours removed adds nothing: euler_change).
+    // traded for a handle of the hull cut) is out for good; the others go back on and are
+    // split (split()). Only voxels with a voxel not removed about them add to the change (one
+    // with all its neighbours removed adds nothing: euler_change).
     void sort_pieces(std::vector<std::size_t>& back) {
         const std::size_t n = leaves_.leafCount();
         std::vector<LeafMask> left(n, LeafMask{}), reach(n, LeafMask{});
@@ -148,8 +151,9 @@ private:
                 for (const std::size_t l : touched) {
                     // Voxels with one not removed about them (a missing leaf: none removed).
                     LeafMask near = spill(and_not(gone[l], LeafMask{}, false), kCentre);
+                    const unsigned sides = spill_sides(reach[l]);
                     for (int k = 0; k < 27; ++k) {
-                        if (k == kCentre) continue;
+                        if (k == kCentre || !(sides >> k & 1)) continue;
                         const std::uint32_t nl = around_[l * 27 + std::size_t(k)];
                         const LeafMask m = spill(nl == kNoLeaf ? full() : and_not(gone[nl], LeafMask{}, false), 26 - k);
                         for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
@@ -160,12 +164,20 @@ private:
                 }
                 const bool at_once = change == 0 && outside && collar_connected(reach, touched) &&
                                      reaches_outside(reach, touched) && outside_connected(reach, touched);
-                std::vector<std::size_t> piece = take(reach, touched);
-                for (const std::size_t code : piece) {
-                    state_[code] = at_once ? kOut : kIdle;
-                    if (!at_once) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
+                if (at_once) {
+                    for (const std::size_t l : touched) reach[l] = LeafMask{};
+                    continue;
                 }
-                if (!at_once) split(piece, back);
+                const std::vector<std::size_t> piece = take(reach, touched);
+                if (!field_at_)
+                    field_at_.reset(static_cast<float*>(std::malloc(leaves_.leafCount() * 512 * sizeof(float))));
+                if (!field_at_) throw std::bad_alloc();
+                for (const std::size_t code : piece) {
+                    state_[code] = kIdle;
+                    field_at_[code] = field_(code / 512, openvdb::Index(code % 512));
+                    leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
+                }
+                split(piece, back);
             }
     }
 
@@ -175,7 +187,7 @@ private:
     // others are split again, down to kChunk voxels, which go to `back` (one at a time).
     void split(const std::vector<std::size_t>& codes, std::vector<std::size_t>& back) {
         std::vector<float> f(codes.size());
-        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
+        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_at_[codes[i]];
         float t = 0.0f;
         if (codes.size() > kChunk) {
             std::vector<float> sorted = f;
@@ -204,7 +216,7 @@ private:
                 }
                 for (const std::size_t code : chunk) {
                     leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
-                    state_[code] = kOut;
+                    state_[code] = kSettled;
                 }
             }
         }
@@ -235,7 +247,9 @@ private:
         std::vector<std::size_t> work;
         for (const std::size_t l : in) {
             LeafMask near = spill6(off(std::uint32_t(l)), kCentre);
+            const unsigned sides = spill_sides(q[l]);
             for (const int k : kFace) {
+                if (!(sides >> k & 1)) continue;
                 const LeafMask m = spill6(off(around_[l * 27 + std::size_t(k)]), 26 - k);
                 for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
             }
@@ -250,9 +264,10 @@ private:
                 if (!any(g)) break;
                 for (std::size_t x = 0; x < 8; ++x) seen_[l][x] |= g[x], rest_[l][x] &= ~g[x];
             }
+            const unsigned sides = spill_sides(seen_[l]);
             for (const int k : kFace) {
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                if (n == kNoLeaf || !any(rest_[n])) continue;
+                if (!(sides >> k & 1) || n == kNoLeaf || !any(rest_[n])) continue;
                 const LeafMask g = and_not(spill6(seen_[l], k), rest_[n], true);
                 if (!any(g)) continue;
                 for (std::size_t x = 0; x < 8; ++x) seen_[n][x] |= g[x], rest_[n][x] &= ~g[x];
@@ -287,8 +302,10 @@ private:
             if (fresh) shell_.push_back(ShellLeaf{p, {}, {}, {}});
             return it->second;
         };
-        for (const std::size_t l : in)
+        for (const std::size_t l : in) {
+            const unsigned sides = spill_sides(piece[l]);
             for (int k = 0; k < 27; ++k) {
+                if (!(sides >> k & 1)) continue;
                 LeafMask m = spill(piece[l], k);
                 if (!any(m)) continue;
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
@@ -296,16 +313,20 @@ private:
                 if (n != kNoLeaf) m = and_not(m, and_not(leaf_mask(leaves_.leaf(n)), piece[n], false), true);
                 for (std::size_t x = 0; x < 8; ++x) s.out[x] |= m[x];
             }
+        }
         // The outside voxels face neighbours of the piece; the flood starts from one of them.
         std::size_t seed = kNone;
-        for (const std::size_t l : in)
+        for (const std::size_t l : in) {
+            const unsigned sides = spill_sides(piece[l]);
             for (const int k : {kCentre, 4, 10, 12, 14, 16, 22}) {
+                if (!(sides >> k & 1)) continue;
                 const std::size_t s = at(leaves_.leaf(l).origin(), k, false);
                 if (s == kNone) continue;
                 const LeafMask c = and_not(spill6(piece[l], k), shell_[s].out, true);
                 for (std::size_t x = 0; x < 8; ++x) shell_[s].contact[x] |= c[x];
                 if (seed == kNone && any(c)) seed = s;
             }
+        }
         if (seed == kNone) return true;
         std::size_t x0 = 0;
         while (!shell_[seed].contact[x0]) ++x0;
@@ -325,7 +346,9 @@ private:
             const std::size_t s = work.back();
             work.pop_back();
             while (grow(s, spill6(shell_[s].seen, kCentre))) {} // within the leaf
+            const unsigned sides = spill_sides(shell_[s].seen);
             for (const int k : kFace) {
+                if (!(sides >> k & 1)) continue;
                 const std::size_t t = at(shell_[s].origin, k, false);
                 if (t != kNone && grow(t, spill6(shell_[s].seen, k))) work.push_back(t);
             }
@@ -364,9 +387,10 @@ private:
                 if (!any(g)) break;
                 for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
             }
+            const unsigned sides = spill_sides(reach[l]);
             for (int k = 0; k < 27; ++k) {
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                if (k == kCentre || n == kNoLeaf) continue;
+                if (k == kCentre || !(sides >> k & 1) || n == kNoLeaf || !any(left[n])) continue;
                 const LeafMask g = and_not(spill(reach[l], k), left[n], true);
                 if (!any(g)) continue;
                 if (!any(reach[n])) touched.push_back(n);
@@ -383,15 +407,17 @@ private:
         if (collar_.empty())
             collar_.assign(leaves_.leafCount(), LeafMask{}), hold_.assign(leaves_.leafCount(), LeafMask{});
         std::vector<std::size_t> leaves;
-        for (const std::size_t l : in)
+        for (const std::size_t l : in) {
+            const unsigned sides = spill_sides(piece[l]);
             for (int k = 0; k < 27; ++k) {
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                if (n == kNoLeaf) continue;
+                if (!(sides >> k & 1) || n == kNoLeaf) continue;
                 const LeafMask g = and_not(spill(piece[l], k), leaf_mask(leaves_.leaf(n)), true);
                 if (!any(g)) continue;
                 if (!any(collar_[n])) leaves.push_back(n);
                 for (std::size_t x = 0; x < 8; ++x) collar_[n][x] |= g[x];
             }
+        }
         bool one = true;
         if (!leaves.empty()) {
             std::vector<std::size_t> reached;
@@ -410,11 +436,8 @@ private:
     // kept); `outside` set when one has a face neighbour neither kept nor gone.
     int leaf_change(std::size_t l, const LeafMask& which, const std::vector<LeafMask>& gone, bool& outside) {
         if (!any(which)) return 0;
-        if (on_.empty()) on_.assign(leaves_.leafCount(), LeafMask{});
-        for (int k = 0; k < 27; ++k)
-            if (const std::uint32_t n = around_[l * 27 + std::size_t(k)]; n != kNoLeaf)
-                on_[n] = leaf_mask(leaves_.leaf(n));
-        const Padded p(on_, gone, around_, l);
+        const Padded p([&](std::size_t n) { return leaf_mask(leaves_.leaf(n)); },
+                       [&](std::size_t n) { return gone[n]; }, around_, l);
         int change = 0;
         for (std::size_t x = 0; x < 8; ++x)
             for (std::uint64_t w = which[x]; w; w &= w - 1) {
@@ -455,14 +478,15 @@ private:
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
     const VoxelField& field_;
-    std::vector<std::uint8_t> state_;
+    std::unique_ptr<std::uint8_t[], decltype(&std::free)> state_;
+    // split's: the field of the voxels of the pieces that went back (per voxel as state_).
+    std::unique_ptr<float[], decltype(&std::free)> field_at_{nullptr, &std::free};
     std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
     std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
     std::vector<LeafMask> part_, grown_;  // split's
     std::vector<LeafMask> seen_, rest_;   // reaches_outside's
-    std::vector<LeafMask> on_;            // leaf_change's: the on voxels of the leaves about one
     // outside_connected's: the leaves about a piece (those the tree lacks too) by origin, each
     // with its outside voxels about the piece, those touching it by a face, those flooded.
     struct ShellLeaf {

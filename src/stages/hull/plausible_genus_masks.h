@@ -75,39 +75,53 @@ inline LeafMask spill6(const LeafMask& m, int k) {
     return out;
 }
 
+// The neighbour offsets k (bit k, bit order of a neighbourhood; the centre 13 included when
+// `m` has a voxel) into which spill(m, k) (or spill6 at a face) can reach: those whose side
+// of the leaf (x, y and z each at 0, at 7 or anywhere) `m` has voxels on. A superset: a
+// corner needs one voxel at the corner, not one on each of its three faces.
+inline unsigned spill_sides(const LeafMask& m) {
+    std::uint64_t all = 0;
+    for (const std::uint64_t w : m) all |= w;
+    if (!all) return 0;
+    // Per axis, the offsets -1, 0, +1 it can take: bit 0, 1, 2.
+    const unsigned sx = 2u | unsigned(m[0] != 0) | unsigned(m[7] != 0) << 2;
+    const unsigned sy = 2u | unsigned((all & 0xFFull) != 0) | unsigned((all >> 56) != 0) << 2;
+    const unsigned sz = 2u | unsigned((all & 0x0101010101010101ull) != 0) |
+                        unsigned((all & 0x8080808080808080ull) != 0) << 2;
+    unsigned out = 0;
+    for (int k = 0; k < 27; ++k)
+        if (sx >> (k % 3) & sy >> (k / 3 % 3) & sz >> (k / 9) & 1) out |= 1u << k;
+    return out;
+}
+
 // A leaf's voxels of two sets with the layer about the leaf from its 26 neighbours, as rows
-// along x (row [y + 1][z + 1], bit x + 1, for x, y, z from -1 to 8): the 3x3x3 neighbourhood
-// of any voxel of the leaf in nine row reads, where a lookup per neighbour would find its
-// leaf and offset 26 times.
+// along z (row [x + 1][y + 1], bit z + 1, for x, y, z from -1 to 8; a row of the leaf is a
+// byte of its mask): the 3x3x3 neighbourhood of any voxel of the leaf in nine row reads,
+// where a lookup per neighbour would find its leaf and offset 26 times.
 struct Padded {
     std::uint16_t a[10][10] = {}, b[10][10] = {};
 
-    /// The sets `sa` and `sb` about leaf `l` (`around`: the leaves' neighbourhoods, kNoLeaf
-    /// where the tree has no leaf: empty there).
-    Padded(const std::vector<LeafMask>& sa, const std::vector<LeafMask>& sb, const std::vector<std::uint32_t>& around,
-           std::size_t l) {
+    /// The sets about leaf `l` (`around`: the leaves' neighbourhoods, kNoLeaf where the tree
+    /// has no leaf: empty there), `sa(n)` and `sb(n)` giving leaf n's masks.
+    template <class A, class B>
+    Padded(const A& sa, const B& sb, const std::vector<std::uint32_t>& around, std::size_t l) {
         for (int k = 0; k < 27; ++k) {
             const std::uint32_t n = around[l * 27 + std::size_t(k)];
             if (n == kNoLeaf) continue;
             const int dx = k % 3 - 1, dy = k / 3 % 3 - 1, dz = k / 9 - 1;
-            // The leaf's voxels that fall in the padding along each axis: all 8, or the one
-            // layer next to the centre leaf.
+            // The leaf's rows that fall in the padding: all 8, or the one layer next to the
+            // centre leaf, along x and y; along z the whole row or its end bit.
             const int x0 = dx < 0 ? 7 : 0, x1 = dx > 0 ? 0 : 7;
             const int y0 = dy < 0 ? 7 : 0, y1 = dy > 0 ? 0 : 7;
-            const int z0 = dz < 0 ? 7 : 0, z1 = dz > 0 ? 0 : 7;
-            const LeafMask& ma = sa[n];
-            const LeafMask& mb = sb[n];
-            for (int y = y0; y <= y1; ++y)
-                for (int z = z0; z <= z1; ++z) {
-                    const int py = dy < 0 ? 0 : dy > 0 ? 9 : y + 1, pz = dz < 0 ? 0 : dz > 0 ? 9 : z + 1;
-                    const int sh = y * 8 + z;
-                    std::uint16_t ra = 0, rb = 0;
-                    for (int x = x0; x <= x1; ++x) {
-                        const int px = dx < 0 ? 0 : dx > 0 ? 9 : x + 1;
-                        ra |= std::uint16_t((ma[std::size_t(x)] >> sh & 1) << px);
-                        rb |= std::uint16_t((mb[std::size_t(x)] >> sh & 1) << px);
-                    }
-                    a[py][pz] |= ra, b[py][pz] |= rb;
+            const LeafMask ma = sa(n), mb = sb(n);
+            const auto row = [dz](std::uint64_t byte) {
+                return std::uint16_t(dz == 0 ? byte << 1 : dz < 0 ? byte >> 7 : (byte & 1) << 9);
+            };
+            for (int x = x0; x <= x1; ++x)
+                for (int y = y0; y <= y1; ++y) {
+                    const int px = dx < 0 ? 0 : dx > 0 ? 9 : x + 1, py = dy < 0 ? 0 : dy > 0 ? 9 : y + 1;
+                    a[px][py] |= row(ma[std::size_t(x)] >> (8 * y) & 0xFF);
+                    b[px][py] |= row(mb[std::size_t(x)] >> (8 * y) & 0xFF);
                 }
         }
     }
@@ -116,13 +130,17 @@ struct Padded {
     std::pair<unsigned, unsigned> around(unsigned off) const {
         const unsigned x = off >> 6, y = off >> 3 & 7, z = off & 7;
         unsigned na = 0, nb = 0;
-        for (unsigned dz = 0; dz < 3; ++dz)
-            for (unsigned dy = 0; dy < 3; ++dy) {
-                na |= unsigned(a[y + dy][z + dz] >> x & 7) << (3 * dy + 9 * dz);
-                nb |= unsigned(b[y + dy][z + dz] >> x & 7) << (3 * dy + 9 * dz);
+        for (unsigned dy = 0; dy < 3; ++dy)
+            for (unsigned dx = 0; dx < 3; ++dx) {
+                na |= spread(unsigned(a[x + dx][y + dy] >> z & 7)) << (dx + 3 * dy);
+                nb |= spread(unsigned(b[x + dx][y + dy] >> z & 7)) << (dx + 3 * dy);
             }
         return {na, nb};
     }
+
+private:
+    // Three bits along z at the places 0, 9 and 18 of a neighbourhood.
+    static unsigned spread(unsigned v) { return (v & 1) | (v >> 1 & 1) << 9 | (v >> 2 & 1) << 18; }
 };
 
 } // namespace cm::plausible::genus_masks

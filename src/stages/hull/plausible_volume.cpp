@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <set>
 
@@ -260,12 +261,16 @@ std::size_t OutputVolume::bridge_pieces(int reach) {
 // Removed voxels whose removal opened a tunnel through the kept volume put back
 // (plausible_genus.h; only adding: no line of sight loses a voxel).
 void OutputVolume::keep_genus() {
-    // The field of voxel `off` of leaf l: its number, the hull's voxels before it.
+    // The field of voxel `off` of leaf l: its number, the hull's voxels before it (those
+    // before its word counted once per word).
+    std::vector<std::array<std::size_t, 8>> first(nleaf_);
+    tbb::parallel_for(std::size_t(0), nleaf_, [&](std::size_t l) {
+        std::size_t i = vox_.base[l];
+        for (std::size_t w = 0; w < 8; ++w) first[l][w] = i, i += std::size_t(__builtin_popcountll(hull_masks_[l][w]));
+    });
     const auto field_at = [&](std::size_t l, openvdb::Index off) {
-        const LeafMask& m = hull_masks_[l];
-        std::size_t i = vox_.base[l] + std::size_t(__builtin_popcountll(m[off >> 6] & ((1ull << (off & 63)) - 1)));
-        for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(m[w]));
-        return field_[i];
+        const std::uint64_t below = hull_masks_[l][off >> 6] & ((1ull << (off & 63)) - 1);
+        return field_[first[l][off >> 6] + std::size_t(__builtin_popcountll(below))];
     };
     const std::size_t back = keep_hull_genus(vox_.leaves, hull_masks_, field_at);
     st_.genus_kept = back;
