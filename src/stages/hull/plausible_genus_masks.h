@@ -80,18 +80,28 @@ inline LeafMask spill6(const LeafMask& m, int k) {
 // of the leaf (x, y and z each at 0, at 7 or anywhere) `m` has voxels on. A superset: a
 // corner needs one voxel at the corner, not one on each of its three faces.
 inline unsigned spill_sides(const LeafMask& m) {
+    // Per axis and per set of offsets it can take (bit 0: -1, 1: 0, 2: +1), the neighbours
+    // whose offset along it is in the set.
+    struct Sides {
+        unsigned axis[3][8] = {};
+        constexpr Sides() {
+            for (int k = 0; k < 27; ++k)
+                for (unsigned set = 0; set < 8; ++set) {
+                    if (set >> (k % 3) & 1) axis[0][set] |= 1u << k;
+                    if (set >> (k / 3 % 3) & 1) axis[1][set] |= 1u << k;
+                    if (set >> (k / 9) & 1) axis[2][set] |= 1u << k;
+                }
+        }
+    };
+    static constexpr Sides kSides;
     std::uint64_t all = 0;
     for (const std::uint64_t w : m) all |= w;
     if (!all) return 0;
-    // Per axis, the offsets -1, 0, +1 it can take: bit 0, 1, 2.
     const unsigned sx = 2u | unsigned(m[0] != 0) | unsigned(m[7] != 0) << 2;
     const unsigned sy = 2u | unsigned((all & 0xFFull) != 0) | unsigned((all >> 56) != 0) << 2;
-    const unsigned sz = 2u | unsigned((all & 0x0101010101010101ull) != 0) |
-                        unsigned((all & 0x8080808080808080ull) != 0) << 2;
-    unsigned out = 0;
-    for (int k = 0; k < 27; ++k)
-        if (sx >> (k % 3) & sy >> (k / 3 % 3) & sz >> (k / 9) & 1) out |= 1u << k;
-    return out;
+    const unsigned sz =
+        2u | unsigned((all & 0x0101010101010101ull) != 0) | unsigned((all & 0x8080808080808080ull) != 0) << 2;
+    return kSides.axis[0][sx] & kSides.axis[1][sy] & kSides.axis[2][sz];
 }
 
 // A leaf's voxels of two sets with the layer about the leaf from its 26 neighbours, as rows
