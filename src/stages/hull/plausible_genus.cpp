@@ -2,7 +2,12 @@
 #include "plausible_genus.h"
 #include "plausible_genus_masks.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -22,6 +27,28 @@ using Leaves = openvdb::tree::LeafManager<openvdb::BoolTree>;
 // Per voxel, its state while the removed voxels are taken out again one at a time: kSettled
 // (kept, or out for good: left alone), or one of the others for the voxels that went back.
 enum State : std::uint8_t { kSettled = 0, kIdle, kQueued, kWaiting };
+
+// outside_connected's: a leaf about a piece (one the tree lacks too) by origin, with its
+// outside voxels about the piece, those touching it by a face, those flooded.
+struct ShellLeaf {
+    Coord origin;
+    LeafMask out, contact, seen;
+};
+
+// A thread's work space for the checks of a piece or chunk, per leaf (all empty between
+// calls).
+struct Scratch {
+    std::vector<LeafMask> part, grown;  // split's and removable's
+    std::vector<LeafMask> collar, hold; // collar_connected's
+    std::vector<LeafMask> seen, rest;   // reaches_outside's
+    std::vector<ShellLeaf> shell;       // outside_connected's
+    std::unordered_map<std::uint64_t, std::size_t> shell_of;
+
+    void ready(std::size_t leaves) {
+        if (part.size() == leaves) return;
+        for (auto* v : {&part, &grown, &collar, &hold, &seen, &rest}) v->assign(leaves, LeafMask{});
+    }
+};
 
 class Retake {
 public:
@@ -45,8 +72,10 @@ public:
             for (std::size_t x = 0; x < 8; ++x) n += std::size_t(__builtin_popcountll(hull_[l][x] & ~on[x]));
             if (n) cut_leaves_.push_back(l), removed_ += n;
         }
+        sort_pieces();
         std::vector<std::size_t> back;
-        sort_pieces(back);
+        for (const std::vector<std::size_t>& b : back_) back.insert(back.end(), b.begin(), b.end());
+        back_.clear();
         for (const std::size_t code : back) leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
         for (const std::size_t code : back)
             if (~around_on(code) & kFaces) push(code);
@@ -114,6 +143,21 @@ private:
         return n == kNoLeaf ? kNone : std::size_t(n) * 512 + std::size_t((x & 7) << 6 | (y & 7) << 3 | (z & 7));
     }
 
+    // Leaf n's on voxels while the pieces are sorted (other threads change other voxels of it).
+    LeafMask on(std::size_t n) const {
+        LeafMask m;
+        for (std::size_t x = 0; x < 8; ++x)
+            m[x] =
+                std::atomic_ref<std::uint64_t>(const_cast<std::uint64_t&>(on_[n][x])).load(std::memory_order_relaxed);
+        return m;
+    }
+    void set(std::size_t code, bool value) {
+        std::atomic_ref<std::uint64_t> w(on_[code / 512][code % 512 / 64]);
+        const std::uint64_t bit = 1ull << (code % 64);
+        if (value) w.fetch_or(bit, std::memory_order_relaxed);
+        else w.fetch_and(~bit, std::memory_order_relaxed);
+    }
+
     // The 3x3x3 neighbourhood of `code` (bit order as above): its on voxels.
     unsigned around_on(std::size_t code) const {
         unsigned nb = 0;
@@ -132,13 +176,16 @@ private:
     // traded for a handle of the hull cut) is out for good; the others go back on and are
     // split (split()). Only voxels with a voxel not removed about them add to the change (one
     // with all its neighbours removed adds nothing: euler_change).
-    void sort_pieces(std::vector<std::size_t>& back) {
+    //
+    // The chunks of a split are checked side by side (split()): the voxels' on state is kept
+    // in on_ meanwhile, word by word atomically, and written back to the leaves at the end.
+    void sort_pieces() {
         const std::size_t n = leaves_.leafCount();
+        on_.resize(n);
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t l) { on_[l] = leaf_mask(leaves_.leaf(l)); });
         std::vector<LeafMask> left(n, LeafMask{}), reach(n, LeafMask{});
-        for (const std::size_t l : cut_leaves_) {
-            const LeafMask on = leaf_mask(leaves_.leaf(l));
-            for (std::size_t x = 0; x < 8; ++x) left[l][x] = hull_[l][x] & ~on[x];
-        }
+        for (const std::size_t l : cut_leaves_)
+            for (std::size_t x = 0; x < 8; ++x) left[l][x] = hull_[l][x] & ~on_[l][x];
         const std::vector<LeafMask> gone = left;
         std::vector<std::size_t> touched;
         for (const std::size_t l0 : cut_leaves_)
@@ -162,8 +209,9 @@ private:
                     for (std::size_t x = 0; x < 8; ++x) which[x] = reach[l][x] & near[x];
                     change += leaf_change(l, which, gone, outside);
                 }
-                const bool at_once = change == 0 && outside && collar_connected(reach, touched) &&
-                                     reaches_outside(reach, touched) && outside_connected(reach, touched);
+                Scratch& s = scratch_.local();
+                const bool at_once = change == 0 && outside && collar_connected(s, reach, touched) &&
+                                     reaches_outside(s, reach, touched) && outside_connected(s, reach, touched);
                 if (at_once) {
                     for (const std::size_t l : touched) reach[l] = LeafMask{};
                     continue;
@@ -175,17 +223,30 @@ private:
                 for (const std::size_t code : piece) {
                     state_[code] = kIdle;
                     field_at_[code] = field_(code / 512, openvdb::Index(code % 512));
-                    leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
+                    set(code, true);
                 }
-                split(piece, back);
+                split(piece);
             }
+        for (const std::size_t l : cut_leaves_) {
+            LeafT& leaf = leaves_.leaf(l);
+            const LeafMask was = leaf_mask(leaf);
+            for (std::size_t x = 0; x < 8; ++x)
+                for (std::uint64_t w = was[x] ^ on_[l][x]; w; w &= w - 1) {
+                    const auto off = openvdb::Index(x * 64 + std::size_t(__builtin_ctzll(w)));
+                    if (on_[l][x] >> (off % 64) & 1) leaf.setValueOn(off, true);
+                    else leaf.setValueOff(off, false);
+                }
+        }
+        on_ = {};
     }
 
     // A piece (its voxels `codes`, on) whose removal at once would change the kept volume's
     // topology, taken out in chunks: its voxels above its median field first, then the
     // others, by 26-connected chunk; a chunk that could go at once (removable) goes, the
-    // others are split again, down to kChunk voxels, which go to `back` (one at a time).
-    void split(const std::vector<std::size_t>& codes, std::vector<std::size_t>& back) {
+    // others are split again, down to kChunk voxels, which go to back_ (one at a time). The
+    // chunks of a half are checked side by side: no two of them are 26-neighbours, so none
+    // looks at a voxel another one changes (each check reads the chunk's 26-neighbours).
+    void split(const std::vector<std::size_t>& codes) {
         std::vector<float> f(codes.size());
         for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_at_[codes[i]];
         float t = 0.0f;
@@ -195,54 +256,72 @@ private:
             t = sorted[f.size() / 2];
         }
         if (codes.size() <= kChunk || std::none_of(f.begin(), f.end(), [&](float v) { return v > t; })) {
+            std::vector<std::size_t>& back = back_.local();
             back.insert(back.end(), codes.begin(), codes.end());
             return;
         }
-        if (part_.empty())
-            part_.assign(leaves_.leafCount(), LeafMask{}), grown_.assign(leaves_.leafCount(), LeafMask{});
-        std::vector<std::size_t> touched;
         for (const bool high : {true, false}) {
-            for (std::size_t i = 0; i < codes.size(); ++i)
-                if ((f[i] > t) == high) part_[codes[i] / 512][codes[i] % 512 / 64] |= 1ull << (codes[i] % 64);
-            for (std::size_t i = 0; i < codes.size(); ++i) {
-                const std::size_t c = codes[i];
-                if ((f[i] > t) != high || !(part_[c / 512][c % 512 / 64] >> (c % 64) & 1)) continue;
-                flood26(c, part_, grown_, touched);
-                const bool go = removable(touched);
-                const std::vector<std::size_t> chunk = take(grown_, touched);
-                if (!go) {
-                    split(chunk, back);
-                    continue;
-                }
-                for (const std::size_t code : chunk) {
-                    leaves_.leaf(code / 512).setValueOff(openvdb::Index(code % 512), false);
-                    state_[code] = kSettled;
+            // (The scratch is the thread's own and left empty before anything runs beside it.)
+            std::vector<std::vector<std::size_t>> chunks;
+            {
+                Scratch& s = scratch_.local();
+                s.ready(leaves_.leafCount());
+                std::vector<std::size_t> touched;
+                for (std::size_t i = 0; i < codes.size(); ++i)
+                    if ((f[i] > t) == high) s.part[codes[i] / 512][codes[i] % 512 / 64] |= 1ull << (codes[i] % 64);
+                for (std::size_t i = 0; i < codes.size(); ++i) {
+                    const std::size_t c = codes[i];
+                    if ((f[i] > t) != high || !(s.part[c / 512][c % 512 / 64] >> (c % 64) & 1)) continue;
+                    flood26(c, s.part, s.grown, touched);
+                    chunks.push_back(take(s.grown, touched));
                 }
             }
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks.size()),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                      const std::vector<std::size_t>& chunk = chunks[i];
+                                      if (!removable(chunk)) {
+                                          split(chunk);
+                                          continue;
+                                      }
+                                      for (const std::size_t code : chunk) set(code, false), state_[code] = kSettled;
+                                  }
+                              });
         }
     }
 
-    // Whether the chunk in grown_ (over the leaves `in`) could go at once: it touches the
-    // outside, its removal leaves the Euler characteristic of the kept volume (the on voxels)
-    // unchanged, the kept voxels about it are one piece by themselves, it seals no cavity and
-    // the outside about it is one piece.
-    bool removable(const std::vector<std::size_t>& in) {
+    // Whether the chunk (its voxels `codes`) could go at once: it touches the outside, its
+    // removal leaves the Euler characteristic of the kept volume (the on voxels) unchanged,
+    // the kept voxels about it are one piece by themselves, it seals no cavity and the outside
+    // about it is one piece.
+    bool removable(const std::vector<std::size_t>& codes) {
+        Scratch& s = scratch_.local();
+        s.ready(leaves_.leafCount());
+        std::vector<std::size_t> in;
+        for (const std::size_t c : codes) {
+            LeafMask& m = s.grown[c / 512];
+            if (!any(m)) in.push_back(c / 512);
+            m[c % 512 / 64] |= 1ull << (c % 64);
+        }
         int change = 0;
         bool outside = false;
-        for (const std::size_t l : in) change += leaf_change(l, grown_[l], grown_, outside);
-        return change == 0 && outside && collar_connected(grown_, in) && reaches_outside(grown_, in) &&
-               outside_connected(grown_, in);
+        for (const std::size_t l : in) change += leaf_change(l, s.grown[l], s.grown, outside);
+        const bool go = change == 0 && outside && collar_connected(s, s.grown, in) && reaches_outside(s, s.grown, in) &&
+                        outside_connected(s, s.grown, in);
+        for (const std::size_t l : in) s.grown[l] = LeafMask{};
+        return go;
     }
 
     // Whether every voxel of `q` (per leaf, over the leaves `in`) reaches by face steps
     // within it one with a face neighbour neither on nor in `q` (the outside: what is
     // removed reaches it so): taking `q` out then seals no cavity.
-    bool reaches_outside(const std::vector<LeafMask>& q, const std::vector<std::size_t>& in) {
+    bool reaches_outside(Scratch& s, const std::vector<LeafMask>& q, const std::vector<std::size_t>& in) const {
         static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
-        if (seen_.empty()) seen_.assign(leaves_.leafCount(), LeafMask{}), rest_.assign(leaves_.leafCount(), LeafMask{});
+        s.ready(leaves_.leafCount());
+        std::vector<LeafMask>&seen = s.seen, &rest = s.rest;
         const auto off = [&](std::uint32_t n) { // neither on nor in q (a missing leaf: all)
             if (n == kNoLeaf) return full();
-            return and_not(leaf_mask(leaves_.leaf(n)), q[n], false);
+            return and_not(on(n), q[n], false);
         };
         std::vector<std::size_t> work;
         for (const std::size_t l : in) {
@@ -253,29 +332,29 @@ private:
                 const LeafMask m = spill6(off(around_[l * 27 + std::size_t(k)]), 26 - k);
                 for (std::size_t x = 0; x < 8; ++x) near[x] |= m[x];
             }
-            for (std::size_t x = 0; x < 8; ++x) seen_[l][x] = q[l][x] & near[x], rest_[l][x] = q[l][x] & ~near[x];
+            for (std::size_t x = 0; x < 8; ++x) seen[l][x] = q[l][x] & near[x], rest[l][x] = q[l][x] & ~near[x];
             work.push_back(l);
         }
         while (!work.empty()) {
             const std::size_t l = work.back();
             work.pop_back();
             for (;;) { // grow within the leaf
-                const LeafMask g = and_not(spill6(seen_[l], kCentre), rest_[l], true);
+                const LeafMask g = and_not(spill6(seen[l], kCentre), rest[l], true);
                 if (!any(g)) break;
-                for (std::size_t x = 0; x < 8; ++x) seen_[l][x] |= g[x], rest_[l][x] &= ~g[x];
+                for (std::size_t x = 0; x < 8; ++x) seen[l][x] |= g[x], rest[l][x] &= ~g[x];
             }
-            const unsigned sides = spill_sides(seen_[l]);
+            const unsigned sides = spill_sides(seen[l]);
             for (const int k : kFace) {
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                if (!(sides >> k & 1) || n == kNoLeaf || !any(rest_[n])) continue;
-                const LeafMask g = and_not(spill6(seen_[l], k), rest_[n], true);
+                if (!(sides >> k & 1) || n == kNoLeaf || !any(rest[n])) continue;
+                const LeafMask g = and_not(spill6(seen[l], k), rest[n], true);
                 if (!any(g)) continue;
-                for (std::size_t x = 0; x < 8; ++x) seen_[n][x] |= g[x], rest_[n][x] &= ~g[x];
+                for (std::size_t x = 0; x < 8; ++x) seen[n][x] |= g[x], rest[n][x] &= ~g[x];
                 work.push_back(n);
             }
         }
         bool all = true;
-        for (const std::size_t l : in) all = all && !any(rest_[l]), seen_[l] = rest_[l] = LeafMask{};
+        for (const std::size_t l : in) all = all && !any(rest[l]), seen[l] = rest[l] = LeafMask{};
         return all;
     }
 
@@ -286,20 +365,23 @@ private:
     // tunnel, and with (a)-(c) cuts none either. A piece that cuts one of the hull's handles
     // and drills a tunnel elsewhere meets the outside in two places at least: the drill's
     // two ends.)
-    bool outside_connected(const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) {
+    bool outside_connected(Scratch& scratch, const std::vector<LeafMask>& piece,
+                           const std::vector<std::size_t>& in) const {
         static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
-        shell_.clear();
-        shell_of_.clear();
+        std::vector<ShellLeaf>& shell = scratch.shell;
+        std::unordered_map<std::uint64_t, std::size_t>& shell_of = scratch.shell_of;
+        shell.clear();
+        shell_of.clear();
         // The shell's leaf at offset k (bit order of a neighbourhood) from origin `o`: made on
         // first use when `make`, else kNone where there is none.
         const auto at = [&](const Coord& o, int k, bool make) {
             const Coord p = o.offsetBy(8 * (k % 3 - 1), 8 * (k / 3 % 3 - 1), 8 * (k / 9 - 1));
             if (!make) {
-                const auto it = shell_of_.find(leaf_key(p));
-                return it == shell_of_.end() ? kNone : it->second;
+                const auto it = shell_of.find(leaf_key(p));
+                return it == shell_of.end() ? kNone : it->second;
             }
-            const auto [it, fresh] = shell_of_.try_emplace(leaf_key(p), shell_.size());
-            if (fresh) shell_.push_back(ShellLeaf{p, {}, {}, {}});
+            const auto [it, fresh] = shell_of.try_emplace(leaf_key(p), shell.size());
+            if (fresh) shell.push_back(ShellLeaf{p, {}, {}, {}});
             return it->second;
         };
         for (const std::size_t l : in) {
@@ -309,8 +391,8 @@ private:
                 LeafMask m = spill(piece[l], k);
                 if (!any(m)) continue;
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
-                ShellLeaf& s = shell_[at(leaves_.leaf(l).origin(), k, true)];
-                if (n != kNoLeaf) m = and_not(m, and_not(leaf_mask(leaves_.leaf(n)), piece[n], false), true);
+                ShellLeaf& s = shell[at(leaves_.leaf(l).origin(), k, true)];
+                if (n != kNoLeaf) m = and_not(m, and_not(on(n), piece[n], false), true);
                 for (std::size_t x = 0; x < 8; ++x) s.out[x] |= m[x];
             }
         }
@@ -322,21 +404,21 @@ private:
                 if (!(sides >> k & 1)) continue;
                 const std::size_t s = at(leaves_.leaf(l).origin(), k, false);
                 if (s == kNone) continue;
-                const LeafMask c = and_not(spill6(piece[l], k), shell_[s].out, true);
-                for (std::size_t x = 0; x < 8; ++x) shell_[s].contact[x] |= c[x];
+                const LeafMask c = and_not(spill6(piece[l], k), shell[s].out, true);
+                for (std::size_t x = 0; x < 8; ++x) shell[s].contact[x] |= c[x];
                 if (seed == kNone && any(c)) seed = s;
             }
         }
         if (seed == kNone) return true;
         std::size_t x0 = 0;
-        while (!shell_[seed].contact[x0]) ++x0;
-        shell_[seed].seen[x0] = shell_[seed].contact[x0] & (~shell_[seed].contact[x0] + 1);
+        while (!shell[seed].contact[x0]) ++x0;
+        shell[seed].seen[x0] = shell[seed].contact[x0] & (~shell[seed].contact[x0] + 1);
         // Adds to `seen` of shell leaf t the voxels of `g` in its `out`; whether any was new.
         const auto grow = [&](std::size_t t, const LeafMask& g) {
             bool grew = false;
             for (std::size_t x = 0; x < 8; ++x) {
-                const std::uint64_t w = g[x] & shell_[t].out[x] & ~shell_[t].seen[x];
-                shell_[t].seen[x] |= w;
+                const std::uint64_t w = g[x] & shell[t].out[x] & ~shell[t].seen[x];
+                shell[t].seen[x] |= w;
                 grew = grew || w;
             }
             return grew;
@@ -345,15 +427,15 @@ private:
         while (!work.empty()) {
             const std::size_t s = work.back();
             work.pop_back();
-            while (grow(s, spill6(shell_[s].seen, kCentre))) {} // within the leaf
-            const unsigned sides = spill_sides(shell_[s].seen);
+            while (grow(s, spill6(shell[s].seen, kCentre))) {} // within the leaf
+            const unsigned sides = spill_sides(shell[s].seen);
             for (const int k : kFace) {
                 if (!(sides >> k & 1)) continue;
-                const std::size_t t = at(shell_[s].origin, k, false);
-                if (t != kNone && grow(t, spill6(shell_[s].seen, k))) work.push_back(t);
+                const std::size_t t = at(shell[s].origin, k, false);
+                if (t != kNone && grow(t, spill6(shell[s].seen, k))) work.push_back(t);
             }
         }
-        for (const ShellLeaf& s : shell_)
+        for (const ShellLeaf& s : shell)
             for (std::size_t x = 0; x < 8; ++x)
                 if (s.contact[x] & ~s.seen[x]) return false;
         return true;
@@ -403,41 +485,40 @@ private:
     // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves
     // `in`) are one 26-connected set by themselves. (When they are, its removal joins no two
     // of them apart: no part of the kept volume comes off.)
-    bool collar_connected(const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) {
-        if (collar_.empty())
-            collar_.assign(leaves_.leafCount(), LeafMask{}), hold_.assign(leaves_.leafCount(), LeafMask{});
+    bool collar_connected(Scratch& s, const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) const {
+        s.ready(leaves_.leafCount());
+        std::vector<LeafMask>&collar = s.collar, &hold = s.hold;
         std::vector<std::size_t> leaves;
         for (const std::size_t l : in) {
             const unsigned sides = spill_sides(piece[l]);
             for (int k = 0; k < 27; ++k) {
                 const std::uint32_t n = around_[l * 27 + std::size_t(k)];
                 if (!(sides >> k & 1) || n == kNoLeaf) continue;
-                const LeafMask g = and_not(spill(piece[l], k), leaf_mask(leaves_.leaf(n)), true);
+                const LeafMask g = and_not(spill(piece[l], k), on(n), true);
                 if (!any(g)) continue;
-                if (!any(collar_[n])) leaves.push_back(n);
-                for (std::size_t x = 0; x < 8; ++x) collar_[n][x] |= g[x];
+                if (!any(collar[n])) leaves.push_back(n);
+                for (std::size_t x = 0; x < 8; ++x) collar[n][x] |= g[x];
             }
         }
         bool one = true;
         if (!leaves.empty()) {
             std::vector<std::size_t> reached;
             std::size_t x0 = 0;
-            while (!collar_[leaves[0]][x0]) ++x0;
-            flood26(leaves[0] * 512 + x0 * 64 + std::size_t(__builtin_ctzll(collar_[leaves[0]][x0])), collar_, hold_,
+            while (!collar[leaves[0]][x0]) ++x0;
+            flood26(leaves[0] * 512 + x0 * 64 + std::size_t(__builtin_ctzll(collar[leaves[0]][x0])), collar, hold,
                     reached);
-            for (const std::size_t l : reached) hold_[l] = LeafMask{};
+            for (const std::size_t l : reached) hold[l] = LeafMask{};
         }
-        for (const std::size_t l : leaves) one = one && !any(collar_[l]), collar_[l] = LeafMask{};
+        for (const std::size_t l : leaves) one = one && !any(collar[l]), collar[l] = LeafMask{};
         return one;
     }
 
     // What taking out the voxels `which` of leaf l adds to their piece's change
     // (euler_change), `gone` the voxels taken out with them (per leaf; the others on are
     // kept); `outside` set when one has a face neighbour neither kept nor gone.
-    int leaf_change(std::size_t l, const LeafMask& which, const std::vector<LeafMask>& gone, bool& outside) {
+    int leaf_change(std::size_t l, const LeafMask& which, const std::vector<LeafMask>& gone, bool& outside) const {
         if (!any(which)) return 0;
-        const Padded p([&](std::size_t n) { return leaf_mask(leaves_.leaf(n)); },
-                       [&](std::size_t n) { return gone[n]; }, around_, l);
+        const Padded p([&](std::size_t n) { return on(n); }, [&](std::size_t n) { return gone[n]; }, around_, l);
         int change = 0;
         for (std::size_t x = 0; x < 8; ++x)
             for (std::uint64_t w = which[x]; w; w &= w - 1) {
@@ -484,17 +565,11 @@ private:
     std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
-    std::vector<LeafMask> collar_, hold_; // collar_connected's work (all empty between calls)
-    std::vector<LeafMask> part_, grown_;  // split's
-    std::vector<LeafMask> seen_, rest_;   // reaches_outside's
-    // outside_connected's: the leaves about a piece (those the tree lacks too) by origin, each
-    // with its outside voxels about the piece, those touching it by a face, those flooded.
-    struct ShellLeaf {
-        Coord origin;
-        LeafMask out, contact, seen;
-    };
-    std::vector<ShellLeaf> shell_;
-    std::unordered_map<std::uint64_t, std::size_t> shell_of_;
+    // While the pieces are sorted: the voxels' on state (sort_pieces()), and what goes to the
+    // one-at-a-time queue, per thread.
+    std::vector<LeafMask> on_;
+    tbb::enumerable_thread_specific<std::vector<std::size_t>> back_;
+    tbb::enumerable_thread_specific<Scratch> scratch_;
     std::priority_queue<std::pair<float, std::size_t>> queue_;
 };
 
