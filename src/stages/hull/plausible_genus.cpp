@@ -5,6 +5,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -131,7 +133,8 @@ public:
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
-    static constexpr std::size_t kChunk = 64; // chunks this small go one voxel at a time
+    static constexpr std::size_t kChunk = 64;          // chunks this small go one voxel at a time
+    static constexpr std::size_t kParallelLeaves = 32; // pieces over this many leaves: checked in parallel
 
     // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
     // where the tree has no leaf.
@@ -193,9 +196,7 @@ private:
                 std::size_t x0 = 0;
                 while (!left[l0][x0]) ++x0;
                 flood26(l0 * 512 + x0 * 64 + std::size_t(__builtin_ctzll(left[l0][x0])), left, reach, touched);
-                int change = 0;
-                bool outside = false;
-                for (const std::size_t l : touched) {
+                const auto [change, outside] = change_over(touched, gone, [&](std::size_t l) {
                     // Voxels with one not removed about them (a missing leaf: none removed).
                     LeafMask near = spill(and_not(gone[l], LeafMask{}, false), kCentre);
                     const unsigned sides = spill_sides(reach[l]);
@@ -207,8 +208,8 @@ private:
                     }
                     LeafMask which;
                     for (std::size_t x = 0; x < 8; ++x) which[x] = reach[l][x] & near[x];
-                    change += leaf_change(l, which, gone, outside);
-                }
+                    return which;
+                });
                 Scratch& s = scratch_.local();
                 const bool at_once = change == 0 && outside && collar_connected(s, reach, touched) &&
                                      reaches_outside(s, reach, touched) && outside_connected(s, reach, touched);
@@ -216,16 +217,21 @@ private:
                     for (const std::size_t l : touched) reach[l] = LeafMask{};
                     continue;
                 }
-                const std::vector<std::size_t> piece = take(reach, touched);
                 if (!field_at_)
                     field_at_.reset(static_cast<float*>(std::malloc(leaves_.leafCount() * 512 * sizeof(float))));
                 if (!field_at_) throw std::bad_alloc();
-                for (const std::size_t code : piece) {
-                    state_[code] = kIdle;
-                    field_at_[code] = field_(code / 512, openvdb::Index(code % 512));
-                    set(code, true);
-                }
-                split(piece);
+                tbb::parallel_for(std::size_t(0), touched.size(), [&](std::size_t i) {
+                    const std::size_t l = touched[i];
+                    for (std::size_t x = 0; x < 8; ++x) {
+                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
+                            const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
+                            state_[code] = kIdle;
+                            field_at_[code] = field_(l, openvdb::Index(code % 512));
+                        }
+                        on_[l][x] |= reach[l][x]; // (each leaf in one call alone)
+                    }
+                });
+                split(take(reach, touched));
             }
         for (const std::size_t l : cut_leaves_) {
             LeafT& leaf = leaves_.leaf(l);
@@ -303,9 +309,7 @@ private:
             if (!any(m)) in.push_back(c / 512);
             m[c % 512 / 64] |= 1ull << (c % 64);
         }
-        int change = 0;
-        bool outside = false;
-        for (const std::size_t l : in) change += leaf_change(l, s.grown[l], s.grown, outside);
+        const auto [change, outside] = change_over(in, s.grown, [&](std::size_t l) { return s.grown[l]; });
         const bool go = change == 0 && outside && collar_connected(s, s.grown, in) && reaches_outside(s, s.grown, in) &&
                         outside_connected(s, s.grown, in);
         for (const std::size_t l : in) s.grown[l] = LeafMask{};
@@ -528,6 +532,29 @@ private:
                 change += euler_change(kept, g);
             }
         return change;
+    }
+
+    // The change (leaf_change) of taking out the voxels `which(l)` of the leaves `in`, and
+    // whether one has a face neighbour neither kept nor gone; over many leaves in parallel
+    // (isolated: a thread waiting for the others runs none of the calls that share its
+    // work space, whose masks `gone` may be).
+    template <class Which>
+    std::pair<int, bool> change_over(const std::vector<std::size_t>& in, const std::vector<LeafMask>& gone,
+                                     const Which& which) const {
+        using Sum = std::pair<int, bool>;
+        const auto part = [&](std::size_t begin, std::size_t end, Sum sum) {
+            for (std::size_t i = begin; i != end; ++i) sum.first += leaf_change(in[i], which(in[i]), gone, sum.second);
+            return sum;
+        };
+        if (in.size() < kParallelLeaves) return part(0, in.size(), Sum{0, false});
+        return tbb::this_task_arena::isolate([&] {
+            return tbb::parallel_reduce(
+                tbb::blocked_range<std::size_t>(0, in.size(), kParallelLeaves / 2), Sum{0, false},
+                [&](const tbb::blocked_range<std::size_t>& r, Sum sum) { return part(r.begin(), r.end(), sum); },
+                [](const Sum& a, const Sum& b) {
+                    return Sum{a.first + b.first, a.second || b.second};
+                });
+        });
     }
 
     // The voxels taken out (in leaf order) with a kept face neighbour: only these can stand
