@@ -16,6 +16,7 @@
 #include <new>
 #include <queue>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 namespace cm::plausible {
@@ -106,16 +107,33 @@ public:
 
     // Kept voxels touching by an edge or a corner alone across a voxel taken out: that voxel
     // back (a few passes: a voxel put back can make such a contact of its own).
+    //
+    // In a pass, each voxel in turn sees the voxels put back before it: the verdicts are
+    // taken in parallel on the pass's starting state, and taken again in turn for the voxels
+    // next to one put back in the pass (the others' neighbourhoods are as they started).
     void close_diagonal_contacts() {
+        // (Only where the outside about it stays one piece: no pocket sealed off.)
+        const auto closes = [&](std::size_t code) {
+            const unsigned nb = around_on(code);
+            return diagonal_contact(nb) && removal_keeps_outside(nb);
+        };
         for (int pass = 0; pass < 4; ++pass) {
-            // (Only where the outside about it stays one piece: no pocket sealed off.)
+            const std::vector<std::size_t> codes = touching_kept();
+            std::vector<char> verdict(codes.size());
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, codes.size(), 1024),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  for (std::size_t i = r.begin(); i != r.end(); ++i) verdict[i] = closes(codes[i]);
+                              });
+            std::unordered_set<std::size_t> moved; // the 26-neighbours of the voxels put back
             std::size_t back = 0;
-            for (const std::size_t code : touching_kept()) {
-                const unsigned nb = around_on(code);
-                if (!diagonal_contact(nb) || !removal_keeps_outside(nb)) continue;
+            for (std::size_t i = 0; i < codes.size(); ++i) {
+                const std::size_t code = codes[i];
+                if (!(moved.count(code) ? closes(code) : verdict[i])) continue;
                 leaves_.leaf(code / 512).setValueOn(openvdb::Index(code % 512), true);
                 state_[code] = kSettled;
                 ++back;
+                for (int k = 0; k < 27; ++k)
+                    if (const std::size_t c = neighbour(code, k); c != kNone) moved.insert(c);
             }
             if (back == 0) break;
         }
@@ -561,8 +579,9 @@ private:
     // between kept voxels touching by an edge or a corner alone.
     std::vector<std::size_t> touching_kept() const {
         static constexpr int kFace[6] = {12, 14, 10, 16, 4, 22}; // -x +x -y +y -z +z
-        std::vector<std::size_t> out;
-        for (const std::size_t l : cut_leaves_) {
+        std::vector<std::vector<std::size_t>> per(cut_leaves_.size());
+        tbb::parallel_for(std::size_t(0), cut_leaves_.size(), [&](std::size_t i) {
+            const std::size_t l = cut_leaves_[i];
             const LeafMask on = leaf_mask(leaves_.leaf(l));
             LeafMask touch{};
             for (int d = 0; d < 6; ++d) {
@@ -573,8 +592,10 @@ private:
             }
             for (std::size_t x = 0; x < 8; ++x)
                 for (std::uint64_t w = hull_[l][x] & ~on[x] & touch[x]; w; w &= w - 1)
-                    out.push_back(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)));
-        }
+                    per[i].push_back(l * 512 + x * 64 + std::size_t(__builtin_ctzll(w)));
+        });
+        std::vector<std::size_t> out;
+        for (const std::vector<std::size_t>& p : per) out.insert(out.end(), p.begin(), p.end());
         return out;
     }
 
