@@ -3,10 +3,14 @@
 // that only dents it stays whole.
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "plausible_genus.h"
+#include "plausible_genus_masks.h"
 #include "plausible_state.h"
 #include "removal_block.h"
 
@@ -186,4 +190,102 @@ TEST(HullPlausibleGenus, APieceThatCutsAHandleOfTheHullAndDrillsATunnelIsNotTake
     EXPECT_EQ(euler(*filled), 1) << "a tunnel where the hull has none";
     EXPECT_TRUE(grid->tree().isValueOn({16, 5, 5})) << "a wall across the slot";
     EXPECT_FALSE(grid->tree().isValueOn({9, 1, 11})) << "the dent stays";
+}
+
+TEST(HullPlausibleGenus, TheSameVoxelsComeBackOnOneThreadAsOnMany) {
+    // A 64 x 48 x 48 block (hundreds of leaves) riddled by a removal that runs through it in
+    // every direction: one piece that cannot go at once, split into chunks that are checked
+    // side by side. Whatever the threads, the same voxels come back.
+    const auto field = [](const Coord& c) {
+        const float wave =
+            std::sin(0.31f * float(c.x())) * std::sin(0.37f * float(c.y())) * std::sin(0.41f * float(c.z()));
+        const unsigned h = unsigned(c.x()) * 73856093u ^ unsigned(c.y()) * 19349663u ^ unsigned(c.z()) * 83492791u;
+        return wave - 0.05f + 0.1f * float(h % 1000u) / 1000.0f;
+    };
+    const auto run = [&](int threads, std::size_t& back) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        auto grid = openvdb::BoolGrid::create(false);
+        grid->tree().denseFill(CoordBBox({0, 0, 0}, {63, 47, 47}), true, true);
+        grid->tree().voxelizeActiveTiles();
+        openvdb::tree::LeafManager<openvdb::BoolTree> leaves(grid->tree());
+        std::vector<plausible::LeafMask> hull;
+        for (std::size_t l = 0; l < leaves.leafCount(); ++l) hull.push_back(plausible::leaf_mask(leaves.leaf(l)));
+        for (auto it = grid->tree().beginValueOn(); it; ++it)
+            if (field(it.getCoord()) > 0) it.setValueOff();
+        back = plausible::keep_hull_genus(leaves, hull, [&](std::size_t l, openvdb::Index off) {
+            return field(leaves.leaf(l).offsetToGlobalCoord(off));
+        });
+        return grid;
+    };
+    std::size_t one = 0, many = 0;
+    const auto a = run(1, one);
+    const auto b = run(4, many);
+    EXPECT_GT(one, 1000u) << "the removal should need its walls";
+    EXPECT_EQ(one, many);
+    std::size_t differ = 0;
+    for (int x = 0; x < 64; ++x)
+        for (int y = 0; y < 48; ++y)
+            for (int z = 0; z < 48; ++z) differ += a->tree().isValueOn({x, y, z}) != b->tree().isValueOn({x, y, z});
+    EXPECT_EQ(differ, 0u);
+}
+
+TEST(HullPlausibleGenus, PaddedRowsGiveEachVoxelItsNeighbourhood) {
+    // Two random sets over a 3 x 3 x 3 block of leaves (some leaves missing): the padded rows
+    // of the centre leaf give every voxel of it the same neighbourhood as lookups one by one,
+    // and a mask spills only into the neighbours spill_sides names.
+    using plausible::LeafMask;
+    auto grid = openvdb::BoolGrid::create(false);
+    unsigned seed = 12345;
+    const auto next = [&] { return seed = seed * 1103515245u + 12345u, seed >> 16; };
+    for (int x = -8; x < 16; ++x)
+        for (int y = -8; y < 16; ++y)
+            for (int z = -8; z < 16; ++z)
+                if ((x >= 0 || y < 8) && next() % 3 == 0) grid->tree().setValueOn({x, y, z}, true);
+    grid->tree().touchLeaf({0, 0, 0});
+    openvdb::tree::LeafManager<openvdb::BoolTree> leaves(grid->tree());
+    const std::vector<std::uint32_t> around = plausible::leaf_neighbourhoods(leaves);
+    std::vector<LeafMask> a(leaves.leafCount()), b(leaves.leafCount());
+    std::size_t centre = 0;
+    for (std::size_t l = 0; l < leaves.leafCount(); ++l) {
+        a[l] = plausible::leaf_mask(leaves.leaf(l));
+        for (auto& w : b[l]) w = std::uint64_t(next()) << 48 ^ std::uint64_t(next()) << 24 ^ next();
+        if (leaves.leaf(l).origin() == Coord(0, 0, 0)) centre = l;
+    }
+    const auto in = [&](const std::vector<LeafMask>& set, const Coord& c) {
+        for (std::size_t l = 0; l < leaves.leafCount(); ++l) {
+            const Coord o = leaves.leaf(l).origin();
+            if (c.x() >> 3 == o.x() >> 3 && c.y() >> 3 == o.y() >> 3 && c.z() >> 3 == o.z() >> 3) {
+                const openvdb::Index off = leaves.leaf(l).coordToOffset(c);
+                return (set[l][off / 64] >> (off % 64) & 1) != 0;
+            }
+        }
+        return false;
+    };
+    const plausible::genus_masks::Padded p([&](std::size_t n) { return a[n]; }, [&](std::size_t n) { return b[n]; },
+                                           around, centre);
+    int wrong = 0;
+    for (openvdb::Index off = 0; off < 512; ++off) {
+        const Coord c = leaves.leaf(centre).offsetToGlobalCoord(off);
+        unsigned na = 0, nb = 0;
+        for (int k = 0; k < 27; ++k) {
+            const Coord q = c.offsetBy(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
+            na |= unsigned(in(a, q)) << k;
+            nb |= unsigned(in(b, q)) << k;
+        }
+        const auto [pa, pb] = p.around(off);
+        wrong += pa != na || pb != nb;
+    }
+    EXPECT_EQ(wrong, 0);
+    for (int trial = 0; trial < 200; ++trial) {
+        LeafMask m{};
+        for (int v = 0; v < 1 + trial % 5; ++v) {
+            const unsigned off = next() % 512;
+            m[off / 64] |= 1ull << (off % 64);
+        }
+        const unsigned sides = plausible::genus_masks::spill_sides(m);
+        for (int k = 0; k < 27; ++k) {
+            const bool spills = plausible::genus_masks::any(plausible::genus_masks::spill(m, k));
+            EXPECT_TRUE(!spills || (sides >> k & 1)) << k;
+        }
+    }
 }
