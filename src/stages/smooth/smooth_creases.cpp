@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -159,23 +160,39 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
     edges_by_vertex(in, start, edge);
     const auto larger = [&](std::uint32_t e) { return larger_end(in, e); };
     const double cos_angle = std::cos(angle_deg * 3.14159265358979323846 / 180.0);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> sharp_edges;
+    // Per block of vertices, in parallel: its edges' lengths and its sharp edges, in vertex
+    // order; the lengths are summed after in that order (the sum of one loop over them).
+    constexpr std::size_t kBlock = 1 << 14;
+    struct Block {
+        std::vector<float> lengths;
+        EdgeList sharp;
+    };
+    std::vector<Block> blocks((nv + kBlock - 1) / kBlock);
+    tbb::parallel_for(std::size_t(0), blocks.size(), [&](std::size_t k) {
+        Block& out = blocks[k];
+        for (auto a = std::uint32_t(k * kBlock), last = std::uint32_t(std::min(nv, (k + 1) * kBlock)); a < last; ++a)
+            for (std::uint32_t i = start[a], end = start[a + 1]; i < end;) {
+                const std::uint32_t b = larger(edge[i]);
+                std::uint32_t j = i + 1;
+                while (j < end && larger(edge[j]) == b) ++j;
+                out.lengths.push_back(length(in.positions[a] - in.positions[b]));
+                if (j - i == 2) {
+                    const Vec3d n0 = face_normal(in, edge[i] / 3), n1 = face_normal(in, edge[i + 1] / 3);
+                    const double l0 = length(n0), l1 = length(n1);
+                    if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) out.sharp.emplace_back(a, b);
+                }
+                i = j;
+            }
+    });
+    EdgeList sharp_edges;
     double edge_length = 0;
     std::size_t edge_count = 0;
-    for (std::uint32_t a = 0; a < nv; ++a)
-        for (std::uint32_t i = start[a], end = start[a + 1]; i < end;) {
-            const std::uint32_t b = larger(edge[i]);
-            std::uint32_t j = i + 1;
-            while (j < end && larger(edge[j]) == b) ++j;
-            edge_length += double(length(in.positions[a] - in.positions[b]));
-            ++edge_count;
-            if (j - i == 2) {
-                const Vec3d n0 = face_normal(in, edge[i] / 3), n1 = face_normal(in, edge[i + 1] / 3);
-                const double l0 = length(n0), l1 = length(n1);
-                if (l0 > 0 && l1 > 0 && dot(n0, n1) < cos_angle * l0 * l1) sharp_edges.emplace_back(a, b);
-            }
-            i = j;
-        }
+    for (Block& b : blocks) {
+        for (const float l : b.lengths) edge_length += double(l);
+        edge_count += b.lengths.size();
+        sharp_edges.insert(sharp_edges.end(), b.sharp.begin(), b.sharp.end());
+        b = Block{};
+    }
     std::vector<std::uint32_t>().swap(start);
     std::vector<std::uint32_t>().swap(edge);
     CreaseHold h;
@@ -192,13 +209,17 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
     // normals are taken (in face order, as a sum over every vertex would add them).
     constexpr std::uint32_t kOff = 0xFFFFFFFFu;
     std::vector<std::uint32_t> slot(nv, kOff);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, kBlock), [&](const auto& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const auto u = std::uint32_t(v);
+            if (sharp[v].count == 0 &&
+                std::any_of(ring.begin(u), ring.end(u), [&](std::uint32_t w) { return sharp[w].count > 0; }))
+                slot[v] = 0;
+        }
+    });
     std::uint32_t beside_count = 0;
-    for (std::size_t v = 0; v < nv; ++v) {
-        const auto u = std::uint32_t(v);
-        if (sharp[v].count == 0 &&
-            std::any_of(ring.begin(u), ring.end(u), [&](std::uint32_t w) { return sharp[w].count > 0; }))
-            slot[v] = beside_count++;
-    }
+    for (std::uint32_t& s : slot)
+        if (s != kOff) s = beside_count++;
     std::vector<Vec3d> mean(beside_count, Vec3d(0, 0, 0));
     if (beside_count > 0)
         for (std::size_t f = 0; f < nf; ++f) {
@@ -208,25 +229,39 @@ CreaseHold hold_creases(const Mesh& in, const VertexAdjacency& ring, double angl
             for (auto v : t)
                 if (slot[v] != kOff) mean[slot[v]] += n;
         }
+    // Each vertex's neighbours (a crease vertex keeps two, a held one none), counted, then
+    // laid out and filled in parallel.
     h.plane.assign(nv, Vec3f(0, 0, 0));
     h.adj.offsets.assign(nv + 1, 0);
-    h.adj.neighbours.reserve(ring.neighbours.size()); // a crease vertex keeps two, a held one none
     for (std::size_t v = 0; v < nv; ++v) {
         const auto u = std::uint32_t(v);
-        if (sharp[v].count == 2) {
-            ++h.crease_vertices;
-            h.adj.neighbours.insert(h.adj.neighbours.end(), sharp[v].ends, sharp[v].ends + 2);
-        } else if (sharp[v].count > 0) {
-            ++h.held_vertices; // stays
-        } else {
-            h.adj.neighbours.insert(h.adj.neighbours.end(), ring.begin(u), ring.end(u));
-            if (slot[v] != kOff && length(mean[slot[v]]) > 0) {
-                h.plane[v] = Vec3f(normalize(mean[slot[v]]));
-                ++h.plane_vertices;
+        const std::uint32_t n = sharp[v].count == 2  ? 2
+                                : sharp[v].count > 0 ? 0
+                                                     : std::uint32_t(ring.end(u) - ring.begin(u));
+        h.adj.offsets[v + 1] = h.adj.offsets[v] + n;
+        h.crease_vertices += sharp[v].count == 2;
+        h.held_vertices += sharp[v].count == 1 || sharp[v].count == 3; // stays
+    }
+    h.adj.neighbours.resize(h.adj.offsets[nv]);
+    std::atomic<std::size_t> planes{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, kBlock), [&](const auto& r) {
+        std::size_t count = 0;
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            const auto u = std::uint32_t(v);
+            std::uint32_t* out = h.adj.neighbours.data() + h.adj.offsets[v];
+            if (sharp[v].count == 2) {
+                std::copy(sharp[v].ends, sharp[v].ends + 2, out);
+            } else if (sharp[v].count == 0) {
+                std::copy(ring.begin(u), ring.end(u), out);
+                if (slot[v] != kOff && length(mean[slot[v]]) > 0) {
+                    h.plane[v] = Vec3f(normalize(mean[slot[v]]));
+                    ++count;
+                }
             }
         }
-        h.adj.offsets[v + 1] = std::uint32_t(h.adj.neighbours.size());
-    }
+        planes += count;
+    });
+    h.plane_vertices = planes;
     return h;
 }
 
