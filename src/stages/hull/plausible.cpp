@@ -181,21 +181,20 @@ void Plausible::loft() {
     const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> squares{0}, unpaired{0};
     loft_by_leaf(vox_, projections(), opt_.profile_exponent, coarse ? &coarse_->exact() : nullptr,
-                 [&](std::size_t first, const LoftValue* lofted, std::size_t cnt) {
+                 [&](const std::uint32_t* index, const LoftValue* lofted, std::size_t cnt) {
                      std::size_t sq = 0, un = 0;
                      for (std::size_t k = 0; k < cnt; ++k) {
-                         if (coarse && !(thin_[first + k] & kExact)) continue;
                          const LoftValue& v = lofted[k];
                          // A section the view along its axis does not confirm (ghost volume
                          // between limbs) leaves the say to the profiles.
                          // A box the parts' tracks rule out (a ghost between two legs) is
                          // the prior's alone: the profiles would fill it.
                          const float own = std::max(v.drop, v.square + (1.0f - v.square) * share * v.fit);
-                         float& phi = phi_[first + k];
+                         float& phi = phi_[index[k]];
                          phi = own * v.field + (1.0f - own) * phi;
                          sq += v.square >= 0.5f;
                          un += v.drop > 0;
-                         if (v.square >= 0.5f) thin_[first + k] |= kSquare;
+                         if (v.square >= 0.5f) thin_[index[k]] |= kSquare;
                      }
                      squares += sq;
                      unpaired += un;

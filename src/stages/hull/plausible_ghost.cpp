@@ -157,17 +157,20 @@ void ghost_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj,
                    const GhostLeafBody& body) {
     const GhostFinder finder(proj);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::uint32_t> index;
         std::vector<GhostValue> values;
+        index.reserve(LeafT::SIZE);
         values.reserve(LeafT::SIZE);
         HiddenMemo memo;
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            const LeafT& leaf = vox.leaves.leaf(l);
+            index.clear();
             values.clear();
-            for (auto it = vox.leaves.leaf(l).cbeginValueOn(); it; ++it) {
-                const openvdb::Index o = it.pos();
-                const bool wanted = !only || ((*only)[l][o >> 6] >> (o & 63) & 1);
-                values.push_back(wanted ? finder.value(it.getCoord(), memo) : GhostValue{});
-            }
-            body(vox.base[l], values.data(), values.size());
+            vox.for_leaf(l, only ? &(*only)[l] : nullptr, [&](std::size_t i, openvdb::Index o) {
+                index.push_back(std::uint32_t(i));
+                values.push_back(finder.value(leaf.offsetToGlobalCoord(o), memo));
+            });
+            body(index.data(), values.data(), values.size());
         }
     });
 }
@@ -184,14 +187,13 @@ void Plausible::ghost() {
     const bool coarse = coarse_ != nullptr;
     std::atomic<std::size_t> hidden{0};
     ghost_by_leaf(vox_, projections(), coarse ? &coarse_->exact() : nullptr,
-                  [&](std::size_t first, const GhostValue* values, std::size_t cnt) {
+                  [&](const std::uint32_t* index, const GhostValue* values, std::size_t cnt) {
                       std::size_t n = 0;
                       for (std::size_t k = 0; k < cnt; ++k) {
-                          const std::uint8_t flags = thin_[first + k];
-                          if ((coarse && !(flags & kExact)) || (flags & kSquare)) continue;
+                          if (thin_[index[k]] & kSquare) continue;
                           const float w = share * values[k].weight;
                           if (w <= 0.0f) continue;
-                          float& phi = phi_[first + k];
+                          float& phi = phi_[index[k]];
                           phi += w * std::max(0.0f, values[k].field - phi);
                           n += w >= 0.5f && values[k].field > 0.0f;
                       }

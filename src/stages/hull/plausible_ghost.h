@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -19,10 +20,10 @@ struct GhostValue {
     float weight = 0; ///< how clearly the depth is hidden, in [0, 1] (0: no say)
 };
 
-/// body(first, values, count) for each leaf of `vox`, in parallel: the hidden-depth prior of
-/// the leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
-/// order) just the voxels in it are taken; the others' values are left at zero weight.
-using GhostLeafBody = std::function<void(std::size_t first, const GhostValue* values, std::size_t count)>;
+/// body(index, values, count) for each leaf of `vox`, in parallel: the hidden-depth prior of
+/// the leaf's voxels (values[k] that of voxel index[k]), all of them or, with `only` (per
+/// leaf, LeafManager order), just those in it.
+using GhostLeafBody = std::function<void(const std::uint32_t* index, const GhostValue* values, std::size_t count)>;
 void ghost_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, const std::vector<LeafMask>* only,
                    const GhostLeafBody& body);
 

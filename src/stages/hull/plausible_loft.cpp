@@ -183,18 +183,20 @@ void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, 
                   const std::vector<LeafMask>* only, const LoftLeafBody& body) {
     const Lofter lofter(proj, vox.maxdim, round_exponent);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::uint32_t> index;
         std::vector<LoftValue> values;
+        index.reserve(LeafT::SIZE);
         values.reserve(LeafT::SIZE);
         BoxMemo memo;
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             const LeafT& leaf = vox.leaves.leaf(l);
+            index.clear();
             values.clear();
-            for (auto it = leaf.cbeginValueOn(); it; ++it) {
-                const openvdb::Index o = it.pos();
-                const bool wanted = !only || ((*only)[l][o >> 6] >> (o & 63) & 1);
-                values.push_back(wanted ? lofter.value(it.getCoord(), nullptr, &memo) : LoftValue{});
-            }
-            body(vox.base[l], values.data(), values.size());
+            vox.for_leaf(l, only ? &(*only)[l] : nullptr, [&](std::size_t i, openvdb::Index o) {
+                index.push_back(std::uint32_t(i));
+                values.push_back(lofter.value(leaf.offsetToGlobalCoord(o), nullptr, &memo));
+            });
+            body(index.data(), values.data(), values.size());
         }
     });
 }
@@ -202,8 +204,8 @@ void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, 
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent) {
     std::vector<LoftValue> out(vox.n);
     loft_by_leaf(vox, project_hull(vox), round_exponent, nullptr,
-                 [&](std::size_t first, const LoftValue* values, std::size_t count) {
-                     std::copy(values, values + count, out.begin() + std::ptrdiff_t(first));
+                 [&](const std::uint32_t* index, const LoftValue* values, std::size_t count) {
+                     for (std::size_t k = 0; k < count; ++k) out[index[k]] = values[k];
                  });
     return out;
 }

@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -26,11 +27,11 @@ struct LoftValue {
 /// a rounded section (2: an ellipse).
 std::vector<LoftValue> loft_field(const HullVoxels& vox, double round_exponent);
 
-/// body(first, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
-/// leaf's voxels (indices first .. first + count - 1). With `only` (per leaf, LeafManager
-/// order) just the voxels in it are taken; the others' values are left at zero.
+/// body(index, values, count) for each leaf of `vox`, in parallel: the lofted prior of the
+/// leaf's voxels (values[k] that of voxel index[k]), all of them or, with `only` (per leaf,
+/// LeafManager order), just those in it.
 /// `proj`: the hull's projections (project_hull(), plausible_projection.h).
-using LoftLeafBody = std::function<void(std::size_t first, const LoftValue* values, std::size_t count)>;
+using LoftLeafBody = std::function<void(const std::uint32_t* index, const LoftValue* values, std::size_t count)>;
 void loft_by_leaf(const HullVoxels& vox, const std::array<Projection, 3>& proj, double round_exponent,
                   const std::vector<LeafMask>* only, const LoftLeafBody& body);
 

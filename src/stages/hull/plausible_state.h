@@ -53,6 +53,22 @@ struct HullVoxels {
     explicit HullVoxels(const openvdb::BoolGrid& occupancy);
     /// The grid point of voxel i.
     Coord coord_of(std::size_t i) const;
+    /// body(i, offset in the leaf) for the voxels of leaf l in order; with `only`, just those in it.
+    template <typename Body>
+    void for_leaf(std::size_t l, const LeafMask* only, Body&& body) const {
+        const auto& mask = leaves.leaf(l).getValueMask();
+        std::size_t i = base[l];
+        for (openvdb::Index w = 0; w < 8; ++w) {
+            const std::uint64_t all = mask.getWord<std::uint64_t>(w);
+            // A voxel's index counts the word's voxels before it.
+            for (std::uint64_t word = only ? all & (*only)[w] : all; word; word &= word - 1) {
+                const int b = __builtin_ctzll(word);
+                body(i + std::size_t(__builtin_popcountll(all & ((std::uint64_t(1) << b) - 1))),
+                     w * 64 + openvdb::Index(b));
+            }
+            i += std::size_t(__builtin_popcountll(all));
+        }
+    }
     /// body(i, coord) for every voxel, in parallel over leaves.
     template <typename Body>
     void for_voxels(Body&& body) const {
