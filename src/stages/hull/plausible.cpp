@@ -144,33 +144,24 @@ Plausible::Plausible(const Volume& in, const Views& views, const PlausibleOption
       soft_(blend_ > 0),
       deep_(soft_ ? std::exp(-kClamp / blend_) : 0.0f) {
     st_.hull_voxels = vox_.n;
-    // Written side by side: each thread's first write maps its own pages (a fill in one call
-    // would map all 4 + 1 bytes per voxel on one thread).
-    phi_.resize(vox_.n);
-    thin_.resize(vox_.n);
-    const float phi0 = soft_ ? 0.0f : -std::numeric_limits<float>::infinity();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox_.n, std::size_t(1) << 16),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          std::fill(phi_.begin() + std::ptrdiff_t(r.begin()), phi_.begin() + std::ptrdiff_t(r.end()),
-                                    phi0);
-                          std::fill(thin_.begin() + std::ptrdiff_t(r.begin()), thin_.begin() + std::ptrdiff_t(r.end()),
-                                    std::uint8_t(0));
-                      });
     // The field is smoothed afterwards (smooth()) over more cells than the trilinear
     // interpolation spans: it is taken every `stride` cells (every other one at 256, every
     // fourth at 512: an eighth and a 64th of the evaluations) and interpolated.
     const int stride = field_stride(opt_.smooth_cells * double(vox_.maxdim) / 256.0);
-    if (stride > 1) {
-        coarse_ = std::make_unique<const CoarseLattice>(vox_.leaves, vox_.base, stride);
-        const auto& exact = coarse_->exact();
-        tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
-            std::size_t i = vox_.base[l];
-            const auto& mask = vox_.leaves.leaf(l).getValueMask();
-            for (openvdb::Index w = 0; w < 8; ++w)
-                for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
-                    if (exact[l][w] >> __builtin_ctzll(word) & 1) thin_[i] |= kExact;
-        });
-    }
+    if (stride > 1) coarse_ = std::make_unique<const CoarseLattice>(vox_.leaves, vox_.base, stride);
+    // Written leaf by leaf side by side: each thread's first write maps its own pages (a fill
+    // in one call would map all 4 + 1 bytes per voxel on one thread). The voxels whose field
+    // is taken are marked on the way.
+    phi_.resize(vox_.n);
+    thin_.resize(vox_.n);
+    const float phi0 = soft_ ? 0.0f : -std::numeric_limits<float>::infinity();
+    const std::vector<LeafMask>* exact = coarse_ ? &coarse_->exact() : nullptr;
+    tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
+        const auto b = std::ptrdiff_t(vox_.base[l]), e = std::ptrdiff_t(vox_.base[l + 1]);
+        std::fill(phi_.begin() + b, phi_.begin() + e, phi0);
+        std::fill(thin_.begin() + b, thin_.begin() + e, std::uint8_t(0));
+        if (exact) vox_.for_leaf(l, &(*exact)[l], [&](std::size_t i, openvdb::Index) { thin_[i] = kExact; });
+    });
 }
 
 // The lofted prior blended in. A square section (where the hull is the section) keeps the

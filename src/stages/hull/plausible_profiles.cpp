@@ -224,10 +224,12 @@ void Plausible::join_views() {
     float all_deep = 0.0f;
     for (std::size_t v = 0; v < nv_; ++v) all_deep += deep_;
     const float deep_value = blend * std::log(all_deep / float(nv_));
-    const bool coarse = coarse_ != nullptr;
-    tbb::parallel_for(std::size_t(0), vox_.n, [&](std::size_t i) {
-        if (coarse && !(thin_[i] & kExact)) return;
-        phi_[i] = phi_[i] == all_deep ? deep_value : blend * std::log(phi_[i] / float(nv_));
+    // Where the field is taken on a lattice, only the voxels whose value is taken are visited.
+    const std::vector<LeafMask>* exact = coarse_ ? &coarse_->exact() : nullptr;
+    tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
+        vox_.for_leaf(l, exact ? &(*exact)[l] : nullptr, [&](std::size_t i, openvdb::Index) {
+            phi_[i] = phi_[i] == all_deep ? deep_value : blend * std::log(phi_[i] / float(nv_));
+        });
     });
 }
 
