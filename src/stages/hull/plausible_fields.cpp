@@ -44,6 +44,7 @@ void box_blur(std::vector<float>& f, const std::vector<char>* masked, int w, int
 namespace {
 
 using BoolLeaves = openvdb::tree::LeafManager<openvdb::BoolTree>;
+constexpr int kDim = int(openvdb::BoolTree::LeafNodeType::DIM);
 
 // The steps of smooth_field(): the voxels' sums and counts on a coarse lattice (`f` cells a
 // lattice cell, starting on a leaf corner, so no lattice cell straddles two leaves (f divides
@@ -124,13 +125,28 @@ void FieldSmoother::bin() {
     const std::size_t total = std::size_t(nx_) * std::size_t(ny_) * std::size_t(nz_);
     sum_.assign(total, 0.0f);
     weight_.assign(total, 0.0f);
+    // A leaf's cells are its own: it sums them in its voxels' order (as adding into the lattice
+    // would), then stores them. f is a power of 2.
+    const int n = kDim / f_, shift = __builtin_ctz(unsigned(f_));
     tbb::parallel_for(std::size_t(0), leaves_.leafCount(), [&](std::size_t l) {
-        const Coord o = leaves_.leaf(l).origin() - lo_;
+        std::array<float, kDim * kDim * kDim> sum, weight;
+        std::fill_n(sum.begin(), n * n * n, 0.0f);
+        std::fill_n(weight.begin(), n * n * n, 0.0f);
         for_leaf(l, [&](std::size_t i, int x, int y, int z) {
-            const std::size_t q = at((o.x() + x) / f_, (o.y() + y) / f_, (o.z() + z) / f_);
-            sum_[q] += value_[i];
-            weight_[q] += 1.0f;
+            const std::size_t c = std::size_t((((x >> shift) * n) + (y >> shift)) * n + (z >> shift));
+            sum[c] += value_[i];
+            weight[c] += 1.0f;
         });
+        const Coord o = leaves_.leaf(l).origin() - lo_;
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b)
+                for (int c = 0; c < n; ++c) {
+                    const std::size_t k = std::size_t((a * n + b) * n + c);
+                    if (weight[k] == 0.0f) continue; // (cells past the box hold no voxel)
+                    const std::size_t q = at(o.x() / f_ + a, o.y() / f_ + b, o.z() / f_ + c);
+                    sum_[q] = sum[k];
+                    weight_[q] = weight[k];
+                }
     });
 }
 
