@@ -76,6 +76,7 @@ void Plausible::cover_lines_of_sight() {
     swelling_.reset();
     swollen_ = {};
     low_ = {};
+    kept_ = {};
 }
 
 // Per view, the voxels of its lines of sight the profiles leave short, by line of sight (the
@@ -86,22 +87,20 @@ void Plausible::cover_lines_of_sight() {
 void Plausible::find_short_lines() {
     lists_.assign(nv_, {});
     groups_.assign(nv_, {});
-    // With one voxel to keep, a line of sight holding a kept voxel is not short: axis views
-    // skip the grid columns through the kept voxels without dealing them.
-    std::vector<LeafColumns::Mask> kept_mask;
-    if (keep_ == 1) {
-        kept_mask.resize(vox_.nleaf);
-        tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
-            LeafColumns::Mask& m = kept_mask[l];
-            const auto& mask = vox_.leaves.leaf(l).getValueMask();
-            std::size_t i = vox_.base[l];
-            for (openvdb::Index w = 0; w < 8; ++w) {
-                m[w] = 0;
-                for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
-                    if (cur_[i] <= 0) m[w] |= std::uint64_t(1) << __builtin_ctzll(word);
-            }
-        });
-    }
+    // The kept voxels (field <= 0). With one voxel to keep, a line of sight holding one is not
+    // short: axis views skip the grid columns through them without dealing them. (drop_loose()
+    // takes them too, where the swelling did not reach.)
+    kept_.resize(vox_.nleaf);
+    tbb::parallel_for(std::size_t(0), vox_.nleaf, [&](std::size_t l) {
+        LeafColumns::Mask& m = kept_[l];
+        const auto& mask = vox_.leaves.leaf(l).getValueMask();
+        std::size_t i = vox_.base[l];
+        for (openvdb::Index w = 0; w < 8; ++w) {
+            m[w] = 0;
+            for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
+                if (cur_[i] <= 0) m[w] |= std::uint64_t(1) << __builtin_ctzll(word);
+        }
+    });
     for (std::size_t v = 0; v < nv_; ++v) {
         tbb::enumerable_thread_specific<std::vector<Vox>> found;
         for_rays(
@@ -119,7 +118,7 @@ void Plausible::find_short_lines() {
                 for (std::size_t k = 0; k < cnt; ++k)
                     if (cur_[idx[k]] <= best + 8.0f) local.push_back({c, idx[k], coord(k)});
             },
-            kept_mask.empty() ? nullptr : &kept_mask);
+            keep_ == 1 ? &kept_ : nullptr);
         auto& list = lists_[v];
         auto& group = groups_[v];
         std::size_t total = 0;
@@ -247,16 +246,13 @@ void Plausible::drop_loose() {
     tbb::parallel_for(std::size_t(0), nleaf, [&](std::size_t l) {
         const auto& leaf = vox_.leaves.leaf(l);
         const auto& mask = leaf.getValueMask();
-        std::size_t i = vox_.base[l];
+        // Where the swelling did not reach, the field is as find_short_lines() found it.
         if (!swollen_[l]) {
-            for (openvdb::Index w = 0; w < 8; ++w) {
-                std::uint64_t a = 0;
-                for (std::uint64_t bits = mask.getWord<std::uint64_t>(w); bits; bits &= bits - 1, ++i)
-                    if (cur_[i] <= 0) a |= bits & (~bits + 1);
-                member[l][w] = 0, anchor[l][w] = a;
-            }
+            member[l] = {};
+            anchor[l] = kept_[l];
             return;
         }
+        std::size_t i = vox_.base[l];
         const SwellField::Block block(*swelling_, leaf.origin());
         for (openvdb::Index w = 0; w < 8; ++w) {
             std::uint64_t m = 0, a = 0;

@@ -216,6 +216,8 @@ private:
     std::unique_ptr<SwellField> swelling_;
     std::vector<char> swollen_;
     std::vector<std::vector<float>> low_;
+    // Step 4: per leaf, the voxels the field kept before the swelling.
+    std::vector<LeafColumns::Mask> kept_;
 };
 
 template <typename Body>
