@@ -40,22 +40,29 @@ void runs(const std::vector<std::uint8_t>& in, std::size_t first, std::size_t st
 }
 
 // The three projections' inside pixels, in parallel over leaves: each leaf's voxels are
-// projected into an 8 x 8 mask per axis first, so the arrays see one store per pixel.
+// projected into an 8 x 8 mask per axis first (bits u * 8 + v, the axes as project_hull() sets
+// them), so the arrays see one store per pixel. The masks come from the leaf mask's words (word
+// x, byte y, bit z): along x their union (y * 8 + z), along y each word's bytes' union
+// (x * 8 + z), along z each word's non-empty bytes (x * 8 + y).
 void mark_inside(const HullVoxels& vox, std::array<Projection, 3>& proj) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vox.nleaf), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             const LeafT& leaf = vox.leaves.leaf(l);
             const auto& mask = leaf.getValueMask();
             std::array<std::uint64_t, 3> local{};
-            for (openvdb::Index w = 0; w < LeafT::SIZE / 64; ++w)
-                for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1) {
-                    const unsigned o = w * 64 + unsigned(__builtin_ctzll(word));
-                    const std::array<unsigned, 3> c{o >> 6, (o >> 3) & 7u, o & 7u};
-                    for (std::size_t k = 0; k < 3; ++k) {
-                        const Projection& P = proj[k];
-                        local[k] |= std::uint64_t(1) << (c[std::size_t(P.u)] * 8 + c[std::size_t(P.v)]);
-                    }
-                }
+            for (unsigned x = 0; x < 8; ++x) {
+                const std::uint64_t w = mask.getWord<std::uint64_t>(x);
+                if (!w) continue;
+                local[0] |= w;
+                std::uint64_t zs = w | w >> 32;
+                zs |= zs >> 16;
+                zs |= zs >> 8;
+                local[1] |= (zs & 0xff) << (x * 8);
+                std::uint64_t ys = 0;
+                for (unsigned y = 0; y < 8; ++y)
+                    if ((w >> (8 * y)) & 0xff) ys |= std::uint64_t(1) << y;
+                local[2] |= ys << (x * 8);
+            }
             const Coord origin = leaf.origin();
             for (std::size_t k = 0; k < 3; ++k) {
                 Projection& P = proj[k];
