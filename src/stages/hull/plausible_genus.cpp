@@ -38,18 +38,36 @@ struct ShellLeaf {
     LeafMask out, contact, seen;
 };
 
+// A mask per leaf, in zeroed pages mapped on first use: a thread's work space costs the
+// memory of the leaves it works on, not of the whole tree.
+class LeafMasks {
+public:
+    LeafMasks() = default;
+    explicit LeafMasks(std::size_t n)
+        : n_(n), m_(static_cast<LeafMask*>(std::calloc(n, sizeof(LeafMask))), &std::free) {
+        if (n && !m_) throw std::bad_alloc();
+    }
+    LeafMask& operator[](std::size_t l) { return m_[l]; }
+    const LeafMask& operator[](std::size_t l) const { return m_[l]; }
+    std::size_t size() const { return n_; }
+
+private:
+    std::size_t n_ = 0;
+    std::unique_ptr<LeafMask[], decltype(&std::free)> m_{nullptr, &std::free};
+};
+
 // A thread's work space for the checks of a piece or chunk, per leaf (all empty between
 // calls).
 struct Scratch {
-    std::vector<LeafMask> part, grown;  // split's and removable's
-    std::vector<LeafMask> collar, hold; // collar_connected's
-    std::vector<LeafMask> seen, rest;   // reaches_outside's
-    std::vector<ShellLeaf> shell;       // outside_connected's
+    LeafMasks part, grown;        // split's and removable's
+    LeafMasks collar, hold;       // collar_connected's
+    LeafMasks seen, rest;         // reaches_outside's
+    std::vector<ShellLeaf> shell; // outside_connected's
     std::unordered_map<std::uint64_t, std::size_t> shell_of;
 
     void ready(std::size_t leaves) {
         if (part.size() == leaves) return;
-        for (auto* v : {&part, &grown, &collar, &hold, &seen, &rest}) v->assign(leaves, LeafMask{});
+        for (auto* v : {&part, &grown, &collar, &hold, &seen, &rest}) *v = LeafMasks(leaves);
     }
 };
 
@@ -204,10 +222,10 @@ private:
         const std::size_t n = leaves_.leafCount();
         on_.resize(n);
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t l) { on_[l] = leaf_mask(leaves_.leaf(l)); });
-        std::vector<LeafMask> left(n, LeafMask{}), reach(n, LeafMask{});
+        LeafMasks left(n), reach(n), gone(n);
         for (const std::size_t l : cut_leaves_)
             for (std::size_t x = 0; x < 8; ++x) left[l][x] = hull_[l][x] & ~on_[l][x];
-        const std::vector<LeafMask> gone = left;
+        for (const std::size_t l : cut_leaves_) gone[l] = left[l];
         std::vector<std::size_t> touched;
         for (const std::size_t l0 : cut_leaves_)
             while (any(left[l0])) {
@@ -235,17 +253,11 @@ private:
                     for (const std::size_t l : touched) reach[l] = LeafMask{};
                     continue;
                 }
-                if (!field_at_)
-                    field_at_.reset(static_cast<float*>(std::malloc(leaves_.leafCount() * 512 * sizeof(float))));
-                if (!field_at_) throw std::bad_alloc();
                 tbb::parallel_for(std::size_t(0), touched.size(), [&](std::size_t i) {
                     const std::size_t l = touched[i];
                     for (std::size_t x = 0; x < 8; ++x) {
-                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1) {
-                            const std::size_t code = l * 512 + x * 64 + std::size_t(__builtin_ctzll(w));
-                            state_[code] = kIdle;
-                            field_at_[code] = field_(l, openvdb::Index(code % 512));
-                        }
+                        for (std::uint64_t w = reach[l][x]; w; w &= w - 1)
+                            state_[l * 512 + x * 64 + std::size_t(__builtin_ctzll(w))] = kIdle;
                         on_[l][x] |= reach[l][x]; // (each leaf in one call alone)
                     }
                 });
@@ -272,7 +284,7 @@ private:
     // looks at a voxel another one changes (each check reads the chunk's 26-neighbours).
     void split(const std::vector<std::size_t>& codes) {
         std::vector<float> f(codes.size());
-        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_at_[codes[i]];
+        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
         float t = 0.0f;
         if (codes.size() > kChunk) {
             std::vector<float> sorted = f;
@@ -337,10 +349,10 @@ private:
     // Whether every voxel of `q` (per leaf, over the leaves `in`) reaches by face steps
     // within it one with a face neighbour neither on nor in `q` (the outside: what is
     // removed reaches it so): taking `q` out then seals no cavity.
-    bool reaches_outside(Scratch& s, const std::vector<LeafMask>& q, const std::vector<std::size_t>& in) const {
+    bool reaches_outside(Scratch& s, const LeafMasks& q, const std::vector<std::size_t>& in) const {
         static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
         s.ready(leaves_.leafCount());
-        std::vector<LeafMask>&seen = s.seen, &rest = s.rest;
+        LeafMasks &seen = s.seen, &rest = s.rest;
         const auto off = [&](std::uint32_t n) { // neither on nor in q (a missing leaf: all)
             if (n == kNoLeaf) return full();
             return and_not(on(n), q[n], false);
@@ -387,8 +399,7 @@ private:
     // tunnel, and with (a)-(c) cuts none either. A piece that cuts one of the hull's handles
     // and drills a tunnel elsewhere meets the outside in two places at least: the drill's
     // two ends.)
-    bool outside_connected(Scratch& scratch, const std::vector<LeafMask>& piece,
-                           const std::vector<std::size_t>& in) const {
+    bool outside_connected(Scratch& scratch, const LeafMasks& piece, const std::vector<std::size_t>& in) const {
         static constexpr int kFace[6] = {4, 10, 12, 14, 16, 22};
         std::vector<ShellLeaf>& shell = scratch.shell;
         std::unordered_map<std::uint64_t, std::size_t>& shell_of = scratch.shell_of;
@@ -464,7 +475,7 @@ private:
     }
 
     // The voxels of `m` over the leaves `in`, which are cleared.
-    static std::vector<std::size_t> take(std::vector<LeafMask>& m, const std::vector<std::size_t>& in) {
+    static std::vector<std::size_t> take(LeafMasks& m, const std::vector<std::size_t>& in) {
         std::vector<std::size_t> out;
         for (const std::size_t l : in) {
             for (std::size_t x = 0; x < 8; ++x)
@@ -477,8 +488,7 @@ private:
 
     // The 26-connected piece of `left` (per leaf) of voxel `seed` (in it) moved from `left`
     // to `reach`; `touched` gets the leaves it has voxels in.
-    void flood26(std::size_t seed, std::vector<LeafMask>& left, std::vector<LeafMask>& reach,
-                 std::vector<std::size_t>& touched) const {
+    void flood26(std::size_t seed, LeafMasks& left, LeafMasks& reach, std::vector<std::size_t>& touched) const {
         const std::size_t l0 = seed / 512, x0 = seed % 512 / 64;
         reach[l0][x0] |= 1ull << (seed % 64), left[l0][x0] &= ~(1ull << (seed % 64));
         std::vector<std::size_t> work(1, l0);
@@ -507,9 +517,9 @@ private:
     // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves
     // `in`) are one 26-connected set by themselves. (When they are, its removal joins no two
     // of them apart: no part of the kept volume comes off.)
-    bool collar_connected(Scratch& s, const std::vector<LeafMask>& piece, const std::vector<std::size_t>& in) const {
+    bool collar_connected(Scratch& s, const LeafMasks& piece, const std::vector<std::size_t>& in) const {
         s.ready(leaves_.leafCount());
-        std::vector<LeafMask>&collar = s.collar, &hold = s.hold;
+        LeafMasks &collar = s.collar, &hold = s.hold;
         std::vector<std::size_t> leaves;
         for (const std::size_t l : in) {
             const unsigned sides = spill_sides(piece[l]);
@@ -538,7 +548,7 @@ private:
     // What taking out the voxels `which` of leaf l adds to their piece's change
     // (euler_change), `gone` the voxels taken out with them (per leaf; the others on are
     // kept); `outside` set when one has a face neighbour neither kept nor gone.
-    int leaf_change(std::size_t l, const LeafMask& which, const std::vector<LeafMask>& gone, bool& outside) const {
+    int leaf_change(std::size_t l, const LeafMask& which, const LeafMasks& gone, bool& outside) const {
         if (!any(which)) return 0;
         const Padded p([&](std::size_t n) { return on(n); }, [&](std::size_t n) { return gone[n]; }, around_, l);
         int change = 0;
@@ -557,7 +567,7 @@ private:
     // (isolated: a thread waiting for the others runs none of the calls that share its
     // work space, whose masks `gone` may be).
     template <class Which>
-    std::pair<int, bool> change_over(const std::vector<std::size_t>& in, const std::vector<LeafMask>& gone,
+    std::pair<int, bool> change_over(const std::vector<std::size_t>& in, const LeafMasks& gone,
                                      const Which& which) const {
         using Sum = std::pair<int, bool>;
         const auto part = [&](std::size_t begin, std::size_t end, Sum sum) {
@@ -608,8 +618,6 @@ private:
     const std::vector<LeafMask>& hull_;
     const VoxelField& field_;
     std::unique_ptr<std::uint8_t[], decltype(&std::free)> state_;
-    // split's: the field of the voxels of the pieces that went back (per voxel as state_).
-    std::unique_ptr<float[], decltype(&std::free)> field_at_{nullptr, &std::free};
     std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
