@@ -242,6 +242,12 @@ void ReduceOptions::declare_angle(ParamBinder& b) {
               "a vertex in the middle of a crease (two sides, each flat within max_angle_deg, meeting along two "
               "edges that continue each other within this) is removed along the crease, which stays where it "
               "is when straight (a curved one is cut by a chord); 0: off, as in the paper"));
+    b.add(hard_surface,
+          ParamSpec::Bool("hard_surface", false,
+                          "with crease_straightness: on a machined part (every drawing's outline mostly straight, the "
+                          "test of hull.plausible's hard_surface, which then keeps the hull) at most 2 degrees, as "
+                          "pipelines/paper.yaml sets it: the hull's curved edges keep their vertices; needs the views "
+                          "input"));
     b.add(keep_planes_deg,
           ParamSpec::Float("keep_planes", 0.0, 0.0, 30.0, "deg",
                            "refuse collapses that give a face a normal further than this from every normal the "

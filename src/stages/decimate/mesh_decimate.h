@@ -28,6 +28,12 @@ struct ReduceOptions {
     /// A vertex in the middle of a crease whose two edges continue each other within this
     /// (degrees) is a candidate too, and goes along the crease; 0: off (the paper).
     double crease_straightness_deg;
+    /// With `crease_straightness_deg` over kHardCreaseStraightness: on a machined part (the
+    /// views' hardness is 1, geometry/hard_surface.h) it is kHardCreaseStraightness. The stage
+    /// reads the hardness from its views input.
+    bool hard_surface;
+    /// `crease_straightness_deg` on a machined part with `hard_surface` (pipelines/paper.yaml's).
+    static constexpr double kHardCreaseStraightness = 2.0;
     /// A collapse may not give a face a normal further than this (degrees) from every normal
     /// the removed vertex's faces had: flat sides stay flat beside a crease, where a collapse
     /// would otherwise tilt them by up to max_angle_deg; 0: off (the paper).

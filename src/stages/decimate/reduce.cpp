@@ -9,6 +9,7 @@
 #include "core/stage.h"
 #include "core/views.h"
 #include "decimate_stage.h"
+#include "geometry/hard_surface.h"
 #include "mesh_decimate.h"
 #include "outline_guard.h"
 
@@ -45,6 +46,14 @@ public:
                 throw Error("constrain: silhouette needs the views input (inputs: { mesh: ..., views: <views node> })");
             outline = std::make_unique<OutlineGuard>(*in.get<Views>("views"), opt.tolerance_px);
             opt.outline = outline.get();
+        }
+        if (opt.hard_surface && opt.crease_straightness_deg > ReduceOptions::kHardCreaseStraightness) {
+            if (!in.has("views"))
+                throw Error("hard_surface needs the views input (inputs: { mesh: ..., views: <views node> })");
+            std::vector<double> shares;
+            const double hardness = cm::hard_surface(*in.get<Views>("views"), shares);
+            ctx.metric("hardness", hardness);
+            if (hardness >= 1.0) opt.crease_straightness_deg = ReduceOptions::kHardCreaseStraightness;
         }
         opt.target_faces = target_.count(src->face_count());
         auto [mesh, stats] = reduce_mesh(*src, opt, ctx.progress("reducing"));

@@ -17,7 +17,7 @@
 #include <limits>
 
 #include "core/error.h"
-#include "plausible_hard.h"
+#include "geometry/hard_surface.h"
 #include "plausible_loft.h"
 #include "plausible_projection.h"
 #include "plausible_state.h"
@@ -252,7 +252,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     PlausibleOptions opt = given;
     if (given.hard_surface > 0) {
         std::vector<double> shares;
-        st.hardness = given.hard_surface * plausible::hard_surface(*views, shares);
+        st.hardness = given.hard_surface * cm::hard_surface(*views, shares);
         st.straight_pct = 100.0 * *std::min_element(shares.begin(), shares.end());
         opt.roundness *= 1.0 - st.hardness;
         opt.loft *= 1.0 - st.hardness;

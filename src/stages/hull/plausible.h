@@ -45,7 +45,7 @@ struct PlausibleOptions {
     /// profiles alone, 1 the lofted cross-sections alone. Where a lofted section is square
     /// (straight walls, and the view along them shows the box's sides), it has the whole say.
     double loft;
-    /// Weight of the hard-surface detection (plausible_hard.h): when every axis view's outline
+    /// Weight of the hard-surface detection (geometry/hard_surface.h): when every axis view's outline
     /// runs mostly along straight lines (a machined part), the rounding and the lofted prior are
     /// scaled down by this times the detected hardness, so the hull stays; 0 never.
     double hard_surface;

@@ -363,6 +363,12 @@ void SmoothOptions::declare_common(ParamBinder& b) {
                            "this many mean edge lengths, and the edges of shorter ones along an orthographic "
                            "view's direction; other short ones (the steps of a hull carved from many cameras) "
                            "are smoothed; 0: every crease"));
+    b.add(hard_surface,
+          ParamSpec::Bool("hard_surface", false,
+                          "with creases: on a machined part (every drawing's outline mostly straight, the test of "
+                          "hull.plausible's hard_surface, which then keeps the hull) hold no crease, as in the paper: "
+                          "the hull's creases are where two drawings' outlines meet, and the smoothing cuts them "
+                          "within `tolerance`; needs the views input"));
 }
 
 void SmoothOptions::declare_laplacian(ParamBinder& b) {

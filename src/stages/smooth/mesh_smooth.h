@@ -50,6 +50,10 @@ struct SmoothOptions {
     /// one of them (an outline's corner swept along it) are held. The stage sets them from its
     /// views input. Not a parameter.
     std::vector<Camera> crease_views;
+    /// With `crease_angle_deg`: on a machined part (the views' hardness is 1,
+    /// geometry/hard_surface.h: hull.plausible keeps the hull whole) no crease is held, as in
+    /// the paper. The stage reads the hardness from its views input.
+    bool hard_surface;
     /// With a hull: a view that sees a vertex far inside its silhouette is not asked again
     /// until the vertex may have come near enough for its answer to matter (the same result
     /// either way, about a third of the samples with three views; false asks every view at
@@ -63,7 +67,7 @@ struct SmoothOptions {
         declare_laplacian(b);
         declare_taubin(b);
     }
-    /// `iterations`, `constrain`, `tolerance`, `guard`, `creases` and `crease_reach`.
+    /// `iterations`, `constrain`, `tolerance`, `guard`, `creases`, `crease_reach` and `hard_surface`.
     void declare_common(ParamBinder& b);
     /// `factor`.
     void declare_laplacian(ParamBinder& b);

@@ -3,6 +3,8 @@
 #include <memory>
 
 #include "core/views.h"
+#include "core/error.h"
+#include "geometry/hard_surface.h"
 #include "geometry/hull_distance.h"
 
 namespace cm {
@@ -18,6 +20,14 @@ Data run_smooth(const Inputs& in, Context& ctx, const SmoothOptions& opt) {
     if (opt.constrain != SmoothOptions::Constrain::None && in.has("views"))
         hull = std::make_unique<HullDistance>(*in.get<Views>("views"));
     SmoothOptions o = opt;
+    if (o.hard_surface && o.crease_angle_deg > 0) {
+        if (!in.has("views"))
+            throw Error("hard_surface needs the views input (inputs: { mesh: ..., views: <views node> })");
+        std::vector<double> shares;
+        const double hardness = cm::hard_surface(*in.get<Views>("views"), shares);
+        ctx.metric("hardness", hardness);
+        if (hardness >= 1.0) o.crease_angle_deg = 0; // the hull kept whole: its creases are cut as in the paper
+    }
     if (o.crease_reach > 0 && in.has("views"))
         for (const View& v : in.get<Views>("views")->views) o.crease_views.push_back(v.camera);
     auto [mesh, stats] = smooth_mesh(*src, o, hull.get(), ctx.progress("smoothing"));

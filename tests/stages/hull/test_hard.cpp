@@ -15,7 +15,7 @@
 #include "io/mesh_io.h"
 #include "plausible.h"
 #include "plausible_coarse.h"
-#include "plausible_hard.h"
+#include "geometry/hard_surface.h"
 #include "plausible_loft.h"
 #include "plausible_rays.h"
 #include "plausible_state.h"
@@ -64,17 +64,17 @@ openvdb::Index64 missing(const Volume& a, const Volume& b) {
 TEST(HullHard, StraightOutlinesAreFound) {
     const auto box = box_views({-1.0, -0.6, -0.8}, {1.0, 0.6, 0.8});
     std::vector<double> shares;
-    EXPECT_EQ(plausible::hard_surface(*box, shares), 1.0);
+    EXPECT_EQ(cm::hard_surface(*box, shares), 1.0);
     ASSERT_EQ(shares.size(), 3u);
     for (double s : shares) EXPECT_GT(s, 0.7);
 
     const auto sphere = three_views([](const Camera&) { return sphere_outline(1.0); }, {-1, -1, -1}, {1, 1, 1});
-    EXPECT_EQ(plausible::hard_surface(*sphere, shares), 0.0);
+    EXPECT_EQ(cm::hard_surface(*sphere, shares), 0.0);
     for (double s : shares) EXPECT_LT(s, 0.02);
 
     // The cylinder's top view is a disc: the views do not all say "machined", so it is left to
     // the lofted sections (which keep its faces, test_loft.cpp).
-    EXPECT_EQ(plausible::hard_surface(*cylinder_views(0.7, 1.0), shares), 0.0);
+    EXPECT_EQ(cm::hard_surface(*cylinder_views(0.7, 1.0), shares), 0.0);
     EXPECT_GT(shares[0], 0.7);
     EXPECT_LT(shares[2], 0.06);
 }
@@ -263,16 +263,16 @@ TEST(HullHard, ViewsAlongTheAxesAreFound) {
     View v;
     for (const char* n : {"front", "right", "top", "back", "left", "bottom"}) {
         v.camera = *Camera::named(n);
-        EXPECT_TRUE(plausible::along_axis(v)) << n;
+        EXPECT_TRUE(cm::along_axis(v)) << n;
     }
     v.camera = Camera::from_azimuth_elevation(90, 0);
-    EXPECT_TRUE(plausible::along_axis(v));
+    EXPECT_TRUE(cm::along_axis(v));
     v.camera = Camera::from_azimuth_elevation(45, 30);
-    EXPECT_FALSE(plausible::along_axis(v));
+    EXPECT_FALSE(cm::along_axis(v));
     v.camera = Camera::from_azimuth_elevation(0, 30);
-    EXPECT_FALSE(plausible::along_axis(v));
+    EXPECT_FALSE(cm::along_axis(v));
     v.camera = Camera::perspective(look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 500, 160, 160));
-    EXPECT_FALSE(plausible::along_axis(v));
+    EXPECT_FALSE(cm::along_axis(v));
 }
 
 namespace {
@@ -312,15 +312,15 @@ TEST(HullHard, ObliqueFourthViewLeavesAMachinedPartHard) {
     std::vector<View> vs;
     for (const char* n : {"front", "right", "top"}) vs.push_back(mask_view(m, n, *Camera::named(n), 1024, lo, hi));
     vs.push_back(mask_view(m, "az45el30", Camera::from_azimuth_elevation(45, 30), 1024, lo, hi));
-    const double oblique = plausible::outline_straightness(vs[3]);
+    const double oblique = cm::outline_straightness(vs[3]);
     std::cout << "fandisk's oblique view: " << 100.0 * oblique << " % straight\n";
     EXPECT_LT(oblique, 0.12) << "the oblique view alone would leave the part less than hard";
 
     std::vector<double> shares;
     const auto three = make_views({vs[0], vs[1], vs[2]}, lo, hi);
-    EXPECT_EQ(plausible::hard_surface(*three, shares), 1.0);
+    EXPECT_EQ(cm::hard_surface(*three, shares), 1.0);
     const auto four = make_views(vs, lo, hi);
-    EXPECT_EQ(plausible::hard_surface(*four, shares), 1.0);
+    EXPECT_EQ(cm::hard_surface(*four, shares), 1.0);
     EXPECT_EQ(shares.size(), 3u) << "the views along the axes decide";
 
     const auto hull = carve_and_refine(four, 64);

@@ -1,8 +1,8 @@
-// Hard-surface detection of hull.plausible (plausible_hard.h). Measured on the masks of the
+// Hard-surface detection (hard_surface.h). Measured on the masks of the
 // models of ../shared/data/models at 1024 px (docs/hull.md): the least straight view of the
 // machined part fandisk keeps about a quarter of its outline on straight stretches, the
 // creatures at most a twentieth; a disc or an ellipse none.
-#include "plausible_hard.h"
+#include "geometry/hard_surface.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace cm::plausible {
+namespace cm {
 
 namespace {
 
@@ -123,4 +123,4 @@ double hard_surface(const Views& views, std::vector<double>& shares) {
     return shares.empty() ? 0.0 : smoothstep(least, 0.06, 0.12);
 }
 
-} // namespace cm::plausible
+} // namespace cm

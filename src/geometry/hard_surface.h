@@ -1,13 +1,15 @@
-// Hard-surface detection for hull.plausible (`hard_surface`): a machined part is drawn with
-// long straight edges meeting at corners, a creature with curves. Where every drawing's
-// outline runs mostly along straight lines the visual hull is the shape a modeller would
-// build from the drawings (extrusions cut by one another), so the rounding stays off.
+// Hard-surface detection (`hard_surface` of hull.plausible, mesh.laplacian_smooth and
+// mesh.reduce): a machined part is drawn with long straight edges meeting at corners, a
+// creature with curves. Where every drawing's outline runs mostly along straight lines the
+// visual hull is the shape a modeller would build from the drawings (extrusions cut by one
+// another): hull.plausible keeps it, and the mesh stages treat it as pipelines/paper.yaml
+// treats the hull.
 #pragma once
 #include <vector>
 
 #include "core/views.h"
 
-namespace cm::plausible {
+namespace cm {
 
 /// @brief The share in [0, 1] of a silhouette's outline that lies on a straight stretch: the
 /// outline is sampled on a raster whose longest side spans the silhouette's box in
@@ -34,4 +36,4 @@ bool along_axis(const View& view);
 /// otherwise every view does. `shares` gets each deciding view's outline_straightness().
 double hard_surface(const Views& views, std::vector<double>& shares);
 
-} // namespace cm::plausible
+} // namespace cm
