@@ -92,7 +92,7 @@ public:
         // (Only where the outside about it stays one piece: no pocket sealed off.)
         const auto closes = [&](std::size_t code) {
             const unsigned nb = around_on(code);
-            return diagonal_contact(nb) && removal_keeps_outside(nb);
+            return diagonal_contact(nb) && removal_keeps_outside(nb) && kept_one_piece(nb);
         };
         for (int pass = 0; pass < 4; ++pass) {
             const std::vector<std::size_t> codes = touching_kept();

@@ -12,7 +12,8 @@
 // allowed (the outside about the cut is one piece); cutting a ring of the hull through does
 // not (the first voxel of the cut's last layer would join the outside to itself). Then no two
 // kept voxels touch by an edge or a corner alone across a voxel taken out, where putting it
-// back seals no pocket of the outside: it comes back, so Marching Cubes, whichever way it
+// back seals no pocket of the outside and joins no two kept voxels apart about it (which would
+// close a loop): it comes back, so Marching Cubes, whichever way it
 // resolves such a face, gives the surface the topology of the voxels (a diagonal contact read
 // as apart opens a hole between two concavities).
 #pragma once
@@ -36,7 +37,8 @@ using VoxelField = std::function<float(std::size_t, openvdb::Index)>;
 /// reaches the outside by face steps within it and the outside voxels about it that touch
 /// it by a face are one 6-connected piece among the outside voxels about it (so no tunnel,
 /// part cut off or cavity hides in the sum, and no tunnel opened is traded for a handle of
-/// the hull cut). Then closes the diagonal contacts the removal made. Returns the number of
+/// the hull cut). Then closes the diagonal contacts the removal made where the voxel put back
+/// changes no topology (kept_one_piece(), removal_keeps_outside()). Returns the number of
 /// voxels put back.
 std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<LeafMask>& hull,
                             const VoxelField& field);
@@ -46,6 +48,11 @@ std::size_t keep_hull_genus(openvdb::tree::LeafManager<openvdb::BoolTree>& leave
 /// the 18 nearest, 6-connected within them, form exactly one piece that touches a face of the
 /// centre.
 bool removal_keeps_outside(unsigned nb);
+
+/// Whether the on voxels of a neighbourhood (`nb` as above; the centre ignored) are one
+/// 26-connected piece within it: putting the centre back then joins nothing that was apart
+/// there (with removal_keeps_outside(), the centre is simple: it changes no topology).
+bool kept_one_piece(unsigned nb);
 
 /// Whether the centre of a neighbourhood (`nb` as above), taken out, stands between two on
 /// voxels that touch by an edge or a corner alone: a 2x2 square through the centre whose on

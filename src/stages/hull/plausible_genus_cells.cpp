@@ -2,6 +2,9 @@
 // a voxel and the diagonal contacts across it.
 #include "plausible_genus.h"
 
+#include <array>
+#include <cstdlib>
+
 namespace cm::plausible {
 
 namespace {
@@ -72,6 +75,29 @@ bool removal_keeps_outside(unsigned nb) {
         f = g;
     }
     return (faces & ~f) == 0;
+}
+
+bool kept_one_piece(unsigned nb) {
+    // The 26-neighbours within the neighbourhood of each of its voxels.
+    static const std::array<unsigned, 27> around = [] {
+        std::array<unsigned, 27> a{};
+        for (int k = 0; k < 27; ++k)
+            for (int j = 0; j < 27; ++j)
+                if (j != k && std::abs(j % 3 - k % 3) <= 1 && std::abs(j / 3 % 3 - k / 3 % 3) <= 1 &&
+                    std::abs(j / 9 - k / 9) <= 1)
+                    a[std::size_t(k)] |= 1u << j;
+        return a;
+    }();
+    const unsigned on = nb & 0x7FFFFFFu & ~(1u << kCentre);
+    if (!on) return false;
+    unsigned reached = on & -on, grown = reached;
+    while (grown) {
+        unsigned next = 0;
+        for (unsigned g = grown; g; g &= g - 1) next |= around[std::size_t(__builtin_ctz(g))];
+        grown = next & on & ~reached;
+        reached |= grown;
+    }
+    return reached == on;
 }
 
 // The off centre of `nb` (the voxel taken out) between two on voxels that touch by an

@@ -92,7 +92,10 @@ bool PieceChecks::collar_connected(Scratch& s, const LeafMasks& piece, const std
         for (int k = 0; k < 27; ++k) {
             const std::uint32_t n = around_[l * 27 + std::size_t(k)];
             if (!(sides >> k & 1) || n == kNoLeaf) continue;
-            const LeafMask g = and_not(spill(piece[l], k), on(n), true);
+            // The kept voxels about it: on and not in it (a chunk of a piece that went back
+            // is on while it is checked).
+            LeafMask g = and_not(spill(piece[l], k), on(n), true);
+            for (std::size_t x = 0; x < 8; ++x) g[x] &= ~piece[n][x];
             if (!any(g)) continue;
             if (!any(collar[n])) leaves.push_back(n);
             for (std::size_t x = 0; x < 8; ++x) collar[n][x] |= g[x];
