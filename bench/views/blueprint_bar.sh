@@ -3,8 +3,8 @@
 # model drawn by render-views --style blueprint (outline, creases and inner contours in one
 # colour and width, no fill), then
 #   - the true model's silhouette error against those views (compare --fit bbox), per view;
-#   - the reconstruction (pipelines/paper.yaml) and its genus against the model's (conceptmesh
-#     check: genus = components - euler / 2 of a closed mesh).
+#   - the reconstruction (pipelines/paper.yaml, or the pipeline PIPELINE names) and its genus
+#     against the model's (conceptmesh check: genus = components - euler / 2 of a closed mesh).
 # Usage: bench/views/blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE]
 #                                    [PAPER] [GRAIN] [RECONSTRUCT]
 #   MODELS: names from bench/models.txt, comma-separated (default: all)
@@ -18,8 +18,10 @@
 #   the genus of the visual hull itself
 #   PAPER, GRAIN: render-views --paper and --grain (default white, 0; #f2ead8 and 0.03 for a
 #   scan of cream paper)
-#   RECONSTRUCT: yes (default) runs pipelines/paper.yaml for the genus; no prints the
+#   RECONSTRUCT: yes (default) runs pipelines/$PIPELINE.yaml for the genus; no prints the
 #   silhouette errors alone ("-" in the genus columns)
+#   PIPELINE (environment variable): the pipeline of the reconstruction, pipelines/$PIPELINE.yaml
+#   (default paper; loft for pipelines/loft.yaml)
 set -euo pipefail
 build=${1:?usage: blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE] [PAPER] [GRAIN] [RECONSTRUCT]}
 size=${2:-1024}
@@ -37,6 +39,7 @@ style=${9:-blueprint}
 paper=${10:-white}
 grain=${11:-0}
 reconstruct=${12:-yes}
+pipeline="$repo/pipelines/${PIPELINE:-paper}.yaml"
 [[ "$holes" == rule || "$holes" == user || "$holes" == keep ]] || {
     echo "blueprint_bar.sh: HOLES must be rule, user or keep, not '$holes'" >&2
     exit 2
@@ -99,8 +102,8 @@ grep -v '^#' "$here/../models.txt" | tr -s ' ' | while read -r name file up fron
         echo "| $name | ${xor// / \/ } | $worst | - | - | ${kept[*]:--} |"
         continue
     fi
-    "$exe" run "$repo/pipelines/paper.yaml" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj" \
+    "$exe" run "$pipeline" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj" \
         --set preview.path="$d/preview.png" >/dev/null 2>&1 ||
-        "$exe" run "$repo/pipelines/paper.yaml" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj"
+        "$exe" run "$pipeline" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj"
     echo "| $name | ${xor// / \/ } | $worst | $(genus "$models/$file") | $(genus "$d/mesh.obj") | ${kept[*]:--} |"
 done
