@@ -2,8 +2,8 @@
 
 #include <memory>
 
-#include "core/views.h"
 #include "core/error.h"
+#include "core/views.h"
 #include "geometry/hard_surface.h"
 #include "geometry/hull_distance.h"
 

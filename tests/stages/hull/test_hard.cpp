@@ -11,11 +11,11 @@
 #include <mutex>
 #include <set>
 
+#include "geometry/hard_surface.h"
 #include "hull_steps.h"
 #include "io/mesh_io.h"
 #include "plausible.h"
 #include "plausible_coarse.h"
-#include "geometry/hard_surface.h"
 #include "plausible_loft.h"
 #include "plausible_rays.h"
 #include "plausible_state.h"
