@@ -88,18 +88,23 @@ public:
     // In a pass, each voxel in turn sees the voxels put back before it: the verdicts are
     // taken in parallel on the pass's starting state, and taken again in turn for the voxels
     // next to one put back in the pass (the others' neighbourhoods are as they started).
+    // After the first pass only the voxels next to one put back in the pass before can close
+    // a contact: any other has the neighbourhood it had then, when it closed none (it would
+    // have come back).
     void close_diagonal_contacts() {
         // (Only where the outside about it stays one piece: no pocket sealed off.)
         const auto closes = [&](std::size_t code) {
             const unsigned nb = around_on(code);
             return diagonal_contact(nb) && removal_keeps_outside(nb);
         };
+        std::unordered_set<std::size_t> before; // the pass before's `moved`
         for (int pass = 0; pass < 4; ++pass) {
             const std::vector<std::size_t> codes = touching_kept();
             std::vector<char> verdict(codes.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, codes.size(), 1024),
                               [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t i = r.begin(); i != r.end(); ++i) verdict[i] = closes(codes[i]);
+                                  for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                      verdict[i] = (pass == 0 || before.count(codes[i])) && closes(codes[i]);
                               });
             std::unordered_set<std::size_t> moved; // the 26-neighbours of the voxels put back
             std::size_t back = 0;
@@ -113,6 +118,7 @@ public:
                     if (const std::size_t c = neighbour(code, k); c != kNone) moved.insert(c);
             }
             if (back == 0) break;
+            before = std::move(moved);
         }
     }
 
