@@ -90,21 +90,32 @@ public:
     // next to one put back in the pass (the others' neighbourhoods are as they started).
     // After the first pass only the voxels next to one put back in the pass before can close
     // a contact: any other has the neighbourhood it had then, when it closed none (it would
-    // have come back).
+    // have come back). The first pass reads the neighbourhoods of a leaf's voxels from its
+    // rows (Padded), laid out once for the leaf.
     void close_diagonal_contacts() {
         // (Only where the outside about it stays one piece: no pocket sealed off.)
-        const auto closes = [&](std::size_t code) {
-            const unsigned nb = around_on(code);
-            return diagonal_contact(nb) && removal_keeps_outside(nb);
-        };
+        const auto closes_nb = [](unsigned nb) { return diagonal_contact(nb) && removal_keeps_outside(nb); };
+        const auto closes = [&](std::size_t code) { return closes_nb(around_on(code)); };
+        const auto on = [&](std::size_t n) { return leaf_mask(leaves_.leaf(n)); };
+        const auto none = [](std::size_t) { return LeafMask{}; };
         std::unordered_set<std::size_t> before; // the pass before's `moved`
         for (int pass = 0; pass < 4; ++pass) {
             const std::vector<std::size_t> codes = touching_kept();
             std::vector<char> verdict(codes.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, codes.size(), 1024),
                               [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t i = r.begin(); i != r.end(); ++i)
-                                      verdict[i] = (pass == 0 || before.count(codes[i])) && closes(codes[i]);
+                                  if (pass > 0) {
+                                      for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                          verdict[i] = before.count(codes[i]) && closes(codes[i]);
+                                      return;
+                                  }
+                                  // (codes are in leaf order: a leaf's are consecutive.)
+                                  for (std::size_t i = r.begin(); i != r.end();) {
+                                      const std::size_t l = codes[i] / 512;
+                                      const Padded p(on, none, around_, l);
+                                      for (; i != r.end() && codes[i] / 512 == l; ++i)
+                                          verdict[i] = closes_nb(p.around(unsigned(codes[i] % 512)).first);
+                                  }
                               });
             std::unordered_set<std::size_t> moved; // the 26-neighbours of the voxels put back
             std::size_t back = 0;
