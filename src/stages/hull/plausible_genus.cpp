@@ -1,6 +1,7 @@
 // See plausible_genus.h.
 #include "plausible_genus.h"
 #include "plausible_genus_checks.h"
+#include "util/zeroed_pages.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -8,9 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <memory>
-#include <new>
 #include <queue>
 #include <unordered_set>
 #include <utility>
@@ -37,7 +36,7 @@ public:
           hull_(hull),
           field_(field),
           // (Zeroed pages are mapped on first use: only the leaves a piece went back in are.)
-          state_(static_cast<std::uint8_t*>(std::calloc(leaves.leafCount() * 512, 1)), &std::free),
+          state_(zeroed_pages<std::uint8_t>(leaves.leafCount() * 512)),
           around_(leaf_neighbourhoods(leaves)),
           checks_(leaves, around_) {}
 
@@ -45,7 +44,6 @@ public:
     // at once leaves the Euler characteristic of the kept volume as it was and that reaches
     // the outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
-        if (!state_) throw std::bad_alloc();
         removed_ = 0;
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
             const LeafMask on = leaf_mask(leaves_.leaf(l));
@@ -325,7 +323,7 @@ private:
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
     const VoxelField& field_;
-    std::unique_ptr<std::uint8_t[], decltype(&std::free)> state_;
+    ZeroedPages<std::uint8_t> state_;
     std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;
