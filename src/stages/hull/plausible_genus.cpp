@@ -1,6 +1,7 @@
 // See plausible_genus.h.
 #include "plausible_genus.h"
 #include "plausible_genus_checks.h"
+#include "util/zeroed_pages.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -8,9 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <memory>
-#include <new>
 #include <queue>
 #include <unordered_set>
 #include <utility>
@@ -37,7 +36,7 @@ public:
           hull_(hull),
           field_(field),
           // (Zeroed pages are mapped on first use: only the leaves a piece went back in are.)
-          state_(static_cast<std::uint8_t*>(std::calloc(leaves.leafCount() * 512, 1)), &std::free),
+          state_(zeroed_pages<std::uint8_t>(leaves.leafCount() * 512)),
           around_(leaf_neighbourhoods(leaves)),
           checks_(leaves, around_) {}
 
@@ -45,7 +44,6 @@ public:
     // at once leaves the Euler characteristic of the kept volume as it was and that reaches
     // the outside stays out; the others come back on, the ones at the hull's outside queued.
     void restore() {
-        if (!state_) throw std::bad_alloc();
         removed_ = 0;
         for (std::size_t l = 0; l < leaves_.leafCount(); ++l) {
             const LeafMask on = leaf_mask(leaves_.leaf(l));
@@ -88,18 +86,37 @@ public:
     // In a pass, each voxel in turn sees the voxels put back before it: the verdicts are
     // taken in parallel on the pass's starting state, and taken again in turn for the voxels
     // next to one put back in the pass (the others' neighbourhoods are as they started).
+    // After the first pass only the voxels next to one put back in the pass before can close
+    // a contact: any other has the neighbourhood it had then, when it closed none (it would
+    // have come back). The first pass reads the neighbourhoods of a leaf's voxels from its
+    // rows (Padded), laid out once for the leaf.
     void close_diagonal_contacts() {
-        // (Only where the outside about it stays one piece: no pocket sealed off.)
-        const auto closes = [&](std::size_t code) {
-            const unsigned nb = around_on(code);
+        // (Only where the outside about it stays one piece, no pocket sealed off, and the kept
+        // voxels about it are one piece, no loop closed.)
+        const auto closes_nb = [](unsigned nb) {
             return diagonal_contact(nb) && removal_keeps_outside(nb) && kept_one_piece(nb);
         };
+        const auto closes = [&](std::size_t code) { return closes_nb(around_on(code)); };
+        const auto on = [&](std::size_t n) { return leaf_mask(leaves_.leaf(n)); };
+        const auto none = [](std::size_t) { return LeafMask{}; };
+        std::unordered_set<std::size_t> before; // the pass before's `moved`
         for (int pass = 0; pass < 4; ++pass) {
             const std::vector<std::size_t> codes = touching_kept();
             std::vector<char> verdict(codes.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, codes.size(), 1024),
                               [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t i = r.begin(); i != r.end(); ++i) verdict[i] = closes(codes[i]);
+                                  if (pass > 0) {
+                                      for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                          verdict[i] = before.count(codes[i]) && closes(codes[i]);
+                                      return;
+                                  }
+                                  // (codes are in leaf order: a leaf's are consecutive.)
+                                  for (std::size_t i = r.begin(); i != r.end();) {
+                                      const std::size_t l = codes[i] / 512;
+                                      const Padded p(on, none, around_, l);
+                                      for (; i != r.end() && codes[i] / 512 == l; ++i)
+                                          verdict[i] = closes_nb(p.around(unsigned(codes[i] % 512)).first);
+                                  }
                               });
             std::unordered_set<std::size_t> moved; // the 26-neighbours of the voxels put back
             std::size_t back = 0;
@@ -113,6 +130,7 @@ public:
                     if (const std::size_t c = neighbour(code, k); c != kNone) moved.insert(c);
             }
             if (back == 0) break;
+            before = std::move(moved);
         }
     }
 
@@ -308,7 +326,7 @@ private:
     Leaves& leaves_;
     const std::vector<LeafMask>& hull_;
     const VoxelField& field_;
-    std::unique_ptr<std::uint8_t[], decltype(&std::free)> state_;
+    ZeroedPages<std::uint8_t> state_;
     std::size_t removed_ = 0;
     std::vector<std::size_t> cut_leaves_;
     std::vector<std::uint32_t> around_;

@@ -5,9 +5,7 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
-#include <cstdlib>
 #include <memory>
-#include <new>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -17,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "plausible_genus_masks.h"
+#include "util/zeroed_pages.h"
 
 namespace cm::plausible::genus_checks {
 
@@ -34,17 +33,14 @@ struct ShellLeaf {
 class LeafMasks {
 public:
     LeafMasks() = default;
-    explicit LeafMasks(std::size_t n)
-        : n_(n), m_(static_cast<LeafMask*>(std::calloc(n, sizeof(LeafMask))), &std::free) {
-        if (n && !m_) throw std::bad_alloc();
-    }
+    explicit LeafMasks(std::size_t n) : n_(n), m_(zeroed_pages<LeafMask>(n)) {}
     LeafMask& operator[](std::size_t l) { return m_[l]; }
     const LeafMask& operator[](std::size_t l) const { return m_[l]; }
     std::size_t size() const { return n_; }
 
 private:
     std::size_t n_ = 0;
-    std::unique_ptr<LeafMask[], decltype(&std::free)> m_{nullptr, &std::free};
+    ZeroedPages<LeafMask> m_;
 };
 
 // A thread's work space for the checks of a piece or chunk, per leaf (all empty between
