@@ -36,4 +36,10 @@ bool along_axis(const View& view);
 /// otherwise every view does. `shares` gets each deciding view's outline_straightness().
 double hard_surface(const Views& views, std::vector<double>& shares);
 
+/// hard_surface() without the shares.
+inline double hard_surface(const Views& views) {
+    std::vector<double> shares;
+    return hard_surface(views, shares);
+}
+
 } // namespace cm

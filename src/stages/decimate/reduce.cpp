@@ -50,8 +50,7 @@ public:
         if (opt.hard_surface && opt.crease_straightness_deg > ReduceOptions::kHardCreaseStraightness) {
             if (!in.has("views"))
                 throw Error("hard_surface needs the views input (inputs: { mesh: ..., views: <views node> })");
-            std::vector<double> shares;
-            const double hardness = cm::hard_surface(*in.get<Views>("views"), shares);
+            const double hardness = hard_surface(*in.get<Views>("views"));
             ctx.metric("hardness", hardness);
             if (hardness >= 1.0) opt.crease_straightness_deg = ReduceOptions::kHardCreaseStraightness;
         }

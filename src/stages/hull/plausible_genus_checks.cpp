@@ -48,11 +48,7 @@ void PieceChecks::flood26(std::size_t seed, LeafMasks& left, LeafMasks& reach,
     while (!work.empty()) {
         const std::size_t l = work.back();
         work.pop_back();
-        for (;;) { // grow within the leaf
-            const LeafMask g = and_not(spill(reach[l], kCentre), left[l], true);
-            if (!any(g)) break;
-            for (std::size_t x = 0; x < 8; ++x) reach[l][x] |= g[x], left[l][x] &= ~g[x];
-        }
+        grow_within(reach[l], left[l], spill);
         const unsigned sides = spill_sides(reach[l]);
         for (int k = 0; k < 27; ++k) {
             const std::uint32_t n = around_[l * 27 + std::size_t(k)];
@@ -139,11 +135,7 @@ bool PieceChecks::reaches_outside(Scratch& s, const LeafMasks& q, const std::vec
     while (!work.empty()) {
         const std::size_t l = work.back();
         work.pop_back();
-        for (;;) { // grow within the leaf
-            const LeafMask g = and_not(spill6(seen[l], kCentre), rest[l], true);
-            if (!any(g)) break;
-            for (std::size_t x = 0; x < 8; ++x) seen[l][x] |= g[x], rest[l][x] &= ~g[x];
-        }
+        grow_within(seen[l], rest[l], spill6);
         const unsigned sides = spill_sides(seen[l]);
         for (const int k : kFace) {
             const std::uint32_t n = around_[l * 27 + std::size_t(k)];

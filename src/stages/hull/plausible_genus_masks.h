@@ -75,6 +75,17 @@ inline LeafMask spill6(const LeafMask& m, int k) {
     return out;
 }
 
+// The voxels of `left` joined to `reached` within one leaf (by 26- or face steps: `spread`,
+// spill or spill6 at kCentre) moved from `left` to `reached`.
+template <class Spread>
+void grow_within(LeafMask& reached, LeafMask& left, const Spread& spread) {
+    for (;;) {
+        const LeafMask g = and_not(spread(reached, kCentre), left, true);
+        if (!any(g)) return;
+        for (std::size_t x = 0; x < 8; ++x) reached[x] |= g[x], left[x] &= ~g[x];
+    }
+}
+
 // The neighbour offsets k (bit k, bit order of a neighbourhood; the centre 13 included when
 // `m` has a voxel) into which spill(m, k) (or spill6 at a face) can reach: those whose side
 // of the leaf (x, y and z each at 0, at 7 or anywhere) `m` has voxels on. A superset: a

@@ -23,8 +23,7 @@ Data run_smooth(const Inputs& in, Context& ctx, const SmoothOptions& opt) {
     if (o.hard_surface && o.crease_angle_deg > 0) {
         if (!in.has("views"))
             throw Error("hard_surface needs the views input (inputs: { mesh: ..., views: <views node> })");
-        std::vector<double> shares;
-        const double hardness = cm::hard_surface(*in.get<Views>("views"), shares);
+        const double hardness = hard_surface(*in.get<Views>("views"));
         ctx.metric("hardness", hardness);
         if (hardness >= 1.0) o.crease_angle_deg = 0; // the hull kept whole: its creases are cut as in the paper
     }

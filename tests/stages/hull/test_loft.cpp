@@ -249,7 +249,7 @@ namespace {
 // writes, each stage with the file's own parameters (the nodes that write, preview and score
 // are left out): the meshes of its nodes by id, "write" the model a user of that pipeline gets
 // from such drawings.
-std::map<std::string, Mesh> through_loft_yaml(const Known& k, const char* pipeline = "loft.yaml") {
+std::map<std::string, Mesh> through_pipeline(const Known& k, const char* pipeline = "loft.yaml") {
     const YAML::Node file = YAML::LoadFile((source_dir() / "pipelines" / pipeline).string());
     const double scale = 800.0 / std::max({k.hi[0] - k.lo[0], k.hi[1] - k.lo[1], k.hi[2] - k.lo[2]});
     std::vector<View> vs;
@@ -301,7 +301,7 @@ std::map<std::string, Mesh> through_loft_yaml(const Known& k, const char* pipeli
 // the reduction removes crease vertices along their crease (`crease_straightness`).
 TEST(HullLoft, LoftYamlOnShapesWhoseAnswerIsKnown) {
     for (const auto& [name, k] : round_shapes()) {
-        const auto m = through_loft_yaml(k);
+        const auto m = through_pipeline(k);
         const double e = area_error_pct(m.at("write"), k);
         std::cout << name << ": loft.yaml " << e << " % of the diagonal (vertices "
                   << surface_error_pct(m.at("write"), k) << " %, Marching Cubes " << area_error_pct(m.at("surface"), k)
@@ -312,7 +312,7 @@ TEST(HullLoft, LoftYamlOnShapesWhoseAnswerIsKnown) {
     // The faces whose true normal is vertical: the cylinder's caps, the box's top and bottom.
     auto caps = [](const Vec3d& n) { return std::abs(n[1]) > 0.99; };
     for (const auto& [name, k] : hard_shapes()) {
-        const auto m = through_loft_yaml(k);
+        const auto m = through_pipeline(k);
         const double volume = area_within_pct(m.at("surface"), k, 2.0),
                      written = area_within_pct(m.at("write"), k, 2.0),
                      written_caps = area_within_pct(m.at("write"), k, 2.0, caps);
@@ -343,7 +343,7 @@ TEST(HullLoft, LoftYamlOnShapesWhoseAnswerIsKnown) {
 // and its mesh is not paper.yaml's.
 TEST(HullLoft, OnAMachinedPartLoftYamlWritesPaperYamlsMesh) {
     for (const auto& [name, k] : hard_shapes()) {
-        const Mesh loft = through_loft_yaml(k).at("write"), paper = through_loft_yaml(k, "paper.yaml").at("write");
+        const Mesh loft = through_pipeline(k).at("write"), paper = through_pipeline(k, "paper.yaml").at("write");
         const bool same = loft.positions == paper.positions && loft.triangles == paper.triangles;
         if (std::string(name) == "cylinder") {
             EXPECT_FALSE(same) << name << ": its creases are held";
