@@ -155,8 +155,7 @@ bool Plausible::shortfall(std::size_t v, std::size_t g, float* t, const float* l
 // The voxels with field <= 0 of the cells with `want[cell]` set, by cell, in depth order.
 std::vector<Vox> Plausible::kept_voxels_of(std::size_t v, const std::vector<char>& want) const {
     tbb::enumerable_thread_specific<std::vector<Vox>> found;
-    for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
-        if (!want[c]) return;
+    for_rays_in(v, want, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
         auto& local = found.local();
         for (std::size_t k = 0; k < cnt; ++k)
             if (cur_[idx[k]] <= 0) local.push_back({c, idx[k], coord(k)});
