@@ -294,52 +294,84 @@ void SwellField::seed(const Coord& c, float value) {
     any_ = true;
 }
 
+template <typename Body>
+void SwellField::for_box(const Box& b, Body&& body) const {
+    if (b.x0 > b.x1 || b.y0 > b.y1 || b.z0 > b.z1) return;
+    tbb::parallel_for(tbb::blocked_range<int>(b.x0, b.x1 + 1), [&](const tbb::blocked_range<int>& xs) {
+        for (int x = xs.begin(); x != xs.end(); ++x)
+            for (int y = b.y0; y <= b.y1; ++y)
+                body((std::size_t(x) * ny_ + y) * nz_ + std::size_t(b.z0), std::size_t(b.z1 - b.z0 + 1));
+    });
+}
+
 void SwellField::settle() {
     if (seeds_.empty()) return;
-    // One seed a coarse cell (the largest), then the balls.
-    std::sort(seeds_.begin(), seeds_.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first || (a.first == b.first && a.second > b.second);
-    });
-    seeds_.erase(
-        std::unique(seeds_.begin(), seeds_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-        seeds_.end());
-    std::vector<float> raised(g_.size(), 0.0f);
-    for (const auto& [c, value] : seeds_) {
-        const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
-        const double rad = (double(value) + 2 * f_) / f_;
-        const int ir = int(std::ceil(rad));
-        for (int x = std::max(0, i - ir); x <= std::min(nx_ - 1, i + ir); ++x)
-            for (int y = std::max(0, j - ir); y <= std::min(ny_ - 1, j + ir); ++y)
-                for (int z = std::max(0, k - ir); z <= std::min(nz_ - 1, k + ir); ++z) {
-                    const double dd = double(x - i) * (x - i) + double(y - j) * (y - j) + double(z - k) * (z - k);
-                    if (dd > rad * rad) continue;
-                    float& g = raised[(std::size_t(x) * ny_ + y) * nz_ + z];
-                    g = std::max(g, value);
-                }
-    }
+    // The lattice was raised only in the last box: clear it there.
+    if (last_.empty()) last_.assign(g_.size(), 0.0f), tmp_.assign(g_.size(), 0.0f);
+    for (std::vector<float>* a : {&last_, &tmp_})
+        for_box(box_, [&](std::size_t c0, std::size_t n) { std::fill_n(a->begin() + std::ptrdiff_t(c0), n, 0.0f); });
+    // One seed a coarse cell (the largest): the cells' largest values gathered in tmp_ (all 0
+    // here), then taken back out in the seeds' order.
+    std::vector<std::pair<std::uint32_t, float>> top;
+    for (const auto& [c, value] : seeds_) tmp_[c] = std::max(tmp_[c], value);
+    for (const auto& [c, value] : seeds_)
+        if (tmp_[c] > 0) top.push_back({c, tmp_[c]}), tmp_[c] = 0.0f;
     seeds_.clear();
-    // Two [1 2 1] passes along each axis (the balls' steps become slopes).
-    std::vector<float> tmp(raised.size());
+    // The balls (each cell takes the largest value of those reaching it, in any order), by
+    // slabs of coarse x, each thread writing only its own slab; and the box they fill.
+    Box box{nx_, -1, ny_, -1, nz_, -1};
+    for (const auto& [c, value] : top) {
+        const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
+        const int ir = int(std::ceil((double(value) + 2 * f_) / f_));
+        box.x0 = std::min(box.x0, std::max(0, i - ir)), box.x1 = std::max(box.x1, std::min(nx_ - 1, i + ir));
+        box.y0 = std::min(box.y0, std::max(0, j - ir)), box.y1 = std::max(box.y1, std::min(ny_ - 1, j + ir));
+        box.z0 = std::min(box.z0, std::max(0, k - ir)), box.z1 = std::max(box.z1, std::min(nz_ - 1, k + ir));
+    }
+    std::vector<float>& raised = last_;
+    tbb::parallel_for(tbb::blocked_range<int>(box.x0, box.x1 + 1, 2), [&](const tbb::blocked_range<int>& xs) {
+        for (const auto& [c, value] : top) {
+            const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
+            const double rad = (double(value) + 2 * f_) / f_;
+            const int ir = int(std::ceil(rad));
+            for (int x = std::max(xs.begin(), i - ir); x <= std::min(xs.end() - 1, i + ir); ++x)
+                for (int y = std::max(0, j - ir); y <= std::min(ny_ - 1, j + ir); ++y)
+                    for (int z = std::max(0, k - ir); z <= std::min(nz_ - 1, k + ir); ++z) {
+                        const double dd = double(x - i) * (x - i) + double(y - j) * (y - j) + double(z - k) * (z - k);
+                        if (dd > rad * rad) continue;
+                        float& g = raised[(std::size_t(x) * ny_ + y) * nz_ + z];
+                        g = std::max(g, value);
+                    }
+        }
+    });
+    // Two [1 2 1] passes along each axis (the balls' steps become slopes): each reaches a cell
+    // farther, so the box grows by two cells a side and the rest stays 0.
+    box = {std::max(0, box.x0 - 2), std::min(nx_ - 1, box.x1 + 2), std::max(0, box.y0 - 2),
+           std::min(ny_ - 1, box.y1 + 2), std::max(0, box.z0 - 2), std::min(nz_ - 1, box.z1 + 2)};
     for (int pass = 0; pass < 2; ++pass)
         for (int axis = 0; axis < 3; ++axis) {
             const std::size_t st = axis == 0 ? std::size_t(ny_) * nz_ : (axis == 1 ? std::size_t(nz_) : 1);
             const int len = axis == 0 ? nx_ : (axis == 1 ? ny_ : nz_);
-            tbb::parallel_for(tbb::blocked_range<int>(0, nx_), [&](const tbb::blocked_range<int>& xs) {
+            const std::vector<float>& src = last_;
+            std::vector<float>& dst = tmp_;
+            tbb::parallel_for(tbb::blocked_range<int>(box.x0, box.x1 + 1), [&](const tbb::blocked_range<int>& xs) {
                 for (int x = xs.begin(); x != xs.end(); ++x)
-                    for (int y = 0; y < ny_; ++y)
-                        for (int z = 0; z < nz_; ++z) {
+                    for (int y = box.y0; y <= box.y1; ++y)
+                        for (int z = box.z0; z <= box.z1; ++z) {
                             const std::size_t c = (std::size_t(x) * ny_ + y) * nz_ + z;
                             const int pos = axis == 0 ? x : (axis == 1 ? y : z);
-                            const float a = pos > 0 ? raised[c - st] : 0.0f;
-                            const float b = pos + 1 < len ? raised[c + st] : 0.0f;
-                            tmp[c] = 0.25f * (a + 2 * raised[c] + b);
+                            const float a = pos > 0 ? src[c - st] : 0.0f;
+                            const float b = pos + 1 < len ? src[c + st] : 0.0f;
+                            dst[c] = 0.25f * (a + 2 * src[c] + b);
                         }
             });
-            raised.swap(tmp);
+            last_.swap(tmp_);
         }
-    for (std::size_t c = 0; c < g_.size(); ++c) g_[c] += raised[c];
-    last_.swap(raised);
+    for_box(box, [&](std::size_t c0, std::size_t n) {
+        for (std::size_t c = c0; c < c0 + n; ++c) g_[c] += last_[c];
+    });
+    box_ = box;
 }
+
 
 float SwellField::at(const Coord& c) const {
     if (!any_) return 0.0f;
@@ -383,10 +415,12 @@ float SwellField::Block::at(int x, int y, int z) const {
     return float(v);
 }
 
-// The coarse cells whose values reach the grid points of `b` (trilinearly): calls body(cell
-// index) until it returns true; returns whether one did.
+// The coarse cells whose values reach the grid points of `b` (trilinearly), within the cells
+// `within` (x0, x1, y0, y1, z0, z1, bounds included) when given: calls body(cell index) until
+// it returns true; returns whether one did.
 template <typename Body>
-static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, const openvdb::CoordBBox& b, Body&& body) {
+static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, const openvdb::CoordBBox& b, Body&& body,
+                       const std::array<int, 6>* within = nullptr) {
     const Coord lo = b.min() - lo_, hi = b.max() - lo_;
     const int i0 = std::clamp(int(std::floor(double(lo.x()) / f_)), 0, nx_ - 1),
               i1 = std::clamp(int(std::floor(double(hi.x()) / f_)) + 1, 0, nx_ - 1);
@@ -394,16 +428,20 @@ static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, cons
               j1 = std::clamp(int(std::floor(double(hi.y()) / f_)) + 1, 0, ny_ - 1);
     const int k0 = std::clamp(int(std::floor(double(lo.z()) / f_)), 0, nz_ - 1),
               k1 = std::clamp(int(std::floor(double(hi.z()) / f_)) + 1, 0, nz_ - 1);
-    for (int i = i0; i <= i1; ++i)
-        for (int j = j0; j <= j1; ++j)
-            for (int k = k0; k <= k1; ++k)
+    const std::array<int, 6> all{0, nx_ - 1, 0, ny_ - 1, 0, nz_ - 1};
+    const std::array<int, 6>& w = within ? *within : all;
+    for (int i = std::max(i0, w[0]); i <= std::min(i1, w[1]); ++i)
+        for (int j = std::max(j0, w[2]); j <= std::min(j1, w[3]); ++j)
+            for (int k = std::max(k0, w[4]); k <= std::min(k1, w[5]); ++k)
                 if (body((std::size_t(i) * ny_ + j) * nz_ + k)) return true;
     return false;
 }
 
 bool SwellField::raised_in(const openvdb::CoordBBox& b) const {
     if (last_.empty()) return false;
-    return any_coarse(lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; });
+    // Outside the last box nothing was raised.
+    const std::array<int, 6> within{box_.x0, box_.x1, box_.y0, box_.y1, box_.z0, box_.z1};
+    return any_coarse(lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; }, &within);
 }
 
 bool BallField::any_in(const openvdb::CoordBBox& b) const {

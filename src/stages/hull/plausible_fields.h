@@ -57,9 +57,19 @@ public:
     bool raised_in(const openvdb::CoordBBox& b) const;
 
 private:
+    // A box of lattice cells, bounds included (empty: x0 > x1).
+    struct Box {
+        int x0, x1, y0, y1, z0, z1;
+    };
+    /// body(first cell, count) for the rows along z of box b, in parallel.
+    template <typename Body>
+    void for_box(const Box& b, Body&& body) const;
+
     Coord lo_;
     int f_, nx_, ny_, nz_;
-    std::vector<float> g_, last_;
+    // g_: the field; last_: the last settle()'s rise, 0 outside box_; tmp_: its scratch.
+    std::vector<float> g_, last_, tmp_;
+    Box box_{0, -1, 0, -1, 0, -1};
     std::vector<std::pair<std::uint32_t, float>> seeds_; // coarse cell, value
     bool any_ = false;
 };
