@@ -282,6 +282,17 @@ SwellField::SwellField(const openvdb::CoordBBox& box, int f) : lo_(box.min()), f
     const Coord d = box.dim();
     nx_ = d.x() / f_ + 2, ny_ = d.y() / f_ + 2, nz_ = d.z() / f_ + 2;
     g_.assign(std::size_t(nx_) * ny_ * nz_, 0.0f);
+    // Per axis, the lattice cell and weight of each grid point with a cell above it: the
+    // same divisions and floors as sampling would do, done once.
+    const int n[3] = {nx_, ny_, nz_};
+    for (int a = 0; a < 3; ++a) {
+        steps_[a].resize(std::size_t(n[a] - 1) * std::size_t(f_));
+        for (std::size_t q = 0; q < steps_[a].size(); ++q) {
+            const double p = double(int(q)) / f_;
+            const int i = int(std::floor(p));
+            steps_[a][q] = {i, p - i};
+        }
+    }
 }
 
 void SwellField::seed(const Coord& c, float value) {
@@ -373,31 +384,46 @@ void SwellField::settle() {
 }
 
 
+// The trilinear value about lattice cell `g` (its neighbours sx, sy and 1 cells on) for
+// weights tx, ty, tz of the upper cells: the corners in turn (x fastest), each weighted by the
+// product of its axes' weights, x, y then z. (No corner weighs below 0 and the lattice holds no
+// value below 0, so a corner of weight 0 adds 0.)
+static double trilinear(const float* g, std::size_t sx, std::size_t sy, double tx, double ty, double tz) {
+    const double x0 = 1 - tx, y0 = 1 - ty, z0 = 1 - tz;
+    double v = 0;
+    v += x0 * y0 * z0 * g[0];
+    v += tx * y0 * z0 * g[sx];
+    v += x0 * ty * z0 * g[sy];
+    v += tx * ty * z0 * g[sx + sy];
+    v += x0 * y0 * tz * g[1];
+    v += tx * y0 * tz * g[sx + 1];
+    v += x0 * ty * tz * g[sy + 1];
+    v += tx * ty * tz * g[sx + sy + 1];
+    return v;
+}
+
 float SwellField::at(const Coord& c) const {
     if (!any_) return 0.0f;
     const Coord q = c - lo_;
-    const double fx = double(q.x()) / f_, fy = double(q.y()) / f_, fz = double(q.z()) / f_;
-    const int i = int(std::floor(fx)), j = int(std::floor(fy)), k = int(std::floor(fz));
-    if (i < 0 || j < 0 || k < 0 || i + 1 >= nx_ || j + 1 >= ny_ || k + 1 >= nz_) return 0.0f;
-    const double tx = fx - i, ty = fy - j, tz = fz - k;
-    double v = 0;
-    for (int n = 0; n < 8; ++n) {
-        const int di = n & 1, dj = (n >> 1) & 1, dk = (n >> 2) & 1;
-        const double wgt = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty) * (dk ? tz : 1 - tz);
-        if (wgt > 0) v += wgt * g_[(std::size_t(i + di) * ny_ + (j + dj)) * nz_ + (k + dk)];
-    }
-    return float(v);
+    // Outside the steps, the cell or the one above it lies off the lattice.
+    for (int a = 0; a < 3; ++a)
+        if (q[a] < 0 || std::size_t(q[a]) >= steps_[a].size()) return 0.0f;
+    const Step& x = steps_[0][std::size_t(q.x())];
+    const Step& y = steps_[1][std::size_t(q.y())];
+    const Step& z = steps_[2][std::size_t(q.z())];
+    const std::size_t sy = std::size_t(nz_), sx = std::size_t(ny_) * sy;
+    return float(trilinear(g_.data() + std::size_t(x.i) * sx + std::size_t(y.i) * sy + std::size_t(z.i), sx, sy, x.t,
+                           y.t, z.t));
 }
 
 SwellField::Block::Block(const SwellField& f, const Coord& origin) : f_(f) {
-    const int n[3] = {f.nx_, f.ny_, f.nz_};
     for (int a = 0; a < 3; ++a)
         for (int k = 0; k < 8; ++k) {
-            // As at(): the same divisions, floors and bounds.
-            const double p = double(origin[a] + k - f.lo_[a]) / f.f_;
-            const int i = int(std::floor(p));
-            c0_[a][k] = (i < 0 || i + 1 >= n[a]) ? -1 : i;
-            t_[a][k] = p - i;
+            // As at(): the cell below and the upper one's weight.
+            const int q = origin[a] + k - f.lo_[a];
+            const bool in = q >= 0 && std::size_t(q) < f.steps_[a].size();
+            c0_[a][k] = in ? f.steps_[a][std::size_t(q)].i : -1;
+            t_[a][k] = in ? f.steps_[a][std::size_t(q)].t : 0.0;
         }
 }
 
@@ -405,14 +431,9 @@ float SwellField::Block::at(int x, int y, int z) const {
     if (!f_.any_) return 0.0f;
     const int i = c0_[0][x], j = c0_[1][y], k = c0_[2][z];
     if (i < 0 || j < 0 || k < 0) return 0.0f;
-    const double tx = t_[0][x], ty = t_[1][y], tz = t_[2][z];
-    double v = 0;
-    for (int n = 0; n < 8; ++n) {
-        const int di = n & 1, dj = (n >> 1) & 1, dk = (n >> 2) & 1;
-        const double wgt = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty) * (dk ? tz : 1 - tz);
-        if (wgt > 0) v += wgt * f_.g_[(std::size_t(i + di) * f_.ny_ + (j + dj)) * f_.nz_ + (k + dk)];
-    }
-    return float(v);
+    const std::size_t sy = std::size_t(f_.nz_), sx = std::size_t(f_.ny_) * sy;
+    return float(trilinear(f_.g_.data() + std::size_t(i) * sx + std::size_t(j) * sy + std::size_t(k), sx, sy,
+                           t_[0][x], t_[1][y], t_[2][z]));
 }
 
 // The coarse cells whose values reach the grid points of `b` (trilinearly), within the cells
