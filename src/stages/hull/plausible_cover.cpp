@@ -33,6 +33,18 @@ double dist2(const Coord& a, const Coord& b) {
     return dx * dx + dy * dy + dz * dz;
 }
 
+// Bit k for each of the 64 values from `value` that is <= 0 (a full word of a leaf's voxels):
+// eight at a time, which the compiler does without branches.
+std::uint64_t kept_bits(const float* value) {
+    std::uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) {
+        unsigned byte = 0;
+        for (int k = 0; k < 8; ++k) byte |= unsigned(value[8 * b + k] <= 0) << k;
+        bits |= std::uint64_t(byte) << (8 * b);
+    }
+    return bits;
+}
+
 // The nearest covered cell (flag 2) of every cell of the raster (8-neighbour breadth-first
 // search); kNone where the view has none.
 std::vector<std::uint32_t> nearest_covered(const RayRaster& R, const std::vector<char>& flag) {
@@ -96,8 +108,14 @@ void Plausible::find_short_lines() {
         const auto& mask = vox_.leaves.leaf(l).getValueMask();
         std::size_t i = vox_.base[l];
         for (openvdb::Index w = 0; w < 8; ++w) {
+            std::uint64_t word = mask.getWord<std::uint64_t>(w);
+            if (word == ~std::uint64_t(0)) {
+                m[w] = kept_bits(&cur_[i]);
+                i += 64;
+                continue;
+            }
             m[w] = 0;
-            for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
+            for (; word; word &= word - 1, ++i)
                 if (cur_[i] <= 0) m[w] |= std::uint64_t(1) << __builtin_ctzll(word);
         }
     });
