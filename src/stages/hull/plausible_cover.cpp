@@ -139,10 +139,14 @@ void Plausible::find_short_lines() {
             keep_ == 1 ? &kept_ : nullptr);
         auto& list = lists_[v];
         auto& group = groups_[v];
-        std::size_t total = 0;
-        for (const auto& f : found) total += f.size();
-        list.reserve(total);
-        for (auto& f : found) list.insert(list.end(), f.begin(), f.end());
+        // The threads' finds joined: the largest taken whole, the others after it (a line of
+        // sight comes whole from one call of the body, and their order does not matter).
+        std::vector<Vox>* largest = nullptr;
+        for (auto& f : found)
+            if (!largest || f.size() > largest->size()) largest = &f;
+        if (largest) list = std::move(*largest);
+        for (auto& f : found)
+            if (&f != largest) list.insert(list.end(), f.begin(), f.end());
         for (std::size_t k = 0; k < list.size(); ++k)
             if (k == 0 || list[k].cell != list[k - 1].cell) group.push_back(k);
         if (list.empty()) continue;
