@@ -159,6 +159,16 @@ void Plausible::find_short_lines() {
 bool Plausible::shortfall(std::size_t v, std::size_t g, float* t, const float* low) const {
     const auto& list = lists_[v];
     const std::size_t b = groups_[v][g], e = groups_[v][g + 1];
+    if (keep_ == 1) { // short when no value is <= 0; the best is the smallest
+        float best = std::numeric_limits<float>::infinity();
+        for (std::size_t k = b; k < e; ++k) {
+            const float value = low ? low[k] : cur_[list[k].i];
+            if (value <= 0) return false;
+            best = std::min(best, value);
+        }
+        *t = best;
+        return true;
+    }
     static thread_local std::vector<float> vals;
     vals.clear();
     std::uint32_t have = 0;
