@@ -356,8 +356,9 @@ void SwellField::settle() {
     });
     // Two [1 2 1] passes along each axis (the balls' steps become slopes): each reaches a cell
     // farther, so the box grows by two cells a side and the rest stays 0.
-    box = {std::max(0, box.x0 - 2), std::min(nx_ - 1, box.x1 + 2), std::max(0, box.y0 - 2),
-           std::min(ny_ - 1, box.y1 + 2), std::max(0, box.z0 - 2), std::min(nz_ - 1, box.z1 + 2)};
+    box.x0 = std::max(0, box.x0 - 2), box.x1 = std::min(nx_ - 1, box.x1 + 2);
+    box.y0 = std::max(0, box.y0 - 2), box.y1 = std::min(ny_ - 1, box.y1 + 2);
+    box.z0 = std::max(0, box.z0 - 2), box.z1 = std::min(nz_ - 1, box.z1 + 2);
     for (int pass = 0; pass < 2; ++pass)
         for (int axis = 0; axis < 3; ++axis) {
             const std::size_t st = axis == 0 ? std::size_t(ny_) * nz_ : (axis == 1 ? std::size_t(nz_) : 1);
@@ -382,7 +383,6 @@ void SwellField::settle() {
     });
     box_ = box;
 }
-
 
 // The trilinear value about lattice cell `g` (its neighbours sx, sy and 1 cells on) for
 // weights tx, ty, tz of the upper cells: the corners in turn (x fastest), each weighted by the
@@ -412,8 +412,8 @@ float SwellField::at(const Coord& c) const {
     const Step& y = steps_[1][std::size_t(q.y())];
     const Step& z = steps_[2][std::size_t(q.z())];
     const std::size_t sy = std::size_t(nz_), sx = std::size_t(ny_) * sy;
-    return float(trilinear(g_.data() + std::size_t(x.i) * sx + std::size_t(y.i) * sy + std::size_t(z.i), sx, sy, x.t,
-                           y.t, z.t));
+    return float(
+        trilinear(g_.data() + std::size_t(x.i) * sx + std::size_t(y.i) * sy + std::size_t(z.i), sx, sy, x.t, y.t, z.t));
 }
 
 SwellField::Block::Block(const SwellField& f, const Coord& origin) : f_(f) {
@@ -432,8 +432,8 @@ float SwellField::Block::at(int x, int y, int z) const {
     const int i = c0_[0][x], j = c0_[1][y], k = c0_[2][z];
     if (i < 0 || j < 0 || k < 0) return 0.0f;
     const std::size_t sy = std::size_t(f_.nz_), sx = std::size_t(f_.ny_) * sy;
-    return float(trilinear(f_.g_.data() + std::size_t(i) * sx + std::size_t(j) * sy + std::size_t(k), sx, sy,
-                           t_[0][x], t_[1][y], t_[2][z]));
+    return float(trilinear(f_.g_.data() + std::size_t(i) * sx + std::size_t(j) * sy + std::size_t(k), sx, sy, t_[0][x],
+                           t_[1][y], t_[2][z]));
 }
 
 // The coarse cells whose values reach the grid points of `b` (trilinearly), within the cells
@@ -462,7 +462,8 @@ bool SwellField::raised_in(const openvdb::CoordBBox& b) const {
     if (last_.empty()) return false;
     // Outside the last box nothing was raised.
     const std::array<int, 6> within{box_.x0, box_.x1, box_.y0, box_.y1, box_.z0, box_.z1};
-    return any_coarse(lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; }, &within);
+    return any_coarse(
+        lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; }, &within);
 }
 
 bool BallField::any_in(const openvdb::CoordBBox& b) const {
