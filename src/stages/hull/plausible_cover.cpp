@@ -33,6 +33,18 @@ double dist2(const Coord& a, const Coord& b) {
     return dx * dx + dy * dy + dz * dz;
 }
 
+// Bit k for each of the 64 values from `value` that is <= 0 (a full word of a leaf's voxels):
+// eight at a time, which the compiler does without branches.
+std::uint64_t kept_bits(const float* value) {
+    std::uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) {
+        unsigned byte = 0;
+        for (int k = 0; k < 8; ++k) byte |= unsigned(value[8 * b + k] <= 0) << k;
+        bits |= std::uint64_t(byte) << (8 * b);
+    }
+    return bits;
+}
+
 // The nearest covered cell (flag 2) of every cell of the raster (8-neighbour breadth-first
 // search); kNone where the view has none.
 std::vector<std::uint32_t> nearest_covered(const RayRaster& R, const std::vector<char>& flag) {
@@ -96,8 +108,14 @@ void Plausible::find_short_lines() {
         const auto& mask = vox_.leaves.leaf(l).getValueMask();
         std::size_t i = vox_.base[l];
         for (openvdb::Index w = 0; w < 8; ++w) {
+            std::uint64_t word = mask.getWord<std::uint64_t>(w);
+            if (word == ~std::uint64_t(0)) {
+                m[w] = kept_bits(&cur_[i]);
+                i += 64;
+                continue;
+            }
             m[w] = 0;
-            for (std::uint64_t word = mask.getWord<std::uint64_t>(w); word; word &= word - 1, ++i)
+            for (; word; word &= word - 1, ++i)
                 if (cur_[i] <= 0) m[w] |= std::uint64_t(1) << __builtin_ctzll(word);
         }
     });
@@ -121,10 +139,14 @@ void Plausible::find_short_lines() {
             keep_ == 1 ? &kept_ : nullptr);
         auto& list = lists_[v];
         auto& group = groups_[v];
-        std::size_t total = 0;
-        for (const auto& f : found) total += f.size();
-        list.reserve(total);
-        for (auto& f : found) list.insert(list.end(), f.begin(), f.end());
+        // The threads' finds joined: the largest taken whole, the others after it (a line of
+        // sight comes whole from one call of the body, and their order does not matter).
+        std::vector<Vox>* largest = nullptr;
+        for (auto& f : found)
+            if (!largest || f.size() > largest->size()) largest = &f;
+        if (largest) list = std::move(*largest);
+        for (auto& f : found)
+            if (&f != largest) list.insert(list.end(), f.begin(), f.end());
         for (std::size_t k = 0; k < list.size(); ++k)
             if (k == 0 || list[k].cell != list[k - 1].cell) group.push_back(k);
         if (list.empty()) continue;
@@ -137,6 +159,16 @@ void Plausible::find_short_lines() {
 bool Plausible::shortfall(std::size_t v, std::size_t g, float* t, const float* low) const {
     const auto& list = lists_[v];
     const std::size_t b = groups_[v][g], e = groups_[v][g + 1];
+    if (keep_ == 1) { // short when no value is <= 0; the best is the smallest
+        float best = std::numeric_limits<float>::infinity();
+        for (std::size_t k = b; k < e; ++k) {
+            const float value = low ? low[k] : cur_[list[k].i];
+            if (value <= 0) return false;
+            best = std::min(best, value);
+        }
+        *t = best;
+        return true;
+    }
     static thread_local std::vector<float> vals;
     vals.clear();
     std::uint32_t have = 0;
@@ -155,8 +187,7 @@ bool Plausible::shortfall(std::size_t v, std::size_t g, float* t, const float* l
 // The voxels with field <= 0 of the cells with `want[cell]` set, by cell, in depth order.
 std::vector<Vox> Plausible::kept_voxels_of(std::size_t v, const std::vector<char>& want) const {
     tbb::enumerable_thread_specific<std::vector<Vox>> found;
-    for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
-        if (!want[c]) return;
+    for_rays_in(v, want, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
         auto& local = found.local();
         for (std::size_t k = 0; k < cnt; ++k)
             if (cur_[idx[k]] <= 0) local.push_back({c, idx[k], coord(k)});

@@ -282,6 +282,17 @@ SwellField::SwellField(const openvdb::CoordBBox& box, int f) : lo_(box.min()), f
     const Coord d = box.dim();
     nx_ = d.x() / f_ + 2, ny_ = d.y() / f_ + 2, nz_ = d.z() / f_ + 2;
     g_.assign(std::size_t(nx_) * ny_ * nz_, 0.0f);
+    // Per axis, the lattice cell and weight of each grid point with a cell above it: the
+    // same divisions and floors as sampling would do, done once.
+    const int n[3] = {nx_, ny_, nz_};
+    for (int a = 0; a < 3; ++a) {
+        steps_[a].resize(std::size_t(n[a] - 1) * std::size_t(f_));
+        for (std::size_t q = 0; q < steps_[a].size(); ++q) {
+            const double p = double(int(q)) / f_;
+            const int i = int(std::floor(p));
+            steps_[a][q] = {i, p - i};
+        }
+    }
 }
 
 void SwellField::seed(const Coord& c, float value) {
@@ -294,78 +305,125 @@ void SwellField::seed(const Coord& c, float value) {
     any_ = true;
 }
 
+template <typename Body>
+void SwellField::for_box(const Box& b, Body&& body) const {
+    if (b.x0 > b.x1 || b.y0 > b.y1 || b.z0 > b.z1) return;
+    tbb::parallel_for(tbb::blocked_range<int>(b.x0, b.x1 + 1), [&](const tbb::blocked_range<int>& xs) {
+        for (int x = xs.begin(); x != xs.end(); ++x)
+            for (int y = b.y0; y <= b.y1; ++y)
+                body((std::size_t(x) * ny_ + y) * nz_ + std::size_t(b.z0), std::size_t(b.z1 - b.z0 + 1));
+    });
+}
+
 void SwellField::settle() {
     if (seeds_.empty()) return;
-    // One seed a coarse cell (the largest), then the balls.
-    std::sort(seeds_.begin(), seeds_.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first || (a.first == b.first && a.second > b.second);
-    });
-    seeds_.erase(
-        std::unique(seeds_.begin(), seeds_.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
-        seeds_.end());
-    std::vector<float> raised(g_.size(), 0.0f);
-    for (const auto& [c, value] : seeds_) {
-        const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
-        const double rad = (double(value) + 2 * f_) / f_;
-        const int ir = int(std::ceil(rad));
-        for (int x = std::max(0, i - ir); x <= std::min(nx_ - 1, i + ir); ++x)
-            for (int y = std::max(0, j - ir); y <= std::min(ny_ - 1, j + ir); ++y)
-                for (int z = std::max(0, k - ir); z <= std::min(nz_ - 1, k + ir); ++z) {
-                    const double dd = double(x - i) * (x - i) + double(y - j) * (y - j) + double(z - k) * (z - k);
-                    if (dd > rad * rad) continue;
-                    float& g = raised[(std::size_t(x) * ny_ + y) * nz_ + z];
-                    g = std::max(g, value);
-                }
-    }
+    // The lattice was raised only in the last box: clear it there.
+    if (last_.empty()) last_.assign(g_.size(), 0.0f), tmp_.assign(g_.size(), 0.0f);
+    for (std::vector<float>* a : {&last_, &tmp_})
+        for_box(box_, [&](std::size_t c0, std::size_t n) { std::fill_n(a->begin() + std::ptrdiff_t(c0), n, 0.0f); });
+    // One seed a coarse cell (the largest): the cells' largest values gathered in tmp_ (all 0
+    // here), then taken back out in the seeds' order.
+    std::vector<std::pair<std::uint32_t, float>> top;
+    for (const auto& [c, value] : seeds_) tmp_[c] = std::max(tmp_[c], value);
+    for (const auto& [c, value] : seeds_)
+        if (tmp_[c] > 0) top.push_back({c, tmp_[c]}), tmp_[c] = 0.0f;
     seeds_.clear();
-    // Two [1 2 1] passes along each axis (the balls' steps become slopes).
-    std::vector<float> tmp(raised.size());
+    // The balls (each cell takes the largest value of those reaching it, in any order), by
+    // slabs of coarse x, each thread writing only its own slab; and the box they fill.
+    Box box{nx_, -1, ny_, -1, nz_, -1};
+    for (const auto& [c, value] : top) {
+        const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
+        const int ir = int(std::ceil((double(value) + 2 * f_) / f_));
+        box.x0 = std::min(box.x0, std::max(0, i - ir)), box.x1 = std::max(box.x1, std::min(nx_ - 1, i + ir));
+        box.y0 = std::min(box.y0, std::max(0, j - ir)), box.y1 = std::max(box.y1, std::min(ny_ - 1, j + ir));
+        box.z0 = std::min(box.z0, std::max(0, k - ir)), box.z1 = std::max(box.z1, std::min(nz_ - 1, k + ir));
+    }
+    std::vector<float>& raised = last_;
+    tbb::parallel_for(tbb::blocked_range<int>(box.x0, box.x1 + 1, 2), [&](const tbb::blocked_range<int>& xs) {
+        for (const auto& [c, value] : top) {
+            const int i = int(c / (std::size_t(ny_) * nz_)), j = int(c / nz_ % ny_), k = int(c % nz_);
+            const double rad = (double(value) + 2 * f_) / f_;
+            const int ir = int(std::ceil(rad));
+            for (int x = std::max(xs.begin(), i - ir); x <= std::min(xs.end() - 1, i + ir); ++x)
+                for (int y = std::max(0, j - ir); y <= std::min(ny_ - 1, j + ir); ++y)
+                    for (int z = std::max(0, k - ir); z <= std::min(nz_ - 1, k + ir); ++z) {
+                        const double dd = double(x - i) * (x - i) + double(y - j) * (y - j) + double(z - k) * (z - k);
+                        if (dd > rad * rad) continue;
+                        float& g = raised[(std::size_t(x) * ny_ + y) * nz_ + z];
+                        g = std::max(g, value);
+                    }
+        }
+    });
+    // Two [1 2 1] passes along each axis (the balls' steps become slopes): each reaches a cell
+    // farther, so the box grows by two cells a side and the rest stays 0.
+    box.x0 = std::max(0, box.x0 - 2), box.x1 = std::min(nx_ - 1, box.x1 + 2);
+    box.y0 = std::max(0, box.y0 - 2), box.y1 = std::min(ny_ - 1, box.y1 + 2);
+    box.z0 = std::max(0, box.z0 - 2), box.z1 = std::min(nz_ - 1, box.z1 + 2);
     for (int pass = 0; pass < 2; ++pass)
         for (int axis = 0; axis < 3; ++axis) {
             const std::size_t st = axis == 0 ? std::size_t(ny_) * nz_ : (axis == 1 ? std::size_t(nz_) : 1);
             const int len = axis == 0 ? nx_ : (axis == 1 ? ny_ : nz_);
-            tbb::parallel_for(tbb::blocked_range<int>(0, nx_), [&](const tbb::blocked_range<int>& xs) {
+            const std::vector<float>& src = last_;
+            std::vector<float>& dst = tmp_;
+            tbb::parallel_for(tbb::blocked_range<int>(box.x0, box.x1 + 1), [&](const tbb::blocked_range<int>& xs) {
                 for (int x = xs.begin(); x != xs.end(); ++x)
-                    for (int y = 0; y < ny_; ++y)
-                        for (int z = 0; z < nz_; ++z) {
+                    for (int y = box.y0; y <= box.y1; ++y)
+                        for (int z = box.z0; z <= box.z1; ++z) {
                             const std::size_t c = (std::size_t(x) * ny_ + y) * nz_ + z;
                             const int pos = axis == 0 ? x : (axis == 1 ? y : z);
-                            const float a = pos > 0 ? raised[c - st] : 0.0f;
-                            const float b = pos + 1 < len ? raised[c + st] : 0.0f;
-                            tmp[c] = 0.25f * (a + 2 * raised[c] + b);
+                            const float a = pos > 0 ? src[c - st] : 0.0f;
+                            const float b = pos + 1 < len ? src[c + st] : 0.0f;
+                            dst[c] = 0.25f * (a + 2 * src[c] + b);
                         }
             });
-            raised.swap(tmp);
+            last_.swap(tmp_);
         }
-    for (std::size_t c = 0; c < g_.size(); ++c) g_[c] += raised[c];
-    last_.swap(raised);
+    for_box(box, [&](std::size_t c0, std::size_t n) {
+        for (std::size_t c = c0; c < c0 + n; ++c) g_[c] += last_[c];
+    });
+    box_ = box;
+}
+
+// The trilinear value about lattice cell `g` (its neighbours sx, sy and 1 cells on) for
+// weights tx, ty, tz of the upper cells: the corners in turn (x fastest), each weighted by the
+// product of its axes' weights, x, y then z. (No corner weighs below 0 and the lattice holds no
+// value below 0, so a corner of weight 0 adds 0.)
+static double trilinear(const float* g, std::size_t sx, std::size_t sy, double tx, double ty, double tz) {
+    const double x0 = 1 - tx, y0 = 1 - ty, z0 = 1 - tz;
+    double v = 0;
+    v += x0 * y0 * z0 * g[0];
+    v += tx * y0 * z0 * g[sx];
+    v += x0 * ty * z0 * g[sy];
+    v += tx * ty * z0 * g[sx + sy];
+    v += x0 * y0 * tz * g[1];
+    v += tx * y0 * tz * g[sx + 1];
+    v += x0 * ty * tz * g[sy + 1];
+    v += tx * ty * tz * g[sx + sy + 1];
+    return v;
 }
 
 float SwellField::at(const Coord& c) const {
     if (!any_) return 0.0f;
     const Coord q = c - lo_;
-    const double fx = double(q.x()) / f_, fy = double(q.y()) / f_, fz = double(q.z()) / f_;
-    const int i = int(std::floor(fx)), j = int(std::floor(fy)), k = int(std::floor(fz));
-    if (i < 0 || j < 0 || k < 0 || i + 1 >= nx_ || j + 1 >= ny_ || k + 1 >= nz_) return 0.0f;
-    const double tx = fx - i, ty = fy - j, tz = fz - k;
-    double v = 0;
-    for (int n = 0; n < 8; ++n) {
-        const int di = n & 1, dj = (n >> 1) & 1, dk = (n >> 2) & 1;
-        const double wgt = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty) * (dk ? tz : 1 - tz);
-        if (wgt > 0) v += wgt * g_[(std::size_t(i + di) * ny_ + (j + dj)) * nz_ + (k + dk)];
-    }
-    return float(v);
+    // Outside the steps, the cell or the one above it lies off the lattice.
+    for (int a = 0; a < 3; ++a)
+        if (q[a] < 0 || std::size_t(q[a]) >= steps_[a].size()) return 0.0f;
+    const Step& x = steps_[0][std::size_t(q.x())];
+    const Step& y = steps_[1][std::size_t(q.y())];
+    const Step& z = steps_[2][std::size_t(q.z())];
+    const std::size_t sy = std::size_t(nz_), sx = std::size_t(ny_) * sy;
+    return float(
+        trilinear(g_.data() + std::size_t(x.i) * sx + std::size_t(y.i) * sy + std::size_t(z.i), sx, sy, x.t, y.t, z.t));
 }
 
 SwellField::Block::Block(const SwellField& f, const Coord& origin) : f_(f) {
-    const int n[3] = {f.nx_, f.ny_, f.nz_};
     for (int a = 0; a < 3; ++a)
         for (int k = 0; k < 8; ++k) {
-            // As at(): the same divisions, floors and bounds.
-            const double p = double(origin[a] + k - f.lo_[a]) / f.f_;
-            const int i = int(std::floor(p));
-            c0_[a][k] = (i < 0 || i + 1 >= n[a]) ? -1 : i;
-            t_[a][k] = p - i;
+            // As at(): the cell below and the upper one's weight.
+            const int q = origin[a] + k - f.lo_[a];
+            const bool in = q >= 0 && std::size_t(q) < f.steps_[a].size();
+            c0_[a][k] = in ? f.steps_[a][std::size_t(q)].i : -1;
+            t_[a][k] = in ? f.steps_[a][std::size_t(q)].t : 0.0;
         }
 }
 
@@ -373,20 +431,17 @@ float SwellField::Block::at(int x, int y, int z) const {
     if (!f_.any_) return 0.0f;
     const int i = c0_[0][x], j = c0_[1][y], k = c0_[2][z];
     if (i < 0 || j < 0 || k < 0) return 0.0f;
-    const double tx = t_[0][x], ty = t_[1][y], tz = t_[2][z];
-    double v = 0;
-    for (int n = 0; n < 8; ++n) {
-        const int di = n & 1, dj = (n >> 1) & 1, dk = (n >> 2) & 1;
-        const double wgt = (di ? tx : 1 - tx) * (dj ? ty : 1 - ty) * (dk ? tz : 1 - tz);
-        if (wgt > 0) v += wgt * f_.g_[(std::size_t(i + di) * f_.ny_ + (j + dj)) * f_.nz_ + (k + dk)];
-    }
-    return float(v);
+    const std::size_t sy = std::size_t(f_.nz_), sx = std::size_t(f_.ny_) * sy;
+    return float(trilinear(f_.g_.data() + std::size_t(i) * sx + std::size_t(j) * sy + std::size_t(k), sx, sy, t_[0][x],
+                           t_[1][y], t_[2][z]));
 }
 
-// The coarse cells whose values reach the grid points of `b` (trilinearly): calls body(cell
-// index) until it returns true; returns whether one did.
+// The coarse cells whose values reach the grid points of `b` (trilinearly), within the cells
+// `within` (x0, x1, y0, y1, z0, z1, bounds included) when given: calls body(cell index) until
+// it returns true; returns whether one did.
 template <typename Body>
-static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, const openvdb::CoordBBox& b, Body&& body) {
+static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, const openvdb::CoordBBox& b, Body&& body,
+                       const std::array<int, 6>* within = nullptr) {
     const Coord lo = b.min() - lo_, hi = b.max() - lo_;
     const int i0 = std::clamp(int(std::floor(double(lo.x()) / f_)), 0, nx_ - 1),
               i1 = std::clamp(int(std::floor(double(hi.x()) / f_)) + 1, 0, nx_ - 1);
@@ -394,16 +449,21 @@ static bool any_coarse(const Coord& lo_, int f_, int nx_, int ny_, int nz_, cons
               j1 = std::clamp(int(std::floor(double(hi.y()) / f_)) + 1, 0, ny_ - 1);
     const int k0 = std::clamp(int(std::floor(double(lo.z()) / f_)), 0, nz_ - 1),
               k1 = std::clamp(int(std::floor(double(hi.z()) / f_)) + 1, 0, nz_ - 1);
-    for (int i = i0; i <= i1; ++i)
-        for (int j = j0; j <= j1; ++j)
-            for (int k = k0; k <= k1; ++k)
+    const std::array<int, 6> all{0, nx_ - 1, 0, ny_ - 1, 0, nz_ - 1};
+    const std::array<int, 6>& w = within ? *within : all;
+    for (int i = std::max(i0, w[0]); i <= std::min(i1, w[1]); ++i)
+        for (int j = std::max(j0, w[2]); j <= std::min(j1, w[3]); ++j)
+            for (int k = std::max(k0, w[4]); k <= std::min(k1, w[5]); ++k)
                 if (body((std::size_t(i) * ny_ + j) * nz_ + k)) return true;
     return false;
 }
 
 bool SwellField::raised_in(const openvdb::CoordBBox& b) const {
     if (last_.empty()) return false;
-    return any_coarse(lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; });
+    // Outside the last box nothing was raised.
+    const std::array<int, 6> within{box_.x0, box_.x1, box_.y0, box_.y1, box_.z0, box_.z1};
+    return any_coarse(
+        lo_, f_, nx_, ny_, nz_, b, [&](std::size_t c) { return last_[c] > 0; }, &within);
 }
 
 bool BallField::any_in(const openvdb::CoordBBox& b) const {

@@ -3,6 +3,7 @@
 // of sight it must keep, and the union of balls by which the volume swells to the lines of
 // sight it must cover.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -57,9 +58,27 @@ public:
     bool raised_in(const openvdb::CoordBBox& b) const;
 
 private:
+    // A box of lattice cells, bounds included (empty: x0 > x1).
+    struct Box {
+        int x0, x1, y0, y1, z0, z1;
+    };
+    /// body(first cell, count) for the rows along z of box b, in parallel.
+    template <typename Body>
+    void for_box(const Box& b, Body&& body) const;
+
+    // A grid point's lattice cell along an axis and the weight of the next cell.
+    struct Step {
+        int i;
+        double t;
+    };
+
     Coord lo_;
     int f_, nx_, ny_, nz_;
-    std::vector<float> g_, last_;
+    // Per axis, the Step of the grid points lo_ + 0, 1, ... that have a cell above theirs.
+    std::array<std::vector<Step>, 3> steps_;
+    // g_: the field; last_: the last settle()'s rise, 0 outside box_; tmp_: its scratch.
+    std::vector<float> g_, last_, tmp_;
+    Box box_{0, -1, 0, -1, 0, -1};
     std::vector<std::pair<std::uint32_t, float>> seeds_; // coarse cell, value
     bool any_ = false;
 };

@@ -152,16 +152,25 @@ std::uint64_t LeafColumns::column_bits(const Mask& m, int axis) {
         for (const std::uint64_t w : m) out |= w;
         return out;
     }
+    // By word arithmetic, without a loop over the bytes: kLow is bit 0 of each byte.
+    constexpr std::uint64_t kLow = 0x0101010101010101ull;
     for (int x = 0; x < 8; ++x) {
         const std::uint64_t w = m[std::size_t(x)];
-        if (!w) continue;
         if (axis == 1) { // columns z * 8 + x: the bytes' union is the z bits
-            std::uint64_t zs = 0;
-            for (int y = 0; y < 8; ++y) zs |= (w >> (8 * y)) & 0xff;
-            for (; zs; zs &= zs - 1) out |= std::uint64_t(1) << (__builtin_ctzll(zs) * 8 + x);
+            std::uint64_t zs = w | w >> 32;
+            zs |= zs >> 16;
+            zs |= zs >> 8;
+            // Bit z of zs to bit 0 of byte z: byte z keeps its bit z, which adding 0x7f carries
+            // to bit 7.
+            const std::uint64_t spread = ((zs & 0xff) * kLow) & 0x8040201008040201ull;
+            out |= (((spread + 0x7f7f7f7f7f7f7f7full) >> 7) & kLow) << x;
         } else { // columns x * 8 + y: the non-empty bytes
-            for (int y = 0; y < 8; ++y)
-                if ((w >> (8 * y)) & 0xff) out |= std::uint64_t(1) << (x * 8 + y);
+            std::uint64_t t = w | w >> 4;
+            t |= t >> 2;
+            t |= t >> 1;
+            // Bit 0 of byte y (set when the byte is not empty) to bit 56 + y, the products
+            // landing on distinct bits.
+            out |= (((t & kLow) * 0x0102040810204080ull) >> 56) << (8 * x);
         }
     }
     return out;

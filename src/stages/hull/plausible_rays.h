@@ -107,6 +107,10 @@ public:
     /// column are not dealt at all.
     template <typename Also, typename Body>
     void for_columns_wanted(int axis, const std::vector<Mask>& want, Also&& also, Body&& body) const;
+    /// The same for the columns for which `want(a grid point of the column)` holds: stacks
+    /// with none are not dealt at all.
+    template <typename Want, typename Body>
+    void for_columns_where(int axis, Want&& want, Body&& body) const;
     /// body(a grid point of the column) for every non-empty column along `axis`, from the
     /// leaves' masks alone (no voxel dealt), in parallel over leaf stacks.
     template <typename Body>
@@ -209,6 +213,28 @@ void LeafColumns::for_columns_wanted(int axis, const std::vector<Mask>& want, Al
                 if (also(c)) wanted |= std::uint64_t(1) << col;
             }
             return wanted & have;
+        },
+        std::forward<Body>(body));
+}
+
+template <typename Want, typename Body>
+void LeafColumns::for_columns_where(int axis, Want&& want, Body&& body) const {
+    const auto& order = order_[std::size_t(axis)];
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    deal_columns(
+        axis,
+        [&](std::size_t b, std::size_t e) {
+            std::uint64_t have = 0, wanted = 0;
+            for (std::size_t k = b; k < e; ++k) have |= column_bits(leaf_mask(leaves_.leaf(order[k])), axis);
+            const Coord origin = leaves_.leaf(order[b]).origin();
+            for (; have; have &= have - 1) {
+                const int col = __builtin_ctzll(have);
+                Coord c = origin;
+                c[a1] += col >> 3;
+                c[a2] += col & 7;
+                if (want(c)) wanted |= std::uint64_t(1) << col;
+            }
+            return wanted;
         },
         std::forward<Body>(body));
 }

@@ -166,6 +166,10 @@ private:
     /// out the columns holding one of them (the body is still asked about every other view's).
     template <typename Body>
     void for_rays(std::size_t v, Body&& body, const std::vector<LeafColumns::Mask>* skip = nullptr) const;
+    /// The same for the lines of sight of view v with `want[cell]` set alone: axis views deal
+    /// no other column.
+    template <typename Body>
+    void for_rays_in(std::size_t v, const std::vector<char>& want, Body&& body) const;
 
     // Cells of field below 0 a needed voxel gets, and over which a ball blends into the field.
     static constexpr float kMargin = 0.75f;
@@ -245,6 +249,26 @@ void Plausible::for_rays(std::size_t v, Body&& body, const std::vector<LeafColum
                                        [&](std::size_t k) { return vox_.coord_of(idx[k]); });
                               }
                       });
+}
+
+template <typename Body>
+void Plausible::for_rays_in(std::size_t v, const std::vector<char>& want, Body&& body) const {
+    const RayRaster& R = rasters_[v];
+    if (R.axis_aligned) {
+        columns_.for_columns_where(
+            R.axis, [&](const Coord& c) { return want[R.cell(c)] != 0; },
+            [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+                body(R.cell(first), idx, cnt, [&](std::size_t k) {
+                    Coord c = first;
+                    c[R.axis] = along[k];
+                    return c;
+                });
+            });
+        return;
+    }
+    for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {
+        if (want[c]) body(c, idx, cnt, coord);
+    });
 }
 
 /// Steps 6 and 7: the output volume from the voxels `removed` (changed: pockets put back) and
