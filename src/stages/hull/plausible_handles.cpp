@@ -126,59 +126,74 @@ struct Roots {
     }
 };
 
-// The 26-connected pieces: the runs of every row, joined to the runs of the four rows before
-// it that they touch (a run touches another reaching within one of it).
-long pieces_of(const Bits& b) {
+// The runs of on bits of every row (offsets along z within the row), the rows in order.
+struct Runs {
     struct Run {
         std::uint32_t a, e; // [a, e]
     };
     std::vector<Run> runs;
-    std::vector<std::size_t> start(b.nx * b.ny + 1, 0);
-    for (std::size_t x = 0; x < b.nx; ++x)
-        for (std::size_t y = 0; y < b.ny; ++y) {
-            start[x * b.ny + y] = runs.size();
-            const std::uint64_t* r = b.row(x, y);
-            bool in = false;
-            std::uint32_t a = 0;
-            for (std::size_t k = 0; k < b.rw; ++k) {
-                const std::uint64_t v = r[k];
-                if ((!in && !v) || (in && v == ~std::uint64_t(0))) continue;
-                int bit = 0;
-                while (bit < 64) {
-                    const std::uint64_t t = (in ? ~v : v) >> bit;
-                    if (!t) break;
-                    bit += __builtin_ctzll(t);
-                    const auto at = std::uint32_t(k * 64 + std::size_t(bit));
-                    if (!in) a = at;
-                    else runs.push_back({a, at - 1});
-                    in = !in;
+    std::vector<std::size_t> start; // the first run of each row (x * ny + y), and the end
+
+    explicit Runs(const Bits& b) : start(b.nx * b.ny + 1, 0) {
+        for (std::size_t x = 0; x < b.nx; ++x)
+            for (std::size_t y = 0; y < b.ny; ++y) {
+                start[x * b.ny + y] = runs.size();
+                const std::uint64_t* r = b.row(x, y);
+                bool in = false;
+                std::uint32_t a = 0;
+                for (std::size_t k = 0; k < b.rw; ++k) {
+                    const std::uint64_t v = r[k];
+                    if ((!in && !v) || (in && v == ~std::uint64_t(0))) continue;
+                    int bit = 0;
+                    while (bit < 64) {
+                        const std::uint64_t t = (in ? ~v : v) >> bit;
+                        if (!t) break;
+                        bit += __builtin_ctzll(t);
+                        const auto at = std::uint32_t(k * 64 + std::size_t(bit));
+                        if (!in) a = at;
+                        else runs.push_back({a, at - 1});
+                        in = !in;
+                    }
                 }
             }
-        }
-    start[b.nx * b.ny] = runs.size();
+        start.back() = runs.size();
+    }
+    /// touched(i, j) for every two runs of neighbouring rows that touch (a run touches another
+    /// reaching within one of it: 26-connected), each pair once.
+    template <typename Touched>
+    void for_touching(const Bits& b, Touched&& touched) const {
+        const auto touch = [&](std::size_t r1, std::size_t r2) {
+            std::size_t i = start[r1], j = start[r2];
+            const std::size_t ie = start[r1 + 1], je = start[r2 + 1];
+            while (i < ie && j < je) {
+                const Run &p = runs[i], &q = runs[j];
+                if (p.a <= q.e + 1 && q.a <= p.e + 1) touched(i, j);
+                if (p.e < q.e) ++i;
+                else ++j;
+            }
+        };
+        for (std::size_t x = 1; x + 1 < b.nx; ++x)
+            for (std::size_t y = 1; y + 1 < b.ny; ++y) {
+                const std::size_t r = x * b.ny + y;
+                if (start[r] == start[r + 1]) continue;
+                touch(r, r - 1);
+                touch(r, r - b.ny - 1);
+                touch(r, r - b.ny);
+                touch(r, r - b.ny + 1);
+            }
+    }
+};
+
+// The 26-connected pieces: the runs of every row joined to the runs they touch.
+long pieces_of(const Bits& b) {
+    const Runs runs(b);
     Roots roots;
-    roots.up.resize(runs.size());
+    roots.up.resize(runs.runs.size());
     std::iota(roots.up.begin(), roots.up.end(), 0u);
-    long pieces = long(runs.size());
-    const auto touch = [&](std::size_t r1, std::size_t r2) {
-        std::size_t i = start[r1], j = start[r2];
-        const std::size_t ie = start[r1 + 1], je = start[r2 + 1];
-        while (i < ie && j < je) {
-            const Run &p = runs[i], &q = runs[j];
-            if (p.a <= q.e + 1 && q.a <= p.e + 1 && roots.join(std::uint32_t(i), std::uint32_t(j))) --pieces;
-            if (p.e < q.e) ++i;
-            else ++j;
-        }
-    };
-    for (std::size_t x = 1; x + 1 < b.nx; ++x)
-        for (std::size_t y = 1; y + 1 < b.ny; ++y) {
-            const std::size_t r = x * b.ny + y;
-            if (start[r] == start[r + 1]) continue;
-            touch(r, r - 1);
-            touch(r, r - b.ny - 1);
-            touch(r, r - b.ny);
-            touch(r, r - b.ny + 1);
-        }
+    long pieces = long(runs.runs.size());
+    runs.for_touching(b, [&](std::size_t i, std::size_t j) {
+        if (roots.join(std::uint32_t(i), std::uint32_t(j))) --pieces;
+    });
     return pieces;
 }
 
@@ -216,7 +231,8 @@ int local_pieces(unsigned nb, std::array<unsigned, 26>& piece) {
 class Growth {
 public:
     Growth(const Bits& kept, const std::vector<RayRaster>& rays, int most)
-        : kept_(kept), grown_(kept), rays_(rays), queued_(kept), touched_(kept), most_(most) {
+        : kept_(kept), grown_(kept), rays_(rays), queued_(kept), touched_(kept), most_(most), core_(kept) {
+        std::fill(core_.w.begin(), core_.w.end(), 0);
         // The rank of a kept voxel: the kept voxels before its word, and before it in the word.
         first_.resize(kept.w.size() + 1);
         std::uint32_t n = 0;
@@ -260,15 +276,16 @@ public:
 
     /// The growth itself.
     void grow_from(const std::vector<std::uint32_t>& forced) {
-        std::fill(grown_.w.begin(), grown_.w.end(), 0);
+        grown_.w = core_.w;
+        touched_.w = core_.w;
         std::fill(queued_.w.begin(), queued_.w.end(), 0);
-        std::fill(touched_.w.begin(), touched_.w.end(), 0);
         roots_.up.resize(n_);
         std::iota(roots_.up.begin(), roots_.up.end(), 0u);
         for (auto& q : queue_) q.clear();
         head_.assign(queue_.size(), 0);
         top_ = 0;
-        add(by_depth_.front());
+        if (has_core_) grow_core();
+        else add(by_depth_.front());
         for (const std::uint32_t f : forced) {
             if (grown_.test(f)) continue;
             add(f);
@@ -298,9 +315,10 @@ public:
             const int np = local_pieces(nb, piece);
             std::array<std::uint32_t, 26> root;
             // Grown from one voxel, every grown voxel is one piece: two pieces about a voxel
-            // are one ring. Grown from forced voxels too, pieces apart may meet.
-            bool apart = np == 1 || !forced.empty();
-            if (forced.empty()) {
+            // are one ring. Grown from the core's pieces and forced voxels, pieces apart meet.
+            const bool one = forced.empty() && !has_core_;
+            bool apart = np == 1 || !one;
+            if (one) {
                 if (apart || pocket) add(p);
                 continue;
             }
@@ -412,6 +430,36 @@ private:
     }
     // The grid distance of each kept voxel to the outside (1 on the surface; face steps,
     // capped at 255), and the voxels deepest first.
+    // The core (the voxels deeper than a cut may reach) grown at once, its pieces by runs, and
+    // the voxels about it queued.
+    void grow_core() {
+        const Runs runs(core_);
+        std::vector<std::uint32_t> first(runs.runs.size());
+        for (std::size_t r = 0; r + 1 < runs.start.size(); ++r)
+            for (std::size_t i = runs.start[r]; i < runs.start[r + 1]; ++i) {
+                const std::uint32_t r0 = rank(r * core_.nz + runs.runs[i].a);
+                first[i] = r0;
+                for (std::uint32_t t = 1; t <= runs.runs[i].e - runs.runs[i].a; ++t) roots_.up[r0 + t] = r0;
+            }
+        runs.for_touching(core_, [&](std::size_t i, std::size_t j) { roots_.join(first[i], first[j]); });
+        const std::size_t row = core_.rw, slab = core_.ny * core_.rw;
+        const auto& c = core_.w;
+        for (std::size_t k = slab + row + 1; k + slab + row + 1 < c.size(); ++k) {
+            std::uint64_t near = 0;
+            for (const std::size_t m : {k - slab - row, k - slab, k - slab + row, k - row, k, k + row, k + slab - row,
+                                        k + slab, k + slab + row})
+                near |= c[m] | c[m] << 1 | c[m - 1] >> 63 | c[m] >> 1 | c[m + 1] << 63;
+            for (std::uint64_t b = near & kept_.w[k] & ~c[k]; b; b &= b - 1) {
+                const std::size_t q = k * 64 + std::size_t(__builtin_ctzll(b));
+                queued_.set(q);
+                touched_.set(q);
+                const std::uint8_t dq = depth_[rank(q)];
+                queue_[dq].push_back(std::uint32_t(q));
+                top_ = std::max<std::size_t>(top_, dq);
+            }
+        }
+    }
+
     void depths() {
         depth_.assign(n_, 0);
         Bits left = kept_;
@@ -446,6 +494,10 @@ private:
                 }
             layers.push_back(std::move(layer));
             for (std::size_t k = slab; k < left.w.size() - slab; ++k) left.w[k] = next[k];
+            if (d == most_) {
+                core_.w = left.w;
+                has_core_ = std::any_of(left.w.begin(), left.w.end(), [](std::uint64_t v) { return v != 0; });
+            }
             if (!any) break;
         }
         queue_.resize(256);
@@ -463,6 +515,9 @@ private:
     // Voxels in the queue now, and ever reached (queued or grown).
     Bits queued_, touched_;
     const int most_;
+    // The voxels deeper than `most_`: no cut reaches them, they are grown at once.
+    Bits core_;
+    bool has_core_ = false;
     std::vector<std::uint32_t> by_depth_;
     std::vector<std::vector<std::uint32_t>> queue_;
     std::vector<std::size_t> head_;
