@@ -58,6 +58,10 @@ void PlausibleOptions::declare(ParamBinder& b) {
                                   "weight of the hidden-depth prior: a part thin in one view whose depth the other "
                                   "views hide behind a wider part (an arm before the torso) gets a round section "
                                   "as deep as it is wide; 0 never"));
+    b.add(handles, ParamSpec::Enum("handles", "keep", {"keep", "cut"},
+                                   "keep: the kept volume keeps the hull's handles; cut: a handle no line of sight "
+                                   "needs (two parts that touch in one view, like knees meeting in the front view, "
+                                   "joined by the hull) is cut where it is thinnest, every drawn outline kept"));
 }
 
 void PlausibleStats::report(Metrics& m) const {
@@ -76,6 +80,9 @@ void PlausibleStats::report(Metrics& m) const {
     m.count("pieces_joined", pieces_joined);
     m.count("far_dropped", far_dropped);
     m.count("genus_kept", genus_kept);
+    m.count("handles", handles);
+    m.count("handles_left", handles_left);
+    m.count("handle_voxels", handle_voxels);
     m.count("ball_rays", ball_rays);
     m.count("square_voxels", square_voxels);
     m.count("ghost_voxels", ghost_voxels);
@@ -281,7 +288,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     p.remove();
     progress(0.7);
     // 6-7. The output volume: occupancy and crossings (plausible_volume.cpp).
-    std::shared_ptr<Volume> out = plausible_volume(in, p.voxels(), p.removed(), p.field(), st, progress);
+    std::shared_ptr<Volume> out = plausible_volume(in, p.voxels(), p.removed(), p.field(), p.rays(), opt.handles == "cut", st, progress);
     st.cell_px = p.finest_cell_px();
     progress(1.0);
     return {std::move(out), st};

@@ -13,6 +13,7 @@
 #pragma once
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/algorithm.h"
@@ -53,6 +54,9 @@ struct PlausibleOptions {
     /// the other views hide behind a wider part gets a round section as deep as it is wide;
     /// 0 never.
     double ghost;
+    /// "keep": the kept volume keeps the hull's handles (plausible_genus.h); "cut": the handles
+    /// no line of sight needs are cut where they are thinnest (plausible_handles.h).
+    std::string handles;
 
     PlausibleOptions() { set_declared_defaults(*this); }
     /// Every parameter.
@@ -74,6 +78,9 @@ struct PlausibleStats {
     std::size_t far_dropped = 0;     ///< voxels of crumbs far from the body dropped (plausible_pieces.h)
     std::size_t cavities_filled = 0; ///< removed voxels put back as sealed inside the kept volume
     std::size_t genus_kept = 0;      ///< removed voxels put back as opening a tunnel (plausible_genus.h)
+    std::size_t handles = 0;         ///< handles of the kept volume before the cut (handles: cut)
+    std::size_t handles_left = 0;    ///< and after it
+    std::size_t handle_voxels = 0;   ///< voxels taken out by the cut (plausible_handles.h)
     std::size_t ball_rays = 0;       ///< lines of sight then covered by a ball about the volume
     std::size_t square_voxels = 0;   ///< voxels whose lofted section is square (the hull kept; loft > 0)
     std::size_t ghost_voxels = 0;    ///< voxels outside a hidden part's round section (ghost > 0)

@@ -126,6 +126,8 @@ public:
     const UninitVector<float>& field() const { return cur_; }
     /// The finest line-of-sight raster pitch, pixels of its view.
     double finest_cell_px() const;
+    /// Each view's lines of sight.
+    const std::vector<RayRaster>& rays() const { return rasters_; }
 
 private:
     /// A view's drawing on its lines of sight: distance to the outline and local inscribed
@@ -271,11 +273,12 @@ void Plausible::for_rays_in(std::size_t v, const std::vector<char>& want, Body&&
     });
 }
 
-/// Steps 6 and 7: the output volume from the voxels `removed` (changed: pockets put back) and
-/// the field `field`; changes `vox` (the output's occupancy); fills the removal's figures of
-/// `st` (plausible_volume.cpp).
+/// Steps 6 and 7: the output volume from the voxels `removed` (changed: pockets put back, the
+/// handles cut taken out) and the field `field`; changes `vox` (the output's occupancy); with
+/// `cut_handles`, the handles no line of sight of `rays` needs are cut (plausible_handles.h);
+/// fills the removal's figures of `st` (plausible_volume.cpp).
 std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
-                                         const UninitVector<float>& field, PlausibleStats& st,
-                                         const Progress& progress);
+                                         const UninitVector<float>& field, const std::vector<RayRaster>& rays,
+                                         bool cut_handles, PlausibleStats& st, const Progress& progress);
 
 } // namespace cm::plausible

@@ -13,6 +13,7 @@
 #include <set>
 
 #include "leaf_masks.h"
+#include "plausible_handles.h"
 #include "plausible_crossings.h"
 #include "plausible_genus.h"
 #include "plausible_pieces.h"
@@ -43,6 +44,8 @@ public:
     std::vector<LeafMask> kept_masks() const;
     /// 6d. No handle the hull has not (plausible_genus.h).
     void keep_genus();
+    /// 6e. The handles no line of sight needs cut (plausible_handles.h).
+    void cut_handles(const std::vector<RayRaster>& rays);
     /// 6. Leaves full with 26 full neighbours back to tiles.
     void make_tiles();
     /// 7. The output volume: the occupancy, the thin parts that still hang on the surface and
@@ -277,6 +280,34 @@ void OutputVolume::keep_genus() {
     st_.removed -= std::min(st_.removed, back);
 }
 
+// The deepest a cut of a handle reaches, in cells of a grid 256 across: a touch of two parts
+// in one view is that thin (a camel's knees, a hand on a hip: 2 to 4 cells); a ring drawn as
+// one (a handle, a torus) is thicker.
+constexpr double kTouchCells = 5.0;
+
+// The voxels the cut takes out are removed ones: the crossings about them are placed anew.
+void OutputVolume::cut_handles(const std::vector<RayRaster>& rays) {
+    std::vector<std::pair<Coord, std::size_t>> leaf_at(nleaf_);
+    for (std::size_t l = 0; l < nleaf_; ++l) leaf_at[l] = {hull_origin_[l], l};
+    std::sort(leaf_at.begin(), leaf_at.end());
+    // A touch is a few cells thin at 256 cells across; a ring as thin as that is rare.
+    const int most = std::max(2, int(std::lround(kTouchCells * vox_.maxdim / 256.0)));
+    const HandleCut cut = plausible::cut_handles(vox_.leaves, rays, most, [&](const Coord& c) {
+        const Coord o(c.x() & ~7, c.y() & ~7, c.z() & ~7);
+        const auto it = std::lower_bound(leaf_at.begin(), leaf_at.end(), std::make_pair(o, std::size_t(0)));
+        const std::size_t l = it->second;
+        const openvdb::Index off = LeafT::coordToOffset(c);
+        const std::uint64_t below = hull_masks_[l][off >> 6] & ((1ull << (off & 63)) - 1);
+        std::size_t i = vox_.base[l] + std::size_t(__builtin_popcountll(below));
+        for (openvdb::Index w = 0; w < (off >> 6); ++w) i += std::size_t(__builtin_popcountll(hull_masks_[l][w]));
+        removed_[i] = 1;
+    });
+    st_.handles = std::size_t(std::max(0L, cut.handles));
+    st_.handles_left = std::size_t(std::max(0L, cut.handles_left));
+    st_.handle_voxels = cut.voxels;
+    st_.removed += cut.voxels;
+}
+
 // A leaf comes back as a tile when it and its 26 neighbours are full (each reached through
 // face neighbours, which must be full themselves), so every inside point next to the outside
 // stays a leaf voxel (volume.h).
@@ -355,8 +386,8 @@ void OutputVolume::place_crossings(Volume& out) const {
 } // namespace
 
 std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, UninitVector<std::uint8_t>& removed,
-                                         const UninitVector<float>& field, PlausibleStats& st,
-                                         const Progress& progress) {
+                                         const UninitVector<float>& field, const std::vector<RayRaster>& rays,
+                                         bool cut_handles, PlausibleStats& st, const Progress& progress) {
     OutputVolume out(in, vox, removed, field, st);
     // 6. The output occupancy.
     out.cut();
@@ -364,6 +395,7 @@ std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, Unin
     out.fill_pockets();
     out.join_pieces();
     out.keep_genus();
+    if (cut_handles) out.cut_handles(rays);
     out.make_tiles();
     progress(0.8);
     // 7. Crossings and thin parts.

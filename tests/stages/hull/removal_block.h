@@ -28,7 +28,9 @@ struct RemovalBlock {
             st.removed += removed[i];
         }
     }
-    std::shared_ptr<Volume> run() { return plausible::plausible_volume(hull, *vox, removed, field, st, Progress{}); }
+    std::shared_ptr<Volume> run() {
+        return plausible::plausible_volume(hull, *vox, removed, field, {}, false, st, Progress{});
+    }
 };
 
 } // namespace cm::test
