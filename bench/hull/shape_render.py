@@ -5,7 +5,7 @@
 # writes OUT_PREFIX-0.png, OUT_PREFIX-1.png, ... (one per mesh, same camera for all: framed on
 # the first mesh's box, so the pictures compare). SHAPE_AZ=DEG in the environment turns the
 # camera about the vertical (45 unless given; 135 looks at a conceptmesh model, front +Z,
-# from its front right).
+# from its front right); SHAPE_EL=DEG raises it (25 unless given; below 0 looks from under).
 import math
 import os
 import sys
@@ -38,7 +38,7 @@ for k, path in enumerate(paths):
     scene.render.film_transparent = False
     scene.world = bpy.data.worlds.new("w")
     # Blender is Z up; the OBJ's front (+Z in conceptmesh's frame) imports as +Y here.
-    az, el = math.radians(float(os.environ.get("SHAPE_AZ", 45))), math.radians(25)
+    az, el = math.radians(float(os.environ.get("SHAPE_AZ", 45))), math.radians(float(os.environ.get("SHAPE_EL", 25)))
     d = Vector((math.sin(az) * math.cos(el), math.cos(az) * math.cos(el), math.sin(el)))
     cam_data = bpy.data.cameras.new("cam")
     cam = bpy.data.objects.new("cam", cam_data)

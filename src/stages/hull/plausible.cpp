@@ -288,7 +288,8 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     p.remove();
     progress(0.7);
     // 6-7. The output volume: occupancy and crossings (plausible_volume.cpp).
-    std::shared_ptr<Volume> out = plausible_volume(in, p.voxels(), p.removed(), p.field(), p.rays(), opt.handles == "cut", st, progress);
+    std::shared_ptr<Volume> out =
+        plausible_volume(in, p.voxels(), p.removed(), p.field(), p.rays(), opt.handles == "cut", st, progress);
     st.cell_px = p.finest_cell_px();
     progress(1.0);
     return {std::move(out), st};

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <numeric>
 #include <cstdlib>
+#include <numeric>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -236,7 +236,8 @@ public:
         // The rank of a kept voxel: the kept voxels before its word, and before it in the word.
         first_.resize(kept.w.size() + 1);
         std::uint32_t n = 0;
-        for (std::size_t k = 0; k < kept.w.size(); ++k) first_[k] = n, n += std::uint32_t(__builtin_popcountll(kept.w[k]));
+        for (std::size_t k = 0; k < kept.w.size(); ++k)
+            first_[k] = n, n += std::uint32_t(__builtin_popcountll(kept.w[k]));
         first_.back() = n;
         n_ = n;
         for (int d = 0; d < 27; ++d) {

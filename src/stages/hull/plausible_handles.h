@@ -34,10 +34,10 @@ namespace cm::plausible {
 
 /// What cut_handles() did.
 struct HandleCut {
-    long handles = 0;        ///< handles of the kept volume before (pieces - Euler characteristic)
-    long handles_left = 0;   ///< and after
-    std::size_t voxels = 0;  ///< voxels taken out
-    int growths = 0;         ///< growths run (0: no handle, or too large a box to grow in)
+    long handles = 0;       ///< handles of the kept volume before (pieces - Euler characteristic)
+    long handles_left = 0;  ///< and after
+    std::size_t voxels = 0; ///< voxels taken out
+    int growths = 0;        ///< growths run (0: no handle, or too large a box to grow in)
 };
 
 /// The Euler characteristic (V - E + F - C of the union of the closed voxel cubes) and the

@@ -13,9 +13,9 @@
 #include <set>
 
 #include "leaf_masks.h"
-#include "plausible_handles.h"
 #include "plausible_crossings.h"
 #include "plausible_genus.h"
+#include "plausible_handles.h"
 #include "plausible_pieces.h"
 #include "plausible_state.h"
 #include "plausible_thin.h"

@@ -6,9 +6,9 @@
 
 #include <vector>
 
-#include "marching_cubes.h"
 #include "geometry/mesh_check.h"
 #include "hull_steps.h"
+#include "marching_cubes.h"
 #include "plausible.h"
 #include "plausible_handles.h"
 #include "support/shapes.h"
@@ -39,10 +39,10 @@ const std::vector<Box> kLegs = {
 
 // A frame standing on a plinth, seen through its opening from the front: a drawn ring.
 const std::vector<Box> kFrame = {
-    {{-3, -3, -1}, {3, 0, 1}},          // plinth
-    {{-2, 0, -0.4}, {-1.2, 3, 0.4}},    // left post
-    {{1.2, 0, -0.4}, {2, 3, 0.4}},      // right post
-    {{-2, 2.2, -0.4}, {2, 3, 0.4}},     // lintel
+    {{-3, -3, -1}, {3, 0, 1}},       // plinth
+    {{-2, 0, -0.4}, {-1.2, 3, 0.4}}, // left post
+    {{1.2, 0, -0.4}, {2, 3, 0.4}},   // right post
+    {{-2, 2.2, -0.4}, {2, 3, 0.4}},  // lintel
 };
 
 std::shared_ptr<const Views> views_of(const std::vector<Box>& parts, Vec3d lo, Vec3d hi) {
@@ -50,7 +50,8 @@ std::shared_ptr<const Views> views_of(const std::vector<Box>& parts, Vec3d lo, V
     for (const char* n : {"front", "right", "top"}) {
         const Vec3d d = Camera::named(n)->d;
         Outline all = box_outline(parts[0].lo, parts[0].hi, d);
-        for (std::size_t k = 1; k < parts.size(); ++k) all = union_outline(all, box_outline(parts[k].lo, parts[k].hi, d));
+        for (std::size_t k = 1; k < parts.size(); ++k)
+            all = union_outline(all, box_outline(parts[k].lo, parts[k].hi, d));
         vs.push_back(ortho_view(n, 480, 60.0, all));
     }
     return make_views(std::move(vs), lo, hi);
@@ -87,20 +88,19 @@ TEST(HullPlausibleHandles, EulerAndPiecesOfVoxelSets) {
     EXPECT_EQ(t.pieces, 1);
     EXPECT_EQ(t.euler, 1);
     // Two tunnels through it along z, one along x crossing neither: three handles.
-    t = plausible::voxel_topology(filled({CoordBBox({0, 0, 0}, {20, 12, 9})},
-                                         {CoordBBox({3, 3, 0}, {5, 5, 9}), CoordBBox({12, 3, 0}, {14, 5, 9}),
-                                          CoordBBox({0, 9, 3}, {20, 10, 5})}));
+    t = plausible::voxel_topology(filled(
+        {CoordBBox({0, 0, 0}, {20, 12, 9})},
+        {CoordBBox({3, 3, 0}, {5, 5, 9}), CoordBBox({12, 3, 0}, {14, 5, 9}), CoordBBox({0, 9, 3}, {20, 10, 5})}));
     EXPECT_EQ(t.pieces, 1);
     EXPECT_EQ(t.handles(), 3);
     // Three blocks, two of them touching by a corner only (one piece: 26-connected), across leaves.
-    t = plausible::voxel_topology(filled({CoordBBox({0, 0, 0}, {4, 4, 4}), CoordBBox({5, 5, 5}, {9, 9, 9}),
-                                          CoordBBox({30, -20, 7}, {33, -17, 70})}));
+    t = plausible::voxel_topology(filled(
+        {CoordBBox({0, 0, 0}, {4, 4, 4}), CoordBBox({5, 5, 5}, {9, 9, 9}), CoordBBox({30, -20, 7}, {33, -17, 70})}));
     EXPECT_EQ(t.pieces, 2);
     EXPECT_EQ(t.handles(), 0);
     // A ring of voxels joined by edges alone (a diagonal loop) is a handle of the closed cubes.
-    t = plausible::voxel_topology(
-        filled({CoordBBox({0, 0, 0}, {0, 0, 0}), CoordBBox({1, 1, 0}, {1, 1, 0}), CoordBBox({0, 2, 0}, {0, 2, 0}),
-                CoordBBox({-1, 1, 0}, {-1, 1, 0})}));
+    t = plausible::voxel_topology(filled({CoordBBox({0, 0, 0}, {0, 0, 0}), CoordBBox({1, 1, 0}, {1, 1, 0}),
+                                          CoordBBox({0, 2, 0}, {0, 2, 0}), CoordBBox({-1, 1, 0}, {-1, 1, 0})}));
     EXPECT_EQ(t.pieces, 1);
     EXPECT_EQ(t.handles(), 1);
 }
