@@ -22,6 +22,8 @@
 #   silhouette errors alone ("-" in the genus columns)
 #   PIPELINE (environment variable): the pipeline of the reconstruction, pipelines/$PIPELINE.yaml
 #   (default paper; loft for pipelines/loft.yaml)
+#   SET (environment variable): parameters of the reconstruction's nodes, space-separated
+#   NODE.PARAM=VALUE, each given to the run as --set (plausible.handles=cut)
 set -euo pipefail
 build=${1:?usage: blueprint_bar.sh BUILD_DIR [SIZE] [MODELS] [WORK] [VIEWS] [COLOUR] [WIDTH] [HOLES] [STYLE] [PAPER] [GRAIN] [RECONSTRUCT]}
 size=${2:-1024}
@@ -40,6 +42,8 @@ paper=${10:-white}
 grain=${11:-0}
 reconstruct=${12:-yes}
 pipeline="$repo/pipelines/${PIPELINE:-paper}.yaml"
+sets=()
+for kv in ${SET:-}; do sets+=(--set "$kv"); done
 [[ "$holes" == rule || "$holes" == user || "$holes" == keep ]] || {
     echo "blueprint_bar.sh: HOLES must be rule, user or keep, not '$holes'" >&2
     exit 2
@@ -103,7 +107,7 @@ grep -v '^#' "$here/../models.txt" | tr -s ' ' | while read -r name file up fron
         continue
     fi
     "$exe" run "$pipeline" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj" \
-        --set preview.path="$d/preview.png" >/dev/null 2>&1 ||
-        "$exe" run "$pipeline" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj"
+        --set preview.path="$d/preview.png" "${sets[@]}" >/dev/null 2>&1 ||
+        "$exe" run "$pipeline" -q --set views.manifest="$d/views.yaml" --set write.path="$d/mesh.obj" "${sets[@]}"
     echo "| $name | ${xor// / \/ } | $worst | $(genus "$models/$file") | $(genus "$d/mesh.obj") | ${kept[*]:--} |"
 done
