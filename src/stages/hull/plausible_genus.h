@@ -17,6 +17,7 @@
 // resolves such a face, gives the surface the topology of the voxels (a diagonal contact read
 // as apart opens a hole between two concavities).
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -53,6 +54,10 @@ bool removal_keeps_outside(unsigned nb);
 /// 26-connected piece within it: putting the centre back then joins nothing that was apart
 /// there (with removal_keeps_outside(), the centre is simple: it changes no topology).
 bool kept_one_piece(unsigned nb);
+
+/// The 26-connected pieces of the on voxels of a neighbourhood (`nb` as above; the centre
+/// ignored) within it: their masks in `piece`, and how many.
+int kept_pieces(unsigned nb, std::array<unsigned, 26>& piece);
 
 /// Whether the centre of a neighbourhood (`nb` as above), taken out, stands between two on
 /// voxels that touch by an edge or a corner alone: a 2x2 square through the centre whose on

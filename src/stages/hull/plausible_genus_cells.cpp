@@ -41,6 +41,32 @@ const Cells& cells() {
     return c;
 }
 
+// The 26-neighbours within a neighbourhood of each of its voxels.
+const std::array<unsigned, 27>& neighbours() {
+    static const std::array<unsigned, 27> around = [] {
+        std::array<unsigned, 27> a{};
+        for (int k = 0; k < 27; ++k)
+            for (int j = 0; j < 27; ++j)
+                if (j != k && std::abs(j % 3 - k % 3) <= 1 && std::abs(j / 3 % 3 - k / 3 % 3) <= 1 &&
+                    std::abs(j / 9 - k / 9) <= 1)
+                    a[std::size_t(k)] |= 1u << j;
+        return a;
+    }();
+    return around;
+}
+
+// The on voxels of `on` reached from `seed` (one of them) by 26-steps within them.
+unsigned flood(unsigned on, unsigned seed) {
+    unsigned reached = seed, grown = seed;
+    while (grown) {
+        unsigned next = 0;
+        for (unsigned g = grown; g; g &= g - 1) next |= neighbours()[std::size_t(__builtin_ctz(g))];
+        grown = next & on & ~reached;
+        reached |= grown;
+    }
+    return reached;
+}
+
 } // namespace
 
 // The change of the Euler characteristic of the kept volume (the union of its closed voxel
@@ -78,26 +104,18 @@ bool removal_keeps_outside(unsigned nb) {
 }
 
 bool kept_one_piece(unsigned nb) {
-    // The 26-neighbours within the neighbourhood of each of its voxels.
-    static const std::array<unsigned, 27> around = [] {
-        std::array<unsigned, 27> a{};
-        for (int k = 0; k < 27; ++k)
-            for (int j = 0; j < 27; ++j)
-                if (j != k && std::abs(j % 3 - k % 3) <= 1 && std::abs(j / 3 % 3 - k / 3 % 3) <= 1 &&
-                    std::abs(j / 9 - k / 9) <= 1)
-                    a[std::size_t(k)] |= 1u << j;
-        return a;
-    }();
     const unsigned on = nb & 0x7FFFFFFu & ~(1u << kCentre);
-    if (!on) return false;
-    unsigned reached = on & -on, grown = reached;
-    while (grown) {
-        unsigned next = 0;
-        for (unsigned g = grown; g; g &= g - 1) next |= around[std::size_t(__builtin_ctz(g))];
-        grown = next & on & ~reached;
-        reached |= grown;
+    return on && flood(on, on & -on) == on;
+}
+
+int kept_pieces(unsigned nb, std::array<unsigned, 26>& piece) {
+    unsigned on = nb & 0x7FFFFFFu & ~(1u << kCentre);
+    int n = 0;
+    for (; on; ++n) {
+        piece[std::size_t(n)] = flood(on, on & -on);
+        on &= ~piece[std::size_t(n)];
     }
-    return reached == on;
+    return n;
 }
 
 // The off centre of `nb` (the voxel taken out) between two on voxels that touch by an

@@ -199,34 +199,6 @@ long pieces_of(const Bits& b) {
 
 VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
 
-// The pieces of the on voxels of a neighbourhood (bit x + 3 y + 9 z, the centre ignored),
-// 26-connected within it: their masks, and how many.
-int local_pieces(unsigned nb, std::array<unsigned, 26>& piece) {
-    static const std::array<unsigned, 27> around = [] {
-        std::array<unsigned, 27> a{};
-        for (int k = 0; k < 27; ++k)
-            for (int j = 0; j < 27; ++j)
-                if (j != k && std::abs(j % 3 - k % 3) <= 1 && std::abs(j / 3 % 3 - k / 3 % 3) <= 1 &&
-                    std::abs(j / 9 - k / 9) <= 1)
-                    a[std::size_t(k)] |= 1u << j;
-        return a;
-    }();
-    unsigned on = nb & 0x7FFFFFFu & ~(1u << 13);
-    int n = 0;
-    while (on) {
-        unsigned reached = on & -on, grown = reached;
-        while (grown) {
-            unsigned next = 0;
-            for (unsigned g = grown; g; g &= g - 1) next |= around[std::size_t(__builtin_ctz(g))];
-            grown = next & on & ~reached;
-            reached |= grown;
-        }
-        piece[std::size_t(n++)] = reached;
-        on &= ~reached;
-    }
-    return n;
-}
-
 // The growth of plausible_handles.h over the kept voxels `kept`.
 class Growth {
 public:
@@ -251,7 +223,6 @@ public:
     /// the cut empties, one per such line.
     std::vector<std::uint32_t> grow(const std::vector<std::uint32_t>& forced) {
         grow_from(forced);
-        keep_thick(most_);
         if (kept_.w == grown_.w) return {};
         if (cells_.empty()) lines_of_sight();
         return bare();
@@ -313,7 +284,7 @@ public:
             const bool pocket = (nb & kFaces) == kFaces;
             if (!pocket && !removal_keeps_outside(nb)) continue; // waits for a neighbour
             std::array<unsigned, 26> piece;
-            const int np = local_pieces(nb, piece);
+            const int np = kept_pieces(nb, piece);
             std::array<std::uint32_t, 26> root;
             // Grown from one voxel, every grown voxel is one piece: two pieces about a voxel
             // are one ring. Grown from the core's pieces and forced voxels, pieces apart meet.
@@ -372,36 +343,6 @@ public:
 
     const Bits& grown() const { return grown_; }
 
-    /// The cuts (26-connected pieces of the kept voxels not grown) reaching deeper than
-    /// `most` cells grown back.
-    const Bits& keep_thick(int most) {
-        Bits seen = kept_;
-        for (auto& v : seen.w) v = 0;
-        std::vector<std::size_t> todo, piece;
-        for (std::size_t k = 0; k < kept_.w.size(); ++k)
-            for (std::uint64_t c = kept_.w[k] & ~grown_.w[k] & ~seen.w[k]; c; c &= c - 1) {
-                const std::size_t i0 = k * 64 + std::size_t(__builtin_ctzll(c));
-                if (seen.test(i0)) continue;
-                piece.clear();
-                todo.assign(1, i0);
-                seen.set(i0);
-                int deepest = 0;
-                while (!todo.empty()) {
-                    const std::size_t i = todo.back();
-                    todo.pop_back();
-                    piece.push_back(i);
-                    deepest = std::max(deepest, int(depth_[rank(i)]));
-                    for (const long d : step_) {
-                        const std::size_t q = i + std::size_t(d);
-                        if (kept_.test(q) && !grown_.test(q) && !seen.test(q)) seen.set(q), todo.push_back(q);
-                    }
-                }
-                if (deepest > most)
-                    for (const std::size_t i : piece) grown_.set(i);
-            }
-        return grown_;
-    }
-
 private:
     // The six face neighbours of the centre of a neighbourhood.
     static constexpr unsigned kFaces = 1u << 4 | 1u << 10 | 1u << 12 | 1u << 14 | 1u << 16 | 1u << 22;
@@ -421,16 +362,17 @@ private:
         touched_.set(i);
         for (int d = 0; d < 27; ++d) {
             const std::size_t q = i + std::size_t(step_[std::size_t(d)]);
-            if (!kept_.test(q) || grown_.test(q) || queued_.test(q)) continue;
-            queued_.set(q);
-            touched_.set(q);
-            const std::uint8_t dq = depth_[rank(q)];
-            queue_[dq].push_back(std::uint32_t(q));
-            top_ = std::max<std::size_t>(top_, dq);
+            if (kept_.test(q) && !grown_.test(q) && !queued_.test(q)) enqueue(q);
         }
     }
-    // The grid distance of each kept voxel to the outside (1 on the surface; face steps,
-    // capped at 255), and the voxels deepest first.
+    // A kept voxel into the queue of its depth.
+    void enqueue(std::size_t q) {
+        queued_.set(q);
+        touched_.set(q);
+        const std::uint8_t dq = depth_[rank(q)];
+        queue_[dq].push_back(std::uint32_t(q));
+        top_ = std::max<std::size_t>(top_, dq);
+    }
     // The core (the voxels deeper than a cut may reach) grown at once, its pieces by runs, and
     // the voxels about it queued.
     void grow_core() {
@@ -450,17 +392,13 @@ private:
             for (const std::size_t m : {k - slab - row, k - slab, k - slab + row, k - row, k, k + row, k + slab - row,
                                         k + slab, k + slab + row})
                 near |= c[m] | c[m] << 1 | c[m - 1] >> 63 | c[m] >> 1 | c[m + 1] << 63;
-            for (std::uint64_t b = near & kept_.w[k] & ~c[k]; b; b &= b - 1) {
-                const std::size_t q = k * 64 + std::size_t(__builtin_ctzll(b));
-                queued_.set(q);
-                touched_.set(q);
-                const std::uint8_t dq = depth_[rank(q)];
-                queue_[dq].push_back(std::uint32_t(q));
-                top_ = std::max<std::size_t>(top_, dq);
-            }
+            for (std::uint64_t b = near & kept_.w[k] & ~c[k]; b; b &= b - 1)
+                enqueue(k * 64 + std::size_t(__builtin_ctzll(b)));
         }
     }
 
+    // The grid distance of each kept voxel to the outside (1 on the surface; face steps,
+    // capped at 255), the voxels deepest first, and the core.
     void depths() {
         depth_.assign(n_, 0);
         Bits left = kept_;
@@ -569,11 +507,8 @@ HandleCut cut_handles(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, con
         if (bare.empty()) break;
         forced.insert(forced.end(), bare.begin(), bare.end());
     }
-    Bits grown = growth.grown();
-    if (!bare.empty()) {
-        growth.give_back(bare);
-        grown = growth.grown();
-    }
+    if (!bare.empty()) growth.give_back(bare);
+    const Bits& grown = growth.grown();
     const VoxelTopology after = topology_of(grown);
     // A growth that left a piece apart (a voxel grown first that nothing joined) cuts nothing.
     if (after.pieces != before.pieces || after.handles() >= before.handles()) return out;

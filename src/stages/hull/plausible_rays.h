@@ -137,6 +137,10 @@ public:
 
 private:
     void stacks_along(int axis) const;
+    /// The columns of `cols` (bits as column_bits()) of the stack starting at order_[axis][b]
+    /// for which `want(a grid point of the column)` holds.
+    template <typename Want>
+    std::uint64_t columns_where(int axis, std::size_t b, std::uint64_t cols, Want&& want) const;
     /// for_columns() over the columns `wanted(stack)` gives (a column mask as column_bits()).
     template <typename Wanted, typename Body>
     void deal_columns(int axis, Wanted&& wanted_of, Body&& body) const;
@@ -194,7 +198,6 @@ void LeafColumns::for_columns(int axis, const std::vector<Mask>* skip, Body&& bo
 template <typename Also, typename Body>
 void LeafColumns::for_columns_wanted(int axis, const std::vector<Mask>& want, Also&& also, Body&& body) const {
     const auto& order = order_[std::size_t(axis)];
-    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     deal_columns(
         axis,
         [&](std::size_t b, std::size_t e) {
@@ -204,15 +207,7 @@ void LeafColumns::for_columns_wanted(int axis, const std::vector<Mask>& want, Al
                 have |= column_bits(leaf_mask(leaves_.leaf(l)), axis);
                 wanted |= column_bits(want[l], axis);
             }
-            const Coord origin = leaves_.leaf(order[b]).origin();
-            for (std::uint64_t rest = have & ~wanted; rest; rest &= rest - 1) {
-                const int col = __builtin_ctzll(rest);
-                Coord c = origin;
-                c[a1] += col >> 3;
-                c[a2] += col & 7;
-                if (also(c)) wanted |= std::uint64_t(1) << col;
-            }
-            return wanted & have;
+            return (wanted | columns_where(axis, b, have & ~wanted, also)) & have;
         },
         std::forward<Body>(body));
 }
@@ -220,23 +215,29 @@ void LeafColumns::for_columns_wanted(int axis, const std::vector<Mask>& want, Al
 template <typename Want, typename Body>
 void LeafColumns::for_columns_where(int axis, Want&& want, Body&& body) const {
     const auto& order = order_[std::size_t(axis)];
-    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     deal_columns(
         axis,
         [&](std::size_t b, std::size_t e) {
-            std::uint64_t have = 0, wanted = 0;
+            std::uint64_t have = 0;
             for (std::size_t k = b; k < e; ++k) have |= column_bits(leaf_mask(leaves_.leaf(order[k])), axis);
-            const Coord origin = leaves_.leaf(order[b]).origin();
-            for (; have; have &= have - 1) {
-                const int col = __builtin_ctzll(have);
-                Coord c = origin;
-                c[a1] += col >> 3;
-                c[a2] += col & 7;
-                if (want(c)) wanted |= std::uint64_t(1) << col;
-            }
-            return wanted;
+            return columns_where(axis, b, have, want);
         },
         std::forward<Body>(body));
+}
+
+template <typename Want>
+std::uint64_t LeafColumns::columns_where(int axis, std::size_t b, std::uint64_t cols, Want&& want) const {
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    const Coord origin = leaves_.leaf(order_[std::size_t(axis)][b]).origin();
+    std::uint64_t wanted = 0;
+    for (; cols; cols &= cols - 1) {
+        const int col = __builtin_ctzll(cols);
+        Coord c = origin;
+        c[a1] += col >> 3;
+        c[a2] += col & 7;
+        if (want(c)) wanted |= std::uint64_t(1) << col;
+    }
+    return wanted;
 }
 
 template <typename Wanted, typename Body>

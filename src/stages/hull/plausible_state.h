@@ -226,18 +226,24 @@ private:
     std::vector<LeafColumns::Mask> kept_;
 };
 
+// A body of for_rays() as the columns of an axis view are dealt (LeafColumns): the column's
+// cell, and the grid point of its k-th voxel from its first and its coordinates along the axis.
+template <typename Body>
+auto column_rays(const RayRaster& R, Body& body) {
+    return [&R, &body](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
+        body(R.cell(first), idx, cnt, [&](std::size_t k) {
+            Coord c = first;
+            c[R.axis] = along[k];
+            return c;
+        });
+    };
+}
+
 template <typename Body>
 void Plausible::for_rays(std::size_t v, Body&& body, const std::vector<LeafColumns::Mask>* skip) const {
     const RayRaster& R = rasters_[v];
     if (R.axis_aligned) {
-        columns_.for_columns(R.axis, skip,
-                             [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
-                                 body(R.cell(first), idx, cnt, [&](std::size_t k) {
-                                     Coord c = first;
-                                     c[R.axis] = along[k];
-                                     return c;
-                                 });
-                             });
+        columns_.for_columns(R.axis, skip, column_rays(R, body));
         return;
     }
     const auto& order = orders_[v];
@@ -258,14 +264,7 @@ void Plausible::for_rays_in(std::size_t v, const std::vector<char>& want, Body&&
     const RayRaster& R = rasters_[v];
     if (R.axis_aligned) {
         columns_.for_columns_where(
-            R.axis, [&](const Coord& c) { return want[R.cell(c)] != 0; },
-            [&](const Coord& first, const std::uint32_t* idx, const int* along, std::size_t cnt) {
-                body(R.cell(first), idx, cnt, [&](std::size_t k) {
-                    Coord c = first;
-                    c[R.axis] = along[k];
-                    return c;
-                });
-            });
+            R.axis, [&](const Coord& c) { return want[R.cell(c)] != 0; }, column_rays(R, body));
         return;
     }
     for_rays(v, [&](std::uint32_t c, const std::uint32_t* idx, std::size_t cnt, auto&& coord) {

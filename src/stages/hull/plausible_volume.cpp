@@ -287,12 +287,14 @@ constexpr double kTouchCells = 5.0;
 
 // The voxels the cut takes out are removed ones: the crossings about them are placed anew.
 void OutputVolume::cut_handles(const std::vector<RayRaster>& rays) {
-    std::vector<std::pair<Coord, std::size_t>> leaf_at(nleaf_);
-    for (std::size_t l = 0; l < nleaf_; ++l) leaf_at[l] = {hull_origin_[l], l};
-    std::sort(leaf_at.begin(), leaf_at.end());
-    // A touch is a few cells thin at 256 cells across; a ring as thin as that is rare.
+    // The leaves by origin, for the voxels cut (made at the first: most volumes have none).
+    std::vector<std::pair<Coord, std::size_t>> leaf_at;
     const int most = std::max(2, int(std::lround(kTouchCells * vox_.maxdim / 256.0)));
     const HandleCut cut = plausible::cut_handles(vox_.leaves, rays, most, [&](const Coord& c) {
+        if (leaf_at.empty()) {
+            for (std::size_t l = 0; l < nleaf_; ++l) leaf_at.emplace_back(hull_origin_[l], l);
+            std::sort(leaf_at.begin(), leaf_at.end());
+        }
         const Coord o(c.x() & ~7, c.y() & ~7, c.z() & ~7);
         const auto it = std::lower_bound(leaf_at.begin(), leaf_at.end(), std::make_pair(o, std::size_t(0)));
         const std::size_t l = it->second;
