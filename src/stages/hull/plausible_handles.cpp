@@ -30,6 +30,7 @@ struct Bits {
     std::size_t nx = 0, ny = 0, nz = 0, rw = 0; // rw: words per row
     std::vector<std::uint64_t> w;
 
+    Bits() = default;
     explicit Bits(const CoordBBox& box) {
         const int z0 = (box.min().z() & ~7) - 8;
         lo = Coord(box.min().x() - 1, box.min().y() - 1, z0);
@@ -159,15 +160,17 @@ struct Runs {
         start.back() = runs.size();
     }
     /// touched(i, j) for every two runs of neighbouring rows that touch (a run touches another
-    /// reaching within one of it: 26-connected), each pair once.
+    /// reaching within one of it: 26-connected; with `faces`, sharing a face: 6-connected),
+    /// each pair once.
     template <typename Touched>
-    void for_touching(const Bits& b, Touched&& touched) const {
+    void for_touching(const Bits& b, Touched&& touched, bool faces = false) const {
+        const std::uint32_t reach = faces ? 0 : 1;
         const auto touch = [&](std::size_t r1, std::size_t r2) {
             std::size_t i = start[r1], j = start[r2];
             const std::size_t ie = start[r1 + 1], je = start[r2 + 1];
             while (i < ie && j < je) {
                 const Run &p = runs[i], &q = runs[j];
-                if (p.a <= q.e + 1 && q.a <= p.e + 1) touched(i, j);
+                if (p.a <= q.e + reach && q.a <= p.e + reach) touched(i, j);
                 if (p.e < q.e) ++i;
                 else ++j;
             }
@@ -177,10 +180,23 @@ struct Runs {
                 const std::size_t r = x * b.ny + y;
                 if (start[r] == start[r + 1]) continue;
                 touch(r, r - 1);
-                touch(r, r - b.ny - 1);
                 touch(r, r - b.ny);
+                if (faces) continue;
+                touch(r, r - b.ny - 1);
                 touch(r, r - b.ny + 1);
             }
+    }
+    /// The piece of each run (the first run of the piece), 26-connected or with `faces`
+    /// 6-connected.
+    std::vector<std::uint32_t> pieces(const Bits& b, bool faces) const {
+        Roots roots;
+        roots.up.resize(runs.size());
+        std::iota(roots.up.begin(), roots.up.end(), 0u);
+        for_touching(
+            b, [&](std::size_t i, std::size_t j) { roots.join(std::uint32_t(i), std::uint32_t(j)); }, faces);
+        for (std::uint32_t i = 0; i < runs.size(); ++i) roots.find(i);
+        for (std::uint32_t i = 0; i < runs.size(); ++i) roots.up[i] = roots.up[roots.up[i]];
+        return std::move(roots.up);
     }
 };
 
@@ -202,7 +218,7 @@ VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
 // The growth of plausible_handles.h over the kept voxels `kept`.
 class Growth {
 public:
-    Growth(const Bits& kept, const std::vector<RayRaster>& rays, int most)
+    Growth(const Bits& kept, const std::vector<RayRaster>& rays, int most, const Bits* seed = nullptr)
         : kept_(kept), grown_(kept), rays_(rays), queued_(kept), touched_(kept), most_(most), core_(kept) {
         std::fill(core_.w.begin(), core_.w.end(), 0);
         // The rank of a kept voxel: the kept voxels before its word, and before it in the word.
@@ -215,8 +231,9 @@ public:
         for (int d = 0; d < 27; ++d) {
             const long dx = d % 3 - 1, dy = d / 3 % 3 - 1, dz = d / 9 - 1;
             step_[std::size_t(d)] = (dx * long(kept.ny) + dy) * long(kept.nz) + dz;
+            if (d < 9) row_step_[std::size_t(d)] = step_[std::size_t(d)] + 1;
         }
-        depths();
+        depths(seed);
     }
 
     /// Grows the kept voxels, the `forced` ones first; returns the voxels of lines of sight
@@ -224,26 +241,41 @@ public:
     std::vector<std::uint32_t> grow(const std::vector<std::uint32_t>& forced) {
         grow_from(forced);
         if (kept_.w == grown_.w) return {};
-        if (cells_.empty()) lines_of_sight();
+        if (on_ray_.empty()) lines_of_sight();
         return bare();
     }
 
-    /// The kept voxels on each line of sight of each view.
+    /// The kept voxels on each line of sight of each view, counted.
     void lines_of_sight() {
-        cells_.resize(rays_.size());
         on_ray_.resize(rays_.size());
         for (std::size_t v = 0; v < rays_.size(); ++v) {
             on_ray_[v].assign(std::size_t(rays_[v].w) * std::size_t(rays_[v].h), 0);
-            cells_[v].resize(n_);
+            std::uint32_t* count = on_ray_[v].data();
+            const RayRaster& ray = rays_[v];
+            const auto& m = ray.m;
+            tbb::parallel_for(std::size_t(0), kept_.nx, [&](std::size_t x) {
+                for (std::size_t y = 0; y < kept_.ny; ++y) {
+                    const std::uint64_t* r = kept_.row(x, y);
+                    const Coord o = kept_.lo.offsetBy(int(x), int(y), 0);
+                    if (ray.ortho && m[2] == 0 && m[6] == 0) {
+                        // A view along the rows: a row is one line of sight.
+                        std::uint32_t n = 0;
+                        for (std::size_t k = 0; k < kept_.rw; ++k) n += std::uint32_t(__builtin_popcountll(r[k]));
+                        if (n) __atomic_fetch_add(count + ray.cell(o), n, __ATOMIC_RELAXED);
+                        continue;
+                    }
+                    // Along a row the raster point moves by a constant step (orthographic).
+                    const double px0 = m[0] * o.x() + m[1] * o.y() + m[3], py0 = m[4] * o.x() + m[5] * o.y() + m[7];
+                    for (std::size_t k = 0; k < kept_.rw; ++k)
+                        for (std::uint64_t c = r[k]; c; c &= c - 1) {
+                            const int z = o.z() + int(k * 64) + __builtin_ctzll(c);
+                            const std::uint32_t cell = ray.ortho ? ray.cell_at(px0 + m[2] * z, py0 + m[6] * z)
+                                                                 : ray.cell(Coord(o.x(), o.y(), z));
+                            __atomic_fetch_add(count + cell, 1u, __ATOMIC_RELAXED);
+                        }
+                }
+            });
         }
-        kept_.for_each([&](std::size_t i) {
-            const Coord c = kept_.coord(i);
-            for (std::size_t v = 0; v < rays_.size(); ++v) {
-                const std::uint32_t cell = rays_[v].cell(c);
-                cells_[v][rank(i)] = cell;
-                ++on_ray_[v][cell];
-            }
-        });
     }
 
     /// The growth itself.
@@ -282,9 +314,14 @@ public:
             const unsigned nb = around(p);
             // Enclosed by face neighbours: growing it fills a pocket and joins what is about it.
             const bool pocket = (nb & kFaces) == kFaces;
-            if (!pocket && !removal_keeps_outside(nb)) continue; // waits for a neighbour
+            // The outside about it in pieces: growing it closes a tunnel of the grown voxels
+            // (the last voxel of a hole through a plate: kept, so no hole of the drawings) or
+            // seals a pocket of them, which only gives back what is kept. Where it also joins
+            // pieces about it, it waits for a neighbour.
+            const bool split = !pocket && !removal_keeps_outside(nb);
             std::array<unsigned, 26> piece;
             const int np = kept_pieces(nb, piece);
+            if (split && np != 1) continue;
             std::array<std::uint32_t, 26> root;
             // Grown from one voxel, every grown voxel is one piece: two pieces about a voxel
             // are one ring. Grown from the core's pieces and forced voxels, pieces apart meet.
@@ -307,24 +344,29 @@ public:
 
     /// The voxels of lines of sight the cut empties, one per line.
     std::vector<std::uint32_t> bare() {
-        std::vector<std::vector<std::uint32_t>> left(rays_.size());
-        for (std::size_t v = 0; v < rays_.size(); ++v) left[v] = on_ray_[v];
-        grown_.for_each([&](std::size_t i) {
-            const std::uint32_t r = rank(i);
-            for (std::size_t v = 0; v < rays_.size(); ++v) --left[v][cells_[v][r]];
-        });
-        std::vector<std::uint32_t> bare;
+        // The cut voxels and their cells, and the cut voxels on each line.
+        std::vector<std::uint32_t> cut;
         for (std::size_t k = 0; k < kept_.w.size(); ++k)
-            for (std::uint64_t c = kept_.w[k] & ~grown_.w[k]; c; c &= c - 1) {
-                const std::uint32_t i = std::uint32_t(k * 64 + std::size_t(__builtin_ctzll(c)));
-                bool needed = false;
-                for (std::size_t v = 0; v < rays_.size(); ++v) {
-                    std::uint32_t& l = left[v][cells_[v][rank(i)]];
-                    // Every kept voxel of the line is cut: this one is grown first next time.
-                    if (l == on_ray_[v][cells_[v][rank(i)]]) needed = true, l = 0;
-                }
-                if (needed) bare.push_back(i);
+            for (std::uint64_t c = kept_.w[k] & ~grown_.w[k]; c; c &= c - 1)
+                cut.push_back(std::uint32_t(k * 64 + std::size_t(__builtin_ctzll(c))));
+        const std::size_t nv = rays_.size();
+        std::vector<std::uint32_t> cells(cut.size() * nv);
+        std::vector<std::vector<std::uint32_t>> taken(nv);
+        for (std::size_t v = 0; v < nv; ++v) {
+            taken[v].assign(on_ray_[v].size(), 0);
+            for (std::size_t j = 0; j < cut.size(); ++j)
+                ++taken[v][cells[j * nv + v] = rays_[v].cell(kept_.coord(cut[j]))];
+        }
+        std::vector<std::uint32_t> bare;
+        for (std::size_t j = 0; j < cut.size(); ++j) {
+            bool needed = false;
+            for (std::size_t v = 0; v < nv; ++v) {
+                std::uint32_t& t = taken[v][cells[j * nv + v]];
+                // Every kept voxel of the line is cut: this one is grown first next time.
+                if (t == on_ray_[v][cells[j * nv + v]]) needed = true, t = 0;
             }
+            if (needed) bare.push_back(cut[j]);
+        }
         return bare;
     }
 
@@ -332,13 +374,59 @@ public:
     void give_back(const std::vector<std::uint32_t>& bare) {
         for (std::size_t v = 0; v < rays_.size(); ++v) {
             std::vector<char> empty(on_ray_[v].size(), 0);
-            for (const std::uint32_t b : bare) empty[cells_[v][rank(b)]] = 1;
+            for (const std::uint32_t b : bare) empty[rays_[v].cell(kept_.coord(b))] = 1;
             for (std::size_t k = 0; k < kept_.w.size(); ++k)
                 for (std::uint64_t c = kept_.w[k] & ~grown_.w[k]; c; c &= c - 1) {
                     const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
-                    if (empty[cells_[v][rank(i)]]) grown_.set(i);
+                    if (empty[rays_[v].cell(kept_.coord(i))]) grown_.set(i);
                 }
         }
+    }
+
+    /// The grown voxels a cut left joined to the rest of their part by an edge or a corner
+    /// alone: every face-connected piece of the grown voxels but the largest of each
+    /// face-connected piece of the kept ones. Marching Cubes gives them a surface of their own.
+    std::vector<std::uint32_t> stranded() const {
+        const Runs kr(kept_), gr(grown_);
+        const std::vector<std::uint32_t> kp = kr.pieces(kept_, true), gp = gr.pieces(grown_, true);
+        std::vector<std::size_t> size(gr.runs.size(), 0);
+        std::vector<std::uint32_t> part(gr.runs.size(), 0); // a grown piece's kept piece
+        for (std::size_t r = 0; r + 1 < gr.start.size(); ++r) {
+            std::size_t j = kr.start[r];
+            for (std::size_t i = gr.start[r]; i < gr.start[r + 1]; ++i) {
+                while (kr.runs[j].e < gr.runs[i].a) ++j; // a grown run lies in a kept one
+                size[gp[i]] += gr.runs[i].e - gr.runs[i].a + 1;
+                part[gp[i]] = kp[j];
+            }
+        }
+        std::vector<std::uint32_t> largest(kr.runs.size(), std::uint32_t(-1));
+        for (std::uint32_t g = 0; g < gr.runs.size(); ++g)
+            if (gp[g] == g) {
+                std::uint32_t& l = largest[part[g]];
+                if (l == std::uint32_t(-1) || size[g] > size[l]) l = g;
+            }
+        std::vector<std::uint32_t> out;
+        for (std::size_t r = 0; r + 1 < gr.start.size(); ++r)
+            for (std::size_t i = gr.start[r]; i < gr.start[r + 1]; ++i)
+                if (largest[part[gp[i]]] != gp[i])
+                    for (std::uint32_t z = gr.runs[i].a; z <= gr.runs[i].e; ++z)
+                        out.push_back(std::uint32_t(r * grown_.nz + z));
+        return out;
+    }
+    /// `voxels` taken out (cut too), or put back.
+    void take_out(const std::vector<std::uint32_t>& voxels) {
+        for (const std::uint32_t i : voxels) grown_.reset(i);
+    }
+    void put_back(const std::vector<std::uint32_t>& voxels) {
+        for (const std::uint32_t i : voxels) grown_.set(i);
+    }
+    /// The cut voxels about `voxels` grown back.
+    void rejoin(const std::vector<std::uint32_t>& voxels) {
+        for (const std::uint32_t i : voxels)
+            for (int d = 0; d < 27; ++d) {
+                const std::size_t q = i + std::size_t(step_[std::size_t(d)]);
+                if (kept_.test(q)) grown_.set(q);
+            }
     }
 
     const Bits& grown() const { return grown_; }
@@ -351,18 +439,31 @@ private:
         const std::uint64_t below = kept_.w[i >> 6] & ((std::uint64_t(1) << (i & 63)) - 1);
         return first_[i >> 6] + std::uint32_t(__builtin_popcountll(below));
     }
-    unsigned around(std::size_t i) const {
-        unsigned nb = 0;
-        for (int d = 0; d < 27; ++d)
-            if (grown_.test(i + std::size_t(step_[std::size_t(d)]))) nb |= 1u << d;
-        return nb & ~(1u << 13);
+    // The three bits z - 1, z, z + 1 of `b` about bit j (a row's first and last bits are
+    // empty, so they never leave the row).
+    static unsigned three(const Bits& b, std::size_t j) {
+        const std::size_t a = j - 1, sh = a & 63;
+        std::uint64_t v = b.w[a >> 6] >> sh;
+        if (sh > 61) v |= b.w[(a >> 6) + 1] << (64 - sh);
+        return unsigned(v & 7);
     }
+    // The neighbourhood of bit i in `b` (bit x + 3 y + 9 z), from its nine rows.
+    unsigned nine_rows(const Bits& b, std::size_t i) const {
+        unsigned nb = 0;
+        for (int r = 0; r < 9; ++r) {
+            const unsigned t = three(b, i + std::size_t(row_step_[std::size_t(r)]));
+            nb |= (t & 1u) << r | (t >> 1 & 1u) << (r + 9) | (t >> 2 & 1u) << (r + 18);
+        }
+        return nb;
+    }
+    unsigned around(std::size_t i) const { return nine_rows(grown_, i) & ~(1u << 13); }
     void add(std::size_t i) {
         grown_.set(i);
         touched_.set(i);
-        for (int d = 0; d < 27; ++d) {
-            const std::size_t q = i + std::size_t(step_[std::size_t(d)]);
-            if (kept_.test(q) && !grown_.test(q) && !queued_.test(q)) enqueue(q);
+        for (int r = 0; r < 9; ++r) {
+            const std::size_t j = i + std::size_t(row_step_[std::size_t(r)]);
+            for (unsigned t = three(kept_, j) & ~three(grown_, j) & ~three(queued_, j); t; t &= t - 1)
+                enqueue(j + std::size_t(__builtin_ctz(t)) - 1);
         }
     }
     // A kept voxel into the queue of its depth.
@@ -397,16 +498,16 @@ private:
         }
     }
 
-    // The grid distance of each kept voxel to the outside (1 on the surface; face steps,
-    // capped at 255), the voxels deepest first, and the core.
-    void depths() {
+    // The grid distance to the outside (1 on the surface; face steps) of each kept voxel no
+    // deeper than a cut may reach and not in `seed`, those voxels deepest first, and the core:
+    // the voxels deeper, with `seed`'s.
+    void depths(const Bits* seed) {
         depth_.assign(n_, 0);
         Bits left = kept_;
         std::vector<std::vector<std::uint32_t>> layers;
-        std::vector<std::uint64_t> next(left.w.size());
+        std::vector<std::uint64_t> next(left.w.size(), 0);
         const std::size_t row = kept_.rw, slab = kept_.ny * kept_.rw;
-        for (std::uint8_t d = 1;; d = std::uint8_t(std::min(254, int(d)) + 1)) {
-            bool any = false;
+        for (int d = 1; d <= most_; ++d) {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, left.w.size() - slab),
                               [&](const tbb::blocked_range<std::size_t>& r) {
                                   for (std::size_t k = r.begin(); k != r.end(); ++k) {
@@ -425,21 +526,19 @@ private:
                               });
             std::vector<std::uint32_t> layer;
             for (std::size_t k = slab; k < left.w.size() - slab; ++k)
-                for (std::uint64_t c = left.w[k] & ~next[k]; c; c &= c - 1) {
+                for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c; c &= c - 1) {
                     const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
-                    depth_[rank(i)] = d;
+                    depth_[rank(i)] = std::uint8_t(d);
                     layer.push_back(std::uint32_t(i));
-                    any = true;
                 }
             layers.push_back(std::move(layer));
-            for (std::size_t k = slab; k < left.w.size() - slab; ++k) left.w[k] = next[k];
-            if (d == most_) {
-                core_.w = left.w;
-                has_core_ = std::any_of(left.w.begin(), left.w.end(), [](std::uint64_t v) { return v != 0; });
-            }
-            if (!any) break;
+            left.w.swap(next);
         }
-        queue_.resize(256);
+        core_.w.swap(left.w);
+        if (seed)
+            for (std::size_t k = 0; k < core_.w.size(); ++k) core_.w[k] |= seed->w[k];
+        has_core_ = std::any_of(core_.w.begin(), core_.w.end(), [](std::uint64_t v) { return v != 0; });
+        queue_.resize(std::size_t(most_) + 1);
         for (auto it = layers.rbegin(); it != layers.rend(); ++it)
             by_depth_.insert(by_depth_.end(), it->begin(), it->end());
     }
@@ -450,6 +549,7 @@ private:
     std::vector<std::uint32_t> first_;
     std::uint32_t n_ = 0;
     std::array<long, 27> step_{};
+    std::array<long, 9> row_step_{}; // the rows about a voxel's: (x + 3 y) of the neighbourhood
     std::vector<std::uint8_t> depth_;
     // Voxels in the queue now, and ever reached (queued or grown).
     Bits queued_, touched_;
@@ -462,7 +562,6 @@ private:
     std::vector<std::size_t> head_;
     std::size_t top_ = 0;
     Roots roots_;
-    std::vector<std::vector<std::uint32_t>> cells_;  // per view, per kept voxel (rank)
     std::vector<std::vector<std::uint32_t>> on_ray_; // per view, per cell: kept voxels
 };
 
@@ -488,8 +587,113 @@ VoxelTopology voxel_topology(const openvdb::BoolTree& tree) {
     return topology_of(bits_of(leaves, box));
 }
 
+namespace {
+
+// The growths of a Growth: each after the first with the voxels whose lines of sight the cut
+// before emptied grown first (up to four), what is still emptied then given back. Returns the
+// growths run.
+int grow_out(Growth& growth) {
+    std::vector<std::uint32_t> forced, bare;
+    int growths = 0;
+    while (growths < 4) {
+        bare = growth.grow(forced);
+        ++growths;
+        if (bare.empty()) break;
+        forced.insert(forced.end(), bare.begin(), bare.end());
+    }
+    if (!bare.empty()) growth.give_back(bare);
+    return growths;
+}
+
+// The kept voxels two by two by two: a coarse voxel is on when one of its eight is.
+Bits coarse_of(const Bits& fine) {
+    const auto half = [](int v) { return v >> 1; };
+    const Coord f0 = fine.lo.offsetBy(1), f1 = fine.lo.offsetBy(int(fine.nx) - 2, int(fine.ny) - 2, int(fine.nz) - 2);
+    Bits c(CoordBBox(Coord(half(f0.x()), half(f0.y()), half(f0.z())), Coord(half(f1.x()), half(f1.y()), half(f1.z()))));
+    // fine.lo.z() is a multiple of 8: fine bit b of word k is at coarse z lo.z / 2 + 32 k + b / 2.
+    const std::size_t z0 = std::size_t(fine.lo.z() / 2 - c.lo.z());
+    for (std::size_t x = 0; x < fine.nx; ++x)
+        for (std::size_t y = 0; y < fine.ny; ++y) {
+            const std::uint64_t* r = fine.row(x, y);
+            const std::size_t cx = std::size_t(half(fine.lo.x() + int(x)) - c.lo.x());
+            const std::size_t cy = std::size_t(half(fine.lo.y() + int(y)) - c.lo.y());
+            std::uint64_t* cr = c.w.data() + (cx * c.ny + cy) * c.rw;
+            for (std::size_t k = 0; k < fine.rw; ++k) {
+                if (!r[k]) continue;
+                // The pairs of bits or'ed, their even bits packed into 32.
+                std::uint64_t v = (r[k] | r[k] >> 1) & 0x5555555555555555ull;
+                v = (v | v >> 1) & 0x3333333333333333ull;
+                v = (v | v >> 2) & 0x0F0F0F0F0F0F0F0Full;
+                v = (v | v >> 4) & 0x00FF00FF00FF00FFull;
+                v = (v | v >> 8) & 0x0000FFFF0000FFFFull;
+                v = (v | v >> 16) & 0x00000000FFFFFFFFull;
+                const std::size_t at = z0 + 32 * k, word = at >> 6, bit = at & 63;
+                cr[word] |= v << bit;
+                if (bit > 32) cr[word + 1] |= v >> (64 - bit);
+            }
+        }
+    return c;
+}
+
+// A view's raster for the coarse grid: a coarse voxel's cell is its eight's centre's.
+RayRaster coarse_ray(RayRaster r) {
+    for (std::size_t row = 0; row < 3; ++row) {
+        double* m = r.m.data() + 4 * row;
+        m[3] += 0.5 * (m[0] + m[1] + m[2]);
+        m[0] *= 2, m[1] *= 2, m[2] *= 2;
+    }
+    return r;
+}
+
+// The kept voxels away from every cut the coarse grid finds: the voxels of its cut voxels'
+// eight and all within `reach` face steps of them out. None (an empty grid) when the coarse
+// grid has no cut.
+Bits away_from_coarse_cuts(const Bits& kept, const std::vector<RayRaster>& rays, int most, int reach) {
+    const Bits coarse = coarse_of(kept);
+    if (topology_of(coarse).handles() <= 0) return {};
+    std::vector<RayRaster> coarse_rays;
+    for (const RayRaster& r : rays) coarse_rays.push_back(coarse_ray(r));
+    Growth growth(coarse, coarse_rays, std::max(2, (most + 1) / 2));
+    grow_out(growth);
+    Bits near = kept;
+    std::fill(near.w.begin(), near.w.end(), 0);
+    bool any = false;
+    const Coord f0 = kept.lo.offsetBy(1), f1 = kept.lo.offsetBy(int(kept.nx) - 2, int(kept.ny) - 2, int(kept.nz) - 2);
+    for (std::size_t k = 0; k < coarse.w.size(); ++k)
+        for (std::uint64_t c = coarse.w[k] & ~growth.grown().w[k]; c; c &= c - 1) {
+            const Coord q = coarse.coord(k * 64 + std::size_t(__builtin_ctzll(c)));
+            for (int d = 0; d < 8; ++d) {
+                const Coord f(2 * q.x() + (d & 1), 2 * q.y() + (d >> 1 & 1), 2 * q.z() + (d >> 2));
+                if (f.x() < f0.x() || f.y() < f0.y() || f.z() < f0.z() || f.x() > f1.x() || f.y() > f1.y() ||
+                    f.z() > f1.z())
+                    continue;
+                near.set(near.index(f));
+                any = true;
+            }
+        }
+    if (!any) return {};
+    std::vector<std::uint64_t> next(near.w.size(), 0);
+    const std::size_t row = near.rw, slab = near.ny * near.rw;
+    for (int s = 0; s < reach; ++s) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, near.w.size() - slab),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              const auto& o = near.w;
+                              for (std::size_t k = r.begin(); k != r.end(); ++k)
+                                  next[k] = (o[k] | o[k] << 1 | o[k - 1] >> 63 | o[k] >> 1 | o[k + 1] << 63 |
+                                             o[k - row] | o[k + row] | o[k - slab] | o[k + slab]) &
+                                            kept.w[k];
+                          });
+        near.w.swap(next);
+    }
+    Bits away = kept;
+    for (std::size_t k = 0; k < away.w.size(); ++k) away.w[k] &= ~near.w[k];
+    return away;
+}
+
+} // namespace
+
 HandleCut cut_handles(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<RayRaster>& rays,
-                      int most, const std::function<void(const Coord&)>& taken) {
+                      int most, const std::function<void(const Coord&)>& taken, int coarse_above) {
     HandleCut out;
     const CoordBBox box = box_of(leaves);
     if (box.empty()) return out;
@@ -498,16 +702,26 @@ HandleCut cut_handles(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, con
     out.handles = out.handles_left = before.handles();
     // A grid of more bits than 32-bit indices number is not grown (over 1600 cells a side).
     if (out.handles <= 0 || kept.size() >= (std::size_t(1) << 32)) return out;
-    Growth growth(kept, rays, most);
-    std::vector<std::uint32_t> forced;
-    std::vector<std::uint32_t> bare;
-    for (int g = 0; g < 4; ++g) {
-        bare = growth.grow(forced);
-        ++out.growths;
-        if (bare.empty()) break;
-        forced.insert(forced.end(), bare.begin(), bare.end());
+    // On a large grid the voxels away from the coarse grid's cuts are grown at once.
+    Bits away;
+    const bool coarse = std::max({box.dim().x(), box.dim().y(), box.dim().z()}) > coarse_above;
+    if (coarse) {
+        away = away_from_coarse_cuts(kept, rays, most, most + 4);
+        if (away.w.empty() || away.w == kept.w) return out;
     }
-    if (!bare.empty()) growth.give_back(bare);
+    Growth growth(kept, rays, most, coarse ? &away : nullptr);
+    out.growths = grow_out(growth);
+    if (growth.grown().w == kept.w) return out;
+    // What the cut left joined by an edge or a corner alone goes with it where every line of
+    // sight keeps a voxel without it; else the cut about it is grown back.
+    for (int pass = 0; pass < 4; ++pass) {
+        const std::vector<std::uint32_t> stranded = growth.stranded();
+        if (stranded.empty()) break;
+        growth.take_out(stranded);
+        if (growth.bare().empty()) continue;
+        growth.put_back(stranded);
+        growth.rejoin(stranded);
+    }
     const Bits& grown = growth.grown();
     const VoxelTopology after = topology_of(grown);
     // A growth that left a piece apart (a voxel grown first that nothing joined) cuts nothing.

@@ -20,6 +20,15 @@
 // with them). Every line of sight keeps a voxel, so the silhouettes stay exact; no piece is cut
 // off and no cavity sealed. A ring no cut can open without emptying a line of sight (a drawn
 // ring: a handle, a torus seen through its hole) keeps its handle.
+//
+// A voxel whose grown neighbours are one piece is grown even where the outside about it is not
+// (it closes a tunnel of the grown voxels, the last voxel of a hole through a plate): that only
+// gives back what is kept. What a cut leaves joined to the rest of its part by an edge or a
+// corner alone, which Marching Cubes would give a surface of its own, is cut with it where every
+// line of sight keeps a voxel without it, else the cut about it is grown back. A large grid
+// (over 320 cells) finds its cuts on a grid twice as coarse first and grows voxel by voxel only
+// about them (the rest of the kept voxels grown at once): the growth's cost is in the voxels it
+// visits one by one, and the skin of a thick body is most of them.
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -53,7 +62,10 @@ VoxelTopology voxel_topology(const openvdb::BoolTree& tree);
 /// A cut reaching deeper than `most` cells from the outside (grid steps by faces) is no touch
 /// but a drawn ring: it is not made. `taken(coord)` is told of every voxel taken out, before
 /// the leaves are changed.
+/// A box longer than `coarse_above` cells finds its cuts on a grid twice as coarse first (a
+/// coarse voxel on where one of its eight is) and grows voxel by voxel only within `most` + 4
+/// cells of them, the rest of the kept voxels grown at once.
 HandleCut cut_handles(openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const std::vector<RayRaster>& rays,
-                      int most, const std::function<void(const openvdb::Coord&)>& taken);
+                      int most, const std::function<void(const openvdb::Coord&)>& taken, int coarse_above = 320);
 
 } // namespace cm::plausible

@@ -56,6 +56,10 @@ struct RayRaster {
             const double hw = m[8] * i + m[9] * j + m[10] * k + m[11];
             px /= hw, py /= hw;
         }
+        return cell_at(px, py);
+    }
+    /// The cell of raster point (px, py).
+    std::uint32_t cell_at(double px, double py) const {
         const int ci = std::clamp(int(std::floor((px - x0) / cp)), 0, w - 1);
         const int cj = std::clamp(int(std::floor((py - y0) / cp)), 0, h - 1);
         return std::uint32_t(cj) * std::uint32_t(w) + std::uint32_t(ci);

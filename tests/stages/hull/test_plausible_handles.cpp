@@ -141,3 +141,18 @@ TEST(HullPlausibleHandles, AFrameSeenThroughItsOpeningKeepsItsHandle) {
     EXPECT_EQ(cut.stats.handle_voxels, 0u);
     EXPECT_EQ(plausible::voxel_topology(cut.value->occupancy->tree()).handles(), 1);
 }
+
+TEST(HullPlausibleHandles, ALargeGridFindsItsCutsOnACoarserOneFirst) {
+    // Over 320 cells the cut is found on a grid twice as coarse, then grown voxel by voxel
+    // about it only: the same ring comes out, every line of sight keeping a voxel.
+    const auto views = views_of(kLegs, Vec3d(-3, -5, -1), Vec3d(3, 2, 1));
+    const auto hull = carve_and_refine(views, 384);
+    const auto cut = hull_with(hull, "cut");
+    EXPECT_EQ(cut.stats.handles, 1u);
+    EXPECT_EQ(cut.stats.handles_left, 0u);
+    EXPECT_GT(cut.stats.handle_voxels, 0u);
+    // A cut one voxel thick across the knees' contact (about 2.3 times the 256 grid's).
+    EXPECT_LT(cut.stats.handle_voxels, 4500u);
+    for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(columns(*cut.value, axis), columns(*hull, axis)) << "axis " << axis;
+    EXPECT_EQ(surface_genus(*cut.value), std::make_pair(1L, 0L));
+}
