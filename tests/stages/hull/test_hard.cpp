@@ -275,26 +275,6 @@ TEST(HullHard, ViewsAlongTheAxesAreFound) {
     EXPECT_FALSE(cm::along_axis(v));
 }
 
-namespace {
-
-// A mesh's binary mask seen by `dir`, framed as `conceptmesh render-views` frames its views:
-// the box's centre at the image centre, 0.9 of the image across the box's largest extent.
-View mask_view(const Mesh& m, const std::string& name, Camera c, int size, Vec3d lo, Vec3d hi) {
-    const Vec3d mid = (lo + hi) * 0.5, ext = hi - lo;
-    c.scale = 0.9 * size / std::max({ext[0], ext[1], ext[2]});
-    c.cx = size / 2.0 - c.scale * dot(mid, c.r);
-    c.cy = size / 2.0 + c.scale * dot(mid, c.u);
-    View v;
-    v.name = name;
-    v.camera = c;
-    v.width = v.height = size;
-    const std::vector<std::uint8_t> mask = render_mask(m, c, size, size);
-    v.coverage = Coverage(std::vector<float>(mask.begin(), mask.end()), size, size);
-    return v;
-}
-
-} // namespace
-
 // fandisk (../shared/data/models), the machined part of docs/results/shape.md, as the shape
 // bench draws it (1024 px masks): from front, right and top its least straight view (the top)
 // keeps 22.6 % of its outline on straight stretches. Seen obliquely (azimuth 45, elevation 30)
@@ -306,9 +286,7 @@ TEST(HullHard, ObliqueFourthViewLeavesAMachinedPartHard) {
     const auto file = shared_dir() / "data" / "models" / "fandisk.off";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " is not there";
     const Mesh m = read_mesh(file);
-    Vec3d lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    for (const auto& p : m.positions)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a])), hi[a] = std::max(hi[a], double(p[a]));
+    const auto [lo, hi] = box_of(m);
     std::vector<View> vs;
     for (const char* n : {"front", "right", "top"}) vs.push_back(mask_view(m, n, *Camera::named(n), 1024, lo, hi));
     vs.push_back(mask_view(m, "az45el30", Camera::from_azimuth_elevation(45, 30), 1024, lo, hi));
