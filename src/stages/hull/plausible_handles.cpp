@@ -215,6 +215,28 @@ long pieces_of(const Bits& b) {
 
 VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
 
+// The grown pieces about a voxel (the lowest bit of each) and whether the outside about it is
+// one piece (removal_keeps_outside()), by its neighbourhood, remembered: a growing front meets
+// the same few neighbourhoods again and again.
+class Neighbourhoods {
+public:
+    unsigned pieces(unsigned nb, bool& keeps) {
+        std::uint64_t& s = slot_[std::size_t((std::uint64_t(nb) * 0x9E3779B97F4A7C15ull) >> 48)];
+        if (s >> 32 != nb) {
+            std::array<unsigned, 26> piece;
+            unsigned reps = 0;
+            for (int k = 0, n = kept_pieces(nb, piece); k < n; ++k)
+                reps |= piece[std::size_t(k)] & -piece[std::size_t(k)];
+            s = std::uint64_t(nb) << 32 | std::uint64_t(removal_keeps_outside(nb)) << 31 | reps;
+        }
+        keeps = (s >> 31 & 1) != 0;
+        return unsigned(s & 0x7FFFFFFu);
+    }
+
+private:
+    std::vector<std::uint64_t> slot_ = std::vector<std::uint64_t>(std::size_t(1) << 16, ~std::uint64_t(0));
+};
+
 // The growth of plausible_handles.h over the kept voxels `kept`.
 class Growth {
 public:
@@ -318,9 +340,10 @@ public:
             // (the last voxel of a hole through a plate: kept, so no hole of the drawings) or
             // seals a pocket of them, which only gives back what is kept. Where it also joins
             // pieces about it, it waits for a neighbour.
-            const bool split = !pocket && !removal_keeps_outside(nb);
-            std::array<unsigned, 26> piece;
-            const int np = kept_pieces(nb, piece);
+            bool keeps = false;
+            const unsigned reps = shapes_.pieces(nb, keeps);
+            const bool split = !pocket && !keeps;
+            const int np = __builtin_popcount(reps);
             if (split && np != 1) continue;
             std::array<std::uint32_t, 26> root;
             // Grown from one voxel, every grown voxel is one piece: two pieces about a voxel
@@ -331,8 +354,9 @@ public:
                 if (apart || pocket) add(p);
                 continue;
             }
-            for (int k = 0; k < np; ++k) {
-                const int bit = __builtin_ctz(piece[std::size_t(k)]);
+            unsigned r = reps;
+            for (int k = 0; k < np; ++k, r &= r - 1) {
+                const int bit = __builtin_ctz(r);
                 root[std::size_t(k)] = roots_.find(rank(p + std::size_t(step_[std::size_t(bit)])));
                 for (int j = 0; j < k; ++j) apart = apart && root[std::size_t(j)] != root[std::size_t(k)];
             }
@@ -562,6 +586,7 @@ private:
     std::vector<std::size_t> head_;
     std::size_t top_ = 0;
     Roots roots_;
+    Neighbourhoods shapes_;
     std::vector<std::vector<std::uint32_t>> on_ray_; // per view, per cell: kept voxels
 };
 
