@@ -1,5 +1,5 @@
-// The handle cut of plausible_handles.h: a bit grid over the kept voxels' box, its Euler
-// characteristic and pieces, the grid distance to the outside, and the growth.
+// The handle cut of plausible_handles.h: the grid distance to the outside, the growth, the
+// coarse grid's cuts (the bit grid: plausible_handle_bits.h).
 #include "plausible_handles.h"
 
 #include <algorithm>
@@ -12,208 +12,13 @@
 #include <tbb/parallel_reduce.h>
 
 #include "plausible_genus.h"
+#include "plausible_handle_bits.h"
 
 namespace cm::plausible {
 
 namespace {
 
-using openvdb::Coord;
-using openvdb::CoordBBox;
-using LeafT = openvdb::BoolTree::LeafNodeType;
-
-// The voxels of a box as bits, z fastest: a row (x, y) is nz / 64 words. The box has an
-// empty layer on every side (rows x = 0 and y = 0 and their last ones, and the first and last
-// bits of every row), so a shift or a neighbour never leaves it, and z starts on a leaf's
-// boundary, so a leaf's row of 8 voxels is one byte.
-struct Bits {
-    Coord lo;
-    std::size_t nx = 0, ny = 0, nz = 0, rw = 0; // rw: words per row
-    std::vector<std::uint64_t> w;
-
-    Bits() = default;
-    explicit Bits(const CoordBBox& box) {
-        const int z0 = (box.min().z() & ~7) - 8;
-        lo = Coord(box.min().x() - 1, box.min().y() - 1, z0);
-        nx = std::size_t(box.max().x() - lo.x() + 2);
-        ny = std::size_t(box.max().y() - lo.y() + 2);
-        nz = (std::size_t(box.max().z() - z0 + 2) + 63) / 64 * 64;
-        rw = nz / 64;
-        w.assign(nx * ny * rw, 0);
-    }
-    std::size_t size() const { return nx * ny * nz; }
-    std::size_t index(const Coord& c) const {
-        return (std::size_t(c.x() - lo.x()) * ny + std::size_t(c.y() - lo.y())) * nz + std::size_t(c.z() - lo.z());
-    }
-    Coord coord(std::size_t i) const {
-        const std::size_t z = i % nz, xy = i / nz;
-        return Coord(lo.x() + int(xy / ny), lo.y() + int(xy % ny), lo.z() + int(z));
-    }
-    bool test(std::size_t i) const { return (w[i >> 6] >> (i & 63) & 1) != 0; }
-    void set(std::size_t i) { w[i >> 6] |= std::uint64_t(1) << (i & 63); }
-    void reset(std::size_t i) { w[i >> 6] &= ~(std::uint64_t(1) << (i & 63)); }
-    const std::uint64_t* row(std::size_t x, std::size_t y) const { return w.data() + (x * ny + y) * rw; }
-    template <typename Body>
-    void for_each(Body&& body) const {
-        for (std::size_t k = 0; k < w.size(); ++k)
-            for (std::uint64_t v = w[k]; v; v &= v - 1) body(k * 64 + std::size_t(__builtin_ctzll(v)));
-    }
-};
-
-Bits bits_of(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves, const CoordBBox& box) {
-    Bits b(box);
-    auto* bytes = reinterpret_cast<std::uint8_t*>(b.w.data());
-    tbb::parallel_for(std::size_t(0), leaves.leafCount(), [&](std::size_t l) {
-        const LeafT& leaf = leaves.leaf(l);
-        const Coord o = leaf.origin();
-        for (int x = 0; x < 8; ++x) {
-            const std::uint64_t word = leaf.getValueMask().getWord<std::uint64_t>(openvdb::Index(x));
-            if (!word) continue;
-            for (int y = 0; y < 8; ++y) {
-                const auto byte = std::uint8_t(word >> (8 * y));
-                if (byte) bytes[b.index(o.offsetBy(x, y, 0)) >> 3] = byte;
-            }
-        }
-    });
-    return b;
-}
-
-// The bits of a row dilated by one towards +z (the top bit of the row's previous word carried).
-struct ZDilate {
-    std::uint64_t carry = 0;
-    std::uint64_t operator()(std::uint64_t v) {
-        const std::uint64_t d = v | v << 1 | carry;
-        carry = v >> 63;
-        return d;
-    }
-};
-
-// V - E + F - C of the union of the closed voxel cubes: a lattice cell is there when one of
-// the voxels about it is, so each kind of cell is the voxels dilated towards + along the axes
-// the cell spans no length of, counted row by row.
-long euler_of(const Bits& b) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(1, b.nx), 0L,
-        [&](const tbb::blocked_range<std::size_t>& r, long sum) {
-            for (std::size_t x = r.begin(); x != r.end(); ++x)
-                for (std::size_t y = 1; y < b.ny; ++y) {
-                    const std::uint64_t *r00 = b.row(x, y), *r01 = b.row(x, y - 1), *r10 = b.row(x - 1, y),
-                                        *r11 = b.row(x - 1, y - 1);
-                    ZDilate z, zy, zx, zxy;
-                    for (std::size_t k = 0; k < b.rw; ++k) {
-                        const std::uint64_t c = r00[k], y1 = c | r01[k], x1 = c | r10[k], xy = y1 | x1 | r11[k];
-                        if (!xy && !z.carry && !zy.carry && !zx.carry && !zxy.carry) continue;
-                        sum += __builtin_popcountll(zxy(xy)) - __builtin_popcountll(zy(y1)) -
-                               __builtin_popcountll(zx(x1)) - __builtin_popcountll(xy) + __builtin_popcountll(x1) +
-                               __builtin_popcountll(y1) + __builtin_popcountll(z(c)) - __builtin_popcountll(c);
-                    }
-                }
-            return sum;
-        },
-        std::plus<long>());
-}
-
-// Union-find with path halving.
-struct Roots {
-    std::vector<std::uint32_t> up;
-    std::uint32_t find(std::uint32_t a) {
-        while (up[a] != a) a = up[a] = up[up[a]];
-        return a;
-    }
-    bool join(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return false;
-        up[std::max(a, b)] = std::min(a, b);
-        return true;
-    }
-};
-
-// The runs of on bits of every row (offsets along z within the row), the rows in order.
-struct Runs {
-    struct Run {
-        std::uint32_t a, e; // [a, e]
-    };
-    std::vector<Run> runs;
-    std::vector<std::size_t> start; // the first run of each row (x * ny + y), and the end
-
-    explicit Runs(const Bits& b) : start(b.nx * b.ny + 1, 0) {
-        for (std::size_t x = 0; x < b.nx; ++x)
-            for (std::size_t y = 0; y < b.ny; ++y) {
-                start[x * b.ny + y] = runs.size();
-                const std::uint64_t* r = b.row(x, y);
-                bool in = false;
-                std::uint32_t a = 0;
-                for (std::size_t k = 0; k < b.rw; ++k) {
-                    const std::uint64_t v = r[k];
-                    if ((!in && !v) || (in && v == ~std::uint64_t(0))) continue;
-                    int bit = 0;
-                    while (bit < 64) {
-                        const std::uint64_t t = (in ? ~v : v) >> bit;
-                        if (!t) break;
-                        bit += __builtin_ctzll(t);
-                        const auto at = std::uint32_t(k * 64 + std::size_t(bit));
-                        if (!in) a = at;
-                        else runs.push_back({a, at - 1});
-                        in = !in;
-                    }
-                }
-            }
-        start.back() = runs.size();
-    }
-    /// touched(i, j) for every two runs of neighbouring rows that touch (a run touches another
-    /// reaching within one of it: 26-connected; with `faces`, sharing a face: 6-connected),
-    /// each pair once.
-    template <typename Touched>
-    void for_touching(const Bits& b, Touched&& touched, bool faces = false) const {
-        const std::uint32_t reach = faces ? 0 : 1;
-        const auto touch = [&](std::size_t r1, std::size_t r2) {
-            std::size_t i = start[r1], j = start[r2];
-            const std::size_t ie = start[r1 + 1], je = start[r2 + 1];
-            while (i < ie && j < je) {
-                const Run &p = runs[i], &q = runs[j];
-                if (p.a <= q.e + reach && q.a <= p.e + reach) touched(i, j);
-                if (p.e < q.e) ++i;
-                else ++j;
-            }
-        };
-        for (std::size_t x = 1; x + 1 < b.nx; ++x)
-            for (std::size_t y = 1; y + 1 < b.ny; ++y) {
-                const std::size_t r = x * b.ny + y;
-                if (start[r] == start[r + 1]) continue;
-                touch(r, r - 1);
-                touch(r, r - b.ny);
-                if (faces) continue;
-                touch(r, r - b.ny - 1);
-                touch(r, r - b.ny + 1);
-            }
-    }
-    /// The piece of each run (the first run of the piece), 26-connected or with `faces`
-    /// 6-connected.
-    std::vector<std::uint32_t> pieces(const Bits& b, bool faces) const {
-        Roots roots;
-        roots.up.resize(runs.size());
-        std::iota(roots.up.begin(), roots.up.end(), 0u);
-        for_touching(
-            b, [&](std::size_t i, std::size_t j) { roots.join(std::uint32_t(i), std::uint32_t(j)); }, faces);
-        for (std::uint32_t i = 0; i < runs.size(); ++i) roots.find(i);
-        for (std::uint32_t i = 0; i < runs.size(); ++i) roots.up[i] = roots.up[roots.up[i]];
-        return std::move(roots.up);
-    }
-};
-
-// The 26-connected pieces: the runs of every row joined to the runs they touch.
-long pieces_of(const Bits& b) {
-    const Runs runs(b);
-    Roots roots;
-    roots.up.resize(runs.runs.size());
-    std::iota(roots.up.begin(), roots.up.end(), 0u);
-    long pieces = long(runs.runs.size());
-    runs.for_touching(b, [&](std::size_t i, std::size_t j) {
-        if (roots.join(std::uint32_t(i), std::uint32_t(j))) --pieces;
-    });
-    return pieces;
-}
-
-VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
+using namespace handles;
 
 // The grown pieces about a voxel (the lowest bit of each) and whether the outside about it is
 // one piece (removal_keeps_outside()), by its neighbourhood, remembered: a growing front meets
@@ -530,24 +335,9 @@ private:
         Bits left = kept_;
         std::vector<std::vector<std::uint32_t>> layers;
         std::vector<std::uint64_t> next(left.w.size(), 0);
-        const std::size_t row = kept_.rw, slab = kept_.ny * kept_.rw;
+        const std::size_t slab = kept_.ny * kept_.rw;
         for (int d = 1; d <= most_; ++d) {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, left.w.size() - slab),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                                      const std::uint64_t v = left.w[k];
-                                      if (!v) {
-                                          next[k] = 0;
-                                          continue;
-                                      }
-                                      // Rows start a word apart: the first and last bits of a
-                                      // row are empty, so no bit crosses rows.
-                                      const std::uint64_t up = v << 1 | left.w[k - 1] >> 63;
-                                      const std::uint64_t down = v >> 1 | left.w[k + 1] << 63;
-                                      next[k] = v & up & down & left.w[k - row] & left.w[k + row] & left.w[k - slab] &
-                                                left.w[k + slab];
-                                  }
-                              });
+            erode_by_faces(left, next);
             std::vector<std::uint32_t> layer;
             for (std::size_t k = slab; k < left.w.size() - slab; ++k)
                 for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c; c &= c - 1) {
@@ -589,30 +379,6 @@ private:
     Neighbourhoods shapes_;
     std::vector<std::vector<std::uint32_t>> on_ray_; // per view, per cell: kept voxels
 };
-
-CoordBBox box_of(const openvdb::tree::LeafManager<openvdb::BoolTree>& leaves) {
-    CoordBBox box;
-    for (std::size_t l = 0; l < leaves.leafCount(); ++l) {
-        CoordBBox b;
-        if (leaves.leaf(l).getValueMask().isOff()) continue;
-        leaves.leaf(l).evalActiveBoundingBox(b, false);
-        box.expand(b);
-    }
-    return box;
-}
-
-} // namespace
-
-VoxelTopology voxel_topology(const openvdb::BoolTree& tree) {
-    openvdb::BoolTree copy(tree);
-    copy.voxelizeActiveTiles();
-    openvdb::tree::LeafManager<openvdb::BoolTree> leaves(copy);
-    const CoordBBox box = box_of(leaves);
-    if (box.empty()) return {};
-    return topology_of(bits_of(leaves, box));
-}
-
-namespace {
 
 // The growths of a Growth: each after the first with the voxels whose lines of sight the cut
 // before emptied grown first (up to four), what is still emptied then given back. Returns the
@@ -698,16 +464,8 @@ Bits away_from_coarse_cuts(const Bits& kept, const std::vector<RayRaster>& rays,
         }
     if (!any) return {};
     std::vector<std::uint64_t> next(near.w.size(), 0);
-    const std::size_t row = near.rw, slab = near.ny * near.rw;
     for (int s = 0; s < reach; ++s) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, near.w.size() - slab),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              const auto& o = near.w;
-                              for (std::size_t k = r.begin(); k != r.end(); ++k)
-                                  next[k] = (o[k] | o[k] << 1 | o[k - 1] >> 63 | o[k] >> 1 | o[k + 1] << 63 |
-                                             o[k - row] | o[k + row] | o[k - slab] | o[k + slab]) &
-                                            kept.w[k];
-                          });
+        dilate_by_faces(near, kept, next);
         near.w.swap(next);
     }
     Bits away = kept;
