@@ -3,6 +3,7 @@
 #include "plausible_genus.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 namespace cm::plausible::genus_checks {
 
@@ -74,6 +75,21 @@ int PieceChecks::leaf_change(std::size_t l, const LeafMask& which, const LeafMas
             change += euler_change(kept, g);
         }
     return change;
+}
+
+bool PieceChecks::at_once(Scratch& s, const LeafMasks& piece, const std::vector<std::size_t>& in, int change,
+                          bool outside) const {
+    if (change != 0 || !outside) return false;
+    if (in.size() < kSideBySide)
+        return collar_connected(s, piece, in) && reaches_outside(s, piece, in) && outside_connected(s, piece, in);
+    s.ready(leaves_.leafCount());
+    bool ok[3] = {false, false, false};
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_invoke([&] { ok[0] = collar_connected(s, piece, in); },
+                             [&] { ok[1] = reaches_outside(s, piece, in); },
+                             [&] { ok[2] = outside_connected(s, piece, in); });
+    });
+    return ok[0] && ok[1] && ok[2];
 }
 
 // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves

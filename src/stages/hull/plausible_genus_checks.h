@@ -130,15 +130,15 @@ public:
     /// (change_over()), can go at once: (a) no change, it touches the outside, (b) the kept
     /// voxels about it are one piece by themselves (collar_connected), (c) it seals no cavity
     /// (reaches_outside) and (d) the outside about it is one piece (outside_connected).
+    /// (b) to (d) are floods over the piece, each in its own part of `s`: over a piece of many
+    /// leaves they run side by side (isolated, as in change_over()).
     bool at_once(Scratch& s, const LeafMasks& piece, const std::vector<std::size_t>& in, int change,
-                 bool outside) const {
-        return change == 0 && outside && collar_connected(s, piece, in) && reaches_outside(s, piece, in) &&
-               outside_connected(s, piece, in);
-    }
+                 bool outside) const;
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
     static constexpr std::size_t kParallelLeaves = 32; // pieces over this many leaves: checked in parallel
+    static constexpr std::size_t kSideBySide = 1024;   // and over this many: (b) to (d) side by side
 
     // Whether the kept voxels 26-neighbours of the piece `piece` (per leaf, over the leaves
     // `in`) are one 26-connected set by themselves. (When they are, its removal joins no two
