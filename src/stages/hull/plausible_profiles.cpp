@@ -30,33 +30,62 @@ std::vector<float> local_inscribed_radius(const std::vector<float>& dist, int w,
     // outline by their distance: only the others (the medial ridge) paint. A distance
     // grows by at least cos 22.5 deg of a step towards the neighbour nearest its gradient,
     // so 0.9 of a step keeps the ridge thin at the cost of a tenth of a cell of radius.
-    std::vector<Disc> ridge;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float r = dist[std::size_t(y) * w + x];
-            if (r <= 0) continue;
-            bool covered = false;
-            for (int dy = -1; dy <= 1 && !covered; ++dy)
-                for (int dx = -1; dx <= 1 && !covered; ++dx) {
-                    const int nx = x + dx, ny = y + dy;
-                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                    const float step = (dx != 0 && dy != 0) ? 1.41421356f : 1.0f;
-                    covered = dist[std::size_t(ny) * w + nx] >= r + 0.9f * step;
-                }
-            if (!covered) ridge.push_back({x, y, r});
-        }
-    std::vector<float> out(dist.size(), 0.0f);
+    // (The ridge is found row by row side by side.)
+    std::vector<std::vector<Disc>> ridge(std::size_t(std::max(h, 0)));
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x = 0; x < w; ++x) {
+                const float r = dist[std::size_t(y) * w + x];
+                if (r <= 0) continue;
+                bool covered = false;
+                for (int dy = -1; dy <= 1 && !covered; ++dy)
+                    for (int dx = -1; dx <= 1 && !covered; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                        const float step = (dx != 0 && dy != 0) ? 1.41421356f : 1.0f;
+                        covered = dist[std::size_t(ny) * w + nx] >= r + 0.9f * step;
+                    }
+                if (!covered) ridge[std::size_t(y)].push_back({x, y, r});
+            }
+    });
+    // Each block of rows paints the discs that reach it (|row - y| < r). A row's cell takes the
+    // largest radius of the spans over it: the spans are painted largest first, each cell
+    // once, the painted ones skipped (the next unpainted cell at or after each, path-halved).
+    std::vector<Disc> discs;
+    for (const auto& row : ridge) discs.insert(discs.end(), row.begin(), row.end());
+    std::vector<float> out(dist.size(), 0.0f);
+    struct Span {
+        float r;
+        int x0, x1;
+    };
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 16), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<Disc> near;
+        for (const Disc& d : discs)
+            if (float(d.y) - d.r < float(rows.end()) && float(d.y) + d.r > float(rows.begin() - 1)) near.push_back(d);
+        std::vector<Span> spans;
+        std::vector<int> next(std::size_t(w) + 1);
+        const auto unpainted = [&](int x) {
+            while (next[std::size_t(x)] != x) x = next[std::size_t(x)] = next[std::size_t(next[std::size_t(x)])];
+            return x;
+        };
         for (int y = rows.begin(); y != rows.end(); ++y) {
             float* row = out.data() + std::size_t(y) * w;
-            for (const Disc& d : ridge) {
+            spans.clear();
+            for (const Disc& d : near) {
                 const float dy = float(y - d.y);
                 if (std::abs(dy) >= d.r) continue;
                 const float half = std::sqrt(d.r * d.r - dy * dy);
                 const int x0 = std::max(0, int(std::ceil(float(d.x) - half)));
                 const int x1 = std::min(w - 1, int(std::floor(float(d.x) + half)));
-                for (int x = x0; x <= x1; ++x) row[x] = std::max(row[x], d.r);
+                if (x0 <= x1) spans.push_back({d.r, x0, x1});
             }
+            std::sort(spans.begin(), spans.end(), [](const Span& a, const Span& b) { return a.r > b.r; });
+            for (int x = 0; x <= w; ++x) next[std::size_t(x)] = x;
+            for (const Span& sp : spans)
+                for (int x = unpainted(sp.x0); x <= sp.x1; x = unpainted(x + 1)) {
+                    row[x] = sp.r;
+                    next[std::size_t(x)] = x + 1;
+                }
             for (int x = 0; x < w; ++x) row[x] = std::max(row[x], dist[std::size_t(y) * w + x]);
         }
     });
