@@ -80,6 +80,29 @@ public:
             std::uint32_t* count = on_ray_[v].data();
             const RayRaster& ray = rays_[v];
             const auto& m = ray.m;
+            // A view along x or y: a line of sight's cell depends on the other two: the voxels
+            // are tallied per z along a row of the grid and the tallies added to their cells.
+            const bool along_x = ray.ortho && m[0] == 0 && m[4] == 0, along_y = ray.ortho && m[1] == 0 && m[5] == 0;
+            if ((along_x || along_y) && !(m[2] == 0 && m[6] == 0)) {
+                tbb::parallel_for(std::size_t(0), along_x ? kept_.ny : kept_.nx, [&](std::size_t a) {
+                    std::vector<std::uint32_t> tally(kept_.nz, 0);
+                    for (std::size_t b = 0, nb = along_x ? kept_.nx : kept_.ny; b < nb; ++b) {
+                        const std::uint64_t* r = along_x ? kept_.row(b, a) : kept_.row(a, b);
+                        for (std::size_t k = 0; k < kept_.rw; ++k)
+                            for (std::uint64_t c = r[k]; c; c &= c - 1)
+                                ++tally[k * 64 + std::size_t(__builtin_ctzll(c))];
+                    }
+                    const Coord o = along_x ? kept_.lo.offsetBy(0, int(a), 0) : kept_.lo.offsetBy(int(a), 0, 0);
+                    const double px0 = m[0] * o.x() + m[1] * o.y() + m[3], py0 = m[4] * o.x() + m[5] * o.y() + m[7];
+                    for (std::size_t k = 0; k < kept_.nz; ++k) {
+                        if (!tally[k]) continue;
+                        const int z = o.z() + int(k);
+                        __atomic_fetch_add(count + ray.cell_at(px0 + m[2] * z, py0 + m[6] * z), tally[k],
+                                           __ATOMIC_RELAXED);
+                    }
+                });
+                continue;
+            }
             tbb::parallel_for(std::size_t(0), kept_.nx, [&](std::size_t x) {
                 for (std::size_t y = 0; y < kept_.ny; ++y) {
                     const std::uint64_t* r = kept_.row(x, y);
