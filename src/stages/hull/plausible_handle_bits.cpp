@@ -97,21 +97,10 @@ long pieces_of(const Bits& b) {
 VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
 
 void erode_by_faces(const Bits& in, std::vector<std::uint64_t>& out) {
-    const std::size_t row = in.rw, slab = in.ny * in.rw;
-    const auto& w = in.w;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, w.size() - slab),
+    const std::size_t slab = in.ny * in.rw;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, in.w.size() - slab),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                              const std::uint64_t v = w[k];
-                              if (!v) {
-                                  out[k] = 0;
-                                  continue;
-                              }
-                              // Rows start a word apart: the first and last bits of a row are empty, so no bit
-                              // crosses rows.
-                              const std::uint64_t up = v << 1 | w[k - 1] >> 63, down = v >> 1 | w[k + 1] << 63;
-                              out[k] = v & up & down & w[k - row] & w[k + row] & w[k - slab] & w[k + slab];
-                          }
+                          for (std::size_t k = r.begin(); k != r.end(); ++k) out[k] = eroded_by_faces(in, k);
                       });
 }
 

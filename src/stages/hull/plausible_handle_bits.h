@@ -151,6 +151,19 @@ long euler_of(const Bits& b);
 long pieces_of(const Bits& b);
 VoxelTopology topology_of(const Bits& b);
 
+/// Word k of `in` eroded by faces (its voxels all of whose face neighbours are on); k lies
+/// between the first and last x slabs.
+inline std::uint64_t eroded_by_faces(const Bits& in, std::size_t k) {
+    const auto& w = in.w;
+    const std::uint64_t v = w[k];
+    if (!v) return 0;
+    const std::size_t row = in.rw, slab = in.ny * in.rw;
+    // Rows start a word apart: the first and last bits of a row are empty, so no bit crosses
+    // rows.
+    const std::uint64_t up = v << 1 | w[k - 1] >> 63, down = v >> 1 | w[k + 1] << 63;
+    return v & up & down & w[k - row] & w[k + row] & w[k - slab] & w[k + slab];
+}
+
 /// One step by faces over the words of `in` between its first and last x slabs: `out` the
 /// voxels all of whose face neighbours are on (eroded), or with `within`, the voxels of
 /// `within` with a face neighbour or themselves on (dilated inside it).

@@ -353,21 +353,51 @@ private:
     // The grid distance to the outside (1 on the surface; face steps) of each kept voxel no
     // deeper than a cut may reach and not in `seed`, those voxels deepest first, and the core:
     // the voxels deeper, with `seed`'s.
+    //
+    // With a seed, only the box of the words holding the other kept voxels, `most_` + 1 cells
+    // wider each way, is eroded: what the box's edge gets wrong (nothing outside it is eroded)
+    // reaches `most_` cells in, where every kept voxel is the seed's (no depth taken, and in
+    // the core either way).
     void depths(const Bits* seed) {
         depth_.assign(n_, 0);
         Bits left = kept_;
         std::vector<std::vector<std::uint32_t>> layers;
-        std::vector<std::uint64_t> next(left.w.size(), 0);
+        std::vector<std::uint64_t> next = seed ? left.w : std::vector<std::uint64_t>(left.w.size(), 0);
         const std::size_t slab = kept_.ny * kept_.rw;
-        for (int d = 1; d <= most_; ++d) {
-            erode_by_faces(left, next);
-            std::vector<std::uint32_t> layer;
-            for (std::size_t k = slab; k < left.w.size() - slab; ++k)
-                for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c; c &= c - 1) {
-                    const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
-                    depth_[rank(i)] = std::uint8_t(d);
-                    layer.push_back(std::uint32_t(i));
+        std::size_t x0 = 1, x1 = kept_.nx - 2, y0 = 0, y1 = kept_.ny - 1, k0 = 0, k1 = kept_.rw - 1;
+        if (seed) {
+            x0 = kept_.nx, x1 = 0, y0 = kept_.ny, y1 = 0, k0 = kept_.rw, k1 = 0;
+            for (std::size_t k = 0; k < kept_.w.size(); ++k)
+                if (kept_.w[k] & ~seed->w[k]) {
+                    const std::size_t x = k / slab, y = k / kept_.rw % kept_.ny, kz = k % kept_.rw;
+                    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+                    k0 = std::min(k0, kz), k1 = std::max(k1, kz);
                 }
+            const std::size_t m = std::size_t(most_) + 1, mk = (m + 63) / 64;
+            if (x0 <= x1) {
+                x0 = std::max<std::size_t>(1, x0 > m ? x0 - m : 0), x1 = std::min(kept_.nx - 2, x1 + m);
+                y0 = y0 > m ? y0 - m : 0, y1 = std::min(kept_.ny - 1, y1 + m);
+                k0 = k0 > mk ? k0 - mk : 0, k1 = std::min(kept_.rw - 1, k1 + mk);
+            }
+        }
+        const auto rows = [&](auto&& body) { // the box's words, in order, a slab to a task
+            tbb::parallel_for(x0, x1 + 1, [&](std::size_t x) {
+                for (std::size_t y = y0; y <= y1; ++y)
+                    for (std::size_t k = (x * kept_.ny + y) * kept_.rw + k0, e = k + (k1 - k0); k <= e; ++k) body(k);
+            });
+        };
+        for (int d = 1; d <= most_ && x0 <= x1; ++d) {
+            rows([&](std::size_t k) { next[k] = eroded_by_faces(left, k); });
+            std::vector<std::uint32_t> layer;
+            for (std::size_t x = x0; x <= x1; ++x)
+                for (std::size_t y = y0; y <= y1; ++y)
+                    for (std::size_t k = (x * kept_.ny + y) * kept_.rw + k0, e = k + (k1 - k0); k <= e; ++k)
+                        for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c;
+                             c &= c - 1) {
+                            const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
+                            depth_[rank(i)] = std::uint8_t(d);
+                            layer.push_back(std::uint32_t(i));
+                        }
             layers.push_back(std::move(layer));
             left.w.swap(next);
         }
