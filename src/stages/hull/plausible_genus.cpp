@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -146,7 +147,8 @@ public:
 
 private:
     static constexpr std::size_t kNone = ~std::size_t(0);
-    static constexpr std::size_t kChunk = 64; // chunks this small go one voxel at a time
+    static constexpr std::size_t kChunk = 64;           // chunks this small go one voxel at a time
+    static constexpr std::size_t kSideBySide = 1 << 16; // chunks this large: their fields read side by side
 
     // The code of the voxel at offset k (bit order of a neighbourhood) from `code`, kNone
     // where the tree has no leaf.
@@ -231,19 +233,26 @@ private:
     // chunks of a half are checked side by side: no two of them are 26-neighbours, so none
     // looks at a voxel another one changes (each check reads the chunk's 26-neighbours).
     void split(const std::vector<std::size_t>& codes) {
-        std::vector<float> f(codes.size());
-        for (std::size_t i = 0; i < codes.size(); ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
-        float t = 0.0f;
-        if (codes.size() > kChunk) {
-            std::vector<float> sorted = f;
-            std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(f.size() / 2), sorted.end());
-            t = sorted[f.size() / 2];
-        }
-        if (codes.size() <= kChunk || std::none_of(f.begin(), f.end(), [&](float v) { return v > t; })) {
+        const auto one_at_a_time = [&] {
             std::vector<std::size_t>& back = back_.local();
             back.insert(back.end(), codes.begin(), codes.end());
-            return;
-        }
+        };
+        if (codes.size() <= kChunk) return one_at_a_time();
+        // (A large chunk's fields are read side by side, isolated as the checks are.)
+        std::vector<float> f(codes.size());
+        const auto fields = [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) f[i] = field_(codes[i] / 512, openvdb::Index(codes[i] % 512));
+        };
+        if (codes.size() < kSideBySide) fields(0, codes.size());
+        else
+            tbb::this_task_arena::isolate([&] {
+                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, codes.size(), kSideBySide / 4),
+                                  [&](const tbb::blocked_range<std::size_t>& r) { fields(r.begin(), r.end()); });
+            });
+        std::vector<float> sorted = f;
+        std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(f.size() / 2), sorted.end());
+        const float t = sorted[f.size() / 2];
+        if (std::none_of(f.begin(), f.end(), [&](float v) { return v > t; })) return one_at_a_time();
         for (const bool high : {true, false}) {
             // (The scratch is the thread's own and left empty before anything runs beside it.)
             std::vector<std::vector<std::size_t>> chunks;
