@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "core/error.h"
@@ -90,7 +91,22 @@ void PlausibleStats::report(Metrics& m) const {
     m.metric("cell_px", cell_px);
     m.metric("hardness", hardness);
     m.metric("straight_pct", straight_pct);
+    if (!step_seconds.empty()) {
+        std::string json = "{";
+        char buf[64];
+        for (const auto& [name, seconds] : step_seconds) {
+            std::snprintf(buf, sizeof buf, "%s\"%s\": %.4f", json.size() > 1 ? ", " : "", name.c_str(), seconds);
+            json += buf;
+        }
+        m.metric_json("step_seconds", json + "}");
+    }
     if (!refined) m.warn("the volume is not refined: the new surface gets crossings, the hull's own edges midpoints");
+}
+
+void PlausibleStats::step_done(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    step_seconds.emplace_back(name, std::chrono::duration<double>(now - step_begin_).count());
+    step_begin_ = now;
 }
 
 namespace plausible {
@@ -254,6 +270,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     if (!views) views = in.views;
     if (!views || views->views.empty()) throw Error("no views to keep the silhouettes of");
     PlausibleStats st;
+    st.step_start();
     st.refined = in.crossings != nullptr;
     // 0. A machined part keeps its hull: the rounding scaled down by the detected hardness.
     PlausibleOptions opt = given;
@@ -267,6 +284,7 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     }
     // 1. The hull's voxels.
     plausible::Plausible p(in, *views, opt, st);
+    st.step_done("voxels");
     progress(0.05);
     // 2. Per view: lines of sight, runs along them in depth order, the profile, the field.
     const std::size_t nv = views->views.size();
@@ -275,17 +293,21 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
         progress(0.05 + 0.4 * double(v + 1) / double(nv));
     }
     p.join_views();
+    st.step_done("views");
     if (opt.loft > 0) p.loft();
     if (opt.ghost > 0) p.ghost();
     p.fill_in();
+    st.step_done("priors");
     // 3. The field smoothed; thin parts kept.
     p.smooth();
+    st.step_done("smooth");
     progress(0.55);
     // 4. Every line of sight keeps a voxel.
     p.cover_lines_of_sight();
     progress(0.65);
     // 5. Removal: the voxels where the field is above 0.
     p.remove();
+    st.step_done("cover");
     progress(0.7);
     // 6-7. The output volume: occupancy and crossings (plausible_volume.cpp).
     std::shared_ptr<Volume> out =

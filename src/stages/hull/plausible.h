@@ -11,9 +11,11 @@
 // the hull by construction. The new surface lies on the field's zero level; every crossing
 // on a silhouette cone is kept as hull.marching_intersections found it.
 #pragma once
+#include <chrono>
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/algorithm.h"
@@ -89,8 +91,18 @@ struct PlausibleStats {
     double hardness = 0;             ///< detected hard-surface weight in [0, 1] (hard_surface > 0)
     double straight_pct = 0;         ///< the least straight view's share of straight outline, %
     bool refined = false;            ///< the input had crossings (hull.marching_intersections)
-    /// The counts, the share removed and the pitch; a warning when the input was not refined.
+    /// Wall seconds of the stage's steps, in order (the run report's `step_seconds`).
+    std::vector<std::pair<std::string, double>> step_seconds;
+    /// The counts, the share removed, the pitch and the steps' seconds; a warning when the
+    /// input was not refined.
     void report(Metrics& m) const;
+    /// Ends step `name`, begun where the last one ended (or at the first call, at the stage's
+    /// start: step_start()).
+    void step_done(const char* name);
+    void step_start() { step_begin_ = std::chrono::steady_clock::now(); }
+
+private:
+    std::chrono::steady_clock::time_point step_begin_ = std::chrono::steady_clock::now();
 };
 
 /// @brief The plausible volume of the (carved, optionally refined) hull `in` and `views`.

@@ -396,12 +396,17 @@ std::shared_ptr<Volume> plausible_volume(const Volume& in, HullVoxels& vox, Unin
     out.thicken_plates();
     out.fill_pockets();
     out.join_pieces();
+    st.step_done("volume");
     out.keep_genus();
+    st.step_done("genus");
     if (cut_handles) out.cut_handles(rays);
+    st.step_done("handles");
     out.make_tiles();
     progress(0.8);
     // 7. Crossings and thin parts.
-    return out.output();
+    std::shared_ptr<Volume> v = out.output();
+    st.step_done("crossings");
+    return v;
 }
 
 } // namespace cm::plausible

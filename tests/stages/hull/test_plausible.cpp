@@ -370,6 +370,43 @@ TEST(HullPlausible, ObliqueAndPerspectiveViewsKeepTheirSilhouettes) {
     EXPECT_LT(uncovered_pct(pmh, pmp, *persp), 0.5);
 }
 
+// The run report says where the stage's time went: every step's wall seconds, in order, as
+// one JSON object.
+TEST(HullPlausible, StepSecondsNameEveryStepInOrder) {
+    auto views = sphere_views(1.0);
+    auto hull = carve_and_refine(views, 48);
+    PlausibleOptions opt;
+    opt.handles = "cut";
+    const PlausibleStats st = make_plausible(*hull, nullptr, opt).stats;
+    const std::vector<std::string> steps = {"voxels", "views", "priors",  "smooth",   "cover",
+                                            "volume", "genus", "handles", "crossings"};
+    ASSERT_EQ(st.step_seconds.size(), steps.size());
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        EXPECT_EQ(st.step_seconds[i].first, steps[i]);
+        EXPECT_GE(st.step_seconds[i].second, 0.0) << steps[i];
+        EXPECT_LT(st.step_seconds[i].second, 60.0) << steps[i];
+    }
+    struct Capture : Metrics {
+        std::string json;
+        void metric(const std::string&, double) override {}
+        void metric(const std::string&, const std::string&) override {}
+        void metric_json(const std::string& key, const std::string& text) override {
+            if (key == "step_seconds") json = text;
+        }
+        void warn(const std::string&) override {}
+    } m;
+    st.report(m);
+    ASSERT_FALSE(m.json.empty());
+    EXPECT_EQ(m.json.front(), '{');
+    EXPECT_EQ(m.json.back(), '}');
+    std::size_t at = 0;
+    for (const std::string& step : steps) { // each named once, in order
+        const std::size_t found = m.json.find("\"" + step + "\": ", at);
+        ASSERT_NE(found, std::string::npos) << step << " in " << m.json;
+        at = found + step.size();
+    }
+}
+
 TEST(HullPlausible, StageRunsAndRefusesBadParameters) {
     auto views = sphere_views(1.0);
     auto hull = carve_and_refine(views, 32);
