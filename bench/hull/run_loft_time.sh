@@ -10,7 +10,9 @@
 #
 #   bench/hull/run_loft_time.sh [BUILD_DIR] [RESOLUTION] [MODELS] [ROUNDS] > rows.txt
 #
-# One line per run: model pipeline round wall_s cpu_s plausible_cpu_s smooth_cpu_s load.
+# One line per run: model pipeline round wall_s cpu_s plausible_cpu_s smooth_cpu_s load steps,
+# where steps are `hull.plausible`'s wall seconds per step (its `step_seconds`, docs/hull.md),
+# name=seconds joined by commas, "-" for `paper.yaml`.
 # MODELS: a space-separated subset of bench/models.txt names (default: spot bob bunny man
 # camel); ROUNDS default 3. Work files go to ${TMPDIR:-/tmp}/cm-shape (shared with
 # run_shape.sh: the masks are made once).
@@ -38,8 +40,12 @@ for r in $(seq 1 "$rounds"); do
 r = json.load(open(sys.argv[1]))
 n = {x["id"]: x for x in r["nodes"]}
 cpu = lambda k: n[k]["cpu_seconds"] if k in n else 0.0
-print("%s %s %s %.2f %.2f %.2f %.2f %s" % (sys.argv[2], sys.argv[3], sys.argv[4], r["seconds"],
-      r["cpu_seconds"], cpu("plausible"), cpu("smooth"), sys.argv[5]))' "$out.json" "$name" "$p" "$r" \
+steps = n["plausible"]["metrics"].get("step_seconds", {}) if "plausible" in n else {}
+order = "voxels views priors smooth cover volume genus handles crossings".split()  # the run order
+steps = sorted(steps.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else len(order))
+print("%s %s %s %.2f %.2f %.2f %.2f %s %s" % (sys.argv[2], sys.argv[3], sys.argv[4], r["seconds"],
+      r["cpu_seconds"], cpu("plausible"), cpu("smooth"), sys.argv[5],
+      ",".join("%s=%.3f" % kv for kv in steps) or "-"))' "$out.json" "$name" "$p" "$r" \
                 "$(cut -d' ' -f1 /proc/loadavg)"
         done
     done
