@@ -270,7 +270,6 @@ Result<std::shared_ptr<Volume>, PlausibleStats> make_plausible(const Volume& in,
     if (!views) views = in.views;
     if (!views || views->views.empty()) throw Error("no views to keep the silhouettes of");
     PlausibleStats st;
-    st.step_start();
     st.refined = in.crossings != nullptr;
     // 0. A machined part keeps its hull: the rounding scaled down by the detected hardness.
     PlausibleOptions opt = given;

@@ -96,10 +96,9 @@ struct PlausibleStats {
     /// The counts, the share removed, the pitch and the steps' seconds; a warning when the
     /// input was not refined.
     void report(Metrics& m) const;
-    /// Ends step `name`, begun where the last one ended (or at the first call, at the stage's
-    /// start: step_start()).
+    /// Ends step `name`, begun where the last one ended (the first: when the stats were made,
+    /// at the stage's start).
     void step_done(const char* name);
-    void step_start() { step_begin_ = std::chrono::steady_clock::now(); }
 
 private:
     std::chrono::steady_clock::time_point step_begin_ = std::chrono::steady_clock::now();

@@ -96,14 +96,6 @@ long pieces_of(const Bits& b) {
 
 VoxelTopology topology_of(const Bits& b) { return {euler_of(b), pieces_of(b)}; }
 
-void erode_by_faces(const Bits& in, std::vector<std::uint64_t>& out) {
-    const std::size_t slab = in.ny * in.rw;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(slab, in.w.size() - slab),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t k = r.begin(); k != r.end(); ++k) out[k] = eroded_by_faces(in, k);
-                      });
-}
-
 void dilate_by_faces(const Bits& in, const Bits& within, std::vector<std::uint64_t>& out) {
     const std::size_t row = in.rw, slab = in.ny * in.rw;
     const auto& o = in.w;

@@ -165,9 +165,7 @@ inline std::uint64_t eroded_by_faces(const Bits& in, std::size_t k) {
 }
 
 /// One step by faces over the words of `in` between its first and last x slabs: `out` the
-/// voxels all of whose face neighbours are on (eroded), or with `within`, the voxels of
-/// `within` with a face neighbour or themselves on (dilated inside it).
-void erode_by_faces(const Bits& in, std::vector<std::uint64_t>& out);
+/// voxels of `within` with a face neighbour or themselves on (dilated inside it).
 void dilate_by_faces(const Bits& in, const Bits& within, std::vector<std::uint64_t>& out);
 
 } // namespace cm::plausible::handles

@@ -380,24 +380,24 @@ private:
                 k0 = k0 > mk ? k0 - mk : 0, k1 = std::min(kept_.rw - 1, k1 + mk);
             }
         }
-        const auto rows = [&](auto&& body) { // the box's words, in order, a slab to a task
-            tbb::parallel_for(x0, x1 + 1, [&](std::size_t x) {
-                for (std::size_t y = y0; y <= y1; ++y)
-                    for (std::size_t k = (x * kept_.ny + y) * kept_.rw + k0, e = k + (k1 - k0); k <= e; ++k) body(k);
-            });
+        const auto slab_words = [&](std::size_t x, auto&& body) { // the box's words of slab x, in order
+            for (std::size_t y = y0; y <= y1; ++y)
+                for (std::size_t k = (x * kept_.ny + y) * kept_.rw + k0, e = k + (k1 - k0); k <= e; ++k) body(k);
         };
         for (int d = 1; d <= most_ && x0 <= x1; ++d) {
-            rows([&](std::size_t k) { next[k] = eroded_by_faces(left, k); });
+            tbb::parallel_for(x0, x1 + 1, [&](std::size_t x) {
+                slab_words(x, [&](std::size_t k) { next[k] = eroded_by_faces(left, k); });
+            });
             std::vector<std::uint32_t> layer;
             for (std::size_t x = x0; x <= x1; ++x)
-                for (std::size_t y = y0; y <= y1; ++y)
-                    for (std::size_t k = (x * kept_.ny + y) * kept_.rw + k0, e = k + (k1 - k0); k <= e; ++k)
-                        for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c;
-                             c &= c - 1) {
-                            const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
-                            depth_[rank(i)] = std::uint8_t(d);
-                            layer.push_back(std::uint32_t(i));
-                        }
+                slab_words(x, [&](std::size_t k) {
+                    for (std::uint64_t c = left.w[k] & ~next[k] & (seed ? ~seed->w[k] : ~std::uint64_t(0)); c;
+                         c &= c - 1) {
+                        const std::size_t i = k * 64 + std::size_t(__builtin_ctzll(c));
+                        depth_[rank(i)] = std::uint8_t(d);
+                        layer.push_back(std::uint32_t(i));
+                    }
+                });
             layers.push_back(std::move(layer));
             left.w.swap(next);
         }
